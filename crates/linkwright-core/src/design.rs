@@ -1,0 +1,249 @@
+//! The `design/1` format: what the engine answers, and the reader that turns a design file's parts
+//! back into a [`Mechanism`] (so any design can be re-simulated from the file alone).
+
+use crate::geom::{Point, Vec2};
+use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// The version string of the design format this crate reads and writes.
+pub const DESIGN_FORMAT: &str = "design/1";
+
+/// A design file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignFile {
+    pub linkwright: String,
+    /// The scene's name.
+    pub scene: String,
+    pub status: Status,
+    /// Why there is no design, and what to change (only with `no_solution`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    pub mechanism: Option<MechanismJson>,
+    pub motion: Option<Motion>,
+    pub metrics: Option<Metrics>,
+    #[serde(default)]
+    pub alternatives: Vec<Alternative>,
+    pub stats: Stats,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    Ok,
+    NoSolution,
+}
+
+/// A mechanism as the file writes it: joints at the first pose, parts, driver, slider.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MechanismJson {
+    #[serde(rename = "type")]
+    pub mechanism_type: MechanismType,
+    pub joints: BTreeMap<String, Point>,
+    pub parts: Vec<PartJson>,
+    pub driver: DriverJson,
+    pub slider: Option<SliderJson>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PartJson {
+    pub name: String,
+    pub kind: PartKindJson,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<usize>,
+    pub joints: Vec<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PartKindJson {
+    Fixed,
+    Body,
+    Link,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DriverJson {
+    pub pivot: String,
+    pub tip: String,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SliderJson {
+    pub joint: String,
+    pub point: Point,
+    pub direction: [f64; 2],
+    /// Signed distances from `point` along `direction` between which the joint travels.
+    pub stroke: [f64; 2],
+}
+
+/// The driver's travel, degrees, unwrapped.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Motion {
+    pub crank_start_deg: f64,
+    pub crank_end_deg: f64,
+    pub pose_crank_deg: Vec<f64>,
+}
+
+/// The soft terms of paper eq. 10–13, their weighted sum (eq. 14) and the worst transmission angle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    pub accuracy: f64,
+    pub smoothness: f64,
+    pub location: f64,
+    pub size: f64,
+    pub cost: f64,
+    pub min_transmission_deg: f64,
+}
+
+/// Another valid design.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Alternative {
+    pub mechanism: MechanismJson,
+    pub motion: Motion,
+    pub metrics: Metrics,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Stats {
+    pub samples: usize,
+    pub candidates: usize,
+    pub valid: usize,
+    pub seconds: Seconds,
+    /// The seed the run used.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Seconds {
+    pub sampling: f64,
+    pub collision: f64,
+    pub pfo: f64,
+    pub total: f64,
+}
+
+/// Why a design file's mechanism cannot be used.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum DesignError {
+    #[error("unknown format \"{0}\"; this version reads \"{DESIGN_FORMAT}\"")]
+    Format(String),
+    #[error("the design has status no_solution: there is no mechanism to use")]
+    NoMechanism,
+    #[error("mechanism.{field}: names the joint \"{joint}\", which is not in mechanism.joints")]
+    UnknownJoint { field: String, joint: String },
+    #[error("mechanism.{0}: {1}")]
+    Invalid(String, String),
+}
+
+impl MechanismJson {
+    /// The file form of a mechanism.
+    pub fn from_mechanism(m: &Mechanism) -> MechanismJson {
+        let t = &m.topology;
+        let name = |j: usize| t.joint_names[j].clone();
+        MechanismJson {
+            mechanism_type: t.mechanism_type,
+            joints: t.joint_names.iter().cloned().zip(m.joints.iter().copied()).collect(),
+            parts: t
+                .parts
+                .iter()
+                .map(|p| PartJson {
+                    name: p.name.clone(),
+                    kind: match p.kind {
+                        PartKind::Fixed => PartKindJson::Fixed,
+                        PartKind::Body(_) => PartKindJson::Body,
+                        PartKind::Link => PartKindJson::Link,
+                    },
+                    body: match p.kind {
+                        PartKind::Body(b) => Some(b),
+                        _ => None,
+                    },
+                    joints: p.joints.iter().map(|&j| name(j)).collect(),
+                })
+                .collect(),
+            driver: DriverJson { pivot: name(t.driver_pivot), tip: name(t.driver_tip) },
+            slider: None,
+        }
+    }
+
+    /// Rebuilds the mechanism from the file's parts alone (joints, parts, driver, slider), so any
+    /// reader can re-simulate it.
+    pub fn to_mechanism(&self) -> Result<Mechanism, DesignError> {
+        let joint_names: Vec<String> = self.joints.keys().cloned().collect();
+        let index = |field: &str, n: &str| {
+            joint_names
+                .iter()
+                .position(|x| x == n)
+                .ok_or_else(|| DesignError::UnknownJoint { field: field.to_string(), joint: n.to_string() })
+        };
+        let invalid = |f: &str, m: &str| DesignError::Invalid(f.to_string(), m.to_string());
+        let mut parts = Vec::new();
+        let mut body_count = 0;
+        for (i, p) in self.parts.iter().enumerate() {
+            let field = format!("parts[{i}]");
+            let kind = match (p.kind, p.body) {
+                (PartKindJson::Fixed, _) => PartKind::Fixed,
+                (PartKindJson::Link, _) => PartKind::Link,
+                (PartKindJson::Body, Some(b)) => {
+                    body_count = body_count.max(b + 1);
+                    PartKind::Body(b)
+                }
+                (PartKindJson::Body, None) => return Err(invalid(&field, "a body part needs \"body\": its index")),
+            };
+            let joints = p.joints.iter().map(|j| index(&field, j)).collect::<Result<Vec<_>, _>>()?;
+            parts.push(Part { name: p.name.clone(), kind, joints });
+        }
+        if parts.iter().filter(|p| p.kind == PartKind::Fixed).count() != 1 {
+            return Err(invalid("parts", "there must be exactly one part of kind \"fixed\""));
+        }
+        for b in 0..body_count {
+            match parts.iter().find(|p| p.kind == PartKind::Body(b)) {
+                Some(p) if p.joints.len() >= 2 => {}
+                Some(_) => return Err(invalid("parts", &format!("body {b} must carry at least two joints"))),
+                None => return Err(invalid("parts", &format!("no part for body {b}"))),
+            }
+        }
+        let driver_pivot = index("driver.pivot", &self.driver.pivot)?;
+        let driver_tip = index("driver.tip", &self.driver.tip)?;
+        let (slider_joint, slider) = match &self.slider {
+            None => (None, None),
+            Some(s) => {
+                let d = Vec2::new(s.direction[0], s.direction[1]);
+                if !(d.norm() > 0.0 && d.is_finite()) {
+                    return Err(invalid("slider.direction", "must be a non-zero vector"));
+                }
+                (Some(index("slider.joint", &s.joint)?), Some(SliderLine { point: s.point, direction: d.normalized() }))
+            }
+        };
+        let joints: Vec<Point> = self.joints.values().copied().collect();
+        if joints.iter().any(|p| !p.is_finite()) {
+            return Err(invalid("joints", "every joint must have finite coordinates"));
+        }
+        let topology = Topology {
+            mechanism_type: self.mechanism_type,
+            body_count,
+            joint_names,
+            parts,
+            driver_pivot,
+            driver_tip,
+            slider_joint,
+        };
+        Ok(Mechanism { topology: Arc::new(topology), joints, slider })
+    }
+}
+
+impl DesignFile {
+    /// Parses a design file, naming the offending field on failure.
+    pub fn from_json(text: &str) -> Result<DesignFile, crate::scene::ParseError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let file: DesignFile = serde_path_to_error::deserialize(de).map_err(|e| crate::scene::ParseError {
+            path: e.path().to_string(),
+            message: e.into_inner().to_string(),
+        })?;
+        Ok(file)
+    }
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a design always serializes")
+    }
+}

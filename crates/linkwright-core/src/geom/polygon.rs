@@ -1,0 +1,299 @@
+//! Simple polygons: area, bounds, containment, distances and overlap.
+
+use super::{point_segment_distance, segments_cross, Point, Rigid};
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Point,
+    pub max: Point,
+}
+
+impl Aabb {
+    /// The box around `points`; `None` when there are none.
+    pub fn around(points: impl IntoIterator<Item = Point>) -> Option<Aabb> {
+        let mut it = points.into_iter();
+        let first = it.next()?;
+        let mut b = Aabb { min: first, max: first };
+        for p in it {
+            b.include(p);
+        }
+        Some(b)
+    }
+    pub fn include(&mut self, p: Point) {
+        self.min.x = self.min.x.min(p.x);
+        self.min.y = self.min.y.min(p.y);
+        self.max.x = self.max.x.max(p.x);
+        self.max.y = self.max.y.max(p.y);
+    }
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        let mut b = *self;
+        b.include(o.min);
+        b.include(o.max);
+        b
+    }
+    pub fn width(&self) -> f64 {
+        self.max.x - self.min.x
+    }
+    pub fn height(&self) -> f64 {
+        self.max.y - self.min.y
+    }
+    pub fn diagonal(&self) -> f64 {
+        (self.max - self.min).norm()
+    }
+    /// True when the boxes overlap by more than `tol` on both axes.
+    pub fn overlaps(&self, o: &Aabb, tol: f64) -> bool {
+        self.min.x < o.max.x - tol
+            && o.min.x < self.max.x - tol
+            && self.min.y < o.max.y - tol
+            && o.min.y < self.max.y - tol
+    }
+    pub fn contains(&self, p: Point) -> bool {
+        p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
+    }
+}
+
+/// What makes a list of points not a usable simple polygon.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PolygonError {
+    #[error("has {0} vertices; a polygon needs at least 3")]
+    TooFewVertices(usize),
+    #[error("vertex {0} is not a finite number")]
+    NonFinite(usize),
+    #[error("has zero area (its vertices lie on one line)")]
+    ZeroArea,
+    #[error("crosses itself (edge {0} crosses edge {1})")]
+    SelfIntersecting(usize, usize),
+}
+
+/// A simple polygon given by its vertices in order (either winding). The last vertex connects back to
+/// the first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polygon {
+    vertices: Vec<Point>,
+}
+
+impl Polygon {
+    /// A polygon from its vertices, unchecked: see [`Polygon::validate`].
+    pub fn new(vertices: Vec<Point>) -> Self {
+        Polygon { vertices }
+    }
+    pub fn vertices(&self) -> &[Point] {
+        &self.vertices
+    }
+    /// The edges as `(start, end)` pairs.
+    pub fn edges(&self) -> impl Iterator<Item = (Point, Point)> + '_ {
+        let n = self.vertices.len();
+        (0..n).map(move |i| (self.vertices[i], self.vertices[(i + 1) % n]))
+    }
+    /// Signed area: positive for counter-clockwise vertices.
+    pub fn signed_area(&self) -> f64 {
+        let n = self.vertices.len();
+        let mut twice = 0.0;
+        for i in 0..n {
+            let a = self.vertices[i];
+            let b = self.vertices[(i + 1) % n];
+            twice += a.x * b.y - b.x * a.y;
+        }
+        twice / 2.0
+    }
+    pub fn area(&self) -> f64 {
+        self.signed_area().abs()
+    }
+    pub fn aabb(&self) -> Aabb {
+        Aabb::around(self.vertices.iter().copied()).unwrap_or(Aabb { min: Point::ORIGIN, max: Point::ORIGIN })
+    }
+    /// The area centroid (the vertex mean for a degenerate polygon).
+    pub fn centroid(&self) -> Point {
+        let a = self.signed_area();
+        let n = self.vertices.len();
+        if a.abs() < 1e-300 || n == 0 {
+            let s = self.vertices.iter().fold((0.0, 0.0), |s, p| (s.0 + p.x, s.1 + p.y));
+            return Point::new(s.0 / n.max(1) as f64, s.1 / n.max(1) as f64);
+        }
+        let (mut cx, mut cy) = (0.0, 0.0);
+        for (p, q) in self.edges() {
+            let c = p.x * q.y - q.x * p.y;
+            cx += (p.x + q.x) * c;
+            cy += (p.y + q.y) * c;
+        }
+        Point::new(cx / (6.0 * a), cy / (6.0 * a))
+    }
+    pub fn transformed(&self, t: &Rigid) -> Polygon {
+        Polygon::new(self.vertices.iter().map(|&p| t.apply(p)).collect())
+    }
+
+    /// Checks that this is a simple polygon with a positive area.
+    pub fn validate(&self) -> Result<(), PolygonError> {
+        let n = self.vertices.len();
+        if n < 3 {
+            return Err(PolygonError::TooFewVertices(n));
+        }
+        if let Some(i) = self.vertices.iter().position(|p| !p.is_finite()) {
+            return Err(PolygonError::NonFinite(i));
+        }
+        let size = self.aabb().diagonal();
+        if self.area() <= 1e-9 * size * size {
+            return Err(PolygonError::ZeroArea);
+        }
+        let tol = 1e-9 * size;
+        let edges: Vec<_> = self.edges().collect();
+        for i in 0..n {
+            for j in i + 1..n {
+                let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+                let (a0, a1) = edges[i];
+                let (b0, b1) = edges[j];
+                if adjacent {
+                    // Adjacent edges may only share their common vertex: folding back onto each other
+                    // (a spike) is a self-intersection too.
+                    let (shared, other_a, other_b) = if j == i + 1 { (a1, a0, b1) } else { (a0, a1, b0) };
+                    let u = other_a - shared;
+                    let v = other_b - shared;
+                    let folded = u.cross(v).abs() <= 1e-12 * u.norm() * v.norm() && u.dot(v) > 0.0;
+                    if folded {
+                        return Err(PolygonError::SelfIntersecting(i, j));
+                    }
+                } else if segments_cross(a0, a1, b0, b1, tol)
+                    || point_segment_distance(b0, a0, a1) <= tol
+                    || point_segment_distance(a0, b0, b1) <= tol
+                {
+                    return Err(PolygonError::SelfIntersecting(i, j));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Even-odd containment; points on the boundary may answer either way.
+    pub fn contains(&self, p: Point) -> bool {
+        contains_raw(&self.vertices, p)
+    }
+    /// Distance from `p` to the boundary.
+    pub fn boundary_distance(&self, p: Point) -> f64 {
+        boundary_distance_raw(&self.vertices, p)
+    }
+    /// Distance from `p` to the polygon's area: 0 inside.
+    pub fn distance(&self, p: Point) -> f64 {
+        if self.contains(p) {
+            0.0
+        } else {
+            self.boundary_distance(p)
+        }
+    }
+    /// True when `p` lies inside, farther than `tol` from the boundary.
+    pub fn contains_deeply(&self, p: Point, tol: f64) -> bool {
+        contains_deeply_raw(&self.vertices, p, tol)
+    }
+
+    /// True when the interiors of the two polygons overlap by more than `tol` (a length): an edge of one
+    /// crosses an edge of the other away from their ends, or a vertex or edge midpoint of one lies
+    /// deeper than `tol` inside the other. Polygons that only touch along edges or at vertices do not
+    /// penetrate.
+    pub fn penetrates(&self, other: &Polygon, tol: f64) -> bool {
+        if !self.aabb().overlaps(&other.aabb(), tol) {
+            return false;
+        }
+        penetrates_unchecked(&self.vertices, &other.vertices, tol)
+    }
+}
+
+/// The body of [`Polygon::penetrates`] on raw vertex lists, for callers that keep transformed vertices
+/// in reused buffers and have already compared bounding boxes.
+pub(crate) fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
+    let (na, nb) = (a.len(), b.len());
+    for i in 0..na {
+        let (a0, a1) = (a[i], a[(i + 1) % na]);
+        for j in 0..nb {
+            if segments_cross(a0, a1, b[j], b[(j + 1) % nb], tol) {
+                return true;
+            }
+        }
+    }
+    let deep_in = |pts: &[Point], poly: &[Point]| {
+        let n = pts.len();
+        (0..n).any(|i| {
+            let mid = pts[i].lerp(pts[(i + 1) % n], 0.5);
+            contains_deeply_raw(poly, pts[i], tol) || contains_deeply_raw(poly, mid, tol)
+        })
+    };
+    deep_in(a, b) || deep_in(b, a)
+}
+
+fn contains_deeply_raw(poly: &[Point], p: Point, tol: f64) -> bool {
+    contains_raw(poly, p) && boundary_distance_raw(poly, p) > tol
+}
+
+/// Even-odd containment on a raw vertex list.
+pub(crate) fn contains_raw(poly: &[Point], p: Point) -> bool {
+    let n = poly.len();
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[(i + 1) % n]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+fn boundary_distance_raw(poly: &[Point], p: Point) -> f64 {
+    let n = poly.len();
+    (0..n).map(|i| point_segment_distance(p, poly[i], poly[(i + 1) % n])).fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::testing::assert_close;
+
+    fn square(x: f64, y: f64, s: f64) -> Polygon {
+        let p = Point::new;
+        Polygon::new(vec![p(x, y), p(x + s, y), p(x + s, y + s), p(x, y + s)])
+    }
+
+    #[test]
+    fn area_and_centroid_of_a_square() {
+        let sq = square(1.0, 2.0, 2.0);
+        assert_close(sq.signed_area(), 4.0, 1e-12);
+        let c = sq.centroid();
+        assert_close(c.x, 2.0, 1e-12);
+        assert_close(c.y, 3.0, 1e-12);
+    }
+
+    #[test]
+    fn validation_catches_bad_polygons() {
+        let p = Point::new;
+        assert_eq!(Polygon::new(vec![p(0., 0.), p(1., 0.)]).validate(), Err(PolygonError::TooFewVertices(2)));
+        assert_eq!(Polygon::new(vec![p(0., 0.), p(1., 0.), p(2., 0.)]).validate(), Err(PolygonError::ZeroArea));
+        let bowtie = Polygon::new(vec![p(0., 0.), p(2., 2.), p(2., 0.), p(0., 1.)]);
+        assert!(matches!(bowtie.validate(), Err(PolygonError::SelfIntersecting(..))));
+        let nan = Polygon::new(vec![p(0., 0.), p(f64::NAN, 1.), p(1., 0.)]);
+        assert_eq!(nan.validate(), Err(PolygonError::NonFinite(1)));
+        assert_eq!(square(0., 0., 1.).validate(), Ok(()));
+    }
+
+    #[test]
+    fn touching_squares_do_not_penetrate_but_overlapping_do() {
+        let a = square(0.0, 0.0, 1.0);
+        assert!(!a.penetrates(&square(1.0, 0.0, 1.0), 1e-9));
+        assert!(!a.penetrates(&square(1.0, 1.0, 1.0), 1e-9));
+        assert!(a.penetrates(&square(0.5, 0.5, 1.0), 1e-9));
+        // One inside the other, no edges crossing.
+        assert!(a.penetrates(&square(0.25, 0.25, 0.5), 1e-9));
+        // A plus sign: edges cross, no vertex inside.
+        let p = Point::new;
+        let bar = Polygon::new(vec![p(-1., 0.4), p(2., 0.4), p(2., 0.6), p(-1., 0.6)]);
+        assert!(a.penetrates(&bar, 1e-9));
+    }
+
+    #[test]
+    fn distances() {
+        let a = square(0.0, 0.0, 2.0);
+        assert_close(a.distance(Point::new(1.0, 1.0)), 0.0, 0.0);
+        assert_close(a.boundary_distance(Point::new(1.0, 1.5)), 0.5, 1e-12);
+        assert_close(a.distance(Point::new(5.0, 6.0)), 5.0, 1e-12);
+    }
+}

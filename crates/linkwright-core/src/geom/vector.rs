@@ -1,0 +1,167 @@
+//! Points (positions) and vectors (displacements), kept apart by their operators.
+
+use serde::{Deserialize, Serialize};
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
+
+/// A displacement in the plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Vec2 {
+    pub x: f64,
+    pub y: f64,
+}
+
+/// A position in the plane. Serialized as `[x, y]`, as the file formats write points.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(from = "[f64; 2]", into = "[f64; 2]")]
+pub struct Point {
+    pub x: f64,
+    pub y: f64,
+}
+
+impl Vec2 {
+    pub const ZERO: Vec2 = Vec2 { x: 0.0, y: 0.0 };
+
+    pub const fn new(x: f64, y: f64) -> Self {
+        Vec2 { x, y }
+    }
+    /// The unit vector at `angle` radians from the x axis.
+    pub fn from_angle(angle: f64) -> Self {
+        let (s, c) = angle.sin_cos();
+        Vec2::new(c, s)
+    }
+    pub fn dot(self, o: Vec2) -> f64 {
+        self.x * o.x + self.y * o.y
+    }
+    /// The z component of the 3D cross product: positive when `o` is counter-clockwise of `self`.
+    pub fn cross(self, o: Vec2) -> f64 {
+        self.x * o.y - self.y * o.x
+    }
+    pub fn norm_sq(self) -> f64 {
+        self.dot(self)
+    }
+    pub fn norm(self) -> f64 {
+        self.x.hypot(self.y)
+    }
+    /// Rotated a quarter turn counter-clockwise.
+    pub fn perp(self) -> Vec2 {
+        Vec2::new(-self.y, self.x)
+    }
+    /// Angle from the x axis, in (−π, π].
+    pub fn angle(self) -> f64 {
+        self.y.atan2(self.x)
+    }
+    pub fn normalized(self) -> Vec2 {
+        self / self.norm()
+    }
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite()
+    }
+}
+
+impl Point {
+    pub const ORIGIN: Point = Point { x: 0.0, y: 0.0 };
+
+    pub const fn new(x: f64, y: f64) -> Self {
+        Point { x, y }
+    }
+    /// The vector from the origin to this point.
+    pub fn to_vec2(self) -> Vec2 {
+        Vec2::new(self.x, self.y)
+    }
+    pub fn distance(self, o: Point) -> f64 {
+        (self - o).norm()
+    }
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite()
+    }
+    /// The point a fraction `t` of the way from `self` to `o`.
+    pub fn lerp(self, o: Point, t: f64) -> Point {
+        self + (o - self) * t
+    }
+}
+
+impl From<[f64; 2]> for Point {
+    fn from(a: [f64; 2]) -> Self {
+        Point::new(a[0], a[1])
+    }
+}
+impl From<Point> for [f64; 2] {
+    fn from(p: Point) -> Self {
+        [p.x, p.y]
+    }
+}
+
+impl Sub for Point {
+    type Output = Vec2;
+    fn sub(self, o: Point) -> Vec2 {
+        Vec2::new(self.x - o.x, self.y - o.y)
+    }
+}
+impl Add<Vec2> for Point {
+    type Output = Point;
+    fn add(self, v: Vec2) -> Point {
+        Point::new(self.x + v.x, self.y + v.y)
+    }
+}
+impl Sub<Vec2> for Point {
+    type Output = Point;
+    fn sub(self, v: Vec2) -> Point {
+        Point::new(self.x - v.x, self.y - v.y)
+    }
+}
+impl Add for Vec2 {
+    type Output = Vec2;
+    fn add(self, o: Vec2) -> Vec2 {
+        Vec2::new(self.x + o.x, self.y + o.y)
+    }
+}
+impl AddAssign for Vec2 {
+    fn add_assign(&mut self, o: Vec2) {
+        self.x += o.x;
+        self.y += o.y;
+    }
+}
+impl Sub for Vec2 {
+    type Output = Vec2;
+    fn sub(self, o: Vec2) -> Vec2 {
+        Vec2::new(self.x - o.x, self.y - o.y)
+    }
+}
+impl Neg for Vec2 {
+    type Output = Vec2;
+    fn neg(self) -> Vec2 {
+        Vec2::new(-self.x, -self.y)
+    }
+}
+impl Mul<f64> for Vec2 {
+    type Output = Vec2;
+    fn mul(self, s: f64) -> Vec2 {
+        Vec2::new(self.x * s, self.y * s)
+    }
+}
+impl Div<f64> for Vec2 {
+    type Output = Vec2;
+    fn div(self, s: f64) -> Vec2 {
+        Vec2::new(self.x / s, self.y / s)
+    }
+}
+
+/// Which way three points turn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Orientation {
+    CounterClockwise,
+    Clockwise,
+    Collinear,
+}
+
+/// The turn `a → b → c`, with `Collinear` when the signed area is within `tol` (an area, in length²).
+pub fn orientation(a: Point, b: Point, c: Point, tol: f64) -> Orientation {
+    let area2 = (b - a).cross(c - a);
+    if area2 > tol {
+        Orientation::CounterClockwise
+    } else if area2 < -tol {
+        Orientation::Clockwise
+    } else {
+        Orientation::Collinear
+    }
+}

@@ -1,0 +1,12 @@
+//! Kinematics: a plan of dyad steps compiled once per dimensioned mechanism, then evaluated per crank
+//! angle without allocating. The branch of every dyad is read off the first pose and kept, so a
+//! motion is tracked by continuity as long as no dyad passes through a singular configuration (which
+//! the transmission-angle bound of the engine excludes).
+
+mod dyad;
+mod plan;
+mod trace;
+
+pub use dyad::{circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_margin, Branch, DyadError};
+pub use plan::{CompileError, Plan, Step};
+pub use trace::{BodyFrames, SweepError, Trace};

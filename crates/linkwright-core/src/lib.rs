@@ -1,0 +1,23 @@
+//! # linkwright-core
+//!
+//! The engine of Linkwright: from a sketched scene (fixed bodies, moving bodies and their key poses) to a
+//! one-degree-of-freedom linkage that carries every moving body through its poses in order, after the
+//! paper "Multi-Pose Interactive Linkage Design". All computation, no I/O.
+//!
+//! Modules, in the order data flows through them:
+//! - [`geom`]: points, vectors, rigid transforms, polygons.
+//! - [`scene`]: the `scene/1` format and its validation, and the [`scene::Problem`] derived from it.
+//! - [`mechanism`]: linkage topologies (the K-body chain, the slider-crank) as joints + rigid parts.
+//! - [`kinematics`]: a dyad plan compiled once per topology, evaluated per crank angle.
+//! - [`synth`]: sampling, hard constraints, soft costs, the particle filter and the pipeline.
+//! - [`design`]: the `design/1` format.
+//!
+//! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
+//! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
+//! mechanism's joints are given. Every threshold is relative to the scene's size.
+
+pub mod geom;
+pub mod scene;
+pub mod mechanism;
+pub mod kinematics;
+pub mod design;

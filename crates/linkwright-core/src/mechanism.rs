@@ -1,0 +1,209 @@
+//! Linkage topologies as one generic model: named revolute joints, rigid parts that carry them, a
+//! driver link turning about a fixed pivot, and optionally a prismatic slider on a fixed line.
+//!
+//! The chain of paper §4.2 is generated from K (the number of moving bodies), never written per K:
+//! the ground carries `q0, r0`; body k carries `p_k, q_k` and, except the last, `r_k`; the crank joins
+//! `q0–p1`; ternary link k joins `r_{k−1}, q_k, p_{k+1}` (k = 1..K−1); the last binary link joins
+//! `r_{K−1}–q_K`. Loop k is the four-bar `q_{k−1} r_{k−1} q_k p_k`. K = 1 is the 4R four-bar, K = 2 the
+//! Watt-I six-bar. The slider-crank (K = 1) has the ground pivot `q0`, the crank `q0–p1`, and the body
+//! carries `p1` and the slider joint `q1`, which runs on a fixed line.
+
+use crate::geom::{Point, Vec2};
+use std::sync::Arc;
+
+/// The two mechanism families.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MechanismType {
+    Chain,
+    SliderCrank,
+}
+
+/// What a rigid part is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PartKind {
+    /// The ground (all fixed bodies).
+    Fixed,
+    /// Moving body with this 0-based index in the scene.
+    Body(usize),
+    /// A binary or ternary link.
+    Link,
+}
+
+/// A rigid part and the joints (indices into the topology's joints) it carries.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    pub name: String,
+    pub kind: PartKind,
+    pub joints: Vec<usize>,
+}
+
+/// The structure of a mechanism without its dimensions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Topology {
+    pub mechanism_type: MechanismType,
+    /// Number of moving bodies K.
+    pub body_count: usize,
+    pub joint_names: Vec<String>,
+    pub parts: Vec<Part>,
+    /// The driver link turns about `driver_pivot` (a ground joint); its moving end is `driver_tip`.
+    pub driver_pivot: usize,
+    pub driver_tip: usize,
+    /// The joint that runs on the slider line, for the slider-crank.
+    pub slider_joint: Option<usize>,
+}
+
+impl Topology {
+    /// The multi-bar chain for `k ≥ 1` moving bodies (paper §4.2, fig. 3).
+    pub fn chain(k: usize) -> Topology {
+        assert!(k >= 1, "a chain needs at least one moving body");
+        let mut names = Vec::new();
+        let mut add = |n: String| {
+            names.push(n);
+            names.len() - 1
+        };
+        let p: Vec<usize> = (0..=k).map(|i| if i == 0 { usize::MAX } else { add(format!("p{i}")) }).collect();
+        let q: Vec<usize> = (0..=k).map(|i| add(format!("q{i}"))).collect();
+        let r: Vec<usize> = (0..k).map(|i| add(format!("r{i}"))).collect();
+        let mut parts = vec![Part { name: "ground".into(), kind: PartKind::Fixed, joints: vec![q[0], r[0]] }];
+        for b in 1..=k {
+            let mut joints = vec![p[b], q[b]];
+            if b < k {
+                joints.push(r[b]);
+            }
+            parts.push(Part { name: format!("body{b}"), kind: PartKind::Body(b - 1), joints });
+        }
+        parts.push(Part { name: "crank".into(), kind: PartKind::Link, joints: vec![q[0], p[1]] });
+        for t in 1..k {
+            parts.push(Part { name: format!("link{t}"), kind: PartKind::Link, joints: vec![r[t - 1], q[t], p[t + 1]] });
+        }
+        parts.push(Part { name: if k == 1 { "rocker".into() } else { format!("link{k}") }, kind: PartKind::Link, joints: vec![r[k - 1], q[k]] });
+        Topology {
+            mechanism_type: MechanismType::Chain,
+            body_count: k,
+            joint_names: names,
+            parts,
+            driver_pivot: q[0],
+            driver_tip: p[1],
+            slider_joint: None,
+        }
+    }
+
+    /// The RRRP slider-crank for one moving body (paper §4.3).
+    pub fn slider_crank() -> Topology {
+        Topology {
+            mechanism_type: MechanismType::SliderCrank,
+            body_count: 1,
+            joint_names: vec!["q0".into(), "p1".into(), "q1".into()],
+            parts: vec![
+                Part { name: "ground".into(), kind: PartKind::Fixed, joints: vec![0] },
+                Part { name: "body1".into(), kind: PartKind::Body(0), joints: vec![1, 2] },
+                Part { name: "crank".into(), kind: PartKind::Link, joints: vec![0, 1] },
+            ],
+            driver_pivot: 0,
+            driver_tip: 1,
+            slider_joint: Some(2),
+        }
+    }
+
+    pub fn joint_count(&self) -> usize {
+        self.joint_names.len()
+    }
+    /// The index of the joint called `name`.
+    pub fn joint(&self, name: &str) -> Option<usize> {
+        self.joint_names.iter().position(|n| n == name)
+    }
+    /// The part of moving body `body`.
+    pub fn body_part(&self, body: usize) -> &Part {
+        self.parts.iter().find(|p| p.kind == PartKind::Body(body)).expect("every body has a part")
+    }
+    /// Joints carried by the ground.
+    pub fn fixed_joints(&self) -> &[usize] {
+        &self.parts.iter().find(|p| p.kind == PartKind::Fixed).expect("a ground part").joints
+    }
+    /// Joints carried by moving bodies, the set J_M of paper eq. 10–11, with the body that carries each.
+    pub fn body_joints(&self) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for part in &self.parts {
+            if let PartKind::Body(b) = part.kind {
+                out.extend(part.joints.iter().map(|&j| (j, b)));
+            }
+        }
+        out
+    }
+    /// Every pair of joints that a part holds at a fixed distance, each pair once: the links of eq. 13
+    /// and the rigidity terms of eq. 3. Pairs within the ground or within a body are left out (they are
+    /// not links).
+    pub fn link_pairs(&self) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for part in self.parts.iter().filter(|p| p.kind == PartKind::Link) {
+            for (i, &a) in part.joints.iter().enumerate() {
+                for &b in &part.joints[i + 1..] {
+                    out.push((a, b));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The fixed line a slider joint runs on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SliderLine {
+    /// A point of the line: the slider joint's position at the first pose.
+    pub point: Point,
+    /// Unit direction of the line.
+    pub direction: Vec2,
+}
+
+/// A dimensioned mechanism: a topology and every joint's position at the first pose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mechanism {
+    pub topology: Arc<Topology>,
+    /// Position of each joint at the first pose, indexed like `topology.joint_names`.
+    pub joints: Vec<Point>,
+    pub slider: Option<SliderLine>,
+}
+
+impl Mechanism {
+    pub fn joint(&self, name: &str) -> Option<Point> {
+        self.topology.joint(name).map(|j| self.joints[j])
+    }
+    /// Length of every link pair, in the order of [`Topology::link_pairs`].
+    pub fn link_lengths(&self) -> Vec<f64> {
+        self.topology.link_pairs().iter().map(|&(a, b)| self.joints[a].distance(self.joints[b])).collect()
+    }
+    /// The driver's angle at the first pose (radians, atan2 of tip − pivot).
+    pub fn crank_start(&self) -> f64 {
+        (self.joints[self.topology.driver_tip] - self.joints[self.topology.driver_pivot]).angle()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chain_has_3k_plus_1_joints_and_one_degree_of_freedom() {
+        for k in 1..=8 {
+            let t = Topology::chain(k);
+            assert_eq!(t.joint_count(), 3 * k + 1);
+            // Grübler: M = 3(n − 1) − 2 j, counting a joint shared by m parts as m − 1 joints.
+            let n = t.parts.len() as i64;
+            let mut j = 0i64;
+            for joint in 0..t.joint_count() {
+                let m = t.parts.iter().filter(|p| p.joints.contains(&joint)).count() as i64;
+                j += m - 1;
+            }
+            assert_eq!(3 * (n - 1) - 2 * j, 1, "K = {k}");
+        }
+    }
+
+    #[test]
+    fn watt_six_bar_has_adjacent_ternary_links() {
+        let t = Topology::chain(2);
+        let ternary: Vec<&Part> = t.parts.iter().filter(|p| p.joints.len() == 3).collect();
+        assert_eq!(ternary.len(), 2);
+        assert!(ternary[0].joints.iter().any(|j| ternary[1].joints.contains(j)));
+    }
+}

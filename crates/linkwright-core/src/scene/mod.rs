@@ -1,0 +1,170 @@
+//! The `scene/1` format: what a person wants (bodies, poses, regions, settings), its validation, and
+//! the immutable [`Problem`] every later stage reads.
+
+mod problem;
+mod validate;
+
+pub use problem::{MovingBodyProblem, Problem};
+pub use validate::{validate, Issue, Severity};
+
+use crate::geom::Point;
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+/// The version string of the scene format this crate reads and writes.
+pub const SCENE_FORMAT: &str = "scene/1";
+
+/// A scene as the file holds it. Fields the format does not know are kept in `extra` (and reported as
+/// warnings by [`validate`]), so a scene written back loses nothing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    pub linkwright: String,
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_units")]
+    pub units: String,
+    pub fixed_bodies: Vec<FixedBody>,
+    pub moving_bodies: Vec<MovingBody>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linkage_region: Option<Vec<Point>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub avoid_regions: Vec<Vec<Point>>,
+    #[serde(default)]
+    pub mechanism: MechanismChoice,
+    #[serde(default)]
+    pub weights: Weights,
+    #[serde(default)]
+    pub settings: Settings,
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+fn default_units() -> String {
+    "mm".to_string()
+}
+
+/// A part of the object that never moves, as a polygon in world coordinates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FixedBody {
+    #[serde(default)]
+    pub name: String,
+    pub polygon: Vec<Point>,
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+/// A moving part: its outline in its own frame and the poses `[x, y, angle_deg]` it must visit in order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MovingBody {
+    #[serde(default)]
+    pub name: String,
+    pub polygon: Vec<Point>,
+    pub poses: Vec<[f64; 3]>,
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+/// Which kind of linkage to synthesise.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MechanismChoice {
+    /// Try every type that fits the number of moving bodies, keep the best.
+    #[default]
+    Auto,
+    /// The multi-bar chain of paper §4.2 (four-bar for one body, Watt-I six-bar for two, ...).
+    Chain,
+    /// The RRRP slider-crank of paper §4.3 (one moving body only).
+    SliderCrank,
+}
+
+/// Weights of the soft costs (paper eq. 14). Defaults are the paper's: 1, 1, 10, 1.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Weights {
+    /// Weight of E_acc, the mean squared joint error at the poses (length²). Default 1.
+    pub accuracy: f64,
+    /// Weight of E_smooth, the tortuosity of the joint paths (≥ 1, unitless). Default 1.
+    pub smoothness: f64,
+    /// Weight of E_loc, the mean distance of joints from the linkage region (length). Default 10.
+    pub location: f64,
+    /// Weight of E_size, the mean link length (length). Default 1.
+    pub size: f64,
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+impl Default for Weights {
+    fn default() -> Self {
+        Weights { accuracy: 1.0, smoothness: 1.0, location: 10.0, size: 1.0, extra: Map::new() }
+    }
+}
+
+/// Search settings. Defaults are the paper's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Seed of every random choice; the same seed gives the same design. Default 0.
+    pub seed: u64,
+    /// Number of candidate samples (paper §4). Default 100,000.
+    pub samples: usize,
+    /// Particles of the particle filter (paper §6). Default 100.
+    pub particles: usize,
+    /// Iterations of the particle filter. Default 20.
+    pub iterations: usize,
+    /// σ of the position noise on intermediate poses, as a fraction of the body size d. Default 0.5.
+    pub pose_tolerance: f64,
+    /// σ of the angle noise on intermediate poses, degrees. Default 3.
+    pub angle_tolerance_deg: f64,
+    /// Lower bound on every transmission angle's distance from 0° and 180°, degrees. Default 10.
+    pub min_transmission_deg: f64,
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            seed: 0,
+            samples: 100_000,
+            particles: 100,
+            iterations: 20,
+            pose_tolerance: 0.5,
+            angle_tolerance_deg: 3.0,
+            min_transmission_deg: 10.0,
+            extra: Map::new(),
+        }
+    }
+}
+
+/// Why a scene file could not be read at all (before validation).
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct ParseError {
+    /// Where in the document the problem is, e.g. `moving_bodies[0].poses[1]`, or `.` for the root.
+    pub path: String,
+    pub message: String,
+}
+
+impl Scene {
+    /// Parses a scene from JSON text. Structural problems (a missing field, a string where a number
+    /// belongs, an unknown mechanism) are reported with the path of the offending field; everything
+    /// else is left to [`validate`].
+    pub fn from_json(text: &str) -> Result<Scene, ParseError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            let message = if inner.is_syntax() || inner.is_eof() {
+                format!("not valid JSON: {inner}")
+            } else {
+                inner.to_string()
+            };
+            ParseError { path, message }
+        })
+    }
+
+    /// The scene as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a scene always serializes")
+    }
+}

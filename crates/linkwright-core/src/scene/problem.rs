@@ -1,0 +1,109 @@
+//! The immutable problem derived once from a valid scene: everything every sample needs.
+
+use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Weights};
+use crate::geom::{Aabb, Polygon, Rigid};
+
+/// One moving body, ready for the engine.
+#[derive(Clone, Debug)]
+pub struct MovingBodyProblem {
+    pub name: String,
+    /// Outline in the body's own frame.
+    pub outline: Polygon,
+    /// `body_to_world` at each pose.
+    pub poses: Vec<Rigid>,
+    /// The body size d: the shorter side of the outline's bounding box (paper §4.1).
+    pub size: f64,
+}
+
+impl MovingBodyProblem {
+    /// The world motion that carries points attached to this body from the first pose to pose `i`.
+    pub fn motion_from_first(&self, i: usize) -> Rigid {
+        self.poses[0].to(&self.poses[i])
+    }
+}
+
+/// A validated scene in the engine's terms.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    pub name: String,
+    pub fixed: Vec<Polygon>,
+    pub bodies: Vec<MovingBodyProblem>,
+    /// Where the joints should be at the first pose (soft).
+    pub region: Polygon,
+    /// Where no link may go (hard).
+    pub avoid: Vec<Polygon>,
+    pub mechanism: MechanismChoice,
+    pub weights: Weights,
+    pub settings: Settings,
+    /// Number of poses N, the same for every body.
+    pub pose_count: usize,
+    /// The diagonal of everything drawn: the length every absolute tolerance is a fraction of.
+    pub scale: f64,
+    /// Warnings found while validating (errors make [`Problem::new`] fail).
+    pub warnings: Vec<Issue>,
+}
+
+impl Problem {
+    /// Validates `scene` and derives the problem, or returns every issue when any is an error.
+    pub fn new(scene: &Scene) -> Result<Problem, Vec<Issue>> {
+        let issues = validate(scene);
+        if issues.iter().any(|i| i.severity == Severity::Error) {
+            return Err(issues);
+        }
+        let fixed: Vec<Polygon> = scene.fixed_bodies.iter().map(|b| Polygon::new(b.polygon.clone())).collect();
+        let bodies: Vec<MovingBodyProblem> = scene
+            .moving_bodies
+            .iter()
+            .map(|b| {
+                let outline = Polygon::new(b.polygon.clone());
+                let bb = outline.aabb();
+                MovingBodyProblem {
+                    name: b.name.clone(),
+                    size: bb.width().min(bb.height()),
+                    poses: b.poses.iter().map(|&p| Rigid::from_pose(p)).collect(),
+                    outline,
+                }
+            })
+            .collect();
+        let mut drawn: Option<Aabb> = None;
+        let mut add = |bb: Aabb| drawn = Some(drawn.map_or(bb, |d| d.union(&bb)));
+        for f in &fixed {
+            add(f.aabb());
+        }
+        let mut first_pose_box: Option<Aabb> = fixed.iter().map(|f| f.aabb()).reduce(|a, b| a.union(&b));
+        for b in &bodies {
+            for pose in &b.poses {
+                add(b.outline.transformed(pose).aabb());
+            }
+            let first = b.outline.transformed(&b.poses[0]).aabb();
+            first_pose_box = Some(first_pose_box.map_or(first, |d| d.union(&first)));
+        }
+        let region = match &scene.linkage_region {
+            Some(r) => Polygon::new(r.clone()),
+            None => {
+                let b = first_pose_box.expect("validation ensures at least one body");
+                Polygon::new(vec![b.min, crate::geom::Point::new(b.max.x, b.min.y), b.max, crate::geom::Point::new(b.min.x, b.max.y)])
+            }
+        };
+        add(region.aabb());
+        let avoid: Vec<Polygon> = scene.avoid_regions.iter().map(|r| Polygon::new(r.clone())).collect();
+        Ok(Problem {
+            name: scene.name.clone(),
+            fixed,
+            pose_count: bodies[0].poses.len(),
+            bodies,
+            region,
+            avoid,
+            mechanism: scene.mechanism,
+            weights: scene.weights.clone(),
+            settings: scene.settings.clone(),
+            scale: drawn.map_or(1.0, |d| d.diagonal()),
+            warnings: issues,
+        })
+    }
+
+    /// Number of moving bodies K.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+}
