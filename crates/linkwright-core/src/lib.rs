@@ -16,8 +16,8 @@
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
 //! mechanism's joints are given. Every threshold is relative to the scene's size.
 
-pub mod geom;
-pub mod scene;
-pub mod mechanism;
-pub mod kinematics;
 pub mod design;
+pub mod geom;
+pub mod kinematics;
+pub mod mechanism;
+pub mod scene;

@@ -77,7 +77,11 @@ impl Topology {
         for t in 1..k {
             parts.push(Part { name: format!("link{t}"), kind: PartKind::Link, joints: vec![r[t - 1], q[t], p[t + 1]] });
         }
-        parts.push(Part { name: if k == 1 { "rocker".into() } else { format!("link{k}") }, kind: PartKind::Link, joints: vec![r[k - 1], q[k]] });
+        parts.push(Part {
+            name: if k == 1 { "rocker".into() } else { format!("link{k}") },
+            kind: PartKind::Link,
+            joints: vec![r[k - 1], q[k]],
+        });
         Topology {
             mechanism_type: MechanismType::Chain,
             body_count: k,

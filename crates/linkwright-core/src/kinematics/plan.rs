@@ -1,6 +1,8 @@
 //! Compiling a mechanism into an ordered list of dyad steps, and solving it at a crank angle.
 
-use super::dyad::{circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_margin, Branch, DyadError};
+use super::dyad::{
+    circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_margin, Branch, DyadError,
+};
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, PartKind};
 
@@ -96,11 +98,20 @@ impl Plan {
                         return Err(CompileError::Coincident(name(a), name(b)));
                     }
                     let branch = circle_circle_branch(pos[a], pos[b], pos[j]);
-                    steps.push(Step::Dyad { joint: j, a, ra: pos[a].distance(pos[j]), b, rb: pos[b].distance(pos[j]), branch });
+                    steps.push(Step::Dyad {
+                        joint: j,
+                        a,
+                        ra: pos[a].distance(pos[j]),
+                        b,
+                        rb: pos[b].distance(pos[j]),
+                        branch,
+                    });
                     known[j] = true;
                     break;
                 }
-                if let (Some(line), [centre]) = (mechanism.slider.filter(|_| topo.slider_joint == Some(j)), anchors.as_slice()) {
+                if let (Some(line), [centre]) =
+                    (mechanism.slider.filter(|_| topo.slider_joint == Some(j)), anchors.as_slice())
+                {
                     let branch = circle_line_branch(pos[*centre], line.point, line.direction, pos[j]);
                     steps.push(Step::Slider {
                         joint: j,
@@ -162,7 +173,9 @@ impl Plan {
         let mut m = std::f64::consts::FRAC_PI_2;
         for step in &self.steps {
             match *step {
-                Step::Dyad { joint, a, b, .. } => m = m.min(transmission_margin(pos[a] - pos[joint], pos[b] - pos[joint])),
+                Step::Dyad { joint, a, b, .. } => {
+                    m = m.min(transmission_margin(pos[a] - pos[joint], pos[b] - pos[joint]))
+                }
                 Step::Slider { joint, centre, direction, .. } => {
                     m = m.min(transmission_margin(pos[centre] - pos[joint], direction.perp()))
                 }

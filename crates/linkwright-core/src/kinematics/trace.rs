@@ -40,8 +40,11 @@ impl Trace {
         for s in 0..=steps {
             let theta = from + (to - from) * (s as f64 / steps as f64);
             let row = &mut self.positions[s * n..(s + 1) * n];
-            plan.solve(theta, row)
-                .map_err(|(step, cause)| SweepError { theta_deg: theta.to_degrees(), step, cause })?;
+            plan.solve(theta, row).map_err(|(step, cause)| SweepError {
+                theta_deg: theta.to_degrees(),
+                step,
+                cause,
+            })?;
             self.min_transmission = self.min_transmission.min(plan.min_transmission(row));
             self.thetas.push(theta);
         }

@@ -82,7 +82,12 @@ impl Problem {
             Some(r) => Polygon::new(r.clone()),
             None => {
                 let b = first_pose_box.expect("validation ensures at least one body");
-                Polygon::new(vec![b.min, crate::geom::Point::new(b.max.x, b.min.y), b.max, crate::geom::Point::new(b.min.x, b.max.y)])
+                Polygon::new(vec![
+                    b.min,
+                    crate::geom::Point::new(b.max.x, b.min.y),
+                    b.max,
+                    crate::geom::Point::new(b.min.x, b.max.y),
+                ])
             }
         };
         add(region.aabb());
