@@ -247,3 +247,76 @@ impl DesignFile {
         serde_json::to_string_pretty(self).expect("a design always serializes")
     }
 }
+
+impl DesignFile {
+    /// The design file of a synthesis outcome.
+    pub fn from_outcome(problem: &crate::scene::Problem, outcome: &crate::synth::Outcome) -> DesignFile {
+        let s = &outcome.stats;
+        let (mechanism, motion, metrics) = match &outcome.best {
+            Some(c) => {
+                let (m, mo, me) = describe(c);
+                (Some(m), Some(mo), Some(me))
+            }
+            None => (None, None, None),
+        };
+        DesignFile {
+            linkwright: DESIGN_FORMAT.to_string(),
+            scene: problem.name.clone(),
+            status: if outcome.best.is_some() { Status::Ok } else { Status::NoSolution },
+            reason: outcome.reason.clone(),
+            mechanism,
+            motion,
+            metrics,
+            alternatives: outcome
+                .alternatives
+                .iter()
+                .map(|c| {
+                    let (mechanism, motion, metrics) = describe(c);
+                    Alternative { mechanism, motion, metrics }
+                })
+                .collect(),
+            stats: Stats {
+                samples: s.samples,
+                candidates: s.candidates,
+                valid: s.valid,
+                seconds: Seconds {
+                    sampling: s.seconds_sampling,
+                    collision: s.seconds_collision,
+                    pfo: s.seconds_pfo,
+                    total: s.seconds_total,
+                },
+                seed: problem.settings.seed,
+            },
+        }
+    }
+}
+
+/// The file's mechanism, motion and metrics of a candidate.
+fn describe(c: &crate::synth::Candidate) -> (MechanismJson, Motion, Metrics) {
+    let mut mechanism = MechanismJson::from_mechanism(&c.mechanism);
+    if let (Some(line), Some(j)) = (c.mechanism.slider, c.mechanism.topology.slider_joint) {
+        let along = (0..c.trace.len()).map(|r| (c.trace.row(r)[j] - line.point).dot(line.direction));
+        let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| (lo.min(s), hi.max(s)));
+        mechanism.slider = Some(SliderJson {
+            joint: c.mechanism.topology.joint_names[j].clone(),
+            point: line.point,
+            direction: [line.direction.x, line.direction.y],
+            stroke: [lo, hi],
+        });
+    }
+    let thetas = &c.trace.thetas;
+    let motion = Motion {
+        crank_start_deg: thetas[0].to_degrees(),
+        crank_end_deg: thetas[thetas.len() - 1].to_degrees(),
+        pose_crank_deg: c.pose_thetas().map(f64::to_degrees).collect(),
+    };
+    let metrics = Metrics {
+        accuracy: c.soft.accuracy,
+        smoothness: c.soft.smoothness,
+        location: c.soft.location,
+        size: c.soft.size,
+        cost: c.cost,
+        min_transmission_deg: c.trace.min_transmission().to_degrees(),
+    };
+    (mechanism, motion, metrics)
+}

@@ -11,6 +11,7 @@
 //! - [`kinematics`]: a dyad plan compiled once per topology, evaluated per crank angle.
 //! - [`synth`]: sampling, hard constraints, soft costs, the particle filter and the pipeline.
 //! - [`design`]: the `design/1` format.
+//! - [`render`]: pictures of a design (SVG text, static and animated).
 //!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
@@ -20,4 +21,7 @@ pub mod design;
 pub mod geom;
 pub mod kinematics;
 pub mod mechanism;
+pub mod render;
 pub mod scene;
+pub mod synth;
+pub mod verify;

@@ -1,1 +1,66 @@
-fn main() {}
+//! `linkwright`: the command-line shell around linkwright-core. It reads and writes files, shows
+//! progress and maps outcomes to exit codes; every computation lives in the library.
+
+mod commands;
+mod files;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Turn a sketch of an object and its key poses into a working linkage.
+#[derive(Parser, Debug)]
+#[command(name = "linkwright", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Find the best linkage for a scene and write design.json, design.svg and animation.svg.
+    Design(commands::DesignArgs),
+    /// Re-simulate a design against its scene and report every violated constraint (exit 1 if any).
+    Check {
+        /// The scene file (scene/1).
+        scene: PathBuf,
+        /// The design file (design/1).
+        design: PathBuf,
+        /// Print the violations as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the joint positions along a design's motion as CSV.
+    Simulate {
+        scene: PathBuf,
+        design: PathBuf,
+        /// Number of crank steps from the first to the last pose.
+        #[arg(long, default_value_t = 100)]
+        steps: usize,
+    },
+}
+
+/// Exit codes: 0 done (a `no_solution` design included), 1 a check found violations, 2 bad input.
+pub enum Failure {
+    /// The person's input is unusable; the message says what to change.
+    Input(String),
+    /// `check` found violations (already printed).
+    Violations,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Design(args) => commands::design(args),
+        Command::Check { scene, design, json } => commands::check(&scene, &design, json),
+        Command::Simulate { scene, design, steps } => commands::simulate(&scene, &design, steps),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Violations) => ExitCode::from(1),
+        Err(Failure::Input(message)) => {
+            eprintln!("{message}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -7,7 +7,7 @@ mod polygon;
 mod rigid;
 mod vector;
 
-pub use polygon::{Aabb, Polygon, PolygonError};
+pub use polygon::{penetrates_unchecked, Aabb, Polygon, PolygonError};
 pub use rigid::Rigid;
 pub use vector::{orientation, Orientation, Point, Vec2};
 

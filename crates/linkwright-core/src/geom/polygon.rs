@@ -197,9 +197,9 @@ impl Polygon {
     }
 }
 
-/// The body of [`Polygon::penetrates`] on raw vertex lists, for callers that keep transformed vertices
-/// in reused buffers and have already compared bounding boxes.
-pub(crate) fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
+/// The body of [`Polygon::penetrates`] on raw vertex lists (a two-point list is a segment), for callers
+/// that keep transformed vertices in reused buffers and have already compared bounding boxes.
+pub fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
     let (na, nb) = (a.len(), b.len());
     for i in 0..na {
         let (a0, a1) = (a[i], a[(i + 1) % na]);

@@ -14,41 +14,62 @@ pub struct SweepError {
     pub cause: DyadError,
 }
 
-/// Joint positions at crank angles spaced evenly from a start to an end angle.
+/// Joint positions at a sequence of crank angles along one travel.
 #[derive(Clone, Debug, Default)]
 pub struct Trace {
-    /// Crank angles, radians, unwrapped, from start to end.
+    /// Crank angles, radians, unwrapped, in travel order.
     pub thetas: Vec<f64>,
     /// `thetas.len() × joint_count` positions, one row per angle.
     pub positions: Vec<Point>,
+    /// The smallest transmission margin (radians) of each row.
+    pub margins: Vec<f64>,
     pub joint_count: usize,
-    /// The smallest transmission margin along the trace, radians.
-    pub min_transmission: f64,
 }
 
 impl Trace {
+    /// An empty trace for mechanisms with `joint_count` joints.
+    pub fn new(joint_count: usize) -> Trace {
+        Trace { joint_count, ..Trace::default() }
+    }
+
     /// Sweeps the crank from `from` to `to` (radians) in equal steps of at most `max_step`, keeping the
     /// plan's branches. Reuses `self`'s buffers.
     pub fn sweep(&mut self, plan: &Plan, from: f64, to: f64, max_step: f64) -> Result<(), SweepError> {
-        let n = plan.joint_count();
+        self.clear(plan.joint_count());
         let steps = (((to - from).abs() / max_step).ceil() as usize).max(1);
-        self.joint_count = n;
-        self.thetas.clear();
-        self.positions.clear();
-        self.positions.resize((steps + 1) * n, Point::ORIGIN);
-        self.min_transmission = std::f64::consts::FRAC_PI_2;
         for s in 0..=steps {
-            let theta = from + (to - from) * (s as f64 / steps as f64);
-            let row = &mut self.positions[s * n..(s + 1) * n];
-            plan.solve(theta, row).map_err(|(step, cause)| SweepError {
-                theta_deg: theta.to_degrees(),
-                step,
-                cause,
-            })?;
-            self.min_transmission = self.min_transmission.min(plan.min_transmission(row));
-            self.thetas.push(theta);
+            self.push(plan, from + (to - from) * (s as f64 / steps as f64))?;
         }
         Ok(())
+    }
+
+    /// Empties the trace, keeping its buffers.
+    pub fn clear(&mut self, joint_count: usize) {
+        self.joint_count = joint_count;
+        self.thetas.clear();
+        self.positions.clear();
+        self.margins.clear();
+    }
+
+    /// Solves the plan at `theta` and appends the configuration; on failure the trace is unchanged.
+    pub fn push(&mut self, plan: &Plan, theta: f64) -> Result<(), SweepError> {
+        let n = self.joint_count;
+        let start = self.positions.len();
+        self.positions.resize(start + n, Point::ORIGIN);
+        if let Err((step, cause)) = plan.solve(theta, &mut self.positions[start..]) {
+            self.positions.truncate(start);
+            return Err(SweepError { theta_deg: theta.to_degrees(), step, cause });
+        }
+        self.margins.push(plan.min_transmission(&self.positions[start..]));
+        self.thetas.push(theta);
+        Ok(())
+    }
+
+    /// Appends row `s` of `other` (same mechanism).
+    pub fn push_row_of(&mut self, other: &Trace, s: usize) {
+        self.positions.extend_from_slice(other.row(s));
+        self.margins.push(other.margins[s]);
+        self.thetas.push(other.thetas[s]);
     }
 
     pub fn len(&self) -> usize {
@@ -60,6 +81,10 @@ impl Trace {
     /// The joints at sample `s`.
     pub fn row(&self, s: usize) -> &[Point] {
         &self.positions[s * self.joint_count..(s + 1) * self.joint_count]
+    }
+    /// The smallest transmission margin along the whole trace, radians.
+    pub fn min_transmission(&self) -> f64 {
+        self.margins.iter().copied().fold(std::f64::consts::FRAC_PI_2, f64::min)
     }
 }
 

@@ -4,7 +4,7 @@
 mod problem;
 mod validate;
 
-pub use problem::{MovingBodyProblem, Problem};
+pub use problem::{MovingBodyProblem, Problem, CONTACT_FRACTION};
 pub use validate::{validate, Issue, Severity};
 
 use crate::geom::Point;

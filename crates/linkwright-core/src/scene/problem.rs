@@ -3,6 +3,9 @@
 use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Weights};
 use crate::geom::{Aabb, Polygon, Rigid};
 
+/// Penetration depth, as a fraction of the smallest body size, below which bodies only touch.
+pub const CONTACT_FRACTION: f64 = 1e-3;
+
 /// One moving body, ready for the engine.
 #[derive(Clone, Debug)]
 pub struct MovingBodyProblem {
@@ -105,6 +108,12 @@ impl Problem {
             scale: drawn.map_or(1.0, |d| d.diagonal()),
             warnings: issues,
         })
+    }
+
+    /// Penetration shallower than this (a length) is contact, not collision: a fraction
+    /// [`CONTACT_FRACTION`] of the smallest body size, so drawing imprecision never counts as overlap.
+    pub fn contact_tolerance(&self) -> f64 {
+        CONTACT_FRACTION * self.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min)
     }
 
     /// Number of moving bodies K.

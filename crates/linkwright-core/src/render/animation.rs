@@ -1,0 +1,211 @@
+//! The animated picture: the scene and the input poses stand still while the bodies and the linkage
+//! move along the trace, forward then back, looping (SVG's SMIL animation, no script).
+
+use super::layers::{self, polygon};
+use super::sheet::Sheet;
+use super::style::Style;
+use super::svg::{close, Element, Num};
+use super::RenderInput;
+use crate::geom::Point;
+use crate::mechanism::PartKind;
+use std::f64::consts::PI;
+
+/// Most configurations (frames) one way; the file stays small and the motion smooth.
+pub const MAX_FRAMES: usize = 180;
+
+/// The shortest time one way, seconds.
+const MIN_SECONDS: f64 = 0.1;
+
+/// The animation as SVG text: the motion takes `seconds` forward (clamped to at least 0.1 s), as long
+/// back, and repeats forever; the crank turns at constant speed. Without animation support (a static
+/// renderer), the picture shows the linkage at the first configuration of the trace.
+pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
+    let sheet = Sheet::new(input, MAX_FRAMES);
+    let clock = Clock::new(&sheet, seconds);
+    let mut out = String::new();
+    layers::open_document(&sheet, &mut out);
+    layers::open_world(&mut out);
+    layers::backdrop(&sheet, &mut out);
+    layers::onion_skins(&sheet, &mut out);
+    layers::joint_paths(&sheet, &mut out);
+    layers::slider_guide(&sheet, &mut out);
+    moving_bodies(&sheet, &clock, &mut out);
+    links(&sheet, &clock, &mut out);
+    slider(&sheet, &clock, &mut out);
+    layers::ground_symbols(&sheet, &mut out);
+    joints(&sheet, &clock, &mut out);
+    close(&mut out, "g");
+    layers::pose_numbers(&sheet, &mut out);
+    layers::title(&sheet, &["1…N: input poses", "the motion plays forward and back"], &mut out);
+    close(&mut out, "svg");
+    out
+}
+
+/// Timing shared by every animated attribute: frames forward, then back to the first.
+struct Clock {
+    /// `None` when there is nothing to animate (fewer than two frames).
+    key_times: Option<String>,
+    dur: String,
+}
+
+impl Clock {
+    fn new(sheet: &Sheet, seconds: f64) -> Clock {
+        let seconds = if seconds.is_finite() { seconds.max(MIN_SECONDS) } else { MIN_SECONDS };
+        let dur = format!("{}s", Num::with_decimals(3).f(2.0 * seconds));
+        let m = sheet.rows.len();
+        if m < 2 || sheet.input.trace.is_empty() {
+            return Clock { key_times: None, dur };
+        }
+        // Time is proportional to the crank angle travelled, so the crank turns at constant speed.
+        let thetas = &sheet.input.trace.thetas;
+        let mut travelled = Vec::with_capacity(m);
+        let mut sum = 0.0;
+        for (i, &s) in sheet.rows.iter().enumerate() {
+            if i > 0 {
+                sum += (thetas[s] - thetas[sheet.rows[i - 1]]).abs();
+            }
+            travelled.push(sum);
+        }
+        let fraction: Vec<f64> = travelled
+            .iter()
+            .enumerate()
+            .map(|(i, t)| if sum > 0.0 { t / sum } else { i as f64 / (m - 1) as f64 })
+            .collect();
+        let key = Num::with_decimals(5);
+        let times: Vec<String> = fraction
+            .iter()
+            .map(|f| key.f(f / 2.0))
+            .chain(fraction[..m - 1].iter().rev().map(|f| key.f(1.0 - f / 2.0)))
+            .collect();
+        Clock { key_times: Some(times.join(";")), dur }
+    }
+
+    /// Writes an animation of `attribute` through `forward` (one value per sampled frame), forward then
+    /// back. `transform` names the `animateTransform` type, `None` for a plain `animate`.
+    fn animate(&self, attribute: &str, transform: Option<&str>, forward: &[String], out: &mut String) {
+        let (Some(key_times), Some((_, back))) = (&self.key_times, forward.split_last()) else { return };
+        let mut values = forward.join(";");
+        for v in back.iter().rev() {
+            values.push(';');
+            values.push_str(v);
+        }
+        let tag = if transform.is_some() { "animateTransform" } else { "animate" };
+        Element::new(tag)
+            .attr("attributeName", attribute)
+            .attr_opt("type", transform)
+            .attr("dur", &self.dur)
+            .attr("repeatCount", "indefinite")
+            .attr("keyTimes", key_times)
+            .attr("values", values)
+            .empty(out);
+    }
+}
+
+/// One value per sampled frame.
+fn per_frame(sheet: &Sheet, value: impl Fn(&[Point]) -> String) -> Vec<String> {
+    sheet.rows.iter().map(|&s| value(sheet.row(s))).collect()
+}
+
+/// Each body in a translating group around a rotating group, both animated, holding the outline and
+/// the joint bracket in body coordinates.
+fn moving_bodies(sheet: &Sheet, clock: &Clock, out: &mut String) {
+    let n = &sheet.num;
+    let topo = sheet.topology();
+    let first = sheet.row(sheet.rows[0]);
+    for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
+        let colour = Style::body_colour(b);
+        let start = sheet.body_pose(b, first);
+        // Unwrapped angles (degrees), so a body turning past ±180° keeps turning the same way.
+        let mut angles: Vec<f64> = Vec::with_capacity(sheet.rows.len());
+        for &s in &sheet.rows {
+            let a = sheet.body_pose(b, sheet.row(s)).angle();
+            let a = match angles.last() {
+                Some(&prev) => prev + wrap(a - prev),
+                None => a,
+            };
+            angles.push(a);
+        }
+        Element::new("g")
+            .attr("transform", format!("translate({})", n.points([Point::ORIGIN + start.translation()])))
+            .open(out);
+        clock.animate(
+            "transform",
+            Some("translate"),
+            &per_frame(sheet, |row| n.points([Point::ORIGIN + sheet.body_pose(b, row).translation()])),
+            out,
+        );
+        Element::new("g").attr("transform", format!("rotate({:.2})", angles[0].to_degrees())).open(out);
+        let degrees: Vec<String> = angles.iter().map(|a| format!("{:.2}", a.to_degrees())).collect();
+        clock.animate("transform", Some("rotate"), &degrees, out);
+        polygon(sheet, &body.outline, "body", Some(colour), out);
+        if b < topo.body_count {
+            let to_body = body.poses[0].inverse();
+            let joints: Vec<Point> =
+                topo.body_part(b).joints.iter().map(|&j| to_body.apply(sheet.input.mechanism.joints[j])).collect();
+            layers::bracket(sheet, &joints, colour, out);
+        }
+        close(out, "g");
+        close(out, "g");
+    }
+}
+
+/// The angle `a` brought into (−π, π].
+fn wrap(a: f64) -> f64 {
+    let w = a.rem_euclid(2.0 * PI);
+    if w > PI {
+        w - 2.0 * PI
+    } else {
+        w
+    }
+}
+
+/// Every link, its ends (or corners) animated.
+fn links(sheet: &Sheet, clock: &Clock, out: &mut String) {
+    let n = &sheet.num;
+    let first = sheet.row(sheet.rows[0]);
+    for (i, part) in sheet.topology().parts.iter().enumerate() {
+        if part.kind != PartKind::Link {
+            continue;
+        }
+        layers::link(sheet, i, first).open(out);
+        if let [a, b] = part.joints[..] {
+            clock.animate("x1", None, &per_frame(sheet, |row| n.f(row[a].x)), out);
+            clock.animate("y1", None, &per_frame(sheet, |row| n.f(row[a].y)), out);
+            clock.animate("x2", None, &per_frame(sheet, |row| n.f(row[b].x)), out);
+            clock.animate("y2", None, &per_frame(sheet, |row| n.f(row[b].y)), out);
+            close(out, "line");
+        } else {
+            clock.animate("points", None, &per_frame(sheet, |row| n.points(part.joints.iter().map(|&j| row[j]))), out);
+            close(out, "polygon");
+        }
+    }
+}
+
+/// The slider block, riding with the slider joint.
+fn slider(sheet: &Sheet, clock: &Clock, out: &mut String) {
+    let mechanism = sheet.input.mechanism;
+    let (Some(line), Some(j)) = (mechanism.slider, mechanism.topology.slider_joint) else { return };
+    let n = &sheet.num;
+    let at = sheet.row(sheet.rows[0])[j];
+    Element::new("g").attr("transform", format!("translate({})", n.points([at]))).open(out);
+    clock.animate("transform", Some("translate"), &per_frame(sheet, |row| n.points([row[j]])), out);
+    layers::slider_block(sheet, line.direction).empty(out);
+    close(out, "g");
+}
+
+/// Ground joints standing still, moving joints animated.
+fn joints(sheet: &Sheet, clock: &Clock, out: &mut String) {
+    let n = &sheet.num;
+    let first = sheet.row(sheet.rows[0]);
+    let fixed = sheet.topology().fixed_joints();
+    for (j, &p) in first.iter().enumerate() {
+        if fixed.contains(&j) {
+            layers::joint(sheet, p).empty(out);
+        } else {
+            layers::joint(sheet, p).open(out);
+            clock.animate("cx", None, &per_frame(sheet, |row| n.f(row[j].x)), out);
+            clock.animate("cy", None, &per_frame(sheet, |row| n.f(row[j].y)), out);
+            close(out, "circle");
+        }
+    }
+}

@@ -1,0 +1,100 @@
+//! The static design sheet: the scene, the input poses, the linkage at its first pose, the joint paths
+//! and where the linkage actually puts the bodies at each pose.
+
+use super::layers::{self, label, polygon};
+use super::sheet::Sheet;
+use super::style::Style;
+use super::svg::{close, Element};
+use super::RenderInput;
+use crate::geom::{Point, Vec2};
+use crate::mechanism::PartKind;
+
+/// Most points of one joint path on the sheet.
+const MAX_PATH_POINTS: usize = 720;
+
+/// The static design sheet as SVG text (world coordinates, y up, fitted to everything drawn).
+///
+/// Draws, bottom to top: the linkage region (dashed blue), avoid regions (red hatch), fixed bodies
+/// (grey), each moving body at every input pose (translucent, numbered from 1), the outline the linkage
+/// reaches at each `pose_steps` configuration (dashed), the joint paths along the trace, the slider
+/// guide, the moving bodies at the first pose, the linkage at the first pose (binary links as thick
+/// lines, the crank red, ternary links as triangles, ground pivots on ground symbols), the joint names
+/// and a title with a legend.
+pub fn design_svg(input: &RenderInput) -> String {
+    let sheet = Sheet::new(input, MAX_PATH_POINTS);
+    let mut out = String::new();
+    layers::open_document(&sheet, &mut out);
+    layers::open_world(&mut out);
+    layers::backdrop(&sheet, &mut out);
+    layers::onion_skins(&sheet, &mut out);
+    reached_poses(&sheet, &mut out);
+    layers::joint_paths(&sheet, &mut out);
+    layers::slider_guide(&sheet, &mut out);
+    bodies_at_first_pose(&sheet, &mut out);
+    linkage_at_first_pose(&sheet, &mut out);
+    close(&mut out, "g");
+    layers::pose_numbers(&sheet, &mut out);
+    joint_names(&sheet, &mut out);
+    layers::title(&sheet, &["1…N: input poses", "dashed: as the linkage reaches them"], &mut out);
+    close(&mut out, "svg");
+    out
+}
+
+/// Each body where the linkage puts it at the configuration offered for each input pose.
+fn reached_poses(sheet: &Sheet, out: &mut String) {
+    for (_, s) in sheet.pose_steps() {
+        let row = sheet.row(s);
+        for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
+            let outline = body.outline.transformed(&sheet.body_pose(b, row));
+            Element::new("polygon")
+                .attr("class", "reached")
+                .attr("stroke", Style::body_colour(b))
+                .attr("points", sheet.num.points(outline.vertices().iter().copied()))
+                .empty(out);
+        }
+    }
+}
+
+/// The moving bodies, solid, at their first input pose, each with a bracket joining the joints it
+/// carries (so a joint outside the outline is seen to be fixed to the body).
+fn bodies_at_first_pose(sheet: &Sheet, out: &mut String) {
+    let topo = sheet.topology();
+    for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
+        let colour = Style::body_colour(b);
+        polygon(sheet, &body.outline.transformed(&body.poses[0]), "body", Some(colour), out);
+        if b < topo.body_count {
+            let joints: Vec<Point> =
+                topo.body_part(b).joints.iter().map(|&j| sheet.input.mechanism.joints[j]).collect();
+            layers::bracket(sheet, &joints, colour, out);
+        }
+    }
+}
+
+/// Links, the slider block, ground symbols and joints at the first pose.
+fn linkage_at_first_pose(sheet: &Sheet, out: &mut String) {
+    let mechanism = sheet.input.mechanism;
+    for (i, part) in mechanism.topology.parts.iter().enumerate() {
+        if part.kind == PartKind::Link {
+            layers::link(sheet, i, &mechanism.joints).empty(out);
+        }
+    }
+    if let (Some(line), Some(j)) = (mechanism.slider, mechanism.topology.slider_joint) {
+        let at = mechanism.joints[j];
+        Element::new("g").attr("transform", format!("translate({})", sheet.num.points([at]))).open(out);
+        layers::slider_block(sheet, line.direction).empty(out);
+        close(out, "g");
+    }
+    layers::ground_symbols(sheet, out);
+    for &p in &mechanism.joints {
+        layers::joint(sheet, p).empty(out);
+    }
+}
+
+/// Each joint's name beside it, up and to the right.
+fn joint_names(sheet: &Sheet, out: &mut String) {
+    let mechanism = sheet.input.mechanism;
+    let offset = Vec2::new(sheet.style.joint * 1.3, sheet.style.joint * 1.3);
+    for (name, &p) in mechanism.topology.joint_names.iter().zip(&mechanism.joints) {
+        label(sheet, p + offset, name, "joint-label", None, out);
+    }
+}

@@ -1,0 +1,264 @@
+//! Drawing layers both pictures share: the document frame, the scene's fixed parts, the input poses,
+//! the joint paths, the slider guide, the ground pivots, the labels and the title.
+//!
+//! World layers are written inside a group that flips y (`scale(1,-1)`), so their coordinates are world
+//! coordinates, y up; text is written outside it at `(x, −y)`, so it stays upright.
+
+use super::sheet::Sheet;
+use super::style::Style;
+use super::svg::{close, Element};
+use crate::geom::{Point, Polygon, Vec2};
+
+/// The longest side of the picture's default size, in pixels.
+const PIXELS: f64 = 1000.0;
+
+/// Opens the document: root, title, style sheet, hatch pattern, white background.
+pub fn open_document(sheet: &Sheet, out: &mut String) {
+    let (x, y, w, h) = sheet.view_box();
+    let n = &sheet.num;
+    let px = PIXELS / w.max(h);
+    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    Element::new("svg")
+        .attr("xmlns", "http://www.w3.org/2000/svg")
+        .attr("viewBox", format!("{} {} {} {}", n.f(x), n.f(y), n.f(w), n.f(h)))
+        .attr("width", (w * px).round())
+        .attr("height", (h * px).round())
+        .open(out);
+    let title = sheet.title();
+    Element::new("title").text(&format!("{}: {}", title.name, title.subtitle), out);
+    Element::new("style").text(&sheet.style.css(n), out);
+    Element::new("defs").open(out);
+    let hatch = sheet.style.dash * 0.8;
+    Element::new("pattern")
+        .attr("id", "hatch")
+        .attr("patternUnits", "userSpaceOnUse")
+        .attr("width", n.f(hatch))
+        .attr("height", n.f(hatch))
+        .attr("patternTransform", "rotate(45)")
+        .open(out);
+    Element::new("rect")
+        .attr("width", n.f(hatch))
+        .attr("height", n.f(hatch))
+        .attr("fill", "#d62728")
+        .attr("fill-opacity", ".08")
+        .empty(out);
+    Element::new("line")
+        .attr("x1", n.f(hatch / 2.0))
+        .attr("y1", 0)
+        .attr("x2", n.f(hatch / 2.0))
+        .attr("y2", n.f(hatch))
+        .attr("stroke", "#d62728")
+        .attr("stroke-opacity", ".6")
+        .attr("stroke-width", n.f(sheet.style.thin))
+        .empty(out);
+    close(out, "pattern");
+    close(out, "defs");
+    Element::new("rect")
+        .attr("x", n.f(x))
+        .attr("y", n.f(y))
+        .attr("width", n.f(w))
+        .attr("height", n.f(h))
+        .attr("fill", "#fff")
+        .empty(out);
+}
+
+/// Opens the y-up group the world layers go in.
+pub fn open_world(out: &mut String) {
+    Element::new("g").attr("transform", "scale(1,-1)").open(out);
+}
+
+/// Writes a polygon with the given class and optional colour.
+pub fn polygon(sheet: &Sheet, poly: &Polygon, class: &str, colour: Option<&str>, out: &mut String) {
+    Element::new("polygon")
+        .attr("class", class)
+        .attr_opt("fill", colour)
+        .attr_opt("stroke", colour)
+        .attr("points", sheet.num.points(poly.vertices().iter().copied()))
+        .empty(out);
+}
+
+/// The linkage region (dashed), the avoid regions (hatched) and the fixed bodies (grey).
+pub fn backdrop(sheet: &Sheet, out: &mut String) {
+    let problem = sheet.input.problem;
+    polygon(sheet, &problem.region, "region", None, out);
+    for a in &problem.avoid {
+        polygon(sheet, a, "avoid", None, out);
+    }
+    for f in &problem.fixed {
+        polygon(sheet, f, "fixed", None, out);
+    }
+}
+
+/// Every moving body at each of its input poses, translucent (numbers come with [`pose_numbers`]).
+pub fn onion_skins(sheet: &Sheet, out: &mut String) {
+    for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
+        for pose in &body.poses {
+            polygon(sheet, &body.outline.transformed(pose), "pose", Some(Style::body_colour(b)), out);
+        }
+    }
+}
+
+/// One thin polyline per moving joint through the sampled configurations.
+pub fn joint_paths(sheet: &Sheet, out: &mut String) {
+    if sheet.input.trace.is_empty() {
+        return;
+    }
+    for j in sheet.moving_joints() {
+        Element::new("polyline")
+            .attr("class", "path")
+            .attr("stroke", Style::path_colour(j))
+            .attr("points", sheet.num.points(sheet.rows.iter().map(|&s| sheet.row(s)[j])))
+            .empty(out);
+    }
+}
+
+/// The slot the slider joint runs in, between its extreme positions.
+pub fn slider_guide(sheet: &Sheet, out: &mut String) {
+    let Some((a, b)) = sheet.guide() else { return };
+    for class in ["guide", "guide-core"] {
+        let n = &sheet.num;
+        Element::new("line")
+            .attr("class", class)
+            .attr("x1", n.f(a.x))
+            .attr("y1", n.f(a.y))
+            .attr("x2", n.f(b.x))
+            .attr("y2", n.f(b.y))
+            .empty(out);
+    }
+}
+
+/// A ground symbol under every joint carried by the ground: a triangle standing on a hatched base.
+pub fn ground_symbols(sheet: &Sheet, out: &mut String) {
+    let h = sheet.style.joint * 2.2;
+    let n = &sheet.num;
+    for &j in sheet.topology().fixed_joints() {
+        let g = sheet.input.mechanism.joints[j];
+        let at = |dx: f64, dy: f64| g + Vec2::new(dx * h, dy * h);
+        Element::new("polygon")
+            .attr("class", "ground")
+            .attr("points", n.points([g, at(-0.75, -1.3), at(0.75, -1.3)]))
+            .empty(out);
+        let mut d = String::new();
+        let mut segment = |p: Point, q: Point| {
+            d.push('M');
+            n.put_point(&mut d, p);
+            d.push('L');
+            n.put_point(&mut d, q);
+        };
+        segment(at(-1.1, -1.3), at(1.1, -1.3));
+        for i in 0..5 {
+            let x = -1.0 + 0.5 * i as f64;
+            segment(at(x, -1.3), at(x - 0.4, -1.75));
+        }
+        Element::new("path").attr("class", "ground-line").attr("d", d).empty(out);
+    }
+}
+
+/// A label at world point `p`, written in screen coordinates (call outside the world group).
+pub fn label(sheet: &Sheet, p: Point, text: &str, class: &str, colour: Option<&str>, out: &mut String) {
+    Element::new("text")
+        .attr("class", class)
+        .attr("x", sheet.num.f(p.x))
+        .attr("y", sheet.num.f(-p.y))
+        .attr_opt("fill", colour)
+        .text(text, out);
+}
+
+/// The number of every input pose (1-based, as a person counts) at the centroid of the body there.
+pub fn pose_numbers(sheet: &Sheet, out: &mut String) {
+    let font = sheet.style.font;
+    for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
+        for (i, pose) in body.poses.iter().enumerate() {
+            // Shifted down by a third of the font so the digits sit centred on the centroid.
+            let c = body.outline.transformed(pose).centroid() - Vec2::new(0.0, font * 0.35);
+            label(sheet, c, &(i + 1).to_string(), "pose-label", Some(Style::body_colour(b)), out);
+        }
+    }
+}
+
+/// The title band: scene name, mechanism line, and a legend of body colours and `notes`.
+pub fn title(sheet: &Sheet, notes: &[&str], out: &mut String) {
+    let (x0, y0, _, _) = sheet.view_box();
+    let s = &sheet.style;
+    let n = &sheet.num;
+    let x = x0 + s.margin * 0.5;
+    let title = sheet.title();
+    let mut y = y0 + s.title_font * 1.15;
+    Element::new("text").attr("class", "title").attr("x", n.f(x)).attr("y", n.f(y)).text(&title.name, out);
+    y += sheet.line_height();
+    Element::new("text").attr("x", n.f(x)).attr("y", n.f(y)).text(&title.subtitle, out);
+    y += sheet.line_height();
+    let mut cx = x;
+    let swatch = s.font * 0.8;
+    for (colour, text) in sheet.legend(notes) {
+        if let Some(colour) = colour {
+            Element::new("rect")
+                .attr("class", "legend")
+                .attr("x", n.f(cx))
+                .attr("y", n.f(y - swatch * 0.9))
+                .attr("width", n.f(swatch))
+                .attr("height", n.f(swatch))
+                .attr("fill", colour)
+                .empty(out);
+            cx += swatch * 1.4;
+        }
+        Element::new("text").attr("x", n.f(cx)).attr("y", n.f(y)).text(&text, out);
+        cx += Sheet::text_width(text.chars().count(), s.font) + s.font * 1.2;
+    }
+}
+
+/// Part `part` (a link) with its joints at `joints`: a thick line for a binary link (red for the
+/// crank), a filled triangle or polygon for a ternary one. Returned unwritten, so the animation can add
+/// children.
+pub fn link(sheet: &Sheet, part: usize, joints: &[Point]) -> Element {
+    let n = &sheet.num;
+    let carried = &sheet.topology().parts[part].joints;
+    if let [a, b] = carried[..] {
+        let (a, b) = (joints[a], joints[b]);
+        Element::new("line")
+            .attr("class", if sheet.is_crank(part) { "link crank" } else { "link" })
+            .attr("x1", n.f(a.x))
+            .attr("y1", n.f(a.y))
+            .attr("x2", n.f(b.x))
+            .attr("y2", n.f(b.y))
+    } else {
+        Element::new("polygon").attr("class", "ternary").attr("points", n.points(carried.iter().map(|&j| joints[j])))
+    }
+}
+
+/// A joint circle at `p`, returned unwritten.
+pub fn joint(sheet: &Sheet, p: Point) -> Element {
+    let n = &sheet.num;
+    Element::new("circle")
+        .attr("class", "joint")
+        .attr("cx", n.f(p.x))
+        .attr("cy", n.f(p.y))
+        .attr("r", n.f(sheet.style.joint))
+}
+
+/// A body's joints joined (a line for two, a polygon for more), in whatever frame `joints` are given.
+pub fn bracket(sheet: &Sheet, joints: &[Point], colour: &str, out: &mut String) {
+    if joints.len() < 2 {
+        return;
+    }
+    let tag = if joints.len() == 2 { "polyline" } else { "polygon" };
+    Element::new(tag)
+        .attr("class", "bracket")
+        .attr("fill", colour)
+        .attr("stroke", colour)
+        .attr("points", sheet.num.points(joints.iter().copied()))
+        .empty(out);
+}
+
+/// The block that slides on the guide, centred on the origin of the current frame, along `direction`.
+pub fn slider_block(sheet: &Sheet, direction: Vec2) -> Element {
+    let n = &sheet.num;
+    let (w, h) = (sheet.style.joint * 4.4, sheet.style.joint * 2.8);
+    Element::new("rect")
+        .attr("class", "slider")
+        .attr("x", n.f(-w / 2.0))
+        .attr("y", n.f(-h / 2.0))
+        .attr("width", n.f(w))
+        .attr("height", n.f(h))
+        .attr("transform", format!("rotate({:.2})", direction.angle().to_degrees()))
+}

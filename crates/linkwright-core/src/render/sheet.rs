@@ -1,0 +1,240 @@
+//! What both drawings share: the sizes, the sampled configurations, the body frames and the view box.
+
+use super::style::Style;
+use super::svg::Num;
+use super::RenderInput;
+use crate::geom::{Aabb, Point, Polygon, Rigid, Vec2};
+use crate::kinematics::BodyFrames;
+use crate::mechanism::{MechanismType, PartKind, Topology};
+
+/// A drawing in the making: the input and everything derived from it once.
+pub struct Sheet<'a> {
+    pub input: &'a RenderInput<'a>,
+    pub style: Style,
+    /// Formats lengths (about 10⁻⁴ of the scale).
+    pub num: Num,
+    pub body_frames: BodyFrames,
+    /// Trace rows drawn (joint paths, animation frames), in order; `[0]` for an empty trace, whose only
+    /// configuration is the mechanism at its first pose.
+    pub rows: Vec<usize>,
+    /// The part of the world shown, without the title band.
+    pub world: Aabb,
+    /// Height of the title band above the world, drawing units.
+    pub band: f64,
+    /// Width of the view box (at least the world's, more when the title is wider).
+    pub width: f64,
+}
+
+/// The text lines of the title band.
+pub struct Title {
+    pub name: String,
+    pub subtitle: String,
+}
+
+impl<'a> Sheet<'a> {
+    /// Prepares a drawing that samples at most `max_rows` trace rows.
+    pub fn new(input: &'a RenderInput<'a>, max_rows: usize) -> Sheet<'a> {
+        let problem = input.problem;
+        let style = Style::for_scale(problem.scale);
+        let num = Num::resolving(1e-4 * problem.scale);
+        let first_poses: Vec<Rigid> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+        let body_frames = BodyFrames::new(input.mechanism, &first_poses);
+        let rows = if input.trace.is_empty() { vec![0] } else { sample(input.trace.len(), max_rows) };
+        let mut sheet = Sheet {
+            input,
+            style,
+            num,
+            body_frames,
+            rows,
+            world: Aabb { min: Point::ORIGIN, max: Point::ORIGIN },
+            band: 0.0,
+            width: 0.0,
+        };
+        sheet.frame();
+        sheet
+    }
+
+    /// The joints in trace row `s` (the first-pose joints when the trace is empty).
+    pub fn row(&self, s: usize) -> &[Point] {
+        if self.input.trace.is_empty() {
+            &self.input.mechanism.joints
+        } else {
+            self.input.trace.row(s)
+        }
+    }
+
+    /// Every row of the trace (not only the sampled ones).
+    pub fn all_rows(&self) -> impl Iterator<Item = &[Point]> + '_ {
+        let n = self.input.trace.len().max(1);
+        (0..n).map(move |s| self.row(s))
+    }
+
+    pub fn topology(&self) -> &Topology {
+        &self.input.mechanism.topology
+    }
+
+    /// Body `b`'s `body_to_world` in configuration `row`; bodies the mechanism does not carry stay at
+    /// their first pose.
+    pub fn body_pose(&self, b: usize, row: &[Point]) -> Rigid {
+        if b < self.body_frames.body_count() {
+            self.body_frames.pose(b, row)
+        } else {
+            self.input.problem.bodies[b].poses[0]
+        }
+    }
+
+    /// The valid `pose_steps` entries, with the pose index each belongs to.
+    pub fn pose_steps(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let n = self.input.trace.len();
+        self.input.pose_steps.iter().copied().enumerate().filter(move |&(_, s)| s < n)
+    }
+
+    /// True when part `part` is the crank: the link that carries both driver joints.
+    pub fn is_crank(&self, part: usize) -> bool {
+        let t = self.topology();
+        let p = &t.parts[part];
+        p.kind == PartKind::Link && p.joints.contains(&t.driver_pivot) && p.joints.contains(&t.driver_tip)
+    }
+
+    /// Joints that move (not carried by the ground).
+    pub fn moving_joints(&self) -> Vec<usize> {
+        let fixed = self.topology().fixed_joints();
+        (0..self.topology().joint_count()).filter(|j| !fixed.contains(j)).collect()
+    }
+
+    /// The slider guide's ends: the extreme positions of the slider joint along its line.
+    pub fn guide(&self) -> Option<(Point, Point)> {
+        let line = self.input.mechanism.slider?;
+        let j = self.topology().slider_joint?;
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for row in self.all_rows() {
+            let s = (row[j] - line.point).dot(line.direction);
+            lo = lo.min(s);
+            hi = hi.max(s);
+        }
+        let ext = self.style.joint * 3.0;
+        Some((line.point + line.direction * (lo - ext), line.point + line.direction * (hi + ext)))
+    }
+
+    /// The scene name and a line about the mechanism.
+    pub fn title(&self) -> Title {
+        let problem = self.input.problem;
+        let name = if problem.name.trim().is_empty() { "untitled scene".to_string() } else { problem.name.clone() };
+        let mut subtitle = mechanism_label(self.topology());
+        let thetas = &self.input.trace.thetas;
+        if let (Some(a), Some(b)) = (thetas.first(), thetas.last()) {
+            subtitle.push_str(&format!(" · crank {:.1}° → {:.1}°", a.to_degrees(), b.to_degrees()));
+        }
+        subtitle.push_str(&format!(" · {} poses", problem.pose_count));
+        Title { name, subtitle }
+    }
+
+    /// Rough width of `chars` characters at font size `font` (no font metrics here).
+    pub fn text_width(chars: usize, font: f64) -> f64 {
+        chars as f64 * font * 0.56
+    }
+
+    /// Height of one legend line.
+    pub fn line_height(&self) -> f64 {
+        self.style.font * 1.4
+    }
+
+    /// The legend entries: `(colour, label)`; colour `None` for a plain note.
+    pub fn legend(&self, notes: &[&str]) -> Vec<(Option<&'static str>, String)> {
+        let mut items: Vec<(Option<&'static str>, String)> = self
+            .input
+            .problem
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(b, body)| (Some(Style::body_colour(b)), body.name.clone()))
+            .collect();
+        items.extend(notes.iter().map(|n| (None, n.to_string())));
+        items
+    }
+
+    /// Fits the view to everything drawn, with a margin and a title band on top.
+    fn frame(&mut self) {
+        let problem = self.input.problem;
+        let mut points: Vec<Point> = Vec::new();
+        let add_polygon = |poly: &Polygon, points: &mut Vec<Point>| points.extend_from_slice(poly.vertices());
+        for f in &problem.fixed {
+            add_polygon(f, &mut points);
+        }
+        add_polygon(&problem.region, &mut points);
+        for a in &problem.avoid {
+            add_polygon(a, &mut points);
+        }
+        for body in &problem.bodies {
+            for pose in &body.poses {
+                add_polygon(&body.outline.transformed(pose), &mut points);
+            }
+        }
+        for row in self.all_rows() {
+            points.extend_from_slice(row);
+        }
+        for &s in &self.rows {
+            for (b, body) in problem.bodies.iter().enumerate() {
+                let pose = self.body_pose(b, self.row(s));
+                points.extend(body.outline.vertices().iter().map(|&p| pose.apply(p)));
+            }
+        }
+        for (_, s) in self.pose_steps() {
+            for (b, body) in problem.bodies.iter().enumerate() {
+                let pose = self.body_pose(b, self.row(s));
+                points.extend(body.outline.vertices().iter().map(|&p| pose.apply(p)));
+            }
+        }
+        if let Some((a, b)) = self.guide() {
+            points.extend([a, b]);
+        }
+        let bb = Aabb::around(points.into_iter().filter(|p| p.is_finite()))
+            .unwrap_or(Aabb { min: Point::ORIGIN, max: Point::new(1.0, 1.0) });
+        // Ground symbols reach about three joint radii below their pivots.
+        let pad = self.style.margin + 3.0 * self.style.joint;
+        let mut world = Aabb { min: bb.min - Vec2::new(pad, pad), max: bb.max + Vec2::new(pad, pad) };
+        let title = self.title();
+        let legend_chars: usize = self.legend(&[]).iter().map(|(_, l)| l.chars().count() + 6).sum::<usize>() + 40;
+        let text_width = [
+            Self::text_width(title.name.chars().count(), self.style.title_font),
+            Self::text_width(title.subtitle.chars().count(), self.style.font),
+            Self::text_width(legend_chars, self.style.font),
+        ]
+        .into_iter()
+        .fold(0.0, f64::max)
+            + self.style.margin;
+        self.band = self.style.title_font * 1.4 + 2.0 * self.line_height();
+        self.width = world.width().max(text_width);
+        world.max.x = world.min.x + self.width;
+        self.world = world;
+    }
+
+    /// The view box in screen coordinates (`x`, `−y`): min x, min y, width, height.
+    pub fn view_box(&self) -> (f64, f64, f64, f64) {
+        (self.world.min.x, -self.world.max.y - self.band, self.width, self.world.height() + self.band)
+    }
+}
+
+/// What a person calls the mechanism.
+pub fn mechanism_label(topology: &Topology) -> String {
+    match topology.mechanism_type {
+        MechanismType::Chain => match topology.body_count {
+            1 => "four-bar linkage".to_string(),
+            2 => "Watt-I six-bar linkage".to_string(),
+            _ => format!("{}-bar chain", topology.parts.len()),
+        },
+        MechanismType::SliderCrank => "slider-crank".to_string(),
+    }
+}
+
+/// At most `max` indices spread evenly over `0..len`, always with the first and the last.
+pub fn sample(len: usize, max: usize) -> Vec<usize> {
+    let max = max.max(2);
+    if len <= max {
+        return (0..len).collect();
+    }
+    let mut out: Vec<usize> =
+        (0..max).map(|i| ((i as f64) * (len - 1) as f64 / (max - 1) as f64).round() as usize).collect();
+    out.dedup();
+    out
+}

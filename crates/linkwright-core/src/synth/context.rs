@@ -1,0 +1,105 @@
+//! Everything about one (problem, topology) pair that every candidate needs, computed once.
+
+use crate::geom::{Aabb, Point, Rigid};
+use crate::mechanism::{MechanismType, PartKind, Topology};
+use crate::scene::Problem;
+use std::sync::Arc;
+
+/// Fraction of the smallest body size d below which two joints of one part count as too close to
+/// build (a pin and its hole need room). Paper §7 fixes link widths in absolute units; we keep every
+/// threshold relative to the drawing.
+pub const MIN_JOINT_SPACING: f64 = 0.2;
+/// The crank step of every simulation, radians (paper §8.3: 1°).
+pub const CRANK_STEP: f64 = std::f64::consts::PI / 180.0;
+/// How far past the last pose's nominal crank angle the search for the configuration closest to it
+/// may look, radians.
+pub const END_SEARCH: f64 = 10.0 * std::f64::consts::PI / 180.0;
+
+/// Per-topology precomputation for one problem.
+#[derive(Debug)]
+pub struct Context<'a> {
+    pub problem: &'a Problem,
+    pub topology: Arc<Topology>,
+    /// The moving body that carries each joint, `None` for ground joints.
+    pub carriers: Vec<Option<usize>>,
+    /// The joints carried by moving bodies (J_M of paper eq. 10–11).
+    pub moving_joints: Vec<usize>,
+    /// Every pair of joints held at a fixed distance by a link.
+    pub link_pairs: Vec<(usize, usize)>,
+    /// Every pair of joints on one part (links, bodies, ground), which must stay apart.
+    pub part_pairs: Vec<(usize, usize)>,
+    /// Segments drawn by links (edges of each link part), checked against avoid regions.
+    pub link_segments: Vec<(usize, usize)>,
+    /// `motions[b][i]`: the input motion of body b from the first pose to pose i.
+    pub motions: Vec<Vec<Rigid>>,
+    pub first_poses: Vec<Rigid>,
+    /// The smallest moving body size d.
+    pub body_size: f64,
+    pub min_spacing: f64,
+    pub min_transmission: f64,
+    /// Penetration below this depth is contact, not collision (a length).
+    pub contact_tolerance: f64,
+    pub fixed_boxes: Vec<Aabb>,
+    pub avoid_boxes: Vec<Aabb>,
+}
+
+impl<'a> Context<'a> {
+    pub fn new(problem: &'a Problem, mechanism_type: MechanismType) -> Context<'a> {
+        let topology = Arc::new(match mechanism_type {
+            MechanismType::Chain => Topology::chain(problem.body_count()),
+            MechanismType::SliderCrank => Topology::slider_crank(),
+        });
+        let mut carriers = vec![None; topology.joint_count()];
+        for part in &topology.parts {
+            if let PartKind::Body(b) = part.kind {
+                for &j in &part.joints {
+                    carriers[j] = Some(b);
+                }
+            }
+        }
+        let moving_joints = (0..topology.joint_count()).filter(|&j| carriers[j].is_some()).collect();
+        let mut part_pairs = Vec::new();
+        let mut link_segments = Vec::new();
+        for part in &topology.parts {
+            let js = &part.joints;
+            for (i, &a) in js.iter().enumerate() {
+                for &b in &js[i + 1..] {
+                    part_pairs.push((a, b));
+                    if part.kind == PartKind::Link {
+                        link_segments.push((a, b));
+                    }
+                }
+            }
+        }
+        let body_size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+        Context {
+            problem,
+            carriers,
+            moving_joints,
+            link_pairs: topology.link_pairs(),
+            part_pairs,
+            link_segments,
+            motions: problem
+                .bodies
+                .iter()
+                .map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect())
+                .collect(),
+            first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(),
+            body_size,
+            min_spacing: MIN_JOINT_SPACING * body_size,
+            min_transmission: problem.settings.min_transmission_deg.to_radians(),
+            contact_tolerance: problem.contact_tolerance(),
+            fixed_boxes: problem.fixed.iter().map(|p| p.aabb()).collect(),
+            avoid_boxes: problem.avoid.iter().map(|p| p.aabb()).collect(),
+            topology,
+        }
+    }
+
+    /// Where joint `j`, at `p` in the first pose, should be at pose `i` (it rides on its carrier).
+    pub fn target(&self, j: usize, p: Point, i: usize) -> Point {
+        match self.carriers[j] {
+            Some(b) => self.motions[b][i].apply(p),
+            None => p,
+        }
+    }
+}

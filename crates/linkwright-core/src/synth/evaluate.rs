@@ -1,0 +1,300 @@
+//! Judging one mechanism: hard constraints (paper §5) from the cheapest to the most expensive, and the
+//! soft terms (eq. 10–13) from the same single simulation.
+//!
+//! The configuration a design offers for pose i is the one along the crank's travel closest to the
+//! input pose (least squares over the body-carried joints); the travel runs from the first pose to the
+//! configuration closest to the last pose. Order, branch and circuit defects, poor transmission and
+//! failures to assemble are all judged on that travel.
+
+use super::context::{Context, CRANK_STEP, END_SEARCH};
+use crate::geom::Point;
+use crate::kinematics::{Branch, Plan, Trace};
+use crate::mechanism::Mechanism;
+use std::f64::consts::TAU;
+
+/// Why a candidate is rejected, cheapest check first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Reject {
+    /// Two joints of one part (or the two ends of a link) are too close to build.
+    JointsTooClose,
+    /// The crank cannot pass the poses in order without a full turn or turning back (§5.1).
+    Order,
+    /// A four-bar loop is on another branch or circuit at some pose than at the first (§5.2–5.3).
+    Branch,
+    /// The linkage comes apart between the poses.
+    Assembly,
+    /// A transmission angle comes closer to 0° or 180° than allowed (§5.4).
+    Transmission,
+    /// A link enters an avoid region.
+    AvoidRegion,
+    /// A moving body penetrates a fixed body or another moving body (§5.5).
+    Collision,
+}
+
+impl Reject {
+    pub const ALL: [Reject; 7] = [
+        Reject::JointsTooClose,
+        Reject::Order,
+        Reject::Branch,
+        Reject::Assembly,
+        Reject::Transmission,
+        Reject::AvoidRegion,
+        Reject::Collision,
+    ];
+}
+
+/// The soft terms of paper eq. 10–13.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SoftTerms {
+    pub accuracy: f64,
+    pub smoothness: f64,
+    pub location: f64,
+    pub size: f64,
+}
+
+/// A mechanism that passed the kinematic checks, with its motion.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    pub mechanism: Mechanism,
+    pub plan: Plan,
+    /// The travel from the first to the last pose: crank steps of at most 1°, plus one row exactly at
+    /// each pose's crank angle.
+    pub trace: Trace,
+    /// Row of `trace` at each pose.
+    pub pose_rows: Vec<usize>,
+    pub soft: SoftTerms,
+    /// Weighted sum of the soft terms (eq. 14).
+    pub cost: f64,
+}
+
+impl Candidate {
+    /// The crank angle at each pose, radians (unwrapped).
+    pub fn pose_thetas(&self) -> impl Iterator<Item = f64> + '_ {
+        self.pose_rows.iter().map(|&r| self.trace.thetas[r])
+    }
+}
+
+/// Reusable buffers, one per worker thread.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    coarse: Trace,
+    targets: Vec<Point>,
+    row: Vec<Point>,
+    branches: Vec<Branch>,
+    pub(crate) outlines: Vec<Vec<Point>>,
+}
+
+/// The kinematic checks and the soft costs of one mechanism.
+pub fn evaluate(ctx: &Context, mechanism: Mechanism, scratch: &mut Scratch) -> Result<Candidate, Reject> {
+    let n = ctx.topology.joint_count();
+    let poses = ctx.problem.pose_count;
+    let joints = &mechanism.joints;
+    if ctx.part_pairs.iter().any(|&(a, b)| joints[a].distance(joints[b]) < ctx.min_spacing) {
+        return Err(Reject::JointsTooClose);
+    }
+    let plan = Plan::compile(&mechanism).map_err(|_| Reject::JointsTooClose)?;
+
+    // Where every joint should be at every pose.
+    scratch.targets.clear();
+    for i in 0..poses {
+        scratch.targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
+    }
+    let targets = &scratch.targets;
+    let target_row = |i: usize| &targets[i * n..(i + 1) * n];
+
+    // Branch and circuit (§5.2–5.3): every dyad must be on its first-pose branch at every pose.
+    let own = plan.branches();
+    for i in 1..poses {
+        plan.branches_of(target_row(i), &mut scratch.branches);
+        if scratch.branches != own {
+            return Err(Reject::Branch);
+        }
+    }
+
+    // Order (§5.1), nominally: the crank's direction at each pose must advance one way by less than a turn.
+    let (pivot, tip) = (ctx.topology.driver_pivot, ctx.topology.driver_tip);
+    let nominal: Vec<f64> = (0..poses).map(|i| (target_row(i)[tip] - target_row(i)[pivot]).angle()).collect();
+    let mut travels: Vec<(f64, Vec<f64>)> = [1.0, -1.0]
+        .into_iter()
+        .filter_map(|dir: f64| {
+            let mut angles = vec![nominal[0]];
+            for w in nominal.windows(2) {
+                let step = (dir * (w[1] - w[0])).rem_euclid(TAU);
+                if step <= 0.0 {
+                    return None;
+                }
+                angles.push(angles.last().copied().unwrap_or_default() + dir * step);
+            }
+            let total = (angles[poses - 1] - angles[0]).abs();
+            (total < TAU).then_some((total, angles))
+        })
+        .collect();
+    if travels.is_empty() {
+        return Err(Reject::Order);
+    }
+    travels.sort_by(|a, b| a.0.total_cmp(&b.0));
+
+    let mut first_failure = None;
+    for (_, angles) in &travels {
+        match travel(ctx, &plan, angles, scratch) {
+            Ok((trace, pose_rows)) => {
+                let soft = soft_terms(ctx, &mechanism, &trace, &pose_rows, &scratch.targets);
+                let w = &ctx.problem.weights;
+                let cost = w.accuracy * soft.accuracy
+                    + w.smoothness * soft.smoothness
+                    + w.location * soft.location
+                    + w.size * soft.size;
+                return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost });
+            }
+            Err(r) => {
+                first_failure.get_or_insert(r);
+            }
+        }
+    }
+    Err(first_failure.unwrap_or(Reject::Assembly))
+}
+
+/// Simulates the travel through nominal crank `angles`, finds the configuration closest to each pose,
+/// and returns the travel's trace with the row of each pose.
+fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> Result<(Trace, Vec<usize>), Reject> {
+    let n = plan.joint_count();
+    let poses = angles.len();
+    let (start, end) = (angles[0], angles[poses - 1]);
+    let dir = (end - start).signum();
+    let coarse = &mut scratch.coarse;
+    coarse.sweep(plan, start, end, CRANK_STEP).map_err(|_| Reject::Assembly)?;
+    let extension = (END_SEARCH / CRANK_STEP).round() as usize;
+    let last_grid_step = (end - start).abs() / (coarse.len() - 1) as f64;
+    for k in 1..=extension {
+        if coarse.push(plan, end + dir * k as f64 * last_grid_step).is_err() {
+            break;
+        }
+    }
+
+    // The configuration closest to each pose, refined between grid neighbours.
+    let targets = &scratch.targets;
+    let moving = &ctx.moving_joints;
+    let error = |row: &[Point], i: usize| -> f64 {
+        let t = &targets[i * n..(i + 1) * n];
+        moving.iter().map(|&j| (row[j] - t[j]).norm_sq()).sum()
+    };
+    scratch.row.resize(n, Point::ORIGIN);
+    let mut thetas = vec![start];
+    for i in 1..poses {
+        let best = (0..coarse.len())
+            .min_by(|&a, &b| error(coarse.row(a), i).total_cmp(&error(coarse.row(b), i)))
+            .expect("a sweep has rows");
+        let lo = coarse.thetas[best.saturating_sub(1)];
+        let hi = coarse.thetas[(best + 1).min(coarse.len() - 1)];
+        let row = &mut scratch.row;
+        let theta = golden_section(lo, hi, |theta| match plan.solve(theta, row) {
+            Ok(()) => error(row, i),
+            Err(_) => f64::INFINITY,
+        });
+        if dir * (theta - thetas[i - 1]) <= 0.0 {
+            return Err(Reject::Order);
+        }
+        thetas.push(theta);
+    }
+
+    // The travel: every grid row strictly between consecutive poses, and one exact row per pose.
+    let mut trace = Trace::new(n);
+    let mut pose_rows = Vec::with_capacity(poses);
+    let mut grid = 0;
+    for (i, &theta) in thetas.iter().enumerate() {
+        trace.push(plan, theta).map_err(|_| Reject::Assembly)?;
+        pose_rows.push(trace.len() - 1);
+        let Some(&next) = thetas.get(i + 1) else { break };
+        while grid < coarse.len() && dir * (coarse.thetas[grid] - theta) <= 1e-12 {
+            grid += 1;
+        }
+        while grid < coarse.len() && dir * (next - coarse.thetas[grid]) > 1e-12 {
+            trace.push_row_of(coarse, grid);
+            grid += 1;
+        }
+    }
+    if trace.min_transmission() < ctx.min_transmission {
+        return Err(Reject::Transmission);
+    }
+    Ok((trace, pose_rows))
+}
+
+/// The minimiser of a function on `[a, b]` (either order) by golden-section search, to about 1e-10 of
+/// the interval (the error near a pose is smooth and unimodal between grid neighbours).
+fn golden_section(a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
+    let inv_phi = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (a, b);
+    let mut c = b - (b - a) * inv_phi;
+    let mut d = a + (b - a) * inv_phi;
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..48 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - (b - a) * inv_phi;
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + (b - a) * inv_phi;
+            fd = f(d);
+        }
+    }
+    let mid = 0.5 * (a + b);
+    let candidates = [(a, f(a)), (mid, f(mid)), (b, f(b))];
+    candidates.into_iter().min_by(|x, y| x.1.total_cmp(&y.1)).map_or(mid, |x| x.0)
+}
+
+/// Paper eq. 10–13 on a travel.
+fn soft_terms(
+    ctx: &Context,
+    mechanism: &Mechanism,
+    trace: &Trace,
+    pose_rows: &[usize],
+    targets: &[Point],
+) -> SoftTerms {
+    let n = trace.joint_count;
+    let poses = pose_rows.len();
+    let moving = &ctx.moving_joints;
+    let target = |i: usize, j: usize| targets[i * n + j];
+    let count = moving.len() as f64;
+
+    let mut accuracy = 0.0;
+    for (i, &r) in pose_rows.iter().enumerate() {
+        accuracy += moving.iter().map(|&j| (trace.row(r)[j] - target(i, j)).norm_sq()).sum::<f64>();
+    }
+    accuracy /= poses as f64 * count;
+
+    // A joint that hardly moves between two poses would divide by almost nothing; its chord is floored
+    // at a small fraction of the body size.
+    let chord_floor = 0.05 * ctx.body_size;
+    let mut smoothness = 0.0;
+    for i in 0..poses - 1 {
+        for &j in moving {
+            let path: f64 =
+                (pose_rows[i]..pose_rows[i + 1]).map(|r| trace.row(r + 1)[j].distance(trace.row(r)[j])).sum();
+            smoothness += path / target(i + 1, j).distance(target(i, j)).max(chord_floor);
+        }
+    }
+    smoothness /= (poses - 1) as f64 * count;
+
+    let joints = &mechanism.joints;
+    let location = joints.iter().map(|&p| ctx.problem.region.distance(p)).sum::<f64>() / joints.len() as f64;
+    let size =
+        ctx.link_pairs.iter().map(|&(a, b)| joints[a].distance(joints[b])).sum::<f64>() / ctx.link_pairs.len() as f64;
+    SoftTerms { accuracy, smoothness, location, size }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::golden_section;
+    use crate::geom::testing::assert_close;
+
+    #[test]
+    fn golden_section_finds_a_parabola_minimum_in_either_order() {
+        assert_close(golden_section(-1.0, 3.0, |x| (x - 0.7) * (x - 0.7)), 0.7, 1e-8);
+        assert_close(golden_section(3.0, -1.0, |x| (x - 0.7) * (x - 0.7)), 0.7, 1e-8);
+    }
+}

@@ -1,0 +1,17 @@
+//! Synthesis (paper §4–6): sampling rigid linkages through perturbed poses, rejecting defects and
+//! collisions, refining with a particle filter, and the pipeline that ties them together.
+
+mod collision;
+mod context;
+mod evaluate;
+mod pfo;
+mod pipeline;
+mod random;
+pub mod rigidity;
+mod sample;
+
+pub use collision::check_collisions;
+pub use context::Context;
+pub use evaluate::{evaluate, Candidate, Reject, Scratch, SoftTerms};
+pub use pfo::FilterOptions;
+pub use pipeline::{families, synthesize, Cancelled, Observer, Outcome, Progress, RunStats, Silent, Stage};

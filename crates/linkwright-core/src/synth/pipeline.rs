@@ -1,0 +1,297 @@
+//! The whole synthesis (paper fig. 2): sample → kinematic checks → collision checks → particle filter,
+//! for every mechanism family that fits the scene, with progress reports and cancellation.
+
+use super::collision::check_collisions;
+use super::context::Context;
+use super::evaluate::{evaluate, Candidate, Reject, Scratch};
+use super::pfo::{refine, FilterOptions};
+use super::sample::{SampleScratch, Sampler};
+use crate::mechanism::MechanismType;
+use crate::scene::{MechanismChoice, Problem};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Samples drawn between two progress reports (and cancellation checks).
+const CHUNK: usize = 2048;
+/// At most this many alternatives are reported.
+pub const MAX_ALTERNATIVES: usize = 10;
+/// Two designs of one family are distinct when some joint differs by more than this fraction of d.
+const DISTINCT: f64 = 0.25;
+
+/// The stage a run is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    Sampling,
+    Collision,
+    Refining,
+}
+
+/// A progress report.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Progress {
+    pub stage: Stage,
+    pub mechanism: MechanismType,
+    /// Fraction of the whole run done, 0 to 1.
+    pub fraction: f64,
+    /// The lowest cost of a valid design so far.
+    pub best_cost: Option<f64>,
+}
+
+/// Receives progress and tells the run whether to stop. Called from worker threads' coordinator only
+/// (never concurrently), between chunks of work.
+pub trait Observer: Sync {
+    fn progress(&self, _progress: &Progress) {}
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// An observer that ignores progress and never cancels.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Silent;
+impl Observer for Silent {}
+
+/// The run was cancelled by its observer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the synthesis was cancelled")]
+pub struct Cancelled;
+
+/// Counts and seconds of a run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunStats {
+    pub samples: usize,
+    /// Samples that became a rigid linkage (passed the E_rigid fit).
+    pub fitted: usize,
+    /// Linkages without defects, before the collision check.
+    pub candidates: usize,
+    /// Candidates without collisions.
+    pub valid: usize,
+    /// How many candidates each hard constraint rejected.
+    pub rejected: Vec<(Reject, usize)>,
+    pub seconds_sampling: f64,
+    pub seconds_collision: f64,
+    pub seconds_pfo: f64,
+    pub seconds_total: f64,
+}
+
+/// What a run found.
+#[derive(Debug)]
+pub struct Outcome {
+    pub best: Option<Candidate>,
+    /// Other valid designs, best first, each distinct from the best and from each other.
+    pub alternatives: Vec<Candidate>,
+    pub stats: RunStats,
+    /// Why there is no design and what to change, when there is none.
+    pub reason: Option<String>,
+}
+
+/// The families a scene asks for.
+pub fn families(problem: &Problem) -> Vec<MechanismType> {
+    match problem.mechanism {
+        MechanismChoice::Chain => vec![MechanismType::Chain],
+        MechanismChoice::SliderCrank => vec![MechanismType::SliderCrank],
+        MechanismChoice::Auto if problem.body_count() == 1 => vec![MechanismType::Chain, MechanismType::SliderCrank],
+        MechanismChoice::Auto => vec![MechanismType::Chain],
+    }
+}
+
+/// Runs the synthesis on the current rayon pool.
+pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
+    let started = Instant::now();
+    let families = families(problem);
+    let mut stats = RunStats::default();
+    let mut rejected = [0usize; Reject::ALL.len()];
+    let mut valid: Vec<Candidate> = Vec::new();
+    let mut best_cost: Option<f64> = None;
+    for (f, &family) in families.iter().enumerate() {
+        let ctx = Context::new(problem, family);
+        let share = |x: f64| (f as f64 + x) / families.len() as f64;
+        let report = |stage, x, best: Option<f64>| {
+            observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
+        };
+        let found = run_family(&ctx, family_id(family), &mut stats, &mut rejected, observer, &|stage, x, b| {
+            report(stage, x, min_opt(best_cost, b))
+        })?;
+        for c in &found {
+            best_cost = min_opt(best_cost, Some(c.cost));
+        }
+        valid.extend(found);
+    }
+    stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
+    // Stable sort: equal costs keep their deterministic production order.
+    valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let mut picked: Vec<Candidate> = Vec::new();
+    for c in valid {
+        if picked.len() > MAX_ALTERNATIVES {
+            break;
+        }
+        let size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+        if picked.iter().all(|p| distinct(p, &c, DISTINCT * size)) {
+            picked.push(c);
+        }
+    }
+    stats.seconds_total = started.elapsed().as_secs_f64();
+    let mut picked = picked.into_iter();
+    let best = picked.next();
+    let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
+    Ok(Outcome { best, alternatives: picked.collect(), stats, reason })
+}
+
+fn family_id(family: MechanismType) -> u64 {
+    match family {
+        MechanismType::Chain => 0,
+        MechanismType::SliderCrank => 1,
+    }
+}
+
+fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// Sampling, checks and the particle filter for one family; returns every valid candidate.
+fn run_family(
+    ctx: &Context,
+    family: u64,
+    stats: &mut RunStats,
+    rejected: &mut [usize; Reject::ALL.len()],
+    observer: &dyn Observer,
+    report: &dyn Fn(Stage, f64, Option<f64>),
+) -> Result<Vec<Candidate>, Cancelled> {
+    let settings = &ctx.problem.settings;
+    let seed = settings.seed;
+    let total = settings.samples;
+    let sampler = Sampler::new(ctx, family);
+    // Weights of the stages in the progress fraction.
+    let (w_sample, w_collide) = (0.6, 0.1);
+
+    let t = Instant::now();
+    let mut candidates = Vec::new();
+    let mut start = 0;
+    while start < total {
+        if observer.cancelled() {
+            return Err(Cancelled);
+        }
+        let end = (start + CHUNK).min(total);
+        let results: Vec<Option<Result<Candidate, Reject>>> = (start..end)
+            .into_par_iter()
+            .map_init(
+                || (SampleScratch::default(), Scratch::default()),
+                |(sample_scratch, scratch), i| {
+                    let mechanism = sampler.sample(seed, i as u64, sample_scratch)?;
+                    Some(evaluate(ctx, mechanism, scratch))
+                },
+            )
+            .collect();
+        for r in results.into_iter().flatten() {
+            stats.fitted += 1;
+            match r {
+                Ok(c) => candidates.push(c),
+                Err(reject) => rejected[reject as usize] += 1,
+            }
+        }
+        start = end;
+        report(Stage::Sampling, w_sample * start as f64 / total as f64, None);
+    }
+    stats.samples += total;
+    stats.candidates += candidates.len();
+    stats.seconds_sampling += t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    if observer.cancelled() {
+        return Err(Cancelled);
+    }
+    let checked: Vec<Result<Candidate, Reject>> = candidates
+        .into_par_iter()
+        .map_init(Scratch::default, |scratch, c| check_collisions(ctx, &c, scratch).map(|()| c))
+        .collect();
+    let mut valid = Vec::new();
+    for r in checked {
+        match r {
+            Ok(c) => valid.push(c),
+            Err(reject) => rejected[reject as usize] += 1,
+        }
+    }
+    stats.valid += valid.len();
+    stats.seconds_collision += t.elapsed().as_secs_f64();
+    let best = valid.iter().map(|c| c.cost).reduce(f64::min);
+    report(Stage::Collision, w_sample + w_collide, best);
+
+    let t = Instant::now();
+    if !valid.is_empty() && settings.iterations > 0 && settings.particles > 0 {
+        let options = FilterOptions {
+            particles: settings.particles,
+            iterations: settings.iterations,
+            ..FilterOptions::default()
+        };
+        let mut cancelled = false;
+        let produced = refine(ctx, &valid, &options, seed, family, |done, best| {
+            let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;
+            report(Stage::Refining, x, Some(best));
+            cancelled = observer.cancelled();
+            !cancelled
+        });
+        if cancelled {
+            return Err(Cancelled);
+        }
+        valid.extend(produced);
+    }
+    stats.seconds_pfo += t.elapsed().as_secs_f64();
+    Ok(valid)
+}
+
+/// True when two designs differ: another family, or some joint moved by more than `min_shift`.
+fn distinct(a: &Candidate, b: &Candidate, min_shift: f64) -> bool {
+    let (ma, mb) = (&a.mechanism, &b.mechanism);
+    ma.topology.mechanism_type != mb.topology.mechanism_type
+        || ma.joints.iter().zip(&mb.joints).any(|(p, q)| p.distance(*q) > min_shift)
+}
+
+/// What to tell the person when nothing valid was found: the checks that rejected most, each with
+/// what to change.
+fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
+    if stats.fitted == 0 {
+        return format!(
+            "No linkage could be fitted through the poses ({} samples): the poses may ask for a motion no \
+             linkage of this type makes. Raise settings.pose_tolerance (now {}), move the intermediate poses \
+             closer to a smooth path, or widen the linkage_region.",
+            stats.samples, problem.settings.pose_tolerance
+        );
+    }
+    let mut counts = stats.rejected.clone();
+    counts.sort_by(|a, b| b.1.cmp(&a.1));
+    let advice = |r: Reject| match r {
+        Reject::JointsTooClose => "joints fell too close together to build: widen the linkage_region".to_string(),
+        Reject::Order => "linkages visited the poses out of order: check the order of the poses, or add an \
+                          intermediate pose that shows the way"
+            .to_string(),
+        Reject::Branch => "linkages would have to be taken apart between poses (branch or circuit defect): \
+                           add an intermediate pose where the body turns most, or raise settings.pose_tolerance"
+            .to_string(),
+        Reject::Assembly => "linkages locked up between poses: add an intermediate pose or raise \
+                             settings.pose_tolerance"
+            .to_string(),
+        Reject::Transmission => format!(
+            "linkages came too close to a dead point (transmission angle under {}°): widen the linkage_region, \
+             or lower settings.min_transmission_deg",
+            problem.settings.min_transmission_deg
+        ),
+        Reject::AvoidRegion => "links crossed an avoid region: shrink the avoid_regions or move the \
+                                linkage_region away from them"
+            .to_string(),
+        Reject::Collision => "moving bodies hit a fixed body or each other on the way: give them more \
+                              clearance, or add intermediate poses that steer around the obstacle"
+            .to_string(),
+    };
+    let parts: Vec<String> = counts.iter().take(2).map(|&(r, n)| format!("{n} {}", advice(r))).collect();
+    format!(
+        "No valid linkage among {} samples ({} fitted): {}. More samples (settings.samples) may also help.",
+        stats.samples,
+        stats.fitted,
+        parts.join("; ")
+    )
+}

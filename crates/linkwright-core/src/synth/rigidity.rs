@@ -1,0 +1,899 @@
+//! The rigidity energy `E_rigid` of paper §4.2–4.3 (eq. 3–5) and a small, allocation-free
+//! Levenberg–Marquardt minimiser for it.
+//!
+//! The unknowns are the joints' world coordinates at the first pose, `x = [x_0, y_0, x_1, y_1, …]` in
+//! the topology's joint order, followed for the slider-crank by the slider direction angle `φ`
+//! (radians). A joint carried by moving body `b` is at `motions[b][i].apply(x_j)` in pose `i`; a joint
+//! carried by the ground never moves.
+//!
+//! Residuals, pair-major then slider, each over the poses `i = 1..N`:
+//! - for each link pair `(m, n)` of [`Topology::link_pairs`]: `r = |mⁱ − nⁱ|² − |m⁰ − n⁰|²` (eq. 4);
+//! - for the slider joint `q`: `r = (qⁱ − q⁰) × u(φ)`, `u(φ) = (cos φ, sin φ)` (eq. 5).
+//!
+//! `E = Σ r²` in world units (length⁴ for link terms, length² for slider terms), as the paper writes it.
+//!
+//! The minimiser works in coordinates normalised by the body size `d` (joint coordinates `/ d`, link
+//! residuals `/ d²`, slider residuals `/ d`), so every tolerance is scale-free and the slider terms
+//! weigh the same at any drawing unit. For the chain this normalised objective is exactly `E / d⁴`. For
+//! the slider-crank the link block (`q0`, `p1`) and the slider block (`q1`, `φ`) share no unknowns, so
+//! both objectives have the same minimisers.
+//!
+//! Each residual touches at most four unknowns (two joints, or one joint and `φ`), so the normal
+//! equations `JᵀJ` are accumulated row by row without forming the Jacobian; they are at most 50×50 (K = 8)
+//! and are solved by a dense Cholesky factorisation. The damping is `λ·I` in normalised coordinates, so
+//! in the common underdetermined case (N = 2 or 3 poses: a manifold of exact solutions) the steps are
+//! short, minimum-norm-like steps and the fit ends near the sampled start.
+//!
+//! The trivial solutions where a link collapses to zero length are not excluded (for a relative motion
+//! with a fixed point, `m = n =` that point makes the link's residuals vanish); the fit reports the
+//! shortest link relative to `d` in [`Fit::min_relative_link_length`] so the caller can reject it.
+
+use crate::geom::{Point, Rigid, Vec2};
+use crate::mechanism::{PartKind, Topology};
+
+/// What carries a joint from pose to pose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Carrier {
+    Ground,
+    Body(usize),
+}
+
+/// The rigidity energy of one topology, built once and evaluated for any joints and body motions.
+#[derive(Clone, Debug)]
+pub struct RigidityModel {
+    carriers: Vec<Carrier>,
+    pairs: Vec<(usize, usize)>,
+    slider: Option<usize>,
+    body_count: usize,
+    max_iterations: usize,
+    acceleration: bool,
+}
+
+/// The outcome of [`RigidityModel::fit`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    /// `E_rigid` at the returned joints, in world units (`Σ r²`).
+    pub energy: f64,
+    /// Max over link pairs and poses of `| |mⁱ−nⁱ| − |m⁰−n⁰| | / scale`, and for the slider the max
+    /// distance of `qⁱ` from the line through `q⁰` along `u(φ)`, `/ scale`. 0 means exactly rigid.
+    pub max_relative_deviation: f64,
+    /// The shortest link at the first pose, `/ scale` (∞ without links). Near 0 flags the degenerate
+    /// collapsed-link solution.
+    pub min_relative_link_length: f64,
+    /// Levenberg–Marquardt iterations taken (each solves the damped normal equations once).
+    pub iterations: usize,
+}
+
+/// Reusable buffers for [`RigidityModel::fit`]; after the first fit of a given size, fitting allocates
+/// nothing.
+#[derive(Clone, Debug, Default)]
+pub struct FitWorkspace {
+    /// Normalised residual rows, normal matrix `JᵀJ` (row-major, dim × dim) and gradient `Jᵀr` at the
+    /// current point, and the same at the trial point.
+    rows: Vec<Row>,
+    a: Vec<f64>,
+    g: Vec<f64>,
+    rows_trial: Vec<Row>,
+    a_trial: Vec<f64>,
+    g_trial: Vec<f64>,
+    r_trial: Vec<f64>,
+    /// Cholesky factor of `A + λI`.
+    chol: Vec<f64>,
+    /// Velocity, second-order right-hand side, acceleration, and the step taken.
+    v: Vec<f64>,
+    h: Vec<f64>,
+    acc: Vec<f64>,
+    step: Vec<f64>,
+    x_trial: Vec<f64>,
+    x_start: Vec<f64>,
+}
+
+impl FitWorkspace {
+    fn prepare(&mut self, n: usize, x: &[f64]) {
+        for m in [&mut self.a, &mut self.a_trial, &mut self.chol] {
+            m.resize(n * n, 0.0);
+        }
+        for v in [&mut self.g, &mut self.g_trial, &mut self.v, &mut self.h, &mut self.acc, &mut self.step] {
+            v.resize(n, 0.0);
+        }
+        self.x_trial.clear();
+        self.x_trial.extend_from_slice(x);
+        self.x_start.clear();
+        self.x_start.extend_from_slice(x);
+    }
+}
+
+/// Stop when the normalised objective `½|r|²` is below this (normalised residuals ≈ 1e-14).
+const F_TINY: f64 = 1e-28;
+/// Stop when the infinity norm of the normalised gradient is below this.
+const G_TOL: f64 = 1e-15;
+/// Stop when the step is this small relative to the normalised unknowns.
+const X_TOL: f64 = 1e-13;
+/// Stop when an accepted step lowers the objective by less than this fraction.
+const F_REL_TOL: f64 = 1e-13;
+/// Give up on a point where the damping has grown this large (no descent direction is representable).
+const LAMBDA_MAX: f64 = 1e20;
+/// Initial damping relative to the largest diagonal entry of `JᵀJ`.
+const LAMBDA_START: f64 = 1e-3;
+/// Largest `2|a| / |v|` for which the geodesic acceleration is used.
+const ACCELERATION_RATIO: f64 = 0.75;
+
+/// One residual row: its value and its nonzero Jacobian entries (world units).
+#[derive(Clone, Copy, Debug)]
+struct Row {
+    /// Link row (`/ d²`, coordinates `× d`) or slider row (`/ d`).
+    slider: bool,
+    r: f64,
+    cols: [usize; 4],
+    j: [f64; 4],
+    len: usize,
+}
+
+impl RigidityModel {
+    /// The model of `topology`: its link pairs and, for the slider-crank, its slider joint.
+    ///
+    /// # Panics
+    /// If a joint is carried neither by the ground nor by a moving body, or by more than one of them.
+    pub fn new(topology: &Topology) -> Self {
+        let mut carriers = vec![None; topology.joint_count()];
+        for part in &topology.parts {
+            let carrier = match part.kind {
+                PartKind::Fixed => Carrier::Ground,
+                PartKind::Body(b) => Carrier::Body(b),
+                PartKind::Link => continue,
+            };
+            for &j in &part.joints {
+                assert!(carriers[j].is_none(), "joint {} is carried by two bodies", topology.joint_names[j]);
+                carriers[j] = Some(carrier);
+            }
+        }
+        let carriers = carriers
+            .iter()
+            .enumerate()
+            .map(|(j, c)| c.unwrap_or_else(|| panic!("joint {} is carried by no body", topology.joint_names[j])))
+            .collect();
+        RigidityModel {
+            carriers,
+            pairs: topology.link_pairs(),
+            slider: topology.slider_joint,
+            body_count: topology.body_count,
+            max_iterations: 100,
+            acceleration: std::env::var("RIGID_NOACC").is_err(),
+        }
+    }
+
+    /// The same model with another iteration limit for [`RigidityModel::fit`] (default 100).
+    pub fn with_max_iterations(mut self, max_iterations: usize) -> Self {
+        self.max_iterations = max_iterations;
+        self
+    }
+
+    /// Number of unknowns: 2 per joint, plus the slider angle for the slider-crank.
+    pub fn dim(&self) -> usize {
+        2 * self.carriers.len() + usize::from(self.slider.is_some())
+    }
+
+    /// Number of residuals for `poses` poses.
+    pub fn residual_count(&self, poses: usize) -> usize {
+        (self.pairs.len() + usize::from(self.slider.is_some())) * poses.saturating_sub(1)
+    }
+
+    /// The residuals of eq. 4–5 (world units), pair-major then slider, poses 1..N within each.
+    pub fn residuals(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut Vec<f64>) {
+        out.clear();
+        self.for_each_row::<false>(x, motions, |row| out.push(row.r));
+    }
+
+    /// `E_rigid = Σ r²` (world units).
+    pub fn energy(&self, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
+        let mut e = 0.0;
+        self.for_each_row::<false>(x, motions, |row| e += row.r * row.r);
+        e
+    }
+
+    /// The analytic gradient of [`RigidityModel::energy`], `2 Jᵀ r`.
+    pub fn gradient(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut [f64]) {
+        assert_eq!(out.len(), self.dim(), "gradient buffer has the wrong length");
+        out.fill(0.0);
+        self.for_each_row::<true>(x, motions, |row| {
+            for k in 0..row.len {
+                out[row.cols[k]] += 2.0 * row.r * row.j[k];
+            }
+        });
+    }
+
+    /// Minimises `E_rigid` from `x` (updated in place) by Levenberg–Marquardt in coordinates
+    /// normalised by `scale` (the body size d; a non-positive or non-finite scale is taken as 1).
+    ///
+    /// The energy never increases from the start. With non-finite inputs `x` is left unchanged and the
+    /// fit reports infinite energy and deviation.
+    pub fn fit(&self, x: &mut [f64], motions: &[Vec<Rigid>], scale: f64, ws: &mut FitWorkspace) -> Fit {
+        assert_eq!(x.len(), self.dim(), "x has the wrong length");
+        let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        let poses = self.poses(motions);
+        let finite = x.iter().all(|v| v.is_finite())
+            && motions.iter().flatten().all(|m| m.angle().is_finite() && m.translation().is_finite());
+        if !finite {
+            return Fit {
+                energy: f64::INFINITY,
+                max_relative_deviation: f64::INFINITY,
+                min_relative_link_length: self.min_link_length(x) / s,
+                iterations: 0,
+            };
+        }
+        let n = self.dim();
+        if poses < 2 {
+            return self.report(x, motions, s, 0.0, 0);
+        }
+        ws.prepare(n, x);
+        // Unknown i moves by unit[i]·δᵢ for a normalised step δ: joints by s·δ, the slider angle by δ.
+        let phi = self.slider.map(|_| 2 * self.carriers.len());
+        let unit = |i: usize| if Some(i) == phi { 1.0 } else { s };
+
+        let (mut f, mut e) = self.normal_equations(x, motions, s, &mut ws.rows, &mut ws.a, &mut ws.g);
+        let e_start = e;
+        let mut iterations = 0;
+        let max_diag = (0..n).map(|i| ws.a[i * n + i]).fold(0.0, f64::max);
+        let mut lambda = LAMBDA_START * max_diag;
+        let mut nu = 2.0;
+        while iterations < self.max_iterations && f > F_TINY && lambda < LAMBDA_MAX {
+            if ws.g.iter().fold(0.0f64, |m, v| m.max(v.abs())) <= G_TOL {
+                break;
+            }
+            iterations += 1;
+            lambda = lambda.max(1e-30);
+            if !cholesky_factor(n, &ws.a, lambda, &mut ws.chol) {
+                lambda *= nu;
+                nu *= 2.0;
+                continue;
+            }
+            // Velocity: the plain damped Gauss-Newton step (A + λI) v = −g.
+            cholesky_solve(n, &ws.chol, &ws.g, &mut ws.v);
+            let v_norm = ws.v.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let y_norm = (0..n).map(|i| (x[i] / unit(i)).powi(2)).sum::<f64>().sqrt();
+            if !v_norm.is_finite() || v_norm <= X_TOL * (y_norm + X_TOL) {
+                break;
+            }
+            ws.step.copy_from_slice(&ws.v);
+            if self.acceleration {
+                // Geodesic acceleration (Transtrum & Sethna): the residuals' second directional
+                // derivative along v corrects the step for the curvature of narrow valleys. Link
+                // residuals are quadratic in the joints, so r(x + v) − r(x) − Jv = ½ r_vv exactly.
+                for i in 0..n {
+                    ws.x_trial[i] = x[i] + unit(i) * ws.v[i];
+                }
+                self.normalised_residuals(&ws.x_trial, motions, s, &mut ws.r_trial);
+                ws.h.fill(0.0);
+                for (row, &r1) in ws.rows.iter().zip(&ws.r_trial) {
+                    let jv: f64 = (0..row.len).map(|k| row.j[k] * ws.v[row.cols[k]]).sum();
+                    let r_vv = 2.0 * (r1 - row.r - jv);
+                    for k in 0..row.len {
+                        ws.h[row.cols[k]] += row.j[k] * r_vv;
+                    }
+                }
+                cholesky_solve(n, &ws.chol, &ws.h, &mut ws.acc);
+                let a_norm = ws.acc.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if a_norm.is_finite() && 2.0 * a_norm <= ACCELERATION_RATIO * v_norm {
+                    for i in 0..n {
+                        ws.step[i] += 0.5 * ws.acc[i];
+                    }
+                }
+            }
+            for i in 0..n {
+                ws.x_trial[i] = x[i] + unit(i) * ws.step[i];
+            }
+            let (f_trial, e_trial) =
+                self.normal_equations(&ws.x_trial, motions, s, &mut ws.rows_trial, &mut ws.a_trial, &mut ws.g_trial);
+            if f_trial.is_finite() && f_trial < f {
+                // Decrease predicted by the linear model: −gᵀδ − ½ δᵀAδ.
+                let mut predicted = 0.0;
+                for i in 0..n {
+                    let a_delta: f64 = (0..n).map(|j| ws.a[i * n + j] * ws.step[j]).sum();
+                    predicted -= ws.step[i] * (ws.g[i] + 0.5 * a_delta);
+                }
+                let rho = (f - f_trial) / predicted.max(f64::MIN_POSITIVE);
+                let small_gain = f - f_trial <= F_REL_TOL * f;
+                x.copy_from_slice(&ws.x_trial);
+                std::mem::swap(&mut ws.a, &mut ws.a_trial);
+                std::mem::swap(&mut ws.g, &mut ws.g_trial);
+                std::mem::swap(&mut ws.rows, &mut ws.rows_trial);
+                f = f_trial;
+                e = e_trial;
+                lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+                nu = 2.0;
+                if small_gain {
+                    break;
+                }
+            } else {
+                lambda *= nu;
+                nu *= 2.0;
+            }
+        }
+        if e > e_start {
+            // Only possible for the slider-crank, whose normalised objective weighs the slider terms
+            // differently from the world-unit energy.
+            x.copy_from_slice(&ws.x_start);
+            e = e_start;
+        }
+        self.report(x, motions, s, e, iterations)
+    }
+
+    /// Number of poses in `motions`, checked against the topology.
+    fn poses(&self, motions: &[Vec<Rigid>]) -> usize {
+        assert!(motions.len() >= self.body_count, "need the motions of {} bodies", self.body_count);
+        let poses = motions.first().map_or(0, Vec::len);
+        debug_assert!(motions.iter().all(|m| m.len() == poses), "every body needs the same number of poses");
+        poses
+    }
+
+    fn place(&self, j: usize, x: &[f64], motions: &[Vec<Rigid>], pose: usize) -> (Point, Option<Rigid>) {
+        let p0 = Point::new(x[2 * j], x[2 * j + 1]);
+        match self.carriers[j] {
+            Carrier::Ground => (p0, None),
+            Carrier::Body(b) => {
+                let m = motions[b][pose];
+                (m.apply(p0), Some(m))
+            }
+        }
+    }
+
+    /// Calls `sink` with every residual row, and its Jacobian entries when `JAC`.
+    #[inline]
+    fn for_each_row<const JAC: bool>(&self, x: &[f64], motions: &[Vec<Rigid>], mut sink: impl FnMut(&Row)) {
+        assert_eq!(x.len(), self.dim(), "x has the wrong length");
+        let poses = self.poses(motions);
+        let mut row = Row { slider: false, r: 0.0, cols: [0; 4], j: [0.0; 4], len: 4 };
+        for &(m, n) in &self.pairs {
+            let d0 = Point::new(x[2 * m], x[2 * m + 1]) - Point::new(x[2 * n], x[2 * n + 1]);
+            let l0 = d0.norm_sq();
+            row.cols = [2 * m, 2 * m + 1, 2 * n, 2 * n + 1];
+            for i in 1..poses {
+                let (mi, rm) = self.place(m, x, motions, i);
+                let (ni, rn) = self.place(n, x, motions, i);
+                let d = mi - ni;
+                row.r = d.norm_sq() - l0;
+                if JAC {
+                    // ∂r/∂m⁰ = 2(Rₘᵀ d − d⁰), ∂r/∂n⁰ = −2(Rₙᵀ d − d⁰).
+                    let gm = rm.map_or(d, |t| t.unrotate(d)) - d0;
+                    let gn = rn.map_or(d, |t| t.unrotate(d)) - d0;
+                    row.j = [2.0 * gm.x, 2.0 * gm.y, -2.0 * gn.x, -2.0 * gn.y];
+                }
+                sink(&row);
+            }
+        }
+        if let Some(q) = self.slider {
+            let phi = x[2 * self.carriers.len()];
+            let u = Vec2::from_angle(phi);
+            // ∂(v × u)/∂v = (u_y, −u_x) = w; v = qⁱ − q⁰ = (R − I)q⁰ + t, so ∂r/∂q⁰ = Rᵀw − w.
+            let w = Vec2::new(u.y, -u.x);
+            let q0 = Point::new(x[2 * q], x[2 * q + 1]);
+            row =
+                Row { slider: true, r: 0.0, cols: [2 * q, 2 * q + 1, 2 * self.carriers.len(), 0], j: [0.0; 4], len: 3 };
+            for i in 1..poses {
+                let (qi, rq) = self.place(q, x, motions, i);
+                let v = qi - q0;
+                row.r = v.cross(u);
+                if JAC {
+                    let gq = rq.map_or(w, |t| t.unrotate(w)) - w;
+                    // ∂(v × u)/∂φ = v × u' with u' = (−sin φ, cos φ): v · u.
+                    row.j = [gq.x, gq.y, v.dot(u), 0.0];
+                }
+                sink(&row);
+            }
+        }
+    }
+
+    /// The normalised residual rows at `x` and the normal equations `A = JₙᵀJₙ`, `g = Jₙᵀrₙ`; returns
+    /// the normalised objective `½|rₙ|²` and the world energy `Σ r²`.
+    #[allow(clippy::too_many_arguments)]
+    fn normal_equations(
+        &self,
+        x: &[f64],
+        motions: &[Vec<Rigid>],
+        s: f64,
+        rows: &mut Vec<Row>,
+        a: &mut [f64],
+        g: &mut [f64],
+    ) -> (f64, f64) {
+        let n = g.len();
+        rows.clear();
+        a.fill(0.0);
+        g.fill(0.0);
+        let (inv_s, inv_s2) = (1.0 / s, 1.0 / (s * s));
+        let mut f = 0.0;
+        let mut e = 0.0;
+        self.for_each_row::<true>(x, motions, |row| {
+            e += row.r * row.r;
+            // Link rows: r/s², coordinates ×s ⇒ J/s. Slider rows: r/s ⇒ joint columns J, φ column J/s.
+            let mut nrow = *row;
+            if row.slider {
+                nrow.r *= inv_s;
+                nrow.j[2] *= inv_s;
+            } else {
+                nrow.r *= inv_s2;
+                nrow.j = row.j.map(|v| v * inv_s);
+            }
+            f += 0.5 * nrow.r * nrow.r;
+            for k in 0..nrow.len {
+                let ck = nrow.cols[k];
+                g[ck] += nrow.j[k] * nrow.r;
+                let a_row = &mut a[ck * n..(ck + 1) * n];
+                for l in 0..nrow.len {
+                    a_row[nrow.cols[l]] += nrow.j[k] * nrow.j[l];
+                }
+            }
+            rows.push(nrow);
+        });
+        (f, e)
+    }
+
+    /// The normalised residuals at `x` (link rows `/ s²`, slider rows `/ s`).
+    fn normalised_residuals(&self, x: &[f64], motions: &[Vec<Rigid>], s: f64, out: &mut Vec<f64>) {
+        out.clear();
+        let (inv_s, inv_s2) = (1.0 / s, 1.0 / (s * s));
+        self.for_each_row::<false>(x, motions, |row| out.push(row.r * if row.slider { inv_s } else { inv_s2 }));
+    }
+
+    /// The shortest link at the first pose.
+    fn min_link_length(&self, x: &[f64]) -> f64 {
+        self.pairs
+            .iter()
+            .map(|&(m, n)| (x[2 * m] - x[2 * n]).hypot(x[2 * m + 1] - x[2 * n + 1]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn report(&self, x: &[f64], motions: &[Vec<Rigid>], s: f64, energy: f64, iterations: usize) -> Fit {
+        let poses = self.poses(motions);
+        let mut dev = 0.0f64;
+        for &(m, n) in &self.pairs {
+            let l0 = (x[2 * m] - x[2 * n]).hypot(x[2 * m + 1] - x[2 * n + 1]);
+            for i in 1..poses {
+                let l = self.place(m, x, motions, i).0.distance(self.place(n, x, motions, i).0);
+                dev = dev.max((l - l0).abs());
+            }
+        }
+        if let Some(q) = self.slider {
+            let u = Vec2::from_angle(x[2 * self.carriers.len()]);
+            let q0 = Point::new(x[2 * q], x[2 * q + 1]);
+            for i in 1..poses {
+                dev = dev.max((self.place(q, x, motions, i).0 - q0).cross(u).abs());
+            }
+        }
+        Fit {
+            energy,
+            max_relative_deviation: dev / s,
+            min_relative_link_length: self.min_link_length(x) / s,
+            iterations,
+        }
+    }
+}
+
+/// Factors `A + λI = LLᵀ` for symmetric positive semi-definite `A` (row-major n × n) into `l`.
+/// Returns false when the damped matrix is not numerically positive definite.
+fn cholesky_factor(n: usize, a: &[f64], lambda: f64, l: &mut [f64]) -> bool {
+    for i in 0..n {
+        for j in 0..=i {
+            let mut sum = a[i * n + j];
+            for k in 0..j {
+                sum -= l[i * n + k] * l[j * n + k];
+            }
+            if i == j {
+                sum += lambda;
+                if !(sum > 0.0 && sum.is_finite()) {
+                    return false;
+                }
+                l[i * n + i] = sum.sqrt();
+            } else {
+                l[i * n + j] = sum / l[j * n + j];
+            }
+        }
+    }
+    true
+}
+
+/// Solves `LLᵀ δ = −g` with the factor of [`cholesky_factor`].
+fn cholesky_solve(n: usize, l: &[f64], g: &[f64], out: &mut [f64]) {
+    for i in 0..n {
+        let mut sum = -g[i];
+        for k in 0..i {
+            sum -= l[i * n + k] * out[k];
+        }
+        out[i] = sum / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut sum = out[i];
+        for k in i + 1..n {
+            sum -= l[k * n + i] * out[k];
+        }
+        out[i] = sum / l[i * n + i];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::Plan;
+    use crate::mechanism::Mechanism;
+    use proptest::prelude::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+    use std::sync::Arc;
+
+    fn topologies() -> Vec<Topology> {
+        vec![Topology::chain(1), Topology::chain(2), Topology::chain(3), Topology::slider_crank()]
+    }
+
+    /// Random motions: pose 0 the identity, the others within a turn of ±1 rad and a few units.
+    fn random_motions(rng: &mut Xoshiro256PlusPlus, bodies: usize, poses: usize, spread: f64) -> Vec<Vec<Rigid>> {
+        (0..bodies)
+            .map(|_| {
+                let mut m = vec![Rigid::IDENTITY];
+                for _ in 1..poses {
+                    let t = Vec2::new(rng.random_range(-spread..spread), rng.random_range(-spread..spread));
+                    m.push(Rigid::new(rng.random_range(-1.0..1.0), t));
+                }
+                m
+            })
+            .collect()
+    }
+
+    fn random_x(rng: &mut Xoshiro256PlusPlus, dim: usize, half: f64) -> Vec<f64> {
+        (0..dim).map(|_| rng.random_range(-half..half)).collect()
+    }
+
+    fn joint(t: &Topology, x: &[f64], name: &str) -> Point {
+        let j = t.joint(name).unwrap();
+        Point::new(x[2 * j], x[2 * j + 1])
+    }
+
+    fn circumcentre(a: Point, b: Point, c: Point) -> Point {
+        let (ab, ac) = (b - a, c - a);
+        let den = 2.0 * ab.cross(ac);
+        let (b2, c2) = (ab.norm_sq(), ac.norm_sq());
+        a + Vec2::new(ac.y * b2 - ab.y * c2, ab.x * c2 - ac.x * b2) / den
+    }
+
+    /// A random dimensioned chain of `k` bodies that the kinematic plan moves through `poses` crank
+    /// angles `step` apart, with the body motions it produces (each body's frame taken from its first
+    /// two joints). Returns the first-pose joints and the motions.
+    fn moving_chain(k: usize, poses: usize, step: f64, seed: u64) -> (Vec<f64>, Vec<Vec<Rigid>>) {
+        let topology = Arc::new(Topology::chain(k));
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        'sample: loop {
+            let joints: Vec<Point> = (0..topology.joint_count())
+                .map(|_| Point::new(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0)))
+                .collect();
+            let mech = Mechanism { topology: topology.clone(), joints: joints.clone(), slider: None };
+            let Ok(plan) = Plan::compile(&mech) else { continue };
+            if plan.min_transmission(&joints) < 0.3 {
+                continue;
+            }
+            let theta0 = mech.crank_start();
+            let mut rows = Vec::new();
+            // Fine steps so the plan tracks the branch; keep every pose's configuration.
+            let sub = 20;
+            let mut pos = vec![Point::ORIGIN; topology.joint_count()];
+            for s in 0..=(poses - 1) * sub {
+                if plan.solve(theta0 + step * s as f64 / sub as f64, &mut pos).is_err()
+                    || plan.min_transmission(&pos) < 0.2
+                {
+                    continue 'sample;
+                }
+                if s % sub == 0 {
+                    rows.push(pos.clone());
+                }
+            }
+            let motions = (0..k)
+                .map(|b| {
+                    let part = topology.body_part(b);
+                    let (a, c) = (part.joints[0], part.joints[1]);
+                    let frame = |row: &[Point]| Rigid::from_frame(row[a], row[c] - row[a]);
+                    rows.iter().map(|row| frame(&rows[0]).to(&frame(row))).collect()
+                })
+                .collect();
+            let x = joints.iter().flat_map(|p| [p.x, p.y]).collect();
+            return (x, motions);
+        }
+    }
+
+    /// A slider-crank with the slider through (3.5, 0.8) at 0.2 rad, and its body's motion.
+    fn moving_slider(poses: usize) -> (Vec<f64>, Vec<Vec<Rigid>>) {
+        let q0 = Point::ORIGIN;
+        let (crank, a0) = (1.2, 0.5);
+        let p1 = q0 + Vec2::from_angle(a0) * crank;
+        let q1 = Point::new(3.5, 0.8);
+        let u = Vec2::from_angle(0.2);
+        let c = p1.distance(q1);
+        let mut s_prev = 0.0;
+        let motion = (0..poses)
+            .map(|i| {
+                let pi = q0 + Vec2::from_angle(a0 + 0.3 * i as f64) * crank;
+                // |q1 + s u − pi| = c: s² + 2 s u·w + |w|² − c² = 0.
+                let w = q1 - pi;
+                let (b, cc) = (u.dot(w), w.norm_sq() - c * c);
+                let disc = (b * b - cc).sqrt();
+                let s =
+                    [-b - disc, -b + disc].into_iter().min_by(|x, y| (x - s_prev).abs().total_cmp(&(y - s_prev).abs()));
+                s_prev = s.unwrap();
+                let qi = q1 + u * s_prev;
+                let frame = |a: Point, b: Point| Rigid::from_frame(a, b - a);
+                frame(p1, q1).to(&frame(pi, qi))
+            })
+            .collect();
+        (vec![q0.x, q0.y, p1.x, p1.y, q1.x, q1.y, 0.2], vec![motion])
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        #[test]
+        fn gradient_matches_central_differences(which in 0usize..4, poses in 2usize..=5, seed in any::<u64>()) {
+            let t = &topologies()[which];
+            let model = RigidityModel::new(t);
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let motions = random_motions(&mut rng, t.body_count, poses, 2.0);
+            let x = random_x(&mut rng, model.dim(), 3.0);
+            let mut g = vec![0.0; model.dim()];
+            model.gradient(&x, &motions, &mut g);
+            let scale = g.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let mut xp = x.clone();
+            for i in 0..x.len() {
+                let h = 1e-5 * x[i].abs().max(1.0);
+                xp[i] = x[i] + h;
+                let ep = model.energy(&xp, &motions);
+                xp[i] = x[i] - h;
+                let em = model.energy(&xp, &motions);
+                xp[i] = x[i];
+                let fd = (ep - em) / (2.0 * h);
+                prop_assert!((fd - g[i]).abs() <= 1e-5 * scale, "∂{i}: analytic {} vs fd {fd}", g[i]);
+            }
+        }
+
+        #[test]
+        fn fit_never_increases_energy(which in 0usize..4, poses in 1usize..=8, seed in any::<u64>(),
+                                      scale in 0.1..100.0f64) {
+            let t = &topologies()[which];
+            let model = RigidityModel::new(t);
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let motions = random_motions(&mut rng, t.body_count, poses, 2.0 * scale);
+            let mut x = random_x(&mut rng, model.dim(), 3.0 * scale);
+            if t.slider_joint.is_some() {
+                x[model.dim() - 1] /= scale;
+            }
+            let e0 = model.energy(&x, &motions);
+            let fit = model.fit(&mut x, &motions, scale, &mut FitWorkspace::default());
+            prop_assert!(fit.energy.is_finite() && fit.max_relative_deviation.is_finite());
+            prop_assert!(fit.energy <= e0, "{} > {e0}", fit.energy);
+            prop_assert!((model.energy(&x, &motions) - fit.energy).abs() <= 1e-12 * e0.max(1e-300));
+        }
+    }
+
+    #[test]
+    fn residual_count_and_layout() {
+        let t = Topology::chain(2);
+        let model = RigidityModel::new(&t);
+        assert_eq!(model.dim(), 14);
+        assert_eq!(model.residual_count(4), 5 * 3);
+        let s = RigidityModel::new(&Topology::slider_crank());
+        assert_eq!(s.dim(), 7);
+        assert_eq!(s.residual_count(5), 2 * 4);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+        let motions = random_motions(&mut rng, 2, 4, 1.0);
+        let x = random_x(&mut rng, 14, 2.0);
+        let mut r = Vec::new();
+        model.residuals(&x, &motions, &mut r);
+        assert_eq!(r.len(), 15);
+        let e: f64 = r.iter().map(|v| v * v).sum();
+        assert!((e - model.energy(&x, &motions)).abs() <= 1e-12 * e);
+    }
+
+    #[test]
+    fn four_bar_from_five_poses_is_recovered_exactly() {
+        for seed in 0..20 {
+            let (truth, motions) = moving_chain(1, 5, 0.25, seed);
+            let model = RigidityModel::new(&Topology::chain(1));
+            assert!(model.energy(&truth, &motions) < 1e-20, "the true linkage is rigid");
+            let d = 2.0;
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(100 + seed);
+            let mut x: Vec<f64> = truth.iter().map(|v| v + 0.05 * d * rng.random_range(-1.0..1.0)).collect();
+            let fit = model.fit(&mut x, &motions, d, &mut FitWorkspace::default());
+            assert!(fit.energy < 1e-16 * d.powi(4), "seed {seed}: {fit:?}");
+            assert!(fit.max_relative_deviation < 1e-8, "seed {seed}: {fit:?}");
+            assert!(fit.iterations < 30, "seed {seed}: {fit:?}");
+        }
+    }
+
+    #[test]
+    fn six_and_eight_bars_from_five_poses_are_recovered_exactly() {
+        for k in [2, 3] {
+            for seed in 0..10 {
+                let (truth, motions) = moving_chain(k, 5, 0.15, seed);
+                let model = RigidityModel::new(&Topology::chain(k));
+                let d = 2.0;
+                let mut rng = Xoshiro256PlusPlus::seed_from_u64(100 + seed);
+                let mut x: Vec<f64> = truth.iter().map(|v| v + 0.05 * d * rng.random_range(-1.0..1.0)).collect();
+                let fit = model.fit(&mut x, &motions, d, &mut FitWorkspace::default());
+                assert!(fit.energy < 1e-16 * d.powi(4), "K {k} seed {seed}: {fit:?}");
+                assert!(fit.max_relative_deviation < 1e-8, "K {k} seed {seed}: {fit:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn slider_crank_from_five_poses_is_recovered_exactly() {
+        let (truth, motions) = moving_slider(5);
+        let model = RigidityModel::new(&Topology::slider_crank());
+        assert!(model.energy(&truth, &motions) < 1e-20);
+        let d = 1.5;
+        for seed in 0..20 {
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let mut x: Vec<f64> = truth.iter().map(|v| v + 0.05 * d * rng.random_range(-1.0..1.0)).collect();
+            let fit = model.fit(&mut x, &motions, d, &mut FitWorkspace::default());
+            assert!(fit.energy < 1e-16 * d.powi(4), "seed {seed}: {fit:?}");
+            assert!(fit.max_relative_deviation < 1e-8, "seed {seed}: {fit:?}");
+            // The slider direction is recovered up to a half turn.
+            let dphi = (x[6] - 0.2).rem_euclid(std::f64::consts::PI);
+            assert!(dphi.min(std::f64::consts::PI - dphi) < 1e-7, "seed {seed}: φ = {}", x[6]);
+        }
+    }
+
+    #[test]
+    fn three_poses_put_ground_pivots_at_circumcentres() {
+        let t = Topology::chain(1);
+        let model = RigidityModel::new(&t);
+        let mut ws = FitWorkspace::default();
+        for seed in 0..50 {
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let motions = random_motions(&mut rng, 1, 3, 2.0);
+            let mut x = random_x(&mut rng, model.dim(), 3.0);
+            let fit = model.fit(&mut x, &motions, 1.0, &mut ws);
+            assert!(fit.energy < 1e-20 && fit.max_relative_deviation < 1e-9, "seed {seed}: {fit:?}");
+            for (moving, ground) in [("p1", "q0"), ("q1", "r0")] {
+                let m = joint(&t, &x, moving);
+                let [a, b, c] = [0, 1, 2].map(|i| motions[0][i].apply(m));
+                let centre = circumcentre(a, b, c);
+                assert!(centre.distance(joint(&t, &x, ground)) < 1e-6 * (1.0 + centre.to_vec2().norm()), "seed {seed}");
+            }
+        }
+    }
+
+    #[test]
+    fn three_poses_are_met_exactly_by_longer_chains() {
+        for k in [2, 3, 5] {
+            let t = Topology::chain(k);
+            let model = RigidityModel::new(&t);
+            let mut ws = FitWorkspace::default();
+            let mut exact = 0;
+            for seed in 0..40 {
+                let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+                let motions = random_motions(&mut rng, k, 3, 2.0);
+                let mut x = random_x(&mut rng, model.dim(), 3.0);
+                let fit = model.fit(&mut x, &motions, 1.0, &mut ws);
+                exact += usize::from(fit.max_relative_deviation < 1e-8);
+            }
+            assert!(exact >= 38, "K {k}: only {exact} of 40 fits were exact");
+        }
+    }
+
+    #[test]
+    fn the_start_point_is_kept_nearby_when_poses_underdetermine_the_joints() {
+        // Two poses: one equation per link, so the exact solutions form a manifold through which
+        // the damped steps find a nearby point.
+        let t = Topology::chain(1);
+        let model = RigidityModel::new(&t);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+        for _ in 0..20 {
+            let motions = random_motions(&mut rng, 1, 2, 0.5);
+            let start = random_x(&mut rng, model.dim(), 3.0);
+            let mut x = start.clone();
+            let fit = model.fit(&mut x, &motions, 1.0, &mut FitWorkspace::default());
+            assert!(fit.max_relative_deviation < 1e-8, "{fit:?}");
+            let moved = x.iter().zip(&start).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+            assert!(moved < 3.0, "moved {moved}");
+        }
+    }
+
+    #[test]
+    fn degenerate_inputs_give_no_nan() {
+        let mut ws = FitWorkspace::default();
+        for t in topologies() {
+            let model = RigidityModel::new(&t);
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
+            // All poses identical: already rigid.
+            let still = vec![vec![Rigid::IDENTITY; 4]; t.body_count];
+            let mut x = random_x(&mut rng, model.dim(), 3.0);
+            let fit = model.fit(&mut x, &still, 1.0, &mut ws);
+            assert_eq!(fit.energy, 0.0);
+            assert_eq!(fit.iterations, 0);
+            // Coincident joints, moving bodies.
+            let motions = random_motions(&mut rng, t.body_count, 5, 2.0);
+            let mut x = vec![0.5; model.dim()];
+            let fit = model.fit(&mut x, &motions, 1.0, &mut ws);
+            assert!(fit.energy.is_finite() && x.iter().all(|v| v.is_finite()), "{fit:?}");
+            // Everything at the origin with rotations about the origin: the collapsed solution.
+            let spin: Vec<Vec<Rigid>> =
+                (0..t.body_count).map(|_| (0..4).map(|i| Rigid::new(0.3 * i as f64, Vec2::ZERO)).collect()).collect();
+            let mut x = vec![0.0; model.dim()];
+            let fit = model.fit(&mut x, &spin, 1.0, &mut ws);
+            assert_eq!(fit.energy, 0.0);
+            assert_eq!(fit.min_relative_link_length, 0.0);
+            // A zero or NaN scale, single pose, and non-finite input.
+            let mut x = random_x(&mut rng, model.dim(), 3.0);
+            assert!(model.fit(&mut x, &motions, 0.0, &mut ws).energy.is_finite());
+            assert!(model.fit(&mut x, &motions, f64::NAN, &mut ws).energy.is_finite());
+            let one: Vec<Vec<Rigid>> = vec![vec![Rigid::IDENTITY]; t.body_count];
+            assert_eq!(model.fit(&mut x, &one, 1.0, &mut ws).energy, 0.0);
+            let before = x.clone();
+            x[0] = f64::NAN;
+            let fit = model.fit(&mut x, &motions, 1.0, &mut ws);
+            assert!(fit.energy.is_infinite() && !fit.max_relative_deviation.is_nan());
+            assert!(x[1..] == before[1..]);
+        }
+    }
+
+    #[test]
+    fn fit_is_scale_free() {
+        let (truth, motions) = moving_chain(1, 5, 0.25, 4);
+        let model = RigidityModel::new(&Topology::chain(1));
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        let start: Vec<f64> = truth.iter().map(|v| v + 0.3 * rng.random_range(-1.0..1.0)).collect();
+        let mut reference = None;
+        for k in [1e-3, 1.0, 1e3] {
+            let scaled: Vec<Vec<Rigid>> = motions
+                .iter()
+                .map(|m| m.iter().map(|r| Rigid::new(r.angle(), r.translation() * k)).collect())
+                .collect();
+            let mut x: Vec<f64> = start.iter().map(|v| v * k).collect();
+            let fit = model.fit(&mut x, &scaled, 2.0 * k, &mut FitWorkspace::default());
+            let y: Vec<f64> = x.iter().map(|v| v / k).collect();
+            let (iters, y_ref) = reference.get_or_insert((fit.iterations, y.clone()));
+            assert_eq!(fit.iterations, *iters);
+            assert!(y.iter().zip(y_ref.iter()).all(|(a, b)| (a - b).abs() < 1e-9));
+        }
+    }
+
+    /// Timing of fits; run with `cargo test --release -p linkwright-core rigidity_timing -- --ignored
+    /// --nocapture`.
+    #[test]
+    #[ignore]
+    fn rigidity_timing() {
+        let d = 2.0;
+        for (name, t) in [
+            ("K=1", Topology::chain(1)),
+            ("K=2", Topology::chain(2)),
+            ("K=3", Topology::chain(3)),
+            ("K=8", Topology::chain(8)),
+            ("slider", Topology::slider_crank()),
+        ] {
+            for poses in [3, 5, 8] {
+                let model = RigidityModel::new(&t);
+                let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+                let cases: Vec<(Vec<f64>, Vec<Vec<Rigid>>)> = (0..2000)
+                    .map(|_| {
+                        let m = random_motions(&mut rng, t.body_count, poses, d);
+                        (random_x(&mut rng, model.dim(), 2.0 * d), m)
+                    })
+                    .collect();
+                let mut ws = FitWorkspace::default();
+                let (mut iters, mut exact, mut short, mut capped) = (0, 0, 0, 0);
+                let start = std::time::Instant::now();
+                for (x0, m) in &cases {
+                    let mut x = x0.clone();
+                    let fit = model.fit(&mut x, m, d, &mut ws);
+                    iters += fit.iterations;
+                    capped += usize::from(fit.iterations >= 100);
+                    exact += usize::from(fit.max_relative_deviation < 1e-6);
+                    short += usize::from(fit.min_relative_link_length < 0.05);
+                }
+                let us = start.elapsed().as_secs_f64() * 1e6 / cases.len() as f64;
+                println!(
+                    "{name:7} N={poses}: {us:7.2} µs/fit, {:5.1} iterations, {:5.1}% rigid (dev < 1e-6), {:4.1}% short links, {:4.1}% at the iteration limit",
+                    iters as f64 / cases.len() as f64,
+                    100.0 * exact as f64 / cases.len() as f64,
+                    100.0 * short as f64 / cases.len() as f64,
+                    100.0 * capped as f64 / cases.len() as f64
+                );
+            }
+        }
+    }
+}

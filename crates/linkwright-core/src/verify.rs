@@ -1,0 +1,161 @@
+//! An independent re-simulation of a design file against its scene: every hard constraint and the
+//! reported accuracy, recomputed from the file's parts alone with plain polygon tests (none of the
+//! engine's sweep code), so the engine's answers can be checked.
+
+use crate::design::{DesignFile, Status};
+use crate::geom::{Point, Polygon};
+use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::scene::Problem;
+
+/// One violated constraint.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Violation {
+    /// Which constraint: `format`, `assembly`, `order`, `transmission`, `collision`, `avoid_region`,
+    /// `accuracy`.
+    pub constraint: &'static str,
+    pub message: String,
+}
+
+/// Crank step of the re-simulation, degrees (finer than the engine's 1°).
+const STEP_DEG: f64 = 0.5;
+
+/// Every violated constraint of `design` (empty when it is sound). A `no_solution` design has none.
+pub fn verify(problem: &Problem, design: &DesignFile) -> Vec<Violation> {
+    let mut out = Vec::new();
+    let mut fail = |constraint, message: String| out.push(Violation { constraint, message });
+    if design.status == Status::NoSolution {
+        return out;
+    }
+    let (Some(mj), Some(motion), Some(metrics)) = (&design.mechanism, &design.motion, &design.metrics) else {
+        fail("format", "status is ok but mechanism, motion or metrics is missing".into());
+        return out;
+    };
+    let mechanism = match mj.to_mechanism() {
+        Ok(m) => m,
+        Err(e) => {
+            fail("format", e.to_string());
+            return out;
+        }
+    };
+    if mechanism.topology.body_count != problem.body_count() {
+        fail(
+            "format",
+            format!(
+                "the design moves {} bodies, the scene has {}",
+                mechanism.topology.body_count,
+                problem.body_count()
+            ),
+        );
+        return out;
+    }
+    let plan = match Plan::compile(&mechanism) {
+        Ok(p) => p,
+        Err(e) => {
+            fail("assembly", e.to_string());
+            return out;
+        }
+    };
+    let poses = &motion.pose_crank_deg;
+    if poses.len() != problem.pose_count {
+        fail("order", format!("{} pose angles for {} poses", poses.len(), problem.pose_count));
+        return out;
+    }
+    let (start, end) = (motion.crank_start_deg, motion.crank_end_deg);
+    let dir = (end - start).signum();
+    if (mechanism.crank_start().to_degrees() - start).abs() > 1e-6 {
+        fail("order", format!("crank_start_deg {start} is not the crank's angle at the first pose"));
+    }
+    if (poses[0] - start).abs() > 1e-9 || (poses[poses.len() - 1] - end).abs() > 1e-9 {
+        fail("order", "pose_crank_deg must start at crank_start_deg and end at crank_end_deg".into());
+    }
+    if poses.windows(2).any(|w| dir * (w[1] - w[0]) <= 0.0) || (end - start).abs() >= 360.0 {
+        fail("order", format!("pose_crank_deg {poses:?} is not monotone within one turn"));
+    }
+
+    // The whole travel, at fine steps.
+    let mut trace = Trace::new(plan.joint_count());
+    let steps = (((end - start).abs() / STEP_DEG).ceil() as usize).max(1);
+    for s in 0..=steps {
+        let theta = (start + (end - start) * s as f64 / steps as f64).to_radians();
+        if let Err(e) = trace.push(&plan, theta) {
+            fail("assembly", e.to_string());
+            return out;
+        }
+    }
+    let min_transmission = trace.min_transmission().to_degrees();
+    if min_transmission < problem.settings.min_transmission_deg - 1e-9 {
+        fail(
+            "transmission",
+            format!(
+                "a transmission angle comes {min_transmission:.2}° from 0°/180° (minimum {})",
+                problem.settings.min_transmission_deg
+            ),
+        );
+    }
+
+    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+    let frames = BodyFrames::new(&mechanism, &first_poses);
+    let tol = problem.contact_tolerance();
+    let link_segments: Vec<(usize, usize)> = mechanism.topology.link_pairs();
+    'rows: for r in 0..trace.len() {
+        let row = trace.row(r);
+        let placed: Vec<Polygon> =
+            (0..problem.body_count()).map(|b| problem.bodies[b].outline.transformed(&frames.pose(b, row))).collect();
+        for (b, body) in placed.iter().enumerate() {
+            for (f, fixed) in problem.fixed.iter().enumerate() {
+                if body.penetrates(fixed, tol) {
+                    fail(
+                        "collision",
+                        format!("body {b} enters fixed body {f} at crank {:.2}°", trace.thetas[r].to_degrees()),
+                    );
+                    break 'rows;
+                }
+            }
+            for (c, other) in placed.iter().enumerate().take(b) {
+                if body.penetrates(other, tol) {
+                    fail(
+                        "collision",
+                        format!("bodies {c} and {b} overlap at crank {:.2}°", trace.thetas[r].to_degrees()),
+                    );
+                    break 'rows;
+                }
+            }
+        }
+        for &(a, b) in &link_segments {
+            let link = Polygon::new(vec![row[a], row[b]]);
+            if let Some(k) = problem.avoid.iter().position(|z| link.penetrates(z, tol)) {
+                fail(
+                    "avoid_region",
+                    format!("a link enters avoid region {k} at crank {:.2}°", trace.thetas[r].to_degrees()),
+                );
+                break 'rows;
+            }
+        }
+    }
+
+    // Accuracy (eq. 10) at the design's pose angles, against the input poses.
+    let mut row = vec![Point::ORIGIN; plan.joint_count()];
+    let mut sum = 0.0;
+    let mut count = 0usize;
+    for (i, &theta) in poses.iter().enumerate() {
+        if plan.solve(theta.to_radians(), &mut row).is_err() {
+            fail("assembly", format!("the linkage does not assemble at pose {}", i + 1));
+            return out;
+        }
+        for part in mechanism.topology.parts.iter() {
+            if let crate::mechanism::PartKind::Body(b) = part.kind {
+                let motion = problem.bodies[b].motion_from_first(i);
+                for &j in &part.joints {
+                    sum += (row[j] - motion.apply(mechanism.joints[j])).norm_sq();
+                    count += 1;
+                }
+            }
+        }
+    }
+    let accuracy = sum / count.max(1) as f64;
+    let scale = problem.scale * problem.scale;
+    if (accuracy - metrics.accuracy).abs() > 1e-9 * scale + 1e-6 * accuracy {
+        fail("accuracy", format!("metrics.accuracy is {} but eq. 10 gives {accuracy}", metrics.accuracy));
+    }
+    out
+}

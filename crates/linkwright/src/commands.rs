@@ -1,0 +1,194 @@
+//! The subcommands.
+
+use crate::files::{read_design, read_problem, write_atomically};
+use crate::Failure;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use linkwright_core::design::{DesignFile, Status};
+use linkwright_core::kinematics::{Plan, Trace};
+use linkwright_core::render::{animation_svg, design_svg, RenderInput};
+use linkwright_core::synth::{synthesize, Observer, Progress, Stage};
+use linkwright_core::verify::verify;
+use std::path::{Path, PathBuf};
+
+#[derive(Args, Debug)]
+pub struct DesignArgs {
+    /// The scene file (scene/1).
+    scene: PathBuf,
+    /// Output directory (created if needed). Default: out/<scene file name>.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Seed of the random search (overrides the scene's settings.seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Number of candidate samples (overrides the scene's settings.samples).
+    #[arg(long)]
+    samples: Option<usize>,
+    /// Worker threads (default: all cores). The result does not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print the design JSON on stdout instead of the summary line.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Shows progress as a bar on stderr (hidden when stderr is not a terminal).
+struct Bar(ProgressBar);
+
+impl Observer for Bar {
+    fn progress(&self, p: &Progress) {
+        let stage = match p.stage {
+            Stage::Sampling => "sampling",
+            Stage::Collision => "collision check",
+            Stage::Refining => "refining",
+        };
+        let best = p.best_cost.map_or(String::new(), |c| format!(", best cost {c:.3}"));
+        self.0.set_position((p.fraction * 1000.0) as u64);
+        self.0.set_message(format!("{:?} {stage}{best}", p.mechanism));
+    }
+}
+
+pub fn design(args: DesignArgs) -> Result<(), Failure> {
+    let (_, mut problem) = read_problem(&args.scene)?;
+    if let Some(seed) = args.seed {
+        problem.settings.seed = seed;
+    }
+    if let Some(samples) = args.samples {
+        if samples == 0 {
+            return Err(Failure::Input("error: --samples: must be at least 1".into()));
+        }
+        problem.settings.samples = samples;
+    }
+    let out_dir = args.output.clone().unwrap_or_else(|| {
+        Path::new("out").join(args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default())
+    });
+    if out_dir.exists() && !out_dir.is_dir() {
+        return Err(Failure::Input(format!("error: -o {}: exists and is not a directory", out_dir.display())));
+    }
+    let threads = args.threads.unwrap_or(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
+
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {percent:>3}% {msg}")
+            .expect("a valid template"),
+    );
+    let observer = Bar(bar);
+    let outcome = pool.install(|| synthesize(&problem, &observer)).expect("the CLI never cancels");
+    observer.0.finish_and_clear();
+
+    let file = DesignFile::from_outcome(&problem, &outcome);
+    std::fs::create_dir_all(&out_dir)
+        .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
+    let json = file.to_json();
+    write_atomically(&out_dir.join("design.json"), json.as_bytes())?;
+    if let Some(best) = &outcome.best {
+        let input = RenderInput {
+            problem: &problem,
+            mechanism: &best.mechanism,
+            trace: &best.trace,
+            pose_steps: &best.pose_rows,
+        };
+        write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes())?;
+        write_atomically(&out_dir.join("animation.svg"), animation_svg(&input, 3.0).as_bytes())?;
+    }
+    if args.json {
+        println!("{json}");
+    } else {
+        println!("{}", summary(&file, &out_dir));
+    }
+    Ok(())
+}
+
+fn summary(file: &DesignFile, out_dir: &Path) -> String {
+    let s = &file.stats;
+    let counts = format!("{} valid of {} samples, {:.2} s, seed {}", s.valid, s.samples, s.seconds.total, s.seed);
+    match (&file.status, &file.mechanism, &file.metrics) {
+        (Status::Ok, Some(m), Some(x)) => format!(
+            "{}: {} with {} joints, cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}), \
+             min transmission {:.1}°; {counts} -> {}",
+            file.scene,
+            kind_name(m),
+            m.joints.len(),
+            x.cost,
+            x.accuracy,
+            x.smoothness,
+            x.location,
+            x.size,
+            x.min_transmission_deg,
+            out_dir.display()
+        ),
+        _ => format!(
+            "{}: no solution. {} ({counts}) -> {}",
+            file.scene,
+            file.reason.as_deref().unwrap_or(""),
+            out_dir.join("design.json").display()
+        ),
+    }
+}
+
+fn kind_name(m: &linkwright_core::design::MechanismJson) -> String {
+    use linkwright_core::mechanism::MechanismType;
+    match m.mechanism_type {
+        MechanismType::SliderCrank => "slider-crank".into(),
+        MechanismType::Chain => {
+            let bodies = m.parts.iter().filter(|p| p.body.is_some()).count();
+            match bodies {
+                1 => "four-bar".into(),
+                2 => "Watt-I six-bar".into(),
+                k => format!("{}-bar chain", 2 * k + 2),
+            }
+        }
+    }
+}
+
+pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
+    let (_, problem) = read_problem(scene)?;
+    let file = read_design(design)?;
+    let violations = verify(&problem, &file);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&violations).expect("violations serialize"));
+    } else if violations.is_empty() {
+        println!("{}: every constraint holds", design.display());
+    } else {
+        for v in &violations {
+            println!("{}: {}", v.constraint, v.message);
+        }
+    }
+    if violations.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::Violations)
+    }
+}
+
+pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure> {
+    let (_, _problem) = read_problem(scene)?;
+    let file = read_design(design)?;
+    let (Some(mj), Some(motion)) = (&file.mechanism, &file.motion) else {
+        return Err(Failure::Input(format!("error: {}: has no mechanism (status no_solution)", design.display())));
+    };
+    let mechanism = mj.to_mechanism().map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
+    let plan = Plan::compile(&mechanism).map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
+    let steps = steps.max(1);
+    let mut trace = Trace::new(plan.joint_count());
+    let mut out = String::from("step,crank_deg");
+    for name in &mechanism.topology.joint_names {
+        out.push_str(&format!(",{name}_x,{name}_y"));
+    }
+    out.push('\n');
+    for s in 0..=steps {
+        let deg = motion.crank_start_deg + (motion.crank_end_deg - motion.crank_start_deg) * s as f64 / steps as f64;
+        trace.push(&plan, deg.to_radians()).map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
+        out.push_str(&format!("{s},{deg}"));
+        for p in trace.row(trace.len() - 1) {
+            out.push_str(&format!(",{},{}", p.x, p.y));
+        }
+        out.push('\n');
+    }
+    print!("{out}");
+    Ok(())
+}
