@@ -24,7 +24,7 @@ pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
     let clock = Clock::new(&sheet, seconds);
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
-    layers::open_world(&mut out);
+    layers::open_world(&sheet, &mut out);
     layers::backdrop(&sheet, &mut out);
     layers::onion_skins(&sheet, &mut out);
     layers::joint_paths(&sheet, &mut out);

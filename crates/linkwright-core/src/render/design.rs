@@ -24,7 +24,7 @@ pub fn design_svg(input: &RenderInput) -> String {
     let sheet = Sheet::new(input, MAX_PATH_POINTS);
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
-    layers::open_world(&mut out);
+    layers::open_world(&sheet, &mut out);
     layers::backdrop(&sheet, &mut out);
     layers::onion_skins(&sheet, &mut out);
     reached_poses(&sheet, &mut out);

@@ -4,29 +4,25 @@
 //! World layers are written inside a group that flips y (`scale(1,-1)`), so their coordinates are world
 //! coordinates, y up; text is written outside it at `(x, −y)`, so it stays upright.
 
-use super::sheet::Sheet;
+use super::sheet::{Sheet, SCREEN};
 use super::style::Style;
 use super::svg::{close, Element};
 use crate::geom::{Point, Polygon, Vec2};
 
-/// The longest side of the picture's default size, in pixels.
-const PIXELS: f64 = 1000.0;
-
 /// Opens the document: root, title, style sheet, hatch pattern, white background.
 pub fn open_document(sheet: &Sheet, out: &mut String) {
-    let (x, y, w, h) = sheet.view_box();
+    let (w, h) = sheet.size();
     let n = &sheet.num;
-    let px = PIXELS / w.max(h);
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     Element::new("svg")
         .attr("xmlns", "http://www.w3.org/2000/svg")
-        .attr("viewBox", format!("{} {} {} {}", n.f(x), n.f(y), n.f(w), n.f(h)))
-        .attr("width", (w * px).round())
-        .attr("height", (h * px).round())
+        .attr("viewBox", format!("0 0 {} {}", SCREEN.f(w), SCREEN.f(h)))
+        .attr("width", w.round())
+        .attr("height", h.round())
         .open(out);
     let title = sheet.title();
     Element::new("title").text(&format!("{}: {}", title.name, title.subtitle), out);
-    Element::new("style").text(&sheet.style.css(n), out);
+    Element::new("style").text(&sheet.style.css(n, sheet.pixels_per_unit()), out);
     Element::new("defs").open(out);
     let hatch = sheet.style.dash * 0.8;
     Element::new("pattern")
@@ -53,18 +49,12 @@ pub fn open_document(sheet: &Sheet, out: &mut String) {
         .empty(out);
     close(out, "pattern");
     close(out, "defs");
-    Element::new("rect")
-        .attr("x", n.f(x))
-        .attr("y", n.f(y))
-        .attr("width", n.f(w))
-        .attr("height", n.f(h))
-        .attr("fill", "#fff")
-        .empty(out);
+    Element::new("rect").attr("width", "100%").attr("height", "100%").attr("fill", "#fff").empty(out);
 }
 
-/// Opens the y-up group the world layers go in.
-pub fn open_world(out: &mut String) {
-    Element::new("g").attr("transform", "scale(1,-1)").open(out);
+/// Opens the group the world layers go in: world coordinates, y up.
+pub fn open_world(sheet: &Sheet, out: &mut String) {
+    Element::new("g").attr("transform", sheet.world_transform()).open(out);
 }
 
 /// Writes a polygon with the given class and optional colour.
@@ -154,13 +144,15 @@ pub fn ground_symbols(sheet: &Sheet, out: &mut String) {
     }
 }
 
-/// A label at world point `p`, written in screen coordinates (call outside the world group).
+/// A label at world point `p`, written in picture coordinates (call outside the world group).
 pub fn label(sheet: &Sheet, p: Point, text: &str, class: &str, colour: Option<&str>, out: &mut String) {
+    let (x, y) = sheet.screen(p);
     Element::new("text")
         .attr("class", class)
-        .attr("x", sheet.num.f(p.x))
-        .attr("y", sheet.num.f(-p.y))
-        .attr_opt("fill", colour)
+        .attr("x", SCREEN.f(x))
+        .attr("y", SCREEN.f(y))
+        // A style, not a fill attribute: the style sheet's text rule would win over an attribute.
+        .attr_opt("style", colour.map(|c| format!("fill:{c}")))
         .text(text, out);
 }
 
@@ -178,32 +170,32 @@ pub fn pose_numbers(sheet: &Sheet, out: &mut String) {
 
 /// The title band: scene name, mechanism line, and a legend of body colours and `notes`.
 pub fn title(sheet: &Sheet, notes: &[&str], out: &mut String) {
-    let (x0, y0, _, _) = sheet.view_box();
+    let k = sheet.pixels_per_unit();
     let s = &sheet.style;
-    let n = &sheet.num;
-    let x = x0 + s.margin * 0.5;
+    let (font, line) = (s.font * k, sheet.line_height() * k);
+    let x = s.margin * 0.5 * k;
     let title = sheet.title();
-    let mut y = y0 + s.title_font * 1.15;
-    Element::new("text").attr("class", "title").attr("x", n.f(x)).attr("y", n.f(y)).text(&title.name, out);
-    y += sheet.line_height();
-    Element::new("text").attr("x", n.f(x)).attr("y", n.f(y)).text(&title.subtitle, out);
-    y += sheet.line_height();
+    let mut y = s.title_font * 1.15 * k;
+    Element::new("text").attr("class", "title").attr("x", SCREEN.f(x)).attr("y", SCREEN.f(y)).text(&title.name, out);
+    y += line;
+    Element::new("text").attr("x", SCREEN.f(x)).attr("y", SCREEN.f(y)).text(&title.subtitle, out);
+    y += line;
     let mut cx = x;
-    let swatch = s.font * 0.8;
+    let swatch = font * 0.8;
     for (colour, text) in sheet.legend(notes) {
         if let Some(colour) = colour {
             Element::new("rect")
                 .attr("class", "legend")
-                .attr("x", n.f(cx))
-                .attr("y", n.f(y - swatch * 0.9))
-                .attr("width", n.f(swatch))
-                .attr("height", n.f(swatch))
+                .attr("x", SCREEN.f(cx))
+                .attr("y", SCREEN.f(y - swatch * 0.9))
+                .attr("width", SCREEN.f(swatch))
+                .attr("height", SCREEN.f(swatch))
                 .attr("fill", colour)
                 .empty(out);
             cx += swatch * 1.4;
         }
-        Element::new("text").attr("x", n.f(cx)).attr("y", n.f(y)).text(&text, out);
-        cx += Sheet::text_width(text.chars().count(), s.font) + s.font * 1.2;
+        Element::new("text").attr("x", SCREEN.f(cx)).attr("y", SCREEN.f(y)).text(&text, out);
+        cx += Sheet::text_width(text.chars().count(), font) + font * 1.2;
     }
 }
 

@@ -209,11 +209,39 @@ impl<'a> Sheet<'a> {
         self.world = world;
     }
 
-    /// The view box in screen coordinates (`x`, `−y`): min x, min y, width, height.
-    pub fn view_box(&self) -> (f64, f64, f64, f64) {
-        (self.world.min.x, -self.world.max.y - self.band, self.width, self.world.height() + self.band)
+    /// Pixels per drawing unit: the longer side of the picture is [`PIXELS`] wide.
+    pub fn pixels_per_unit(&self) -> f64 {
+        PIXELS / self.width.max(self.world.height() + self.band)
+    }
+
+    /// The picture's size in pixels (its view box is `0 0 width height`).
+    pub fn size(&self) -> (f64, f64) {
+        let k = self.pixels_per_unit();
+        (self.width * k, (self.world.height() + self.band) * k)
+    }
+
+    /// The world point `p` in picture coordinates (pixels, y down).
+    pub fn screen(&self, p: Point) -> (f64, f64) {
+        let k = self.pixels_per_unit();
+        ((p.x - self.world.min.x) * k, (self.world.max.y + self.band - p.y) * k)
+    }
+
+    /// The transform from world coordinates to picture coordinates, as an SVG `transform`. Text is
+    /// written in picture coordinates instead, so it stays upright and its sizes are plain pixels (tiny
+    /// font sizes in drawing units render badly in some viewers).
+    pub fn world_transform(&self) -> String {
+        let k = self.pixels_per_unit();
+        let (tx, ty) = self.screen(Point::ORIGIN);
+        let n = Num::with_decimals(6);
+        format!("matrix({},0,0,{},{},{})", n.f(k), n.f(-k), n.f(tx), n.f(ty))
     }
 }
+
+/// The longest side of the picture, pixels.
+pub const PIXELS: f64 = 1000.0;
+
+/// Formats picture coordinates (pixels).
+pub const SCREEN: Num = Num::with_decimals(2);
 
 /// What a person calls the mechanism.
 pub fn mechanism_label(topology: &Topology) -> String {

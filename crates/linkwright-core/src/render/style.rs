@@ -54,9 +54,11 @@ impl Style {
         PATH_COLOURS[joint % PATH_COLOURS.len()]
     }
 
-    /// The `<style>` sheet shared by both drawings (its class names are what the tests count).
-    pub fn css(&self, num: &Num) -> String {
+    /// The `<style>` sheet shared by both drawings (its class names are what the tests count). Lengths
+    /// are in drawing units, except text, which is written in pixels (`pixels` per drawing unit).
+    pub fn css(&self, num: &Num, pixels: f64) -> String {
         let f = |v: f64| num.f(v);
+        let px = |v: f64| Num::with_decimals(2).f(v * pixels);
         let (t, l, j, d) = (self.thin, self.link, self.joint, self.dash);
         let mut css = String::new();
         let mut rule = |selector: &str, body: String| {
@@ -112,13 +114,13 @@ impl Style {
             "text",
             format!(
                 "font-family:sans-serif;font-size:{};fill:#222;paint-order:stroke;stroke:#fff;stroke-width:{};stroke-linejoin:round",
-                f(self.font),
-                f(self.font * 0.2)
+                px(self.font),
+                px(self.font * 0.2)
             ),
         );
-        rule(".joint-label", format!("font-size:{}", f(self.small_font)));
+        rule(".joint-label", format!("font-size:{}", px(self.small_font)));
         rule(".pose-label", "font-weight:bold;text-anchor:middle".to_string());
-        rule(".title", format!("font-size:{};font-weight:bold", f(self.title_font)));
+        rule(".title", format!("font-size:{};font-weight:bold", px(self.title_font)));
         rule(".legend", "stroke:none".to_string());
         css
     }

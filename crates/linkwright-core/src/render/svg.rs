@@ -35,7 +35,7 @@ impl Num {
         let d = if resolution.is_finite() && resolution > 0.0 { (-resolution.log10()).ceil() } else { 3.0 };
         Num { decimals: d.clamp(0.0, 9.0) as usize }
     }
-    pub fn with_decimals(decimals: usize) -> Num {
+    pub const fn with_decimals(decimals: usize) -> Num {
         Num { decimals }
     }
     /// Appends `v` to `out`.

@@ -91,6 +91,7 @@ impl Fixture {
         }
         let ground: Vec<Point> = topo.fixed_joints().iter().map(|&j| mechanism.joints[j]).collect();
         let (lo_x, hi_x) = ground.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.x), b.max(p.x)));
+        let right = mechanism.joints.iter().map(|p| p.x).fold(hi_x, f64::max);
         let lo_y = ground.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
         let hi_y = ground.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
         let scene = serde_json::json!({
@@ -99,7 +100,7 @@ impl Fixture {
             "fixed_bodies": [{"name": "slab", "polygon": [[lo_x - 1.5, lo_y - 1.4], [hi_x + 1.5, lo_y - 1.4], [hi_x + 1.5, lo_y - 0.8], [lo_x - 1.5, lo_y - 0.8]]}],
             "moving_bodies": moving,
             "linkage_region": [[lo_x - 1.0, lo_y - 0.7], [hi_x + 1.0, lo_y - 0.7], [hi_x + 1.0, hi_y + 1.0], [lo_x - 1.0, hi_y + 1.0]],
-            "avoid_regions": [[[hi_x + 1.5, lo_y - 0.5], [hi_x + 2.5, lo_y - 0.5], [hi_x + 2.5, lo_y + 0.5], [hi_x + 1.5, lo_y + 0.5]]],
+            "avoid_regions": [[[right + 1.5, lo_y - 0.5], [right + 2.5, lo_y - 0.5], [right + 2.5, lo_y + 0.5], [right + 1.5, lo_y + 0.5]]],
         });
         let scene = Scene::from_json(&scene.to_string()).expect("the fixture scene parses");
         let problem = Problem::new(&scene).unwrap_or_else(|issues| panic!("the fixture scene is valid: {issues:?}"));
@@ -200,6 +201,16 @@ fn design_sheet_has_every_layer() {
     assert!(svg.contains("four-bar linkage"));
 }
 
+/// The world group's `matrix(a,b,c,d,e,f)` as a map from world to picture coordinates.
+fn world_to_screen(doc: &Document) -> impl Fn(Point) -> (f64, f64) {
+    let world = doc.descendants().find(|n| n.attribute("transform").is_some_and(|t| t.starts_with("matrix("))).unwrap();
+    let t = world.attribute("transform").unwrap();
+    let m: Vec<f64> = t["matrix(".len()..t.len() - 1].split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!((m[1], m[2]), (0.0, 0.0));
+    assert!(m[0] > 0.0 && m[3] == -m[0], "uniform scale with y flipped up: {t}");
+    move |p: Point| (m[0] * p.x + m[4], m[3] * p.y + m[5])
+}
+
 #[test]
 fn the_world_is_drawn_y_up_inside_the_view_box() {
     let f = four_bar("bed", "bed");
@@ -207,22 +218,29 @@ fn the_world_is_drawn_y_up_inside_the_view_box() {
     let doc = Document::parse(&svg).unwrap();
     let view: Vec<f64> =
         doc.root_element().attribute("viewBox").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
-    let world = doc.descendants().find(|n| n.attribute("transform") == Some("scale(1,-1)")).expect("a y-up group");
+    assert_eq!((view[0], view[1]), (0.0, 0.0));
+    let screen = world_to_screen(&doc);
+    let world = doc.descendants().find(|n| n.attribute("transform").is_some_and(|t| t.starts_with("matrix("))).unwrap();
     let mut checked = 0;
     for n in world.descendants().filter(|n| n.has_tag_name("polygon") || n.has_tag_name("polyline")) {
         for q in points_of(&n) {
-            // World (x, y) is screen (x, −y).
-            assert!(q.x >= view[0] && q.x <= view[0] + view[2], "{q:?} outside {view:?}");
-            assert!(-q.y >= view[1] && -q.y <= view[1] + view[3], "{q:?} outside {view:?}");
+            let (x, y) = screen(q);
+            assert!(x >= 0.0 && x <= view[2] && y >= 0.0 && y <= view[3], "{q:?} at {x},{y} outside {view:?}");
             checked += 1;
         }
     }
     assert!(checked > 20);
-    // A pose number sits at its outline's centroid, flipped into screen coordinates.
+    // The crank pivot q0 is below the coupler joint p1 in the world, so lower (larger y) in the picture.
+    let (_, q0_y) = screen(f.mechanism.joint("q0").unwrap());
+    let (_, p1_y) = screen(f.mechanism.joint("p1").unwrap());
+    assert!(q0_y > p1_y);
+    // A pose number sits at its outline's centroid, in picture coordinates, outside the flipped group.
     let c = f.problem.bodies[0].outline.transformed(&f.problem.bodies[0].poses[2]).centroid();
     let label = doc.descendants().filter(class_is("pose-label")).find(|n| n.text() == Some("3")).unwrap();
-    assert_close(number(&label, "x"), c.x, 1e-3);
-    assert!((number(&label, "y") + c.y).abs() < f.problem.scale * 0.02);
+    assert!(!label.ancestors().any(|a| a == world));
+    let (cx, cy) = screen(c);
+    assert_close(number(&label, "x"), cx, 0.01);
+    assert!((number(&label, "y") - cy).abs() < 0.02 * view[3]);
 }
 
 #[test]

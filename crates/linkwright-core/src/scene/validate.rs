@@ -105,7 +105,10 @@ impl Issues {
         if let Some(i) = points.iter().position(|p| p.is_finite() && (p.x.abs().max(p.y.abs()) > MAX_COORDINATE)) {
             self.error(
                 field,
-                format!("vertex {i} is farther than {MAX_COORDINATE:e} mm from the origin; lengths are millimetres, so scale the drawing down"),
+                format!(
+                    "vertex {i} is farther than {MAX_COORDINATE:e} mm from the origin; lengths are millimetres, \
+                     so scale the drawing down"
+                ),
             );
             return false;
         }
@@ -128,7 +131,8 @@ fn check_fixed_bodies(bodies: &[FixedBody], out: &mut Issues) -> Vec<bool> {
     if bodies.is_empty() {
         out.error(
             "fixed_bodies",
-            "there is no fixed body, so the linkage has nothing to stand on; add the part of the object that does not move",
+            "there is no fixed body, so the linkage has nothing to stand on; \
+             add the part of the object that does not move",
         );
     }
     let ok = bodies.iter().enumerate().map(|(i, b)| out.polygon(&format!("fixed_bodies[{i}].polygon"), &b.polygon));
@@ -158,7 +162,8 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
             out.error(
                 &field,
                 format!(
-                    "{} has {n} poses but {} has {}; pose i of every body happens at the same moment, so give every body the same number of poses",
+                    "{} has {n} poses but {} has {}; pose i of every body happens at the same moment, \
+                     so give every body the same number of poses",
                     label("body", &body.name, &format!("moving_bodies[{k}]")),
                     label("body", &bodies[0].name, "moving_bodies[0]"),
                     bodies[0].poses.len()
@@ -169,7 +174,11 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
             if !pose_is_usable(pose) {
                 out.error(
                     format!("{field}[{i}]"),
-                    format!("pose {} is {pose:?}; write three finite numbers [x_mm, y_mm, angle_deg] within ±{MAX_COORDINATE:e}", i + 1),
+                    format!(
+                        "pose {} is {pose:?}; write three finite numbers [x_mm, y_mm, angle_deg] \
+                         within ±{MAX_COORDINATE:e}",
+                        i + 1
+                    ),
                 );
             }
         }
@@ -198,7 +207,10 @@ fn check_mechanism(scene: &Scene, out: &mut Issues) {
     if scene.mechanism == MechanismChoice::SliderCrank && k != 1 {
         out.error(
             "mechanism",
-            format!("slider_crank moves exactly one body but the scene has {k}; use \"chain\" or \"auto\", or keep one moving body"),
+            format!(
+                "slider_crank moves exactly one body but the scene has {k}; \
+                 use \"chain\" or \"auto\", or keep one moving body"
+            ),
         );
     }
 }
@@ -266,9 +278,11 @@ struct Placed {
 }
 
 impl Placed {
-    fn new(label: String, outline: Polygon) -> Placed {
+    /// `outline` (in its own frame) placed by `pose`; d is measured in the body's own frame, as the
+    /// engine measures it, so that turning a body does not change its tolerance.
+    fn new(label: String, outline: Polygon, pose: &Rigid) -> Placed {
         let bb = outline.aabb();
-        Placed { label, size: bb.width().min(bb.height()), outline }
+        Placed { label, size: bb.width().min(bb.height()), outline: outline.transformed(pose) }
     }
 }
 
@@ -283,7 +297,7 @@ fn check_collisions(scene: &Scene, fixed_ok: &[bool], moving_ok: &[bool], out: &
         .filter(|&(j, _)| fixed_ok[j])
         .map(|(j, b)| {
             let name = label("fixed body", &b.name, &format!("fixed_bodies[{j}]"));
-            Placed::new(name, Polygon::new(b.polygon.clone()))
+            Placed::new(name, Polygon::new(b.polygon.clone()), &Rigid::IDENTITY)
         })
         .collect();
     let pose_count = scene.moving_bodies.iter().map(|b| b.poses.len()).max().unwrap_or(0);
@@ -294,8 +308,8 @@ fn check_collisions(scene: &Scene, fixed_ok: &[bool], moving_ok: &[bool], out: &
             .enumerate()
             .filter(|&(k, b)| moving_ok[k] && b.poses.get(i).is_some_and(pose_is_usable))
             .map(|(k, b)| {
-                let outline = Polygon::new(b.polygon.clone()).transformed(&Rigid::from_pose(b.poses[i]));
-                (k, Placed::new(label("body", &b.name, &format!("moving_bodies[{k}]")), outline))
+                let name = label("body", &b.name, &format!("moving_bodies[{k}]"));
+                (k, Placed::new(name, Polygon::new(b.polygon.clone()), &Rigid::from_pose(b.poses[i])))
             })
             .collect();
         for (n, (k, body)) in placed.iter().enumerate() {
@@ -325,7 +339,8 @@ fn report_contact(field: &str, i: usize, a: &Placed, b: &Placed, out: &mut Issue
         out.warning(
             field,
             format!(
-                "{} touches {} at pose {pose} ({what} of about {by:.2} mm, within the drawing tolerance of {tol:.2} mm); fine if one rests on the other, otherwise move the pose apart",
+                "{} touches {} at pose {pose} ({what} of about {by:.2} mm, within the drawing tolerance of \
+                 {tol:.2} mm); fine if one rests on the other, otherwise move the pose apart",
                 a.label, b.label
             ),
         );
@@ -507,7 +522,8 @@ mod tests {
 
     #[test]
     fn settings_out_of_range_are_errors() {
-        let cases: [(&str, fn(&mut Settings)); 10] = [
+        type Change = fn(&mut Settings);
+        let cases: [(&str, Change); 10] = [
             ("samples", |s| s.samples = 0),
             ("samples", |s| s.samples = 10_000_001),
             ("particles", |s| s.particles = 0),

@@ -1,5 +1,6 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
+use super::rigidity::RigidityModel;
 use crate::geom::{Aabb, Point, Rigid};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
@@ -14,6 +15,11 @@ pub const CRANK_STEP: f64 = std::f64::consts::PI / 180.0;
 /// How far past the last pose's nominal crank angle the search for the configuration closest to it
 /// may look, radians.
 pub const END_SEARCH: f64 = 10.0 * std::f64::consts::PI / 180.0;
+/// A fit is accepted when no link length (nor the slider's line) deviates across the perturbed poses
+/// by more than this fraction of the body size d: scale-free, so any drawing unit works.
+pub const ACCEPT_DEVIATION: f64 = 0.05;
+/// The same bound when every pose must be hit exactly (`pose_tolerance` 0).
+pub const EXACT_DEVIATION: f64 = 1e-8;
 
 /// Per-topology precomputation for one problem.
 #[derive(Debug)]
@@ -41,6 +47,11 @@ pub struct Context<'a> {
     pub contact_tolerance: f64,
     pub fixed_boxes: Vec<Aabb>,
     pub avoid_boxes: Vec<Aabb>,
+    /// The rigidity energy of this topology (paper eq. 3–5).
+    pub rigidity: RigidityModel,
+    /// `pose_tolerance` is 0: every pose must be hit exactly, so no pose is perturbed, only exact fits
+    /// are accepted, and the particle filter's proposals are projected back onto exact linkages.
+    pub exact: bool,
 }
 
 impl<'a> Context<'a> {
@@ -91,7 +102,18 @@ impl<'a> Context<'a> {
             contact_tolerance: problem.contact_tolerance(),
             fixed_boxes: problem.fixed.iter().map(|p| p.aabb()).collect(),
             avoid_boxes: problem.avoid.iter().map(|p| p.aabb()).collect(),
+            rigidity: RigidityModel::new(&topology),
+            exact: problem.settings.pose_tolerance == 0.0,
             topology,
+        }
+    }
+
+    /// The largest accepted rigidity deviation of a fit (relative to d).
+    pub fn accepted_deviation(&self) -> f64 {
+        if self.exact {
+            EXACT_DEVIATION
+        } else {
+            ACCEPT_DEVIATION
         }
     }
 

@@ -82,6 +82,7 @@ pub struct Scratch {
     row: Vec<Point>,
     branches: Vec<Branch>,
     pub(crate) outlines: Vec<Vec<Point>>,
+    pub(crate) fit: super::rigidity::FitWorkspace,
 }
 
 /// The kinematic checks and the soft costs of one mechanism.

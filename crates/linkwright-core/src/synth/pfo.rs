@@ -75,6 +75,13 @@ pub fn refine(
                 for v in &mut x[n..] {
                     *v += normal(&mut r) * slider_sigma;
                 }
+                if ctx.exact {
+                    // Project the proposal back onto linkages that hit the input poses exactly.
+                    let fit = ctx.rigidity.fit(&mut x, &ctx.motions, ctx.body_size, &mut scratch.fit);
+                    if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation() {
+                        return None;
+                    }
+                }
                 let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), scratch).ok()?;
                 check_collisions(ctx, &candidate, scratch).ok()?;
                 Some(candidate)

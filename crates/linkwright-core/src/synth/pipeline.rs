@@ -263,7 +263,7 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
         );
     }
     let mut counts = stats.rejected.clone();
-    counts.sort_by(|a, b| b.1.cmp(&a.1));
+    counts.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
     let advice = |r: Reject| match r {
         Reject::JointsTooClose => "joints fell too close together to build: widen the linkage_region".to_string(),
         Reject::Order => "linkages visited the poses out of order: check the order of the poses, or add an \

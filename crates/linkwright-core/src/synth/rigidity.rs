@@ -770,6 +770,9 @@ mod tests {
                 let mut x = random_x(&mut rng, model.dim(), 3.0);
                 let fit = model.fit(&mut x, &motions, 1.0, &mut ws);
                 exact += usize::from(fit.max_relative_deviation < 1e-8);
+                if fit.max_relative_deviation >= 1e-8 {
+                    eprintln!("K {k} seed {seed}: {fit:?}");
+                }
             }
             assert!(exact >= 38, "K {k}: only {exact} of 40 fits were exact");
         }

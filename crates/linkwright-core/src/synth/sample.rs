@@ -3,15 +3,12 @@
 
 use super::context::Context;
 use super::random::{normal, rng, Stream};
-use super::rigidity::{FitWorkspace, RigidityModel};
+use super::rigidity::FitWorkspace;
 use crate::geom::{penetrates_unchecked, Aabb, Point, Rigid, Vec2};
 use crate::mechanism::{Mechanism, SliderLine};
 use rand::RngExt;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-/// A fit is accepted when no link length (nor the slider's line) deviates across the perturbed poses
-/// by more than this fraction of the body size d: scale-free, so any drawing unit works.
-pub const ACCEPT_DEVIATION: f64 = 0.05;
 /// How often a perturbed pose that collides is drawn again before the input pose is used unperturbed.
 const PERTURB_TRIES: usize = 5;
 
@@ -19,7 +16,6 @@ const PERTURB_TRIES: usize = 5;
 #[derive(Debug)]
 pub struct Sampler<'c, 'p> {
     ctx: &'c Context<'p>,
-    model: RigidityModel,
     region_box: Aabb,
     family: u64,
 }
@@ -35,7 +31,7 @@ pub struct SampleScratch {
 
 impl<'c, 'p> Sampler<'c, 'p> {
     pub fn new(ctx: &'c Context<'p>, family: u64) -> Self {
-        Sampler { model: RigidityModel::new(&ctx.topology), region_box: ctx.problem.region.aabb(), ctx, family }
+        Sampler { region_box: ctx.problem.region.aabb(), ctx, family }
     }
 
     /// Sample `index` under `seed`: a mechanism whose links are rigid over perturbed poses, or `None`
@@ -50,11 +46,11 @@ impl<'c, 'p> Sampler<'c, 'p> {
             let p = self.point_in_region(&mut rng);
             scratch.x.extend([p.x, p.y]);
         }
-        if self.model.dim() > 2 * n {
+        if ctx.rigidity.dim() > 2 * n {
             scratch.x.push(rng.random_range(0.0..std::f64::consts::PI));
         }
-        let fit = self.model.fit(&mut scratch.x, &scratch.motions, ctx.body_size, &mut scratch.fit);
-        if !(fit.max_relative_deviation <= ACCEPT_DEVIATION) {
+        let fit = ctx.rigidity.fit(&mut scratch.x, &scratch.motions, ctx.body_size, &mut scratch.fit);
+        if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation() {
             return None;
         }
         Some(mechanism_from_x(ctx, &scratch.x))
@@ -77,7 +73,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
             for (b, body) in problem.bodies.iter().enumerate() {
                 let input = body.poses[i];
                 let mut pose = input;
-                if i > 0 && i + 1 < poses {
+                if i > 0 && i + 1 < poses && !self.ctx.exact {
                     for _ in 0..PERTURB_TRIES {
                         let shift = Vec2::new(normal(rng), normal(rng)) * (settings.pose_tolerance * body.size);
                         let turn = normal(rng) * settings.angle_tolerance_deg.to_radians();
