@@ -163,7 +163,7 @@ pub fn pose_numbers(sheet: &Sheet, out: &mut String) {
         for (i, pose) in body.poses.iter().enumerate() {
             // Shifted down by a third of the font so the digits sit centred on the centroid.
             let c = body.outline.transformed(pose).centroid() - Vec2::new(0.0, font * 0.35);
-            label(sheet, c, &(i + 1).to_string(), "pose-label", Some(Style::body_colour(b)), out);
+            label(sheet, c, &(i + 1).to_string(), "pose-label", Some(&Style::body_text_colour(b)), out);
         }
     }
 }

@@ -50,6 +50,12 @@ impl Style {
     pub fn body_colour(body: usize) -> &'static str {
         BODY_COLOURS[body % BODY_COLOURS.len()]
     }
+    /// The body's colour darkened, for text that must read on the body's own fill.
+    pub fn body_text_colour(body: usize) -> String {
+        let hex = Self::body_colour(body);
+        let channel = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_or(0, |c| (f64::from(c) * 0.6).round() as u8);
+        format!("#{:02x}{:02x}{:02x}", channel(1), channel(3), channel(5))
+    }
     pub fn path_colour(joint: usize) -> &'static str {
         PATH_COLOURS[joint % PATH_COLOURS.len()]
     }
@@ -57,8 +63,9 @@ impl Style {
     /// The `<style>` sheet shared by both drawings (its class names are what the tests count). Lengths
     /// are in drawing units, except text, which is written in pixels (`pixels` per drawing unit).
     pub fn css(&self, num: &Num, pixels: f64) -> String {
-        let f = |v: f64| num.f(v);
-        let px = |v: f64| Num::with_decimals(2).f(v * pixels);
+        // In SVG a CSS px is one user unit of the element's coordinate system; font sizes need the unit.
+        let f = |v: f64| format!("{}px", num.f(v));
+        let px = |v: f64| format!("{}px", Num::with_decimals(2).f(v * pixels));
         let (t, l, j, d) = (self.thin, self.link, self.joint, self.dash);
         let mut css = String::new();
         let mut rule = |selector: &str, body: String| {
@@ -70,15 +77,15 @@ impl Style {
             format!(
                 "fill:#2b6cb0;fill-opacity:.04;stroke:#2b6cb0;stroke-width:{};stroke-dasharray:{},{}",
                 f(t * 1.3),
-                f(d),
-                f(d * 0.6)
+                num.f(d),
+                num.f(d * 0.6)
             ),
         );
         rule(".avoid", format!("fill:url(#hatch);stroke:#d62728;stroke-width:{}", f(t)));
         rule(".pose", format!("fill-opacity:.1;stroke-opacity:.75;stroke-width:{}", f(t)));
         rule(
             ".reached",
-            format!("fill:none;stroke-width:{};stroke-dasharray:{},{}", f(t * 1.4), f(d * 0.7), f(d * 0.45)),
+            format!("fill:none;stroke-width:{};stroke-dasharray:{},{}", f(t * 1.4), num.f(d * 0.7), num.f(d * 0.45)),
         );
         rule(".body", format!("fill-opacity:.8;stroke:#333;stroke-width:{}", f(t)));
         rule(

@@ -573,6 +573,10 @@ mod tests {
             "moving_bodies[0].poses[1]",
             "body 'lid' overlaps fixed body 'ground' at pose 2 by about 1.00 mm",
         );
+        // A corner dipping 1 mm in: d is the lid's own 20 mm, not the side of its turned bounding box.
+        let mut s = scene();
+        s.moving_bodies[0].poses[1] = [100.0, 19.0, 45.0];
+        assert_error(&s, "moving_bodies[0].poses[1]", "overlaps fixed body 'ground' at pose 2 by about 1.00 mm");
         // Entirely inside, no edges crossing.
         let mut s = scene();
         s.fixed_bodies[0].polygon = rect(0.0, 0.0, 400.0, 400.0);
@@ -707,5 +711,28 @@ mod tests {
         s.moving_bodies[0].polygon.clear();
         s.moving_bodies[0].poses.clear();
         assert!(!errors(&s).is_empty());
+    }
+
+    #[test]
+    fn tmp_survey() {
+        let dir = "/work/shared/reference-scenes";
+        let mut paths: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+        paths.sort();
+        for path in paths.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+            let scene = Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+            let name = path.file_name().unwrap().to_string_lossy();
+            let fixed: Vec<Placed> = scene.fixed_bodies.iter().map(|b| Placed::new(b.name.clone(), Polygon::new(b.polygon.clone()), &Rigid::IDENTITY)).collect();
+            for i in 0..scene.moving_bodies[0].poses.len() {
+                let placed: Vec<Placed> = scene.moving_bodies.iter().map(|b| Placed::new(b.name.clone(), Polygon::new(b.polygon.clone()), &Rigid::from_pose(b.poses[i]))).collect();
+                for (n, a) in placed.iter().enumerate() {
+                    for b in fixed.iter().chain(placed[n + 1..].iter()) {
+                        let d = a.size.min(b.size);
+                        if let Some(sep) = separation(&a.outline, &b.outline, 0.1 * d) {
+                            if sep <= 0.1 * d { println!("TMP {:.4} {sep:.3} {d:.1} {name} pose {i} {} {}", sep / d, a.label, b.label); }
+                        }
+                    }
+                }
+            }
+        }
     }
 }

@@ -13,6 +13,14 @@ use std::time::Instant;
 
 /// Samples drawn between two progress reports (and cancellation checks).
 const CHUNK: usize = 2048;
+/// Defect-free candidates kept for the collision check, lowest cost first: a bound on memory (each
+/// holds its simulated travel) that never drops a candidate the particle filter would prefer.
+const CANDIDATE_CAP: usize = 2000;
+/// The collision check stops once this many particles' worth of valid designs are found: the particle
+/// filter resamples its particles from them by weight, and the lowest costs come first.
+const VALID_PER_PARTICLE: usize = 10;
+/// Candidates checked for collisions between two checks of the stopping rule.
+const COLLISION_CHUNK: usize = 128;
 /// At most this many alternatives are reported.
 pub const MAX_ALTERNATIVES: usize = 10;
 /// Two designs of one family are distinct when some joint differs by more than this fraction of d.
@@ -171,6 +179,7 @@ fn run_family(
 
     let t = Instant::now();
     let mut candidates = Vec::new();
+    let mut kept = 0;
     let mut start = 0;
     while start < total {
         if observer.cancelled() {
@@ -194,26 +203,36 @@ fn run_family(
                 Err(reject) => rejected[reject as usize] += 1,
             }
         }
+        stats.candidates += candidates.len() - kept;
+        if candidates.len() > 2 * CANDIDATE_CAP {
+            keep_cheapest(&mut candidates, CANDIDATE_CAP);
+        }
+        kept = candidates.len();
         start = end;
         report(Stage::Sampling, w_sample * start as f64 / total as f64, None);
     }
+    keep_cheapest(&mut candidates, CANDIDATE_CAP);
     stats.samples += total;
-    stats.candidates += candidates.len();
     stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    if observer.cancelled() {
-        return Err(Cancelled);
-    }
-    let checked: Vec<Result<Candidate, Reject>> = candidates
-        .into_par_iter()
-        .map_init(Scratch::default, |scratch, c| check_collisions(ctx, &c, scratch).map(|()| c))
-        .collect();
+    let enough = VALID_PER_PARTICLE * settings.particles.max(1);
     let mut valid = Vec::new();
-    for r in checked {
-        match r {
-            Ok(c) => valid.push(c),
-            Err(reject) => rejected[reject as usize] += 1,
+    let mut queue = candidates.into_iter().peekable();
+    while queue.peek().is_some() && valid.len() < enough {
+        if observer.cancelled() {
+            return Err(Cancelled);
+        }
+        let chunk: Vec<Candidate> = queue.by_ref().take(COLLISION_CHUNK).collect();
+        let checked: Vec<Result<Candidate, Reject>> = chunk
+            .into_par_iter()
+            .map_init(Scratch::default, |scratch, c| check_collisions(ctx, &c, scratch).map(|()| c))
+            .collect();
+        for r in checked {
+            match r {
+                Ok(c) => valid.push(c),
+                Err(reject) => rejected[reject as usize] += 1,
+            }
         }
     }
     stats.valid += valid.len();
@@ -242,6 +261,13 @@ fn run_family(
     }
     stats.seconds_pfo += t.elapsed().as_secs_f64();
     Ok(valid)
+}
+
+/// Keeps the `cap` cheapest candidates, in order of cost (ties keep their production order, so the
+/// result does not depend on threads).
+fn keep_cheapest(candidates: &mut Vec<Candidate>, cap: usize) {
+    candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    candidates.truncate(cap);
 }
 
 /// True when two designs differ: another family, or some joint moved by more than `min_shift`.
