@@ -20,7 +20,7 @@ const MIN_SECONDS: f64 = 0.1;
 /// back, and repeats forever; the crank turns at constant speed. Without animation support (a static
 /// renderer), the picture shows the linkage at the first configuration of the trace.
 pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
-    let sheet = Sheet::new(input, MAX_FRAMES);
+    let sheet = Sheet::new(input, MAX_FRAMES, &["1…N: input poses", "the motion plays forward and back"]);
     let clock = Clock::new(&sheet, seconds);
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
@@ -36,7 +36,7 @@ pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
     joints(&sheet, &clock, &mut out);
     close(&mut out, "g");
     layers::pose_numbers(&sheet, &mut out);
-    layers::title(&sheet, &["1…N: input poses", "the motion plays forward and back"], &mut out);
+    layers::title(&sheet, &mut out);
     close(&mut out, "svg");
     out
 }
@@ -115,7 +115,7 @@ fn moving_bodies(sheet: &Sheet, clock: &Clock, out: &mut String) {
     for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
         let colour = Style::body_colour(b);
         let start = sheet.body_pose(b, first);
-        // Unwrapped angles (degrees), so a body turning past ±180° keeps turning the same way.
+        // Unwrapped angles, so a body turning past ±180° keeps turning the same way.
         let mut angles: Vec<f64> = Vec::with_capacity(sheet.rows.len());
         for &s in &sheet.rows {
             let a = sheet.body_pose(b, sheet.row(s)).angle();

@@ -21,7 +21,7 @@ const MAX_PATH_POINTS: usize = 720;
 /// lines, the crank red, ternary links as triangles, ground pivots on ground symbols), the joint names
 /// and a title with a legend.
 pub fn design_svg(input: &RenderInput) -> String {
-    let sheet = Sheet::new(input, MAX_PATH_POINTS);
+    let sheet = Sheet::new(input, MAX_PATH_POINTS, &["1…N: input poses", "dashed: as the linkage reaches them"]);
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
     layers::open_world(&sheet, &mut out);
@@ -35,7 +35,7 @@ pub fn design_svg(input: &RenderInput) -> String {
     close(&mut out, "g");
     layers::pose_numbers(&sheet, &mut out);
     joint_names(&sheet, &mut out);
-    layers::title(&sheet, &["1…N: input poses", "dashed: as the linkage reaches them"], &mut out);
+    layers::title(&sheet, &mut out);
     close(&mut out, "svg");
     out
 }

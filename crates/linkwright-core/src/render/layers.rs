@@ -168,34 +168,35 @@ pub fn pose_numbers(sheet: &Sheet, out: &mut String) {
     }
 }
 
-/// The title band: scene name, mechanism line, and a legend of body colours and `notes`.
-pub fn title(sheet: &Sheet, notes: &[&str], out: &mut String) {
+/// The title band: scene name, mechanism line, and the legend (body colours, then the sheet's notes).
+pub fn title(sheet: &Sheet, out: &mut String) {
     let k = sheet.pixels_per_unit();
     let s = &sheet.style;
-    let (font, line) = (s.font * k, sheet.line_height() * k);
     let x = s.margin * 0.5 * k;
     let title = sheet.title();
     let mut y = s.title_font * 1.15 * k;
     Element::new("text").attr("class", "title").attr("x", SCREEN.f(x)).attr("y", SCREEN.f(y)).text(&title.name, out);
-    y += line;
+    y += sheet.line_height() * k;
     Element::new("text").attr("x", SCREEN.f(x)).attr("y", SCREEN.f(y)).text(&title.subtitle, out);
-    y += line;
-    let mut cx = x;
-    let swatch = font * 0.8;
-    for (colour, text) in sheet.legend(notes) {
+    y += sheet.line_height() * k;
+    let mut pen = x;
+    let swatch = sheet.swatch() * k;
+    for (colour, text) in sheet.legend() {
+        let advance = sheet.legend_advance(colour, &text) * k;
+        let mut text_x = pen;
         if let Some(colour) = colour {
             Element::new("rect")
                 .attr("class", "legend")
-                .attr("x", SCREEN.f(cx))
+                .attr("x", SCREEN.f(pen))
                 .attr("y", SCREEN.f(y - swatch * 0.9))
                 .attr("width", SCREEN.f(swatch))
                 .attr("height", SCREEN.f(swatch))
                 .attr("fill", colour)
                 .empty(out);
-            cx += swatch * 1.4;
+            text_x += swatch * 1.4;
         }
-        Element::new("text").attr("x", SCREEN.f(cx)).attr("y", SCREEN.f(y)).text(&text, out);
-        cx += Sheet::text_width(text.chars().count(), font) + font * 1.2;
+        Element::new("text").attr("x", SCREEN.f(text_x)).attr("y", SCREEN.f(y)).text(&text, out);
+        pen += advance;
     }
 }
 

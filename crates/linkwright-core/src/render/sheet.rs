@@ -3,7 +3,7 @@
 use super::style::Style;
 use super::svg::Num;
 use super::RenderInput;
-use crate::geom::{Aabb, Point, Polygon, Rigid, Vec2};
+use crate::geom::{Aabb, Point, Rigid, Vec2};
 use crate::kinematics::BodyFrames;
 use crate::mechanism::{MechanismType, PartKind, Topology};
 
@@ -23,6 +23,8 @@ pub struct Sheet<'a> {
     pub band: f64,
     /// Width of the view box (at least the world's, more when the title is wider).
     pub width: f64,
+    /// Legend notes after the body colours.
+    notes: &'static [&'static str],
 }
 
 /// The text lines of the title band.
@@ -32,8 +34,8 @@ pub struct Title {
 }
 
 impl<'a> Sheet<'a> {
-    /// Prepares a drawing that samples at most `max_rows` trace rows.
-    pub fn new(input: &'a RenderInput<'a>, max_rows: usize) -> Sheet<'a> {
+    /// Prepares a drawing that samples at most `max_rows` trace rows, with `notes` in its legend.
+    pub fn new(input: &'a RenderInput<'a>, max_rows: usize, notes: &'static [&'static str]) -> Sheet<'a> {
         let problem = input.problem;
         let style = Style::for_scale(problem.scale);
         let num = Num::resolving(1e-4 * problem.scale);
@@ -49,6 +51,7 @@ impl<'a> Sheet<'a> {
             world: Aabb { min: Point::ORIGIN, max: Point::ORIGIN },
             band: 0.0,
             width: 0.0,
+            notes,
         };
         sheet.frame();
         sheet
@@ -139,35 +142,35 @@ impl<'a> Sheet<'a> {
         self.style.font * 1.4
     }
 
-    /// The legend entries: `(colour, label)`; colour `None` for a plain note.
-    pub fn legend(&self, notes: &[&str]) -> Vec<(Option<&'static str>, String)> {
-        let mut items: Vec<(Option<&'static str>, String)> = self
-            .input
-            .problem
-            .bodies
-            .iter()
-            .enumerate()
-            .map(|(b, body)| (Some(Style::body_colour(b)), body.name.clone()))
-            .collect();
-        items.extend(notes.iter().map(|n| (None, n.to_string())));
+    /// The legend entries: `(colour, label)`, the bodies' colours then the notes (colour `None`).
+    pub fn legend(&self) -> Vec<(Option<&'static str>, String)> {
+        let bodies = self.input.problem.bodies.iter().enumerate();
+        let mut items: Vec<_> = bodies.map(|(b, body)| (Some(Style::body_colour(b)), body.name.clone())).collect();
+        items.extend(self.notes.iter().map(|n| (None, n.to_string())));
         items
+    }
+
+    /// Side of a legend colour swatch.
+    pub fn swatch(&self) -> f64 {
+        self.style.font * 0.8
+    }
+
+    /// How far the legend entry `(colour, label)` advances the pen.
+    pub fn legend_advance(&self, colour: Option<&str>, label: &str) -> f64 {
+        let swatch = if colour.is_some() { self.swatch() * 1.4 } else { 0.0 };
+        swatch + Self::text_width(label.chars().count(), self.style.font) + self.style.font * 1.2
     }
 
     /// Fits the view to everything drawn, with a margin and a title band on top.
     fn frame(&mut self) {
         let problem = self.input.problem;
         let mut points: Vec<Point> = Vec::new();
-        let add_polygon = |poly: &Polygon, points: &mut Vec<Point>| points.extend_from_slice(poly.vertices());
-        for f in &problem.fixed {
-            add_polygon(f, &mut points);
-        }
-        add_polygon(&problem.region, &mut points);
-        for a in &problem.avoid {
-            add_polygon(a, &mut points);
+        for poly in problem.fixed.iter().chain([&problem.region]).chain(&problem.avoid) {
+            points.extend_from_slice(poly.vertices());
         }
         for body in &problem.bodies {
             for pose in &body.poses {
-                add_polygon(&body.outline.transformed(pose), &mut points);
+                points.extend(body.outline.vertices().iter().map(|&p| pose.apply(p)));
             }
         }
         for row in self.all_rows() {
@@ -194,11 +197,11 @@ impl<'a> Sheet<'a> {
         let pad = self.style.margin + 3.0 * self.style.joint;
         let mut world = Aabb { min: bb.min - Vec2::new(pad, pad), max: bb.max + Vec2::new(pad, pad) };
         let title = self.title();
-        let legend_chars: usize = self.legend(&[]).iter().map(|(_, l)| l.chars().count() + 6).sum::<usize>() + 40;
+        let legend: f64 = self.legend().iter().map(|(c, l)| self.legend_advance(*c, l)).sum();
         let text_width = [
             Self::text_width(title.name.chars().count(), self.style.title_font),
             Self::text_width(title.subtitle.chars().count(), self.style.font),
-            Self::text_width(legend_chars, self.style.font),
+            legend,
         ]
         .into_iter()
         .fold(0.0, f64::max)

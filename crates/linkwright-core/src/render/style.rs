@@ -53,7 +53,8 @@ impl Style {
     /// The body's colour darkened, for text that must read on the body's own fill.
     pub fn body_text_colour(body: usize) -> String {
         let hex = Self::body_colour(body);
-        let channel = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_or(0, |c| (f64::from(c) * 0.6).round() as u8);
+        let channel =
+            |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_or(0, |c| (f64::from(c) * 0.6).round() as u8);
         format!("#{:02x}{:02x}{:02x}", channel(1), channel(3), channel(5))
     }
     pub fn path_colour(joint: usize) -> &'static str {

@@ -364,6 +364,10 @@ fn animated_body_follows_the_linkage() {
             assert!(a.distance(e) < 1e-3 * f.problem.scale, "body {b}: {a:?} vs {e:?}");
         }
     }
+    for r in &rotations {
+        let deg: Vec<f64> = r.attribute("values").unwrap().split(';').map(|v| v.parse().unwrap()).collect();
+        assert!(deg.windows(2).all(|w| (w[1] - w[0]).abs() < 45.0), "rotation unwrapped frame to frame");
+    }
     // The ternary link's corners animate as one points list.
     let ternary = doc.descendants().find(class_is("ternary")).unwrap();
     let anim = ternary.children().find(|n| n.has_tag_name("animate")).unwrap();

@@ -81,7 +81,7 @@ pub struct Scratch {
     targets: Vec<Point>,
     row: Vec<Point>,
     branches: Vec<Branch>,
-    pub(crate) outlines: Vec<Vec<Point>>,
+    pub(crate) sub_row: Vec<Point>,
     pub(crate) fit: super::rigidity::FitWorkspace,
 }
 
