@@ -1,0 +1,154 @@
+//! The CLI as a person or a script uses it: design, check, simulate, exit codes and outputs.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn linkwright(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_linkwright")).args(args).output().expect("the binary runs")
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("linkwright-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn example(name: &str) -> String {
+    format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Designs the garbage truck with a small budget into `dir`, returning the design file's path.
+fn design_garbage_truck(dir: &Path, threads: &str) -> PathBuf {
+    let out = dir.join(format!("threads{threads}"));
+    let run = linkwright(&[
+        "design",
+        &example("k1_garbage_truck"),
+        "-o",
+        out.to_str().unwrap(),
+        "--samples",
+        "3000",
+        "--seed",
+        "5",
+        "--threads",
+        threads,
+    ]);
+    assert!(run.status.success(), "stderr: {}", text(&run.stderr));
+    let summary = text(&run.stdout);
+    assert!(summary.starts_with("garbage truck: "), "{summary}");
+    assert!(summary.contains("seed 5"), "{summary}");
+    out.join("design.json")
+}
+
+#[test]
+fn design_writes_the_design_its_pictures_and_passes_check() {
+    let dir = workdir("design");
+    let design = design_garbage_truck(&dir, "2");
+    let out = design.parent().unwrap();
+    for file in ["design.json", "design.svg", "animation.svg"] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    let parsed: Value = serde_json::from_str(&std::fs::read_to_string(&design).unwrap()).unwrap();
+    assert_eq!(parsed["linkwright"], "design/1");
+    assert_eq!(parsed["status"], "ok");
+    assert_eq!(parsed["stats"]["seed"], 5);
+
+    let check = linkwright(&["check", &example("k1_garbage_truck"), design.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
+
+    // A design whose reported accuracy is wrong, and whose crank starts elsewhere, fails the check.
+    let mut tampered = parsed.clone();
+    tampered["metrics"]["accuracy"] = Value::from(123.0);
+    tampered["motion"]["crank_start_deg"] = Value::from(parsed["motion"]["crank_start_deg"].as_f64().unwrap() + 5.0);
+    let bad = out.join("tampered.json");
+    std::fs::write(&bad, tampered.to_string()).unwrap();
+    let check = linkwright(&["check", &example("k1_garbage_truck"), bad.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(1));
+    let report = text(&check.stdout);
+    assert!(report.contains("accuracy:") && report.contains("order:"), "{report}");
+
+    let sim = linkwright(&["simulate", &example("k1_garbage_truck"), design.to_str().unwrap(), "--steps", "10"]);
+    assert!(sim.status.success(), "{}", text(&sim.stderr));
+    let csv = text(&sim.stdout);
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 12, "header and 11 rows");
+    assert_eq!(lines[0], "step,crank_deg,p1_x,p1_y,q0_x,q0_y,q1_x,q1_y,r0_x,r0_y");
+    let first: Vec<f64> = lines[1].split(',').map(|v| v.parse().unwrap()).collect();
+    let q0 = &parsed["mechanism"]["joints"]["q0"];
+    assert!((first[4] - q0[0].as_f64().unwrap()).abs() < 1e-9 && (first[5] - q0[1].as_f64().unwrap()).abs() < 1e-9);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn one_and_two_threads_write_the_same_design() {
+    let dir = workdir("threads");
+    let strip = |path: PathBuf| {
+        let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        v["stats"]["seconds"] = Value::Null;
+        v.to_string()
+    };
+    let one = strip(design_garbage_truck(&dir, "1"));
+    let two = strip(design_garbage_truck(&dir, "2"));
+    assert_eq!(one, two);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn json_flag_prints_the_design() {
+    let dir = workdir("json");
+    let run = linkwright(&[
+        "design",
+        &example("k2_wall_bed"),
+        "-o",
+        dir.join("out").to_str().unwrap(),
+        "--samples",
+        "3000",
+        "--json",
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let v: Value = serde_json::from_str(&text(&run.stdout)).expect("stdout is the design JSON");
+    assert_eq!(v["linkwright"], "design/1");
+    assert_eq!(v["mechanism"]["type"], "chain");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_impossible_scene_is_a_no_solution_with_a_reason() {
+    // The body must cross a wall that reaches far beyond any linkage: every motion collides.
+    let scene = serde_json::json!({
+        "linkwright": "scene/1", "name": "through the wall",
+        "fixed_bodies": [{"name": "wall", "polygon": [[-5, -1000], [5, -1000], [5, 1000], [-5, 1000]]}],
+        "moving_bodies": [{"name": "box", "polygon": [[0, 0], [20, 0], [20, 20], [0, 20]],
+                           "poses": [[-60, 0, 0], [40, 0, 0]]}],
+        "linkage_region": [[-100, -60], [100, -60], [100, 60], [-100, 60]],
+        "settings": {"samples": 2000, "iterations": 3}
+    });
+    let dir = workdir("impossible");
+    let path = dir.join("scene.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = dir.join("out");
+    let run = linkwright(&["design", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(v["status"], "no_solution");
+    let reason = v["reason"].as_str().unwrap();
+    assert!(reason.contains("collision") || reason.contains("hit a fixed body"), "{reason}");
+    assert!(text(&run.stdout).contains("no solution"));
+    let check = linkwright(&["check", path.to_str().unwrap(), out.join("design.json").to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn help_lists_the_commands() {
+    let run = linkwright(&["--help"]);
+    let help = text(&run.stdout);
+    for command in ["design", "check", "simulate"] {
+        assert!(help.contains(command), "{help}");
+    }
+}
