@@ -11,7 +11,7 @@ use crate::geom::{penetrates_unchecked, Aabb, Point};
 use crate::kinematics::{BodyFrames, Plan};
 
 /// Largest motion of any body point between two collision tests near an obstacle, as a fraction of d.
-pub const SUBSTEP: f64 = 0.02;
+pub const SUBSTEP: f64 = 0.005;
 
 /// Checks the whole travel of `candidate`.
 pub fn check_collisions(ctx: &Context, candidate: &Candidate, scratch: &mut Scratch) -> Result<(), Reject> {

@@ -79,6 +79,7 @@ impl Candidate {
 pub struct Scratch {
     coarse: Trace,
     targets: Vec<Point>,
+    fitted_targets: Vec<Point>,
     row: Vec<Point>,
     branches: Vec<Branch>,
     pub(crate) sub_row: Vec<Point>,
@@ -86,7 +87,18 @@ pub struct Scratch {
 }
 
 /// The kinematic checks and the soft costs of one mechanism.
-pub fn evaluate(ctx: &Context, mechanism: Mechanism, scratch: &mut Scratch) -> Result<Candidate, Reject> {
+///
+/// `fitted` holds the (perturbed) motions a sample was fitted to: the cheap branch and order checks
+/// read the sample's own configurations there, as the paper does, because a near-singular dyad may
+/// flip at the unperturbed poses while the simulated motion still passes them closely. Without it
+/// (particle filter proposals) the input poses are used. Accuracy and the pose search always use the
+/// input poses.
+pub fn evaluate(
+    ctx: &Context,
+    mechanism: Mechanism,
+    fitted: Option<&[Vec<crate::geom::Rigid>]>,
+    scratch: &mut Scratch,
+) -> Result<Candidate, Reject> {
     let n = ctx.topology.joint_count();
     let poses = ctx.problem.pose_count;
     let joints = &mechanism.joints;
@@ -95,12 +107,17 @@ pub fn evaluate(ctx: &Context, mechanism: Mechanism, scratch: &mut Scratch) -> R
     }
     let plan = Plan::compile(&mechanism).map_err(|_| Reject::JointsTooClose)?;
 
-    // Where every joint should be at every pose.
+    // Where every joint should be at every pose: at the input poses, and in the sample's own fit.
     scratch.targets.clear();
+    scratch.fitted_targets.clear();
     for i in 0..poses {
         scratch.targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
+        scratch.fitted_targets.extend((0..n).map(|j| match (fitted, ctx.carriers[j]) {
+            (Some(motions), Some(b)) => motions[b][i].apply(joints[j]),
+            _ => ctx.target(j, joints[j], i),
+        }));
     }
-    let targets = &scratch.targets;
+    let targets = &scratch.fitted_targets;
     let target_row = |i: usize| &targets[i * n..(i + 1) * n];
 
     // Branch and circuit (§5.2–5.3): every dyad must be on its first-pose branch at every pose.
@@ -268,15 +285,16 @@ fn soft_terms(
     }
     accuracy /= poses as f64 * count;
 
-    // A joint that hardly moves between two poses would divide by almost nothing; its chord is floored
-    // at a small fraction of the body size.
-    let chord_floor = 0.05 * ctx.body_size;
+    // Eq. 11's ratio path / chord, with a small length f added to both: the same for joints that move
+    // (f is a twentieth of the body size), still at least 1, and bounded for a joint that hardly moves
+    // between two poses, whose bare ratio would divide by almost nothing.
+    let f = 0.05 * ctx.body_size;
     let mut smoothness = 0.0;
     for i in 0..poses - 1 {
         for &j in moving {
             let path: f64 =
                 (pose_rows[i]..pose_rows[i + 1]).map(|r| trace.row(r + 1)[j].distance(trace.row(r)[j])).sum();
-            smoothness += path / target(i + 1, j).distance(target(i, j)).max(chord_floor);
+            smoothness += (path + f) / (target(i + 1, j).distance(target(i, j)) + f);
         }
     }
     smoothness /= (poses - 1) as f64 * count;

@@ -82,7 +82,7 @@ pub fn refine(
                         return None;
                     }
                 }
-                let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), scratch).ok()?;
+                let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, scratch).ok()?;
                 check_collisions(ctx, &candidate, scratch).ok()?;
                 Some(candidate)
             })

@@ -192,7 +192,7 @@ fn run_family(
                 || (SampleScratch::default(), Scratch::default()),
                 |(sample_scratch, scratch), i| {
                     let mechanism = sampler.sample(seed, i as u64, sample_scratch)?;
-                    Some(evaluate(ctx, mechanism, scratch))
+                    Some(evaluate(ctx, mechanism, Some(sample_scratch.motions()), scratch))
                 },
             )
             .collect();

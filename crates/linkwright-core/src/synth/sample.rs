@@ -29,6 +29,13 @@ pub struct SampleScratch {
     outlines: Vec<Vec<Point>>,
 }
 
+impl SampleScratch {
+    /// The perturbed motions of the last sample: `motions()[b][i]` carries body b from pose 0 to pose i.
+    pub fn motions(&self) -> &[Vec<Rigid>] {
+        &self.motions
+    }
+}
+
 impl<'c, 'p> Sampler<'c, 'p> {
     pub fn new(ctx: &'c Context<'p>, family: u64) -> Self {
         Sampler { region_box: ctx.problem.region.aabb(), ctx, family }
