@@ -120,3 +120,40 @@ fn every_example_design_passes_an_independent_re_simulation() {
     }
     assert!(designs * 4 >= names.len() * 3, "only {designs} of {} examples found a design", names.len());
 }
+
+/// Records progress and cancels after a given number of reports.
+struct Recorder {
+    reports: std::sync::Mutex<Vec<linkwright_core::synth::Progress>>,
+    cancel_after: usize,
+}
+
+impl linkwright_core::synth::Observer for Recorder {
+    fn progress(&self, p: &linkwright_core::synth::Progress) {
+        self.reports.lock().unwrap().push(*p);
+    }
+    fn cancelled(&self) -> bool {
+        self.reports.lock().unwrap().len() >= self.cancel_after
+    }
+}
+
+#[test]
+fn progress_rises_to_completion_and_cancellation_stops_the_run() {
+    let mut problem = example("k1_table");
+    problem.settings.samples = 5000;
+    problem.settings.iterations = 3;
+    let all = Recorder { reports: Default::default(), cancel_after: usize::MAX };
+    let outcome = synthesize(&problem, &all).unwrap();
+    let reports = all.reports.into_inner().unwrap();
+    assert!(reports.windows(2).all(|w| w[0].fraction <= w[1].fraction), "fractions never go back");
+    assert!((reports.last().unwrap().fraction - 1.0).abs() < 1e-12);
+    use linkwright_core::synth::Stage;
+    for stage in [Stage::Sampling, Stage::Collision, Stage::Refining] {
+        assert!(reports.iter().any(|r| r.stage == stage), "{stage:?} reported");
+    }
+    let best = outcome.best.unwrap().cost;
+    assert_eq!(reports.last().unwrap().best_cost.map(|c| c <= best + 1e-12), Some(true));
+
+    let early = Recorder { reports: Default::default(), cancel_after: 1 };
+    assert_eq!(synthesize(&problem, &early).err(), Some(linkwright_core::synth::Cancelled));
+    assert_eq!(early.reports.into_inner().unwrap().len(), 1, "the run stops at the next check");
+}
