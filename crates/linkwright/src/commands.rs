@@ -44,7 +44,11 @@ impl Observer for Bar {
         };
         let best = p.best_cost.map_or(String::new(), |c| format!(", best cost {c:.3}"));
         self.0.set_position((p.fraction * 1000.0) as u64);
-        self.0.set_message(format!("{:?} {stage}{best}", p.mechanism));
+        let family = match p.mechanism {
+            linkwright_core::mechanism::MechanismType::Chain => "chain",
+            linkwright_core::mechanism::MechanismType::SliderCrank => "slider-crank",
+        };
+        self.0.set_message(format!("{family}: {stage}{best}"));
     }
 }
 
