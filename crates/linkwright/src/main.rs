@@ -1,6 +1,7 @@
 //! `linkwright`: the command-line shell around linkwright-core. It reads and writes files, shows
 //! progress and maps outcomes to exit codes; every computation lives in the library.
 
+mod bench;
 mod commands;
 mod files;
 
@@ -30,6 +31,8 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Time the synthesis on the paper's Table-1 objects (or given scenes), side by side with the paper.
+    Bench(bench::BenchArgs),
     /// Print the joint positions along a design's motion as CSV.
     Simulate {
         scene: PathBuf,
@@ -54,6 +57,7 @@ fn main() -> ExitCode {
         Command::Design(args) => commands::design(args),
         Command::Check { scene, design, json } => commands::check(&scene, &design, json),
         Command::Simulate { scene, design, steps } => commands::simulate(&scene, &design, steps),
+        Command::Bench(args) => bench::bench(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -13,13 +13,18 @@ pub use vector::{orientation, Orientation, Point, Vec2};
 
 /// Distance from `p` to the segment `a`–`b`.
 pub fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
+    point_segment_distance_sq(p, a, b).sqrt()
+}
+
+/// Squared distance from `p` to the segment `a`–`b` (no square root, for comparisons in hot loops).
+pub fn point_segment_distance_sq(p: Point, a: Point, b: Point) -> f64 {
     let ab = b - a;
     let len_sq = ab.norm_sq();
     if len_sq == 0.0 {
-        return (p - a).norm();
+        return (p - a).norm_sq();
     }
     let t = ((p - a).dot(ab) / len_sq).clamp(0.0, 1.0);
-    (p - (a + ab * t)).norm()
+    (p - (a + ab * t)).norm_sq()
 }
 
 /// How two segments meet, ignoring contacts within `tol` of an endpoint (touching is not crossing).

@@ -39,8 +39,10 @@ impl Vec2 {
     pub fn norm_sq(self) -> f64 {
         self.dot(self)
     }
+    /// Euclidean length. A plain square root, not `hypot`: it is several times faster, and coordinates
+    /// of drawings (validated to at most 1e9) are far from overflowing when squared.
     pub fn norm(self) -> f64 {
-        self.x.hypot(self.y)
+        self.norm_sq().sqrt()
     }
     /// Rotated a quarter turn counter-clockwise.
     pub fn perp(self) -> Vec2 {

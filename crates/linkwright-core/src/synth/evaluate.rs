@@ -82,7 +82,6 @@ pub struct Scratch {
     fitted_targets: Vec<Point>,
     row: Vec<Point>,
     branches: Vec<Branch>,
-    pub(crate) sub_row: Vec<Point>,
     pub(crate) fit: super::rigidity::FitWorkspace,
 }
 

@@ -1,0 +1,148 @@
+//! `linkwright bench`: the paper's Table 1, measured side by side on this machine.
+
+use crate::files::read_problem;
+use crate::Failure;
+use clap::Args;
+use linkwright_core::design::DesignFile;
+use linkwright_core::scene::{MechanismChoice, Problem, Scene};
+use linkwright_core::synth::{synthesize, Silent};
+use serde::Serialize;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene files to time (default: the paper's Table-1 objects, bundled).
+    scenes: Vec<PathBuf>,
+    /// Runs per scene; the table shows medians.
+    #[arg(long, default_value_t = 3)]
+    repeat: usize,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print the table as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
+/// (sampling + collision check + PFO, i7 with 8 threads).
+struct PaperObject {
+    label: &'static str,
+    scene: &'static str,
+    mechanism: MechanismChoice,
+    paper_seconds: f64,
+}
+
+const TABLE_1: [PaperObject; 9] = [
+    PaperObject { label: "Car (K=2)", scene: include_str!("../../../examples/k2_folding_roof2.json"), mechanism: MechanismChoice::Chain, paper_seconds: 2.80 },
+    PaperObject { label: "Wall bed (K=2)", scene: include_str!("../../../examples/k2_wall_bed.json"), mechanism: MechanismChoice::Chain, paper_seconds: 2.38 },
+    PaperObject { label: "Wall chair (K=2)", scene: include_str!("../../../examples/k2_wall_chair.json"), mechanism: MechanismChoice::Chain, paper_seconds: 2.34 },
+    PaperObject { label: "Car (K=3)", scene: include_str!("../../../examples/k3_folding_roof.json"), mechanism: MechanismChoice::Chain, paper_seconds: 4.36 },
+    PaperObject { label: "Power shovel (K=3)", scene: include_str!("../../../examples/k3_power_shovel.json"), mechanism: MechanismChoice::Chain, paper_seconds: 5.01 },
+    PaperObject { label: "Sofa bed (slider-crank)", scene: include_str!("../../../examples/k1_sofa_bed.json"), mechanism: MechanismChoice::SliderCrank, paper_seconds: 0.51 },
+    PaperObject { label: "Bulldozer (slider-crank)", scene: include_str!("../../../examples/k1_bulldozer.json"), mechanism: MechanismChoice::SliderCrank, paper_seconds: 0.69 },
+    PaperObject { label: "Garbage truck (K=1)", scene: include_str!("../../../examples/k1_garbage_truck.json"), mechanism: MechanismChoice::Chain, paper_seconds: 1.26 },
+    PaperObject { label: "Folding table (K=1)", scene: include_str!("../../../examples/k1_table.json"), mechanism: MechanismChoice::Chain, paper_seconds: 0.41 },
+];
+
+/// One row of the table.
+#[derive(Serialize, Debug)]
+struct Row {
+    object: String,
+    samples: usize,
+    candidates: usize,
+    valid: usize,
+    seconds_sampling: f64,
+    seconds_collision: f64,
+    seconds_pfo: f64,
+    seconds_total: f64,
+    paper_seconds: Option<f64>,
+    ratio: Option<f64>,
+    cost: Option<f64>,
+}
+
+pub fn bench(args: BenchArgs) -> Result<(), Failure> {
+    let mut jobs: Vec<(String, Problem, Option<f64>)> = Vec::new();
+    if args.scenes.is_empty() {
+        for object in &TABLE_1 {
+            let scene = Scene::from_json(object.scene).expect("bundled examples parse");
+            let mut problem = Problem::new(&scene).expect("bundled examples are valid");
+            problem.mechanism = object.mechanism;
+            jobs.push((object.label.to_string(), problem, Some(object.paper_seconds)));
+        }
+    } else {
+        for path in &args.scenes {
+            let (_, problem) = read_problem(path)?;
+            jobs.push((path.display().to_string(), problem, None));
+        }
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
+    let repeat = args.repeat.max(1);
+    let mut rows = Vec::new();
+    for (label, problem, paper) in &jobs {
+        let runs: Vec<DesignFile> = (0..repeat)
+            .map(|_| {
+                let outcome = pool.install(|| synthesize(problem, &Silent)).expect("never cancelled");
+                DesignFile::from_outcome(problem, &outcome)
+            })
+            .collect();
+        let median = |f: &dyn Fn(&DesignFile) -> f64| {
+            let mut v: Vec<f64> = runs.iter().map(f).collect();
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let last = &runs[runs.len() - 1];
+        let total = median(&|d| d.stats.seconds.total);
+        rows.push(Row {
+            object: label.clone(),
+            samples: last.stats.samples,
+            candidates: last.stats.candidates,
+            valid: last.stats.valid,
+            seconds_sampling: median(&|d| d.stats.seconds.sampling),
+            seconds_collision: median(&|d| d.stats.seconds.collision),
+            seconds_pfo: median(&|d| d.stats.seconds.pfo),
+            seconds_total: total,
+            paper_seconds: *paper,
+            ratio: paper.map(|p| total / p),
+            cost: last.metrics.as_ref().map(|m| m.cost),
+        });
+        if !args.json {
+            eprintln!("{label}: {total:.3} s");
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows).expect("rows serialize"));
+    } else {
+        print!("{}", table(&rows, repeat, pool.current_num_threads()));
+    }
+    Ok(())
+}
+
+fn table(rows: &[Row], repeat: usize, threads: usize) -> String {
+    let mut out = format!(
+        "median of {repeat} run(s), {threads} thread(s); seconds are wall-clock\n\
+         {:<26} {:>8} {:>10} {:>6} {:>9} {:>9} {:>7} {:>7} {:>7} {:>6} {:>9}\n",
+        "object", "samples", "before col", "valid", "sampling", "collision", "pfo", "total", "paper", "ratio", "cost"
+    );
+    for r in rows {
+        let opt = |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |x| format!("{x:.digits$}"));
+        out.push_str(&format!(
+            "{:<26} {:>8} {:>10} {:>6} {:>9.3} {:>9.3} {:>7.3} {:>7.3} {:>7} {:>6} {:>9}\n",
+            r.object,
+            r.samples,
+            r.candidates,
+            r.valid,
+            r.seconds_sampling,
+            r.seconds_collision,
+            r.seconds_pfo,
+            r.seconds_total,
+            opt(r.paper_seconds, 2),
+            opt(r.ratio, 2),
+            opt(r.cost, 3)
+        ));
+    }
+    out
+}
