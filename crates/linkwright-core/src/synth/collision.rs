@@ -6,8 +6,9 @@
 //! than the contact tolerance into an obstacle in between when its clearance at either end, plus that
 //! tolerance, exceeds how far any of its points moves relative to the obstacle over the interval (the
 //! farthest-moving point of a rigid motion is a vertex; a margin covers the arc). Otherwise the
-//! interval is bisected, at most down to 1/16° (16 times finer than the engine's crank step), so a
-//! body sliding along another costs a bounded number of tests. Bounding boxes first, exact polygon
+//! interval is bisected, at most down to 1/4° (four times finer than the engine's crank step and
+//! twice as fine as `verify`'s re-simulation), so a body sliding along another costs a bounded number
+//! of tests. Bounding boxes first, exact polygon
 //! tests only where boxes come near; the sweep stops at the first collision.
 
 use super::context::Context;
@@ -17,8 +18,8 @@ use crate::kinematics::{BodyFrames, Plan};
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
-/// Deepest bisection of one 1° interval (1/1024 of a degree).
-const MAX_DEPTH: u32 = 4;
+/// Deepest bisection of one 1° interval (a quarter of a degree).
+const MAX_DEPTH: u32 = 2;
 
 /// Checks the whole travel of `candidate`.
 pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scratch) -> Result<(), Reject> {

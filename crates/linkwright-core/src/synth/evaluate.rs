@@ -29,10 +29,13 @@ pub enum Reject {
     AvoidRegion,
     /// A moving body penetrates a fixed body or another moving body (§5.5).
     Collision,
+    /// Not a defect: its cost, bounded from below before any simulation, could not beat the designs
+    /// already kept.
+    Outclassed,
 }
 
 impl Reject {
-    pub const ALL: [Reject; 7] = [
+    pub const ALL: [Reject; 8] = [
         Reject::JointsTooClose,
         Reject::Order,
         Reject::Branch,
@@ -40,6 +43,7 @@ impl Reject {
         Reject::Transmission,
         Reject::AvoidRegion,
         Reject::Collision,
+        Reject::Outclassed,
     ];
 }
 
@@ -96,6 +100,7 @@ pub fn evaluate(
     ctx: &Context,
     mechanism: Mechanism,
     fitted: Option<&[Vec<crate::geom::Rigid>]>,
+    cost_bound: f64,
     scratch: &mut Scratch,
 ) -> Result<Candidate, Reject> {
     let n = ctx.topology.joint_count();
@@ -151,12 +156,19 @@ pub fn evaluate(
     }
     travels.sort_by(|a, b| a.0.total_cmp(&b.0));
 
+    // The terms that need no simulation bound the cost from below (accuracy and smoothness are >= 0).
+    let (location, size) = static_terms(ctx, &mechanism);
+    let w = &ctx.problem.weights;
+    if w.location * location + w.size * size > cost_bound {
+        return Err(Reject::Outclassed);
+    }
+
     let mut first_failure = None;
     for (_, angles) in &travels {
         match travel(ctx, &plan, angles, scratch) {
             Ok((trace, pose_rows)) => {
-                let soft = soft_terms(ctx, &mechanism, &trace, &pose_rows, &scratch.targets);
-                let w = &ctx.problem.weights;
+                let (accuracy, smoothness) = simulated_terms(ctx, &trace, &pose_rows, &scratch.targets);
+                let soft = SoftTerms { accuracy, smoothness, location, size };
                 let cost = w.accuracy * soft.accuracy
                     + w.smoothness * soft.smoothness
                     + w.location * soft.location
@@ -264,14 +276,17 @@ fn golden_section(a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
     candidates.into_iter().min_by(|x, y| x.1.total_cmp(&y.1)).map_or(mid, |x| x.0)
 }
 
-/// Paper eq. 10–13 on a travel.
-fn soft_terms(
-    ctx: &Context,
-    mechanism: &Mechanism,
-    trace: &Trace,
-    pose_rows: &[usize],
-    targets: &[Point],
-) -> SoftTerms {
+/// Paper eq. 12–13: location and size, from the joints alone.
+fn static_terms(ctx: &Context, mechanism: &Mechanism) -> (f64, f64) {
+    let joints = &mechanism.joints;
+    let location = joints.iter().map(|&p| ctx.problem.region.distance(p)).sum::<f64>() / joints.len() as f64;
+    let size =
+        ctx.link_pairs.iter().map(|&(a, b)| joints[a].distance(joints[b])).sum::<f64>() / ctx.link_pairs.len() as f64;
+    (location, size)
+}
+
+/// Paper eq. 10–11: accuracy and smoothness, on a simulated travel.
+fn simulated_terms(ctx: &Context, trace: &Trace, pose_rows: &[usize], targets: &[Point]) -> (f64, f64) {
     let n = trace.joint_count;
     let poses = pose_rows.len();
     let moving = &ctx.moving_joints;
@@ -298,11 +313,7 @@ fn soft_terms(
     }
     smoothness /= (poses - 1) as f64 * count;
 
-    let joints = &mechanism.joints;
-    let location = joints.iter().map(|&p| ctx.problem.region.distance(p)).sum::<f64>() / joints.len() as f64;
-    let size =
-        ctx.link_pairs.iter().map(|&(a, b)| joints[a].distance(joints[b])).sum::<f64>() / ctx.link_pairs.len() as f64;
-    SoftTerms { accuracy, smoothness, location, size }
+    (accuracy, smoothness)
 }
 
 #[cfg(test)]

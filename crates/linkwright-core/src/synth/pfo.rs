@@ -41,6 +41,10 @@ impl Default for FilterOptions {
     }
 }
 
+/// Relative weight below which a proposal is never worth checking for collisions (it would be drawn
+/// with a probability under one in a million against the best particle).
+const NEGLIGIBLE_WEIGHT: f64 = 1e-6;
+
 /// Runs the filter from the valid candidates `initial` (non-empty). Returns every valid candidate it
 /// produced (for alternatives) and calls `on_iteration(done, best_cost)` after each iteration; stops
 /// early when it returns false.
@@ -61,6 +65,10 @@ pub fn refine(
         let t = if options.iterations > 1 { iteration as f64 / (options.iterations - 1) as f64 } else { 0.0 };
         let sigma = options.sigma_start * (options.sigma_end / options.sigma_start).powf(t);
         let slider_sigma = options.slider_sigma * (options.sigma_end / options.sigma_start).powf(t);
+        // A proposal whose weight would be below NEGLIGIBLE_WEIGHT of the best particle's can never be
+        // drawn: it is dropped before the collision sweep, the costliest check.
+        let best = particles.iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);
+        let hopeless = best - NEGLIGIBLE_WEIGHT.ln() * max_cost / options.lambda;
         let fresh: Vec<Candidate> = particles
             .par_iter()
             .enumerate()
@@ -82,7 +90,10 @@ pub fn refine(
                         return None;
                     }
                 }
-                let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, scratch).ok()?;
+                let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, hopeless, scratch).ok()?;
+                if candidate.cost > hopeless {
+                    return None;
+                }
                 check_collisions(ctx, &candidate, scratch).ok()?;
                 Some(candidate)
             })

@@ -178,7 +178,7 @@ fn run_family(
     let (w_sample, w_collide) = (0.6, 0.1);
 
     let t = Instant::now();
-    let mut candidates = Vec::new();
+    let mut candidates: Vec<Candidate> = Vec::new();
     let mut kept = 0;
     let mut start = 0;
     while start < total {
@@ -186,13 +186,16 @@ fn run_family(
             return Err(Cancelled);
         }
         let end = (start + CHUNK).min(total);
+        // Once CANDIDATE_CAP candidates are kept, a sample whose cost cannot beat the costliest of them
+        // is not simulated. The bound changes only between chunks, so threads never change a result.
+        let bound = if candidates.len() >= CANDIDATE_CAP { candidates[CANDIDATE_CAP - 1].cost } else { f64::INFINITY };
         let results: Vec<Option<Result<Candidate, Reject>>> = (start..end)
             .into_par_iter()
             .map_init(
                 || (SampleScratch::default(), Scratch::default()),
                 |(sample_scratch, scratch), i| {
                     let mechanism = sampler.sample(seed, i as u64, sample_scratch)?;
-                    Some(evaluate(ctx, mechanism, Some(sample_scratch.motions()), scratch))
+                    Some(evaluate(ctx, mechanism, Some(sample_scratch.motions()), bound, scratch))
                 },
             )
             .collect();
@@ -204,9 +207,7 @@ fn run_family(
             }
         }
         stats.candidates += candidates.len() - kept;
-        if candidates.len() > 2 * CANDIDATE_CAP {
-            keep_cheapest(&mut candidates, CANDIDATE_CAP);
-        }
+        keep_cheapest(&mut candidates, CANDIDATE_CAP);
         kept = candidates.len();
         start = end;
         report(Stage::Sampling, w_sample * start as f64 / total as f64, None);
@@ -288,7 +289,8 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
             stats.samples, problem.settings.pose_tolerance
         );
     }
-    let mut counts = stats.rejected.clone();
+    let mut counts: Vec<(Reject, usize)> =
+        stats.rejected.iter().copied().filter(|&(r, _)| r != Reject::Outclassed).collect();
     counts.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
     let advice = |r: Reject| match r {
         Reject::JointsTooClose => "joints fell too close together to build: widen the linkage_region".to_string(),
@@ -312,6 +314,7 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
         Reject::Collision => "moving bodies hit a fixed body or each other on the way: give them more \
                               clearance, or add intermediate poses that steer around the obstacle"
             .to_string(),
+        Reject::Outclassed => unreachable!("filtered out above"),
     };
     let parts: Vec<String> = counts.iter().take(2).map(|&(r, n)| format!("{n} {}", advice(r))).collect();
     format!(
