@@ -157,3 +157,38 @@ fn progress_rises_to_completion_and_cancellation_stops_the_run() {
     assert_eq!(synthesize(&problem, &early).err(), Some(linkwright_core::synth::Cancelled));
     assert_eq!(early.reports.into_inner().unwrap().len(), 1, "the run stops at the next check");
 }
+
+#[test]
+fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
+    use linkwright_core::synth::{synthesize_from, Start, WARM_SAMPLES};
+    let mut problem = example("k2_wall_bed");
+    problem.settings.samples = 20000;
+    problem.settings.iterations = 8;
+    let first = synthesize(&problem, &Silent).unwrap();
+    let previous: Vec<_> = first.best.iter().chain(&first.alternatives).map(|c| c.mechanism.clone()).collect();
+    assert!(!previous.is_empty());
+
+    // Move the bed's last pose by 5% of its size.
+    let d = problem.bodies[0].size;
+    let moved = problem.bodies[0].poses[1];
+    problem.bodies[0].poses[1] = linkwright_core::geom::Rigid::new(
+        moved.angle(),
+        moved.translation() + linkwright_core::geom::Vec2::new(0.05 * d, 0.0),
+    );
+    let warm = synthesize_from(&problem, Start::Warm(&previous), &Silent).unwrap();
+    assert_eq!(warm.stats.samples, WARM_SAMPLES, "no fallback to a cold start was needed");
+    let design = DesignFile::from_outcome(&problem, &warm);
+    assert_eq!(design.status, Status::Ok);
+    assert_eq!(verify(&problem, &design), vec![]);
+
+    // Designs of another topology are ignored, and nothing valid falls back to a cold start.
+    let mut slider_only = problem.clone();
+    slider_only.settings.samples = 2000;
+    let stranger = Mechanism {
+        topology: Arc::new(Topology::slider_crank()),
+        joints: vec![Point::ORIGIN, Point::new(1.0, 0.0), Point::new(3.0, 0.0)],
+        slider: None,
+    };
+    let cold = synthesize_from(&slider_only, Start::Warm(&[stranger]), &Silent).unwrap();
+    assert_eq!(cold.stats.samples, 2000);
+}

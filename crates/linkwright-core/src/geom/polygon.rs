@@ -209,11 +209,15 @@ pub fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
             }
         }
     }
+    // Only points inside the other polygon's box can lie in it: the box test spares most
+    // point-in-polygon tests.
     let deep_in = |pts: &[Point], poly: &[Point]| {
+        let Some(bb) = Aabb::around(poly.iter().copied()) else { return false };
         let n = pts.len();
         (0..n).any(|i| {
             let mid = pts[i].lerp(pts[(i + 1) % n], 0.5);
-            contains_deeply_raw(poly, pts[i], tol) || contains_deeply_raw(poly, mid, tol)
+            (bb.contains(pts[i]) && contains_deeply_raw(poly, pts[i], tol))
+                || (bb.contains(mid) && contains_deeply_raw(poly, mid, tol))
         })
     };
     deep_in(a, b) || deep_in(b, a)

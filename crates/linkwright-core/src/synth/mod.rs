@@ -14,4 +14,7 @@ pub use collision::check_collisions;
 pub use context::Context;
 pub use evaluate::{evaluate, Candidate, Reject, Scratch, SoftTerms};
 pub use pfo::FilterOptions;
-pub use pipeline::{families, synthesize, Cancelled, Observer, Outcome, Progress, RunStats, Silent, Stage};
+pub use pipeline::{
+    families, synthesize, synthesize_from, Cancelled, Observer, Outcome, Progress, RunStats, Silent, Stage, Start,
+    WARM_SAMPLES,
+};

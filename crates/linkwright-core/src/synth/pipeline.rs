@@ -5,7 +5,8 @@ use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{evaluate, Candidate, Reject, Scratch};
 use super::pfo::{refine, FilterOptions};
-use super::sample::{SampleScratch, Sampler};
+use super::sample::{x_from_mechanism, SampleScratch, Sampler};
+use crate::mechanism::Mechanism;
 use crate::mechanism::MechanismType;
 use crate::scene::{MechanismChoice, Problem};
 use rayon::prelude::*;
@@ -104,8 +105,28 @@ pub fn families(problem: &Problem) -> Vec<MechanismType> {
     }
 }
 
-/// Runs the synthesis on the current rayon pool.
+/// Where the search starts.
+#[derive(Clone, Copy, Debug)]
+pub enum Start<'a> {
+    /// From scratch: `settings.samples` samples drawn uniformly in the linkage region.
+    Cold,
+    /// From earlier designs of a similar scene (a previous design and its alternatives, after the
+    /// person moved a pose, say): [`WARM_SAMPLES`] samples are fitted from those designs' joints to the
+    /// new poses, and the particle filter runs a quarter of its iterations. A family for which this
+    /// finds nothing valid falls back to a cold start.
+    Warm(&'a [Mechanism]),
+}
+
+/// Samples of a warm start.
+pub const WARM_SAMPLES: usize = 500;
+
+/// Runs the synthesis from scratch on the current rayon pool.
 pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
+    synthesize_from(problem, Start::Cold, observer)
+}
+
+/// Runs the synthesis from `start` on the current rayon pool.
+pub fn synthesize_from(problem: &Problem, start: Start, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();
     let families = families(problem);
     let mut stats = RunStats::default();
@@ -118,9 +139,26 @@ pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome,
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
         };
-        let found = run_family(&ctx, family_id(family), &mut stats, &mut rejected, observer, &|stage, x, b| {
-            report(stage, x, min_opt(best_cost, b))
-        })?;
+        let report = |stage, x, b| report(stage, x, min_opt(best_cost, b));
+        let seeds: Vec<Vec<f64>> = match start {
+            Start::Cold => Vec::new(),
+            Start::Warm(previous) => previous
+                .iter()
+                .filter(|m| *m.topology == *ctx.topology)
+                .map(|m| {
+                    let mut x = Vec::new();
+                    x_from_mechanism(m, &mut x);
+                    x
+                })
+                .collect(),
+        };
+        let mut found = Vec::new();
+        if !seeds.is_empty() {
+            found = run_family(&ctx, family_id(family), &seeds, &mut stats, &mut rejected, observer, &report)?;
+        }
+        if found.is_empty() {
+            found = run_family(&ctx, family_id(family), &[], &mut stats, &mut rejected, observer, &report)?;
+        }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
         }
@@ -165,6 +203,7 @@ fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
 fn run_family(
     ctx: &Context,
     family: u64,
+    seeds: &[Vec<f64>],
     stats: &mut RunStats,
     rejected: &mut [usize; Reject::ALL.len()],
     observer: &dyn Observer,
@@ -172,7 +211,9 @@ fn run_family(
 ) -> Result<Vec<Candidate>, Cancelled> {
     let settings = &ctx.problem.settings;
     let seed = settings.seed;
-    let total = settings.samples;
+    let warm = !seeds.is_empty();
+    let total = if warm { WARM_SAMPLES.min(settings.samples) } else { settings.samples };
+    let iterations = if warm { (settings.iterations / 4).max(1).min(settings.iterations) } else { settings.iterations };
     let sampler = Sampler::new(ctx, family);
     // Weights of the stages in the progress fraction.
     let (w_sample, w_collide) = (0.6, 0.1);
@@ -194,7 +235,8 @@ fn run_family(
             .map_init(
                 || (SampleScratch::default(), Scratch::default()),
                 |(sample_scratch, scratch), i| {
-                    let mechanism = sampler.sample(seed, i as u64, sample_scratch)?;
+                    let near = (!seeds.is_empty()).then(|| seeds[i % seeds.len()].as_slice());
+                    let mechanism = sampler.sample(seed, i as u64, near, sample_scratch)?;
                     Some(evaluate(ctx, mechanism, Some(sample_scratch.motions()), bound, scratch))
                 },
             )
@@ -217,7 +259,8 @@ fn run_family(
     stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let enough = VALID_PER_PARTICLE * settings.particles.max(1);
+    // A warm start begins near good designs: one particle set of valid ones is enough.
+    let enough = if warm { 1 } else { VALID_PER_PARTICLE } * settings.particles.max(1);
     let mut valid = Vec::new();
     let mut queue = candidates.into_iter().peekable();
     while queue.peek().is_some() && valid.len() < enough {
@@ -242,12 +285,8 @@ fn run_family(
     report(Stage::Collision, w_sample + w_collide, best);
 
     let t = Instant::now();
-    if !valid.is_empty() && settings.iterations > 0 && settings.particles > 0 {
-        let options = FilterOptions {
-            particles: settings.particles,
-            iterations: settings.iterations,
-            ..FilterOptions::default()
-        };
+    if !valid.is_empty() && iterations > 0 && settings.particles > 0 {
+        let options = FilterOptions { particles: settings.particles, iterations, ..FilterOptions::default() };
         let mut cancelled = false;
         let produced = refine(ctx, &valid, &options, seed, family, |done, best| {
             let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;

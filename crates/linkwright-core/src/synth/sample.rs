@@ -9,6 +9,8 @@ use crate::mechanism::{Mechanism, SliderLine};
 use rand::RngExt;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+/// σ of the jitter around a previous design's joints in a warm start, as a fraction of d.
+pub const WARM_JITTER: f64 = 0.05;
 /// How often a perturbed pose that collides is drawn again before the input pose is used unperturbed.
 const PERTURB_TRIES: usize = 5;
 
@@ -43,18 +45,37 @@ impl<'c, 'p> Sampler<'c, 'p> {
 
     /// Sample `index` under `seed`: a mechanism whose links are rigid over perturbed poses, or `None`
     /// when the fit does not reach a rigid linkage.
-    pub fn sample(&self, seed: u64, index: u64, scratch: &mut SampleScratch) -> Option<Mechanism> {
+    ///
+    /// With `near`, the joints start from that parameter vector (a previous design's, see
+    /// [`x_from_mechanism`]) jittered by [`WARM_JITTER`]·d instead of uniformly in the region.
+    pub fn sample(
+        &self,
+        seed: u64,
+        index: u64,
+        near: Option<&[f64]>,
+        scratch: &mut SampleScratch,
+    ) -> Option<Mechanism> {
         let ctx = self.ctx;
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
         self.perturbed_motions(&mut rng, scratch);
         let n = ctx.topology.joint_count();
         scratch.x.clear();
-        for _ in 0..n {
-            let p = self.point_in_region(&mut rng);
-            scratch.x.extend([p.x, p.y]);
-        }
-        if ctx.rigidity.dim() > 2 * n {
-            scratch.x.push(rng.random_range(0.0..std::f64::consts::PI));
+        match near {
+            Some(start) => {
+                scratch.x.extend_from_slice(start);
+                for v in &mut scratch.x[..2 * n] {
+                    *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
+                }
+            }
+            None => {
+                for _ in 0..n {
+                    let p = self.point_in_region(&mut rng);
+                    scratch.x.extend([p.x, p.y]);
+                }
+                if ctx.rigidity.dim() > 2 * n {
+                    scratch.x.push(rng.random_range(0.0..std::f64::consts::PI));
+                }
+            }
         }
         let fit = ctx.rigidity.fit(&mut scratch.x, &scratch.motions, ctx.body_size, &mut scratch.fit);
         if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation() {
