@@ -12,11 +12,13 @@
 //! - [`synth`]: sampling, hard constraints, soft costs, the particle filter and the pipeline.
 //! - [`design`]: the `design/1` format.
 //! - [`render`]: pictures of a design (SVG text, static and animated).
+//! - [`analysis`]: a design's motion replayed for display: frames, error at each pose, Grashof types.
 //!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
 //! mechanism's joints are given. Every threshold is relative to the scene's size.
 
+pub mod analysis;
 pub mod design;
 pub mod geom;
 pub mod kinematics;

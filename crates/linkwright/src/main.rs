@@ -4,6 +4,7 @@
 mod bench;
 mod commands;
 mod files;
+mod serve;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -33,6 +34,8 @@ enum Command {
     },
     /// Time the synthesis on the paper's Table-1 objects (or given scenes), side by side with the paper.
     Bench(bench::BenchArgs),
+    /// Start the local web app: sketch an object, design its linkage, watch it move.
+    Serve(serve::ServeArgs),
     /// Print the joint positions along a design's motion as CSV.
     Simulate {
         scene: PathBuf,
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Design(args) => commands::design(args),
         Command::Check { scene, design, json } => commands::check(&scene, &design, json),
         Command::Simulate { scene, design, steps } => commands::simulate(&scene, &design, steps),
+        Command::Serve(args) => serve::serve(args),
         Command::Bench(args) => bench::bench(args),
     };
     match result {

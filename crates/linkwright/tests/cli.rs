@@ -152,3 +152,17 @@ fn help_lists_the_commands() {
         assert!(help.contains(command), "{help}");
     }
 }
+
+#[test]
+fn check_refuses_an_endless_travel_at_once() {
+    let dir = workdir("endless");
+    let design = design_garbage_truck(&dir, "2");
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&design).unwrap()).unwrap();
+    v["motion"]["crank_end_deg"] = Value::from(1e15);
+    let bad = dir.join("endless.json");
+    std::fs::write(&bad, v.to_string()).unwrap();
+    let check = linkwright(&["check", &example("k1_garbage_truck"), bad.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(1));
+    assert!(text(&check.stdout).contains("full turn"), "{}", text(&check.stdout));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,422 @@
+//! The API handlers (documented in `docs/api.md`). Every request body is read as text, parsed with
+//! path-aware errors and validated before any work starts; heavy work runs on the job table's pool.
+
+use super::assets::{example_summaries, example_text, ExampleSummary};
+use super::error::{issue_json, ApiError};
+use super::jobs::{JobObserver, Jobs, StopOnDrop, StopReason};
+use axum::body::Bytes;
+use axum::extract::rejection::{BytesRejection, PathRejection};
+use axum::extract::{ConnectInfo, FromRequestParts, Path, State};
+use axum::http::request::Parts;
+use axum::http::{header, StatusCode};
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
+use linkwright_core::design::{DesignFile, DESIGN_FORMAT};
+use linkwright_core::mechanism::Mechanism;
+use linkwright_core::render::{animation_svg, design_svg, RenderInput};
+use linkwright_core::scene::{Problem, Scene};
+use linkwright_core::synth::{synthesize_from, Progress, Start};
+use linkwright_core::verify::{verify, Violation};
+use serde_json::{json, Map, Value};
+use std::convert::Infallible;
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::sync::mpsc;
+
+/// Largest request body accepted, bytes (the largest bundled scene is about 20 kB).
+pub const MAX_BODY: usize = 2 * 1024 * 1024;
+
+/// What every handler shares.
+#[derive(Clone)]
+pub struct AppState {
+    pub jobs: Arc<Jobs>,
+    pub examples: Arc<Vec<ExampleSummary>>,
+    /// The server listens on this computer only, so requests must name it as their host.
+    pub loopback_only: bool,
+}
+
+impl AppState {
+    pub fn new(jobs: Jobs, loopback_only: bool) -> AppState {
+        AppState { jobs: Arc::new(jobs), examples: Arc::new(example_summaries()), loopback_only }
+    }
+}
+
+/// Who asks: the `X-Linkwright-Client` header the app sends (one id per browser tab), or else the
+/// peer's address. One heavy job per client.
+pub struct Client(pub String);
+
+impl<S: Send + Sync> FromRequestParts<S> for Client {
+    type Rejection = Infallible;
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Self, Self::Rejection> {
+        let header = parts.headers.get("x-linkwright-client").and_then(|v| v.to_str().ok()).filter(|id| {
+            !id.is_empty() && id.len() <= 64 && id.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        });
+        let id = match header {
+            Some(id) => format!("id:{id}"),
+            None => match parts.extensions.get::<ConnectInfo<SocketAddr>>() {
+                Some(ConnectInfo(addr)) => format!("ip:{}", addr.ip()),
+                None => "ip:unknown".to_string(),
+            },
+        };
+        Ok(Client(id))
+    }
+}
+
+/// `GET /api/examples`: the gallery.
+pub async fn examples(State(state): State<AppState>) -> Json<Vec<ExampleSummary>> {
+    Json(state.examples.as_ref().clone())
+}
+
+/// `GET /api/examples/{name}`: one example scene, as its file.
+pub async fn example(name: Result<Path<String>, PathRejection>) -> Result<Response, ApiError> {
+    let Path(name) = name.map_err(|e| ApiError::bad_request(e.body_text()))?;
+    let text = example_text(&name)
+        .ok_or_else(|| ApiError::not_found(format!("no example called \"{name}\"; GET /api/examples lists them")))?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// `GET /api/status`: the job table and the limits.
+pub async fn status(State(state): State<AppState>) -> Json<Value> {
+    let jobs = &state.jobs;
+    let limits = jobs.limits();
+    Json(json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "running": jobs.running(),
+        "queued": jobs.waiting(),
+        "threads": jobs.pool.current_num_threads(),
+        "limits": {"running": limits.running, "queued": limits.queued, "body_bytes": MAX_BODY},
+    }))
+}
+
+/// The request body as text; a body over [`MAX_BODY`] is a 413.
+fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
+    let bytes = body.map_err(|r| match r.status() {
+        StatusCode::PAYLOAD_TOO_LARGE => ApiError::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!("the request body is larger than the limit of {} bytes", MAX_BODY),
+        ),
+        status => ApiError::new(status, r.body_text()),
+    })?;
+    String::from_utf8(bytes.to_vec()).map_err(|_| ApiError::bad_request("the request body is not UTF-8 text"))
+}
+
+/// Parses and validates a scene; `prefix` is the request field it sits in (empty for a bare scene).
+fn problem_of(text: &str, prefix: &str) -> Result<Problem, ApiError> {
+    let scene = Scene::from_json(text).map_err(|e| ApiError::parse("the scene", prefix, &e))?;
+    Problem::new(&scene).map_err(|issues| ApiError::invalid_scene(prefix, &issues))
+}
+
+/// What a design request carries: the scene, and the mechanisms of an earlier design to start from.
+struct DesignInput {
+    problem: Problem,
+    previous: Vec<Mechanism>,
+}
+
+impl DesignInput {
+    /// A bare `scene/1` document, or `{"scene": scene/1, "from": design/1}` for a warm start from an
+    /// earlier design of a similar scene (its mechanism and alternatives).
+    fn parse(text: &str) -> Result<DesignInput, ApiError> {
+        let value: Value = serde_json::from_str(text)
+            .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
+        let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
+        let Some(scene) = wrapped else {
+            return Ok(DesignInput { problem: problem_of(text, "")?, previous: Vec::new() });
+        };
+        let problem = problem_of(&scene.to_string(), "scene")?;
+        let previous = match value.get("from") {
+            None | Some(Value::Null) => Vec::new(),
+            Some(from) => {
+                let file = DesignFile::from_json(&from.to_string())
+                    .map_err(|e| ApiError::parse("the earlier design", "from", &e))?;
+                let all = file.mechanism.iter().chain(file.alternatives.iter().map(|a| &a.mechanism));
+                // Mechanisms that do not fit the scene are left out by the engine; unusable ones here.
+                all.filter_map(|m| m.to_mechanism().ok()).collect()
+            }
+        };
+        Ok(DesignInput { problem, previous })
+    }
+
+    fn start(&self) -> Start<'_> {
+        if self.previous.is_empty() {
+            Start::Cold
+        } else {
+            Start::Warm(&self.previous)
+        }
+    }
+}
+
+/// A request that carries a scene and a design, with options.
+struct Compound {
+    problem: Problem,
+    design: DesignFile,
+    fields: Map<String, Value>,
+}
+
+impl Compound {
+    fn parse(text: &str) -> Result<Compound, ApiError> {
+        let value: Value = serde_json::from_str(text)
+            .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
+        let Value::Object(fields) = value else {
+            return Err(ApiError::bad_request("the body must be a JSON object with \"scene\" and \"design\""));
+        };
+        let member = |name: &str| {
+            fields.get(name).ok_or_else(|| {
+                ApiError::bad_request(format!("the body has no \"{name}\"")).with_issue(name, "is required")
+            })
+        };
+        let problem = problem_of(&member("scene")?.to_string(), "scene")?;
+        let design = DesignFile::from_json(&member("design")?.to_string())
+            .map_err(|e| ApiError::parse("the design", "design", &e))?;
+        if design.linkwright != DESIGN_FORMAT {
+            let message = format!("unknown format \"{}\"; this version reads \"{DESIGN_FORMAT}\"", design.linkwright);
+            return Err(
+                ApiError::bad_request(format!("design.linkwright: {message}")).with_issue("design.linkwright", message)
+            );
+        }
+        Ok(Compound { problem, design, fields })
+    }
+
+    /// `alternative`: absent or null for the design itself, an index into its alternatives otherwise.
+    fn which(&self) -> Result<Which, ApiError> {
+        match self.fields.get("alternative") {
+            None | Some(Value::Null) => Ok(Which::Best),
+            Some(v) => v.as_u64().and_then(|i| usize::try_from(i).ok()).map(Which::Alternative).ok_or_else(|| {
+                ApiError::bad_request("alternative must be null or an index into design.alternatives")
+                    .with_issue("alternative", "must be null or a non-negative integer")
+            }),
+        }
+    }
+
+    /// An optional positive integer option, at most `max`.
+    fn count(&self, name: &str, default: usize, max: usize) -> Result<usize, ApiError> {
+        match self.fields.get(name) {
+            None | Some(Value::Null) => Ok(default),
+            Some(v) => v.as_u64().filter(|&n| n >= 1 && n <= max as u64).map(|n| n as usize).ok_or_else(|| {
+                let message = format!("must be an integer from 1 to {max}");
+                ApiError::bad_request(format!("{name} {message}")).with_issue(name, message)
+            }),
+        }
+    }
+
+    /// The mechanism asked for, simulated in `steps` crank steps.
+    fn replay(&self, steps: usize) -> Result<Replay, ApiError> {
+        Replay::new(&self.problem, &self.design, self.which()?, steps).map_err(|e| {
+            ApiError::unprocessable(format!("the design cannot be shown: {e}")).with_issue("design", e.to_string())
+        })
+    }
+}
+
+/// Runs blocking work off the async threads; a panic becomes a 500, never a dropped connection.
+async fn blocking<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> Result<T, ApiError> {
+    tokio::task::spawn_blocking(work).await.map_err(|_| {
+        ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, "internal error: the computation failed; please report it")
+    })
+}
+
+/// The answer to a job that was stopped before it finished.
+fn stopped(reason: Option<StopReason>) -> ApiError {
+    match reason {
+        Some(StopReason::Superseded) => {
+            ApiError::new(StatusCode::CONFLICT, "cancelled: a newer design request from the same client replaced it")
+        }
+        _ => ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
+    }
+}
+
+/// `POST /api/design`: scene/1 (or `{scene, from}`) in, design/1 out (a `no_solution` design is a 200
+/// too).
+pub async fn design(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<DesignFile>, ApiError> {
+    let input = DesignInput::parse(&body_text(body)?)?;
+    let ticket = state.jobs.admit(&client)?;
+    // Lives as long as this request: a client that hangs up drops it, and the job stops.
+    let guard = StopOnDrop(ticket.flag.clone());
+    let flag = ticket.flag.clone();
+    let running = ticket.start().await.ok_or_else(|| stopped(flag.reason()))?;
+    let pool = state.jobs.pool.clone();
+    let job_flag = flag.clone();
+    let result = blocking(move || {
+        let _running = running;
+        let observer = JobObserver { flag: job_flag, on_progress: |_: &Progress| {} };
+        pool.install(|| synthesize_from(&input.problem, input.start(), &observer))
+            .map(|outcome| DesignFile::from_outcome(&input.problem, &outcome))
+    })
+    .await?;
+    drop(guard);
+    result.map(Json).map_err(|_| stopped(flag.reason()))
+}
+
+/// What the design stream says, in order: accepted, maybe queued, started, progress..., then one of
+/// design, cancelled, error.
+enum Note {
+    Accepted(Vec<Value>),
+    Queued,
+    Started,
+    Progress(Progress),
+    Design(Box<DesignFile>),
+    Cancelled(&'static str),
+    Failed(String),
+}
+
+impl Note {
+    fn is_final(&self) -> bool {
+        matches!(self, Note::Design(_) | Note::Cancelled(_) | Note::Failed(_))
+    }
+    fn event(&self) -> Event {
+        let (name, data) = match self {
+            Note::Accepted(warnings) => ("accepted", json!({ "warnings": warnings })),
+            Note::Queued => ("queued", json!({"message": "waiting for a free slot"})),
+            Note::Started => ("started", json!({})),
+            Note::Progress(p) => ("progress", serde_json::to_value(p).unwrap_or(Value::Null)),
+            Note::Design(d) => ("design", serde_json::to_value(d.as_ref()).unwrap_or(Value::Null)),
+            Note::Cancelled(reason) => ("cancelled", json!({ "reason": reason })),
+            Note::Failed(error) => ("error", json!({ "error": error })),
+        };
+        Event::default().event(name).data(data.to_string())
+    }
+}
+
+/// `POST /api/design/stream`: the same job as `/api/design`, answered as server-sent events. Closing
+/// the connection cancels the job.
+pub async fn design_stream(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let input = DesignInput::parse(&body_text(body)?)?;
+    let warnings: Vec<Value> =
+        input.problem.warnings.iter().filter_map(|w| serde_json::to_value(issue_json("", w)).ok()).collect();
+    let ticket = state.jobs.admit(&client)?;
+    let flag = ticket.flag.clone();
+    let (tx, rx) = mpsc::channel::<Note>(64);
+    let pool = state.jobs.pool.clone();
+    tokio::spawn(async move {
+        let _ = tx.send(Note::Accepted(warnings)).await;
+        if !ticket.can_start_now() {
+            let _ = tx.send(Note::Queued).await;
+        }
+        let flag = ticket.flag.clone();
+        let Some(running) = ticket.start().await else {
+            let _ = tx.send(cancelled_note(flag.reason())).await;
+            return;
+        };
+        let _ = tx.send(Note::Started).await;
+        let progress_tx = tx.clone();
+        let job_flag = flag.clone();
+        let result = blocking(move || {
+            let _running = running;
+            let on_progress = |p: &Progress| {
+                // A lagging client misses a report, never blocks the run.
+                let _ = progress_tx.try_send(Note::Progress(*p));
+            };
+            let observer = JobObserver { flag: job_flag, on_progress };
+            pool.install(|| synthesize_from(&input.problem, input.start(), &observer))
+                .map(|outcome| DesignFile::from_outcome(&input.problem, &outcome))
+        })
+        .await;
+        let note = match result {
+            Ok(Ok(file)) => Note::Design(Box::new(file)),
+            Ok(Err(_)) => cancelled_note(flag.reason()),
+            Err(e) => Note::Failed(e.error),
+        };
+        let _ = tx.send(note).await;
+    });
+    let stream = futures_util::stream::unfold((rx, StopOnDrop(flag), false), |(mut rx, guard, done)| async move {
+        if done {
+            return None;
+        }
+        let note = rx.recv().await?;
+        let last = note.is_final();
+        Some((Ok::<Event, Infallible>(note.event()), (rx, guard, last)))
+    });
+    Ok(Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(1))).into_response())
+}
+
+fn cancelled_note(reason: Option<StopReason>) -> Note {
+    Note::Cancelled(match reason {
+        Some(StopReason::Superseded) => "superseded by a newer design request",
+        _ => "cancelled",
+    })
+}
+
+/// A crank travel a re-simulation can afford: finite, and shorter than a turn.
+fn travel_violation(design: &DesignFile) -> Option<Violation> {
+    let travels = design.motion.iter().chain(design.alternatives.iter().map(|a| &a.motion));
+    travels
+        .filter(|m| {
+            let (s, e) = (m.crank_start_deg, m.crank_end_deg);
+            !(s.is_finite() && e.is_finite() && (e - s).abs() < 360.0 && m.pose_crank_deg.iter().all(|a| a.is_finite()))
+        })
+        .map(|_| Violation {
+            constraint: "order",
+            message: "motion: the crank angles must be finite and the travel shorter than a full turn".into(),
+        })
+        .next()
+}
+
+/// `POST /api/check`: `{scene, design}` in, `{ok, violations}` out.
+pub async fn check(body: Result<Bytes, BytesRejection>) -> Result<Json<Value>, ApiError> {
+    let request = Compound::parse(&body_text(body)?)?;
+    let violations = match travel_violation(&request.design) {
+        Some(v) => vec![v],
+        None => blocking(move || verify(&request.problem, &request.design)).await?,
+    };
+    Ok(Json(json!({"ok": violations.is_empty(), "violations": violations})))
+}
+
+/// `POST /api/simulate`: `{scene, design, alternative?, steps?}` in, the motion analysis out.
+pub async fn simulate(body: Result<Bytes, BytesRejection>) -> Result<Json<Value>, ApiError> {
+    let request = Compound::parse(&body_text(body)?)?;
+    let which = request.which()?;
+    let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
+    let analysis = blocking(move || {
+        analyze(&request.problem, &request.design, which, &AnalysisOptions::default().with_steps(steps))
+            .map(|a| serde_json::to_value(a).unwrap_or(Value::Null))
+    })
+    .await?
+    .map_err(|e| {
+        ApiError::unprocessable(format!("the design cannot be simulated: {e}")).with_issue("design", e.to_string())
+    })?;
+    Ok(Json(analysis))
+}
+
+/// `POST /api/render`: `{scene, design, alternative?, kind: "design" | "animation", seconds?}` in,
+/// the picture (SVG) out, as a download.
+pub async fn render(body: Result<Bytes, BytesRejection>) -> Result<Response, ApiError> {
+    let request = Compound::parse(&body_text(body)?)?;
+    let kind = match request.fields.get("kind").and_then(Value::as_str).unwrap_or("animation") {
+        "design" => "design",
+        "animation" => "animation",
+        other => {
+            let message = format!("\"{other}\" is not a picture; use \"design\" or \"animation\"");
+            return Err(ApiError::bad_request(format!("kind: {message}")).with_issue("kind", message));
+        }
+    };
+    let seconds = match request.fields.get("seconds") {
+        None | Some(Value::Null) => 3.0,
+        Some(v) => v.as_f64().filter(|s| s.is_finite() && *s > 0.0 && *s <= 600.0).ok_or_else(|| {
+            ApiError::bad_request("seconds must be a number of seconds from 0 to 600")
+                .with_issue("seconds", "must be a number from 0 to 600")
+        })?,
+    };
+    let svg = blocking(move || {
+        let replay = request.replay(720)?;
+        let input = RenderInput {
+            problem: &request.problem,
+            mechanism: &replay.mechanism,
+            trace: &replay.trace,
+            pose_steps: &replay.pose_rows,
+        };
+        Ok::<String, ApiError>(if kind == "design" { design_svg(&input) } else { animation_svg(&input, seconds) })
+    })
+    .await??;
+    let disposition = format!("attachment; filename=\"{kind}.svg\"");
+    Ok(([(header::CONTENT_TYPE, "image/svg+xml".to_string()), (header::CONTENT_DISPOSITION, disposition)], svg)
+        .into_response())
+}

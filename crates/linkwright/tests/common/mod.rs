@@ -1,0 +1,58 @@
+//! What the web-app tests share: the server binary started on a free port, and scenes to send it.
+#![allow(dead_code, reason = "each test file uses a different part of this module")]
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+
+/// `linkwright serve` on a free port of 127.0.0.1, stopped (by its own pid) when dropped.
+pub struct Server {
+    child: Child,
+    /// The base URL, ending in `/`.
+    pub url: String,
+}
+
+impl Server {
+    pub fn start(extra: &[&str]) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_linkwright"))
+            .args(["serve", "--port", "0", "--threads", "2"])
+            .args(extra)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("the binary starts");
+        let stdout = child.stdout.take().expect("piped stdout");
+        let mut lines = BufReader::new(stdout).lines();
+        let first = lines.next().and_then(Result::ok).unwrap_or_default();
+        let url = first
+            .split_whitespace()
+            .find(|w| w.starts_with("http://"))
+            .unwrap_or_else(|| panic!("the server prints its URL first, printed {first:?}"))
+            .to_string();
+        // Keep draining stdout so later lines never block the server.
+        std::thread::spawn(move || for _ in lines.by_ref() {});
+        Server { child, url }
+    }
+
+    pub fn at(&self, path: &str) -> String {
+        format!("{}{}", self.url, path.trim_start_matches('/'))
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A bundled example's text.
+pub fn example_text(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))).expect("the example")
+}
+
+/// The garbage truck with a small, seeded search (a design in a second or two).
+pub fn quick_garbage_truck(samples: u64, seed: u64) -> serde_json::Value {
+    let mut scene: serde_json::Value = serde_json::from_str(&example_text("k1_garbage_truck")).unwrap();
+    scene["settings"] = serde_json::json!({"samples": samples, "seed": seed});
+    scene
+}

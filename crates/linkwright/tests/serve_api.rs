@@ -1,0 +1,362 @@
+//! The web app's API as a client sees it: examples, designs (plain and streamed), checks, simulations,
+//! pictures, bad input, size limits, job limits and cancellation when the client goes away.
+
+mod common;
+
+use common::{quick_garbage_truck, Server};
+use linkwright_core::design::{DesignFile, Status};
+use linkwright_core::scene::{Problem, Scene};
+use linkwright_core::verify::verify;
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader, Read};
+use std::time::{Duration, Instant};
+use ureq::Agent;
+
+fn agent() -> Agent {
+    Agent::config_builder().http_status_as_error(false).timeout_global(Some(Duration::from_secs(120))).build().into()
+}
+
+/// Status and JSON body of a request.
+fn call(req: Result<ureq::http::Response<ureq::Body>, ureq::Error>) -> (u16, Value) {
+    let mut response = req.expect("the server answers");
+    let status = response.status().as_u16();
+    let text = response.body_mut().read_to_string().expect("a text body");
+    let value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("not JSON ({e}): {text}"));
+    (status, value)
+}
+
+fn post(server: &Server, path: &str, body: &Value) -> (u16, Value) {
+    call(agent().post(server.at(path)).header("content-type", "application/json").send(body.to_string()))
+}
+
+fn get(server: &Server, path: &str) -> (u16, Value) {
+    call(agent().get(server.at(path)).call())
+}
+
+/// An error answer has the documented shape.
+fn assert_error(status: u16, body: &Value, expected: u16) {
+    assert_eq!(status, expected, "{body}");
+    assert!(body["error"].as_str().is_some_and(|e| !e.is_empty()), "{body}");
+    assert!(body["issues"].is_array(), "{body}");
+}
+
+#[test]
+fn examples_are_listed_and_served() {
+    let server = Server::start(&[]);
+    let (status, list) = get(&server, "/api/examples");
+    assert_eq!(status, 200);
+    let list = list.as_array().unwrap();
+    assert_eq!(list.len(), 12, "{list:?}");
+    let truck = list.iter().find(|e| e["name"] == "k1_garbage_truck").expect("the garbage truck");
+    assert_eq!(truck["title"], "garbage truck");
+    assert_eq!((truck["bodies"].as_u64(), truck["poses"].as_u64()), (Some(1), Some(3)));
+
+    let (status, scene) = get(&server, "/api/examples/k1_garbage_truck");
+    assert_eq!(status, 200);
+    assert_eq!(scene["linkwright"], "scene/1");
+    for bad in ["nope", "..%2F..%2FCargo", "k1_garbage_truck.json"] {
+        let (status, body) = get(&server, &format!("/api/examples/{bad}"));
+        assert_error(status, &body, 404);
+    }
+}
+
+#[test]
+fn only_the_apps_own_files_are_served() {
+    let server = Server::start(&[]);
+    let mut page = agent().get(server.at("/")).call().unwrap();
+    assert_eq!(page.status().as_u16(), 200);
+    assert!(page.headers().get("content-security-policy").is_some());
+    assert!(page.body_mut().read_to_string().unwrap().contains("Linkwright"));
+    let js = agent().get(server.at("/js/main.js")).call().unwrap();
+    assert_eq!(js.headers().get("content-type").unwrap(), "text/javascript; charset=utf-8");
+    for path in
+        ["/../Cargo.toml", "/%2e%2e/%2e%2e/Cargo.toml", "/js/../../src/main.rs", "/etc/passwd", "/web/index.html"]
+    {
+        let status = agent().get(server.at(path)).call().unwrap().status().as_u16();
+        assert_eq!(status, 404, "{path}");
+    }
+    let (status, body) = get(&server, "/api/nothing");
+    assert_error(status, &body, 404);
+    let (status, body) = call(agent().get(server.at("/api/design")).call());
+    assert_error(status, &body, 405);
+}
+
+#[test]
+fn bad_input_is_a_4xx_that_names_the_problem() {
+    let server = Server::start(&[]);
+    let send = |path: &str, text: &str| {
+        call(agent().post(server.at(path)).header("content-type", "application/json").send(text.to_string()))
+    };
+    let (status, body) = send("/api/design", "{not json");
+    assert_error(status, &body, 400);
+    let (status, body) = send("/api/design", r#"{"linkwright": "scene/1", "fixed_bodies": []}"#);
+    assert_error(status, &body, 400);
+    assert!(body["error"].as_str().unwrap().contains("moving_bodies"), "{body}");
+
+    // A scene that parses but is not valid: every issue, each naming its field.
+    let mut scene = quick_garbage_truck(100, 0);
+    scene["moving_bodies"][0]["poses"] = json!([[100, 100, 0]]);
+    scene["settings"]["samples"] = json!(0);
+    let (status, body) = post(&server, "/api/design/stream", &scene);
+    assert_error(status, &body, 422);
+    let fields: Vec<&str> = body["issues"].as_array().unwrap().iter().filter_map(|i| i["field"].as_str()).collect();
+    assert!(fields.iter().any(|f| f.starts_with("moving_bodies[0].poses")), "{fields:?}");
+    assert!(fields.contains(&"settings.samples"), "{fields:?}");
+
+    // Compound requests name the member that is wrong.
+    let (status, body) = post(&server, "/api/check", &json!({"scene": quick_garbage_truck(100, 0)}));
+    assert_error(status, &body, 400);
+    assert_eq!(body["issues"][0]["field"], "design");
+    let (status, body) = post(&server, "/api/simulate", &json!({"scene": {"linkwright": "scene/2"}, "design": {}}));
+    assert_error(status, &body, 400);
+    assert!(body["issues"][0]["field"].as_str().unwrap().starts_with("scene"), "{body}");
+}
+
+#[test]
+fn request_bodies_are_size_limited() {
+    let server = Server::start(&[]);
+    let mut scene = quick_garbage_truck(100, 0);
+    scene["padding"] = json!("x".repeat(3 * 1024 * 1024));
+    let (status, body) = post(&server, "/api/design", &scene);
+    assert_error(status, &body, 413);
+    let (status, body) = get(&server, "/api/status");
+    assert_eq!(status, 200);
+    assert_eq!(body["limits"]["body_bytes"], 2 * 1024 * 1024);
+}
+
+#[test]
+fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_and_drawn() {
+    let server = Server::start(&[]);
+    let scene = quick_garbage_truck(3000, 5);
+    let (status, design) = post(&server, "/api/design", &scene);
+    assert_eq!(status, 200, "{design}");
+    assert_eq!(design["linkwright"], "design/1");
+    let file = DesignFile::from_json(&design.to_string()).expect("a design/1 file");
+    assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
+    let problem = Problem::new(&Scene::from_json(&scene.to_string()).unwrap()).unwrap();
+    assert_eq!(verify(&problem, &file), vec![]);
+
+    // Same seed, same design.
+    let (_, again) = post(&server, "/api/design", &scene);
+    assert_eq!(again["mechanism"], design["mechanism"]);
+    assert_eq!(again["metrics"], design["metrics"]);
+
+    // A warm start from that design, after a pose moved a little.
+    let mut moved = scene.clone();
+    moved["moving_bodies"][0]["poses"][1][0] = json!(moved["moving_bodies"][0]["poses"][1][0].as_f64().unwrap() + 1.0);
+    let (status, warm) = post(&server, "/api/design", &json!({"scene": moved, "from": design}));
+    assert_eq!((status, &warm["status"]), (200, &json!("ok")), "{warm}");
+    let moved_problem = Problem::new(&Scene::from_json(&moved.to_string()).unwrap()).unwrap();
+    assert_eq!(verify(&moved_problem, &DesignFile::from_json(&warm.to_string()).unwrap()), vec![]);
+    let (status, body) = post(&server, "/api/design", &json!({"scene": moved, "from": {"linkwright": "design/1"}}));
+    assert_error(status, &body, 400);
+    assert!(body["issues"][0]["field"].as_str().unwrap().starts_with("from"), "{body}");
+
+    let (status, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": design}));
+    assert_eq!((status, checked["ok"].as_bool()), (200, Some(true)), "{checked}");
+    let mut tampered = design.clone();
+    tampered["metrics"]["accuracy"] = json!(123.0);
+    let (status, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
+    assert_eq!((status, checked["ok"].as_bool()), (200, Some(false)));
+    assert_eq!(checked["violations"][0]["constraint"], "accuracy");
+    // A travel no simulation can afford is a violation, answered at once.
+    tampered["motion"]["crank_end_deg"] = json!(1e15);
+    let (_, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
+    assert_eq!(checked["violations"][0]["constraint"], "order");
+
+    let (status, analysis) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "steps": 60}));
+    assert_eq!(status, 200, "{analysis}");
+    let frames = analysis["frames"].as_array().unwrap();
+    assert!(frames.len() >= 61, "{}", frames.len());
+    assert_eq!(frames[0]["joints"].as_array().unwrap().len(), 4);
+    assert_eq!(analysis["poses"].as_array().unwrap().len(), 3);
+    assert!(analysis["loops"][0]["kind"].is_string());
+    let (status, body) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "alternative": 99}));
+    assert_error(status, &body, 422);
+    let (status, body) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "steps": 0}));
+    assert_error(status, &body, 400);
+
+    for kind in ["design", "animation"] {
+        let mut response = agent()
+            .post(server.at("/api/render"))
+            .send(json!({"scene": scene, "design": design, "kind": kind}).to_string())
+            .unwrap();
+        assert_eq!(response.status().as_u16(), 200);
+        assert_eq!(response.headers().get("content-type").unwrap(), "image/svg+xml");
+        let svg = response.body_mut().read_to_string().unwrap();
+        assert!(svg.contains("<svg") && svg.contains("garbage truck"), "{kind}");
+        assert_eq!(kind == "animation", svg.contains("<animate"), "{kind}");
+    }
+    let (status, body) = post(&server, "/api/render", &json!({"scene": scene, "design": design, "kind": "gif"}));
+    assert_error(status, &body, 400);
+}
+
+/// Server-sent events read from a streaming response, one `(event, data)` at a time.
+struct Events<R: Read> {
+    lines: std::io::Lines<BufReader<R>>,
+}
+
+impl<R: Read> Iterator for Events<R> {
+    type Item = (String, Value);
+    fn next(&mut self) -> Option<(String, Value)> {
+        let (mut name, mut data) = (String::new(), String::new());
+        loop {
+            let line = self.lines.next()?.ok()?;
+            if line.is_empty() {
+                if !data.is_empty() {
+                    return Some((name, serde_json::from_str(&data).unwrap_or(Value::Null)));
+                }
+                continue;
+            }
+            if let Some(v) = line.strip_prefix("event:") {
+                name = v.trim().to_string();
+            } else if let Some(v) = line.strip_prefix("data:") {
+                data.push_str(v.trim_start());
+            }
+        }
+    }
+}
+
+fn stream(server: &Server, scene: &Value, client: &str) -> Events<impl Read> {
+    let response = agent()
+        .post(server.at("/api/design/stream"))
+        .header("x-linkwright-client", client)
+        .send(scene.to_string())
+        .expect("the server answers");
+    assert_eq!(response.status().as_u16(), 200);
+    assert_eq!(response.headers().get("content-type").unwrap(), "text/event-stream");
+    Events { lines: BufReader::new(response.into_body().into_reader()).lines() }
+}
+
+#[test]
+fn the_stream_reports_progress_then_the_design() {
+    let server = Server::start(&[]);
+    let events: Vec<(String, Value)> = stream(&server, &quick_garbage_truck(5000, 5), "stream-test").collect();
+    let names: Vec<&str> = events.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names.first(), Some(&"accepted"), "{names:?}");
+    assert_eq!(names.last(), Some(&"design"), "{names:?}");
+    let progress: Vec<&Value> = events.iter().filter(|(n, _)| n == "progress").map(|(_, d)| d).collect();
+    assert!(progress.len() >= 3, "{names:?}");
+    let fractions: Vec<f64> = progress.iter().map(|p| p["fraction"].as_f64().unwrap()).collect();
+    assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "{fractions:?}");
+    assert!(progress.iter().all(|p| p["stage"].is_string() && p["mechanism"].is_string()));
+    assert!(progress.iter().any(|p| p["best_cost"].is_number()), "the best cost so far is reported");
+    let design = &events.last().unwrap().1;
+    assert_eq!(design["linkwright"], "design/1");
+    assert_eq!(design["status"], "ok");
+}
+
+/// Waits until the server reports no running and no queued job.
+fn wait_idle(server: &Server, within: Duration) -> Value {
+    let start = Instant::now();
+    loop {
+        let (_, status) = get(server, "/api/status");
+        if status["running"] == 0 && status["queued"] == 0 {
+            return status;
+        }
+        assert!(start.elapsed() < within, "still busy after {within:?}: {status}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn a_job_stops_when_its_client_goes_away() {
+    let server = Server::start(&[]);
+    // Far more samples than the test would wait for.
+    let scene = quick_garbage_truck(5_000_000, 1);
+    let mut events = stream(&server, &scene, "leaver");
+    let first_progress = events.find(|(n, _)| n == "progress");
+    assert!(first_progress.is_some());
+    let (_, status) = get(&server, "/api/status");
+    assert_eq!(status["running"], 1, "{status}");
+    drop(events);
+    wait_idle(&server, Duration::from_secs(15));
+
+    // The plain endpoint too: a client that hangs up mid-request stops its job.
+    let body = scene.to_string();
+    let host = server.url.trim_start_matches("http://").trim_end_matches('/');
+    let mut raw = std::net::TcpStream::connect(host).unwrap();
+    let head = format!(
+        "POST /api/design HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n",
+        body.len()
+    );
+    std::io::Write::write_all(&mut raw, head.as_bytes()).unwrap();
+    std::io::Write::write_all(&mut raw, body.as_bytes()).unwrap();
+    let start = Instant::now();
+    while get(&server, "/api/status").1["running"] != 1 {
+        assert!(start.elapsed() < Duration::from_secs(10), "the job never started");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    drop(raw);
+    wait_idle(&server, Duration::from_secs(15));
+}
+
+#[test]
+fn one_job_per_client_and_a_short_queue() {
+    let server = Server::start(&["--jobs", "1"]);
+    let big = quick_garbage_truck(5_000_000, 1);
+    // A newer job of the same client replaces the older one.
+    let mut older = stream(&server, &big, "same");
+    assert!(older.find(|(n, _)| n == "progress").is_some());
+    let mut newer = stream(&server, &big, "same");
+    let ending = older.find(|(n, _)| n == "cancelled" || n == "design").expect("the older stream ends");
+    assert_eq!(ending.0, "cancelled");
+    assert!(ending.1["reason"].as_str().unwrap().contains("superseded"), "{}", ending.1);
+    assert!(newer.find(|(n, _)| n == "progress").is_some(), "the newer job runs");
+
+    // One job runs, four wait, the next is refused.
+    let mut waiting: Vec<_> = (0..4).map(|i| stream(&server, &big, &format!("waiting{i}"))).collect();
+    for w in &mut waiting {
+        let queued = w.find(|(n, _)| n == "queued" || n == "progress").expect("an event");
+        assert_eq!(queued.0, "queued");
+    }
+    let refused =
+        agent().post(server.at("/api/design/stream")).header("x-linkwright-client", "late").send(big.to_string());
+    let (status, body) = call(refused);
+    assert_error(status, &body, 503);
+    drop(waiting);
+    drop(newer);
+    drop(older);
+    wait_idle(&server, Duration::from_secs(15));
+}
+
+/// Sends raw HTTP/1.1 text and returns the status code of the answer.
+fn raw_status(server: &Server, request: &str) -> u16 {
+    let host = server.url.trim_start_matches("http://").trim_end_matches('/');
+    let mut stream = std::net::TcpStream::connect(host).unwrap();
+    std::io::Write::write_all(&mut stream, request.as_bytes()).unwrap();
+    let mut answer = String::new();
+    let _ = BufReader::new(stream).read_line(&mut answer);
+    answer.split_whitespace().nth(1).and_then(|s| s.parse().ok()).unwrap_or(0)
+}
+
+#[test]
+fn other_web_sites_cannot_use_the_server() {
+    let server = Server::start(&[]);
+    // A page elsewhere that makes the browser post a design.
+    let (status, body) = call(
+        agent()
+            .post(server.at("/api/design"))
+            .header("origin", "http://evil.example")
+            .send(quick_garbage_truck(100, 0).to_string()),
+    );
+    assert_error(status, &body, 403);
+    // DNS rebinding: a foreign name that resolves to this computer.
+    let status =
+        raw_status(&server, "GET /api/examples HTTP/1.1\r\nHost: evil.example:8080\r\nConnection: close\r\n\r\n");
+    assert_eq!(status, 403);
+    // The app itself, by any loopback name.
+    let host = server.url.trim_start_matches("http://").trim_end_matches('/').to_string();
+    let port = host.rsplit(':').next().unwrap();
+    for name in [host.clone(), format!("localhost:{port}")] {
+        let request = format!("GET /api/examples HTTP/1.1\r\nHost: {name}\r\nConnection: close\r\n\r\n");
+        assert_eq!(raw_status(&server, &request), 200, "{name}");
+    }
+    let (status, _) = call(
+        agent()
+            .post(server.at("/api/check"))
+            .header("origin", server.url.trim_end_matches('/'))
+            .send(json!({"scene": quick_garbage_truck(100, 0)}).to_string()),
+    );
+    assert_eq!(status, 400, "a same-origin post goes through (and fails on its missing design)");
+}

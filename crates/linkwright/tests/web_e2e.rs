@@ -1,0 +1,424 @@
+//! End to end in a real headless Chromium, as a person uses the app: draw a fixed and a moving body,
+//! place and add poses, undo and redo, design, watch it move, download the design, reload and find the
+//! scene again.
+//!
+//! Chromium is `/usr/bin/chromium` (or `$LINKWRIGHT_CHROMIUM`). Without it the test is skipped with a
+//! message, except under `CI=true`, where a missing browser is a failure. With
+//! `LINKWRIGHT_SCREENSHOTS=DIR` the test also writes the README's screenshots to DIR.
+
+mod common;
+
+use chromiumoxide::browser::{Browser, BrowserConfig};
+use chromiumoxide::cdp::browser_protocol::browser::{SetDownloadBehaviorBehavior, SetDownloadBehaviorParams};
+use chromiumoxide::cdp::browser_protocol::input::{
+    DispatchKeyEventParams, DispatchKeyEventType, DispatchMouseEventParams, DispatchMouseEventType, MouseButton,
+};
+use chromiumoxide::cdp::browser_protocol::page::CaptureScreenshotFormat;
+use chromiumoxide::cdp::js_protocol::runtime::EventExceptionThrown;
+use chromiumoxide::handler::viewport::Viewport;
+use chromiumoxide::page::ScreenshotParams;
+use chromiumoxide::Page;
+use common::Server;
+use futures_util::StreamExt;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+type Result<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
+
+const WIDTH: u32 = 1400;
+const HEIGHT: u32 = 860;
+
+/// The browser to drive: `$LINKWRIGHT_CHROMIUM` or Debian's `/usr/bin/chromium`; `Err` names the path
+/// that is missing.
+fn chromium() -> std::result::Result<PathBuf, PathBuf> {
+    let path =
+        std::env::var_os("LINKWRIGHT_CHROMIUM").map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
+    if path.is_file() {
+        Ok(path)
+    } else {
+        Err(path)
+    }
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("linkwright-e2e-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    dir
+}
+
+/// Evaluates `js` in the page and returns its JSON value.
+async fn eval(page: &Page, js: &str) -> Result<Value> {
+    Ok(page.evaluate(js).await?.into_value::<Value>().unwrap_or(Value::Null))
+}
+
+/// Waits until the page has drawn its latest change (two animation frames).
+async fn settle(page: &Page) -> Result<()> {
+    eval(page, "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))").await?;
+    Ok(())
+}
+
+/// Waits until `js` evaluates to true.
+async fn until(page: &Page, js: &str, within: Duration) -> Result<()> {
+    let start = Instant::now();
+    loop {
+        if eval(page, js).await? == Value::Bool(true) {
+            return Ok(());
+        }
+        if start.elapsed() > within {
+            return Err(format!("timed out after {within:?} waiting for {js}").into());
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// Clicks the element `selector` as soon as it is there. The click is dispatched in the page, because
+/// panels are rebuilt on every change and a node found a moment earlier may be gone.
+async fn click(page: &Page, selector: &str) -> Result<()> {
+    let js = format!(
+        "(() => {{ const e = document.querySelector({}); if (!e || e.disabled) return false; e.click(); return true; }})()",
+        serde_json::to_string(selector)?
+    );
+    until(page, &js, Duration::from_secs(5)).await.map_err(|e| format!("click {selector}: {e}"))?;
+    settle(page).await
+}
+
+async fn mouse(page: &Page, kind: DispatchMouseEventType, x: f64, y: f64, buttons: i64) -> Result<()> {
+    let mut event = DispatchMouseEventParams::builder().r#type(kind.clone()).x(x).y(y).buttons(buttons);
+    if kind != DispatchMouseEventType::MouseMoved {
+        event = event.button(MouseButton::Left).click_count(1);
+    }
+    page.execute(event.build()?).await?;
+    Ok(())
+}
+
+/// Presses at `from`, moves in steps to `to`, releases: a drag with the left button.
+async fn drag(page: &Page, from: (f64, f64), to: (f64, f64)) -> Result<()> {
+    mouse(page, DispatchMouseEventType::MouseMoved, from.0, from.1, 0).await?;
+    mouse(page, DispatchMouseEventType::MousePressed, from.0, from.1, 1).await?;
+    for i in 1..=8 {
+        let t = f64::from(i) / 8.0;
+        mouse(page, DispatchMouseEventType::MouseMoved, from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t, 1)
+            .await?;
+    }
+    mouse(page, DispatchMouseEventType::MouseReleased, to.0, to.1, 0).await?;
+    settle(page).await
+}
+
+/// A click with the left button at a page position.
+async fn tap(page: &Page, p: (f64, f64)) -> Result<()> {
+    mouse(page, DispatchMouseEventType::MouseMoved, p.0, p.1, 0).await?;
+    mouse(page, DispatchMouseEventType::MousePressed, p.0, p.1, 1).await?;
+    mouse(page, DispatchMouseEventType::MouseReleased, p.0, p.1, 0).await?;
+    settle(page).await
+}
+
+/// A key press with modifiers (2 = Ctrl, 8 = Shift).
+async fn key(page: &Page, key: &str, code: &str, key_code: i64, modifiers: i64) -> Result<()> {
+    for kind in [DispatchKeyEventType::RawKeyDown, DispatchKeyEventType::KeyUp] {
+        let event = DispatchKeyEventParams::builder()
+            .r#type(kind)
+            .key(key)
+            .code(code)
+            .windows_virtual_key_code(key_code)
+            .modifiers(modifiers)
+            .build()?;
+        page.execute(event).await?;
+    }
+    Ok(())
+}
+
+/// The screen position of world point (x, y) on the canvas.
+async fn at(page: &Page, x: f64, y: f64) -> Result<(f64, f64)> {
+    let v = eval(page, &format!("window.linkwright.screenOf([{x}, {y}])")).await?;
+    Ok((v[0].as_f64().ok_or("no x")?, v[1].as_f64().ok_or("no y")?))
+}
+
+async fn scene(page: &Page) -> Result<Value> {
+    eval(page, "JSON.parse(JSON.stringify(window.linkwright.store.scene))").await
+}
+
+/// The numbers of a JSON array (integers and floats alike).
+fn floats(v: &Value) -> Vec<f64> {
+    v.as_array().map(|a| a.iter().filter_map(Value::as_f64).collect()).unwrap_or_default()
+}
+
+async fn screenshot(page: &Page, dir: Option<&Path>, name: &str) -> Result<()> {
+    if let Some(dir) = dir {
+        let png = page.screenshot(ScreenshotParams::builder().format(CaptureScreenshotFormat::Png).build()).await?;
+        std::fs::write(dir.join(name), png)?;
+    }
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_person_draws_designs_watches_downloads_and_reloads() -> Result<()> {
+    let chrome = match chromium() {
+        Ok(path) => path,
+        Err(missing) if std::env::var("CI").is_ok_and(|v| v == "true") => {
+            panic!("Chromium is not installed ({}): CI must install it (see .ci/run)", missing.display())
+        }
+        Err(missing) => {
+            eprintln!(
+                "SKIPPED web_e2e: Chromium not found at {}; `apt-get install -y chromium` to run it",
+                missing.display()
+            );
+            return Ok(());
+        }
+    };
+    let started = Instant::now();
+    let shots = std::env::var_os("LINKWRIGHT_SCREENSHOTS").map(PathBuf::from);
+    let server = Server::start(&[]);
+    let profile = temp_dir("profile");
+    let downloads = temp_dir("downloads");
+    let config = BrowserConfig::builder()
+        .chrome_executable(chrome)
+        .no_sandbox()
+        .user_data_dir(&profile)
+        .window_size(WIDTH, HEIGHT)
+        .viewport(Viewport { width: WIDTH, height: HEIGHT, ..Viewport::default() })
+        .args([
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            "--enable-unsafe-swiftshader",
+        ])
+        .build()?;
+    let (mut browser, mut handler) = Browser::launch(config).await?;
+    let events = tokio::spawn(async move { while handler.next().await.is_some() {} });
+    browser
+        .execute(
+            SetDownloadBehaviorParams::builder()
+                .behavior(SetDownloadBehaviorBehavior::Allow)
+                .download_path(downloads.to_string_lossy().into_owned())
+                .build()?,
+        )
+        .await?;
+
+    let page = browser.new_page("about:blank").await?;
+    let errors = Arc::new(Mutex::new(Vec::<String>::new()));
+    let mut exceptions = page.event_listener::<EventExceptionThrown>().await?;
+    let seen = errors.clone();
+    tokio::spawn(async move {
+        while let Some(e) = exceptions.next().await {
+            let d = &e.exception_details;
+            let text = d.exception.as_ref().and_then(|x| x.description.clone()).unwrap_or_else(|| d.text.clone());
+            if let Ok(mut all) = seen.lock() {
+                all.push(text);
+            }
+        }
+    });
+    let outcome = run(&page, &server, &downloads, shots.as_deref()).await;
+    if outcome.is_err() {
+        let picture = std::env::temp_dir().join("linkwright-e2e-failure.png");
+        if let Ok(png) = page.screenshot(ScreenshotParams::builder().build()).await {
+            let _ = std::fs::write(&picture, png);
+            eprintln!("web_e2e: the page at the failure is in {}", picture.display());
+        }
+    }
+    let errors = errors.lock().map(|e| e.clone()).unwrap_or_default();
+    browser.close().await?;
+    let _ = browser.wait().await;
+    events.abort();
+    let _ = std::fs::remove_dir_all(&profile);
+    let _ = std::fs::remove_dir_all(&downloads);
+    outcome?;
+    assert!(errors.is_empty(), "the page threw: {errors:?}");
+    eprintln!("web_e2e: done in {:.1} s", started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path>) -> Result<()> {
+    page.goto(server.url.as_str()).await?;
+    until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
+    assert_eq!(eval(page, "!document.getElementById('welcome').hidden").await?, Value::Bool(true));
+    screenshot(page, shots, "blank.png").await?;
+
+    // A fixed body: "Start drawing" picks the rectangle tool for fixed bodies.
+    click(page, "#welcome-start").await?;
+    drag(page, at(page, 20.0, 0.0).await?, at(page, 200.0, 30.0).await?).await?;
+    let s = scene(page).await?;
+    assert_eq!(s["fixed_bodies"].as_array().map(Vec::len), Some(1), "{s}");
+    assert_eq!(floats(&s["fixed_bodies"][0]["polygon"][2]), [200.0, 30.0], "snapped to the grid");
+
+    // Undo and redo with the keyboard.
+    key(page, "z", "KeyZ", 90, 2).await?;
+    until(page, "window.linkwright.store.scene.fixed_bodies.length === 0", Duration::from_secs(2)).await?;
+    key(page, "Z", "KeyZ", 90, 2 | 8).await?;
+    until(page, "window.linkwright.store.scene.fixed_bodies.length === 1", Duration::from_secs(2)).await?;
+
+    // A linkage region as a polygon: click the corners, then the first corner again to close it.
+    click(page, "[data-kind-choice=region]").await?;
+    click(page, "[data-tool=polygon]").await?;
+    for (x, y) in [(0.0, 0.0), (230.0, 0.0), (230.0, 170.0), (0.0, 170.0), (0.0, 0.0)] {
+        tap(page, at(page, x, y).await?).await?;
+    }
+    assert_eq!(scene(page).await?["linkage_region"].as_array().map(Vec::len), Some(4));
+
+    // An ellipse, deleted again with the Delete key.
+    click(page, "[data-kind-choice=fixed]").await?;
+    click(page, "[data-tool=ellipse]").await?;
+    drag(page, at(page, 150.0, 40.0).await?, at(page, 190.0, 60.0).await?).await?;
+    assert_eq!(scene(page).await?["fixed_bodies"][1]["polygon"].as_array().map(Vec::len), Some(32));
+    key(page, "Delete", "Delete", 46, 0).await?;
+    until(page, "window.linkwright.store.scene.fixed_bodies.length === 1", Duration::from_secs(2)).await?;
+
+    // Select the fixed body and move one of its corners.
+    click(page, "[data-tool=select]").await?;
+    tap(page, at(page, 100.0, 15.0).await?).await?;
+    drag(page, at(page, 200.0, 30.0).await?, at(page, 200.0, 35.0).await?).await?;
+    assert_eq!(floats(&scene(page).await?["fixed_bodies"][0]["polygon"][2]), [200.0, 35.0]);
+
+    // A moving body: it gets two poses, the second beside the first, and the select tool.
+    click(page, "[data-kind-choice=moving]").await?;
+    drag(page, at(page, 40.0, 40.0).await?, at(page, 100.0, 60.0).await?).await?;
+    let s = scene(page).await?;
+    let body = &s["moving_bodies"][0];
+    assert_eq!(body["poses"].as_array().map(Vec::len), Some(2), "{s}");
+    assert_eq!(floats(&body["poses"][0]), [70.0, 50.0, 0.0]);
+    assert_eq!(eval(page, "window.linkwright.store.ui.tool").await?, "select");
+
+    // Drag pose 2 up and to the right, then turn it with its handle.
+    let p2 = &body["poses"][1];
+    let (x2, y2) = (p2[0].as_f64().ok_or("x")?, p2[1].as_f64().ok_or("y")?);
+    drag(page, at(page, x2, y2).await?, at(page, 140.0, 120.0).await?).await?;
+    let s = scene(page).await?;
+    assert_eq!(floats(&s["moving_bodies"][0]["poses"][1]), [140.0, 120.0, 0.0], "{s}");
+    let handle = eval(
+        page,
+        "(() => { const h = document.querySelector('.rotate-handle'); const r = h.getBoundingClientRect(); \
+         return [r.x + r.width / 2, r.y + r.height / 2]; })()",
+    )
+    .await?;
+    let handle = (handle[0].as_f64().ok_or("handle")?, handle[1].as_f64().ok_or("handle")?);
+    let centre = at(page, 140.0, 120.0).await?;
+    let reach = ((handle.0 - centre.0).powi(2) + (handle.1 - centre.1).powi(2)).sqrt();
+    // Up is 0°; 60° counter-clockwise puts the handle up and to the left.
+    let target = (centre.0 - reach * 60f64.to_radians().sin(), centre.1 - reach * 60f64.to_radians().cos());
+    drag(page, handle, target).await?;
+    let s = scene(page).await?;
+    assert_eq!(s["moving_bodies"][0]["poses"][1][2].as_f64(), Some(60.0), "{s}");
+
+    // A pose between the two: select pose 1, insert after it.
+    click(page, "#pose-buttons button:first-child").await?;
+    click(page, "#btn-pose-insert").await?;
+    let s = scene(page).await?;
+    assert_eq!(floats(&s["moving_bodies"][0]["poses"][1]), [105.0, 85.0, 30.0], "{s}");
+    until(page, "document.querySelectorAll('#pose-buttons button').length === 3", Duration::from_secs(2)).await?;
+    assert_eq!(eval(page, "document.querySelectorAll('.layer-scene .skin').length").await?, 2);
+    click(page, "#btn-fit").await?;
+    screenshot(page, shots, "drawing.png").await?;
+
+    // A quick design: few samples (Settings tab), then Design.
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.settings.samples").await?, 5000);
+    click(page, "#btn-design").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(40)).await?;
+    let design = eval(page, "window.linkwright.store.result.design.status").await?;
+    assert_eq!(design, "ok");
+    // It animates: the crank angle shown changes over time.
+    let first = eval(page, "document.getElementById('canvas').dataset.crank").await?;
+    tokio::time::sleep(Duration::from_millis(400)).await;
+    let later = eval(page, "document.getElementById('canvas').dataset.crank").await?;
+    assert_ne!(first, later, "the animation moves");
+    assert!(eval(page, "document.querySelectorAll('.layer-resultDynamic .link').length").await?.as_u64() >= Some(1));
+    assert!(eval(page, "document.querySelectorAll('.layer-resultDynamic .joint').length").await?.as_u64() >= Some(3));
+    until(page, "document.querySelector('#tab-result .verified') !== null", Duration::from_secs(10)).await?;
+    assert!(eval(page, "document.querySelectorAll('#tab-result .plot').length").await?.as_u64() >= Some(2));
+
+    // Live redesign: dragging a pose designs again from the last design (a warm start).
+    click(page, "#opt-live").await?;
+    drag(page, at(page, 140.0, 120.0).await?, at(page, 140.0, 130.0).await?).await?;
+    until(
+        page,
+        "window.linkwright.store.result.scene.moving_bodies[0].poses[2][1] === 130 && \
+         !document.getElementById('player').hidden",
+        Duration::from_secs(20),
+    )
+    .await?;
+    click(page, "#opt-live").await?;
+
+    // Download the design JSON.
+    click(page, "#tab-result button[title='the design/1 file']").await?;
+    let file = wait_for_file(downloads, ".design.json", Duration::from_secs(10)).await?;
+    let downloaded: Value = serde_json::from_str(&std::fs::read_to_string(file)?)?;
+    assert_eq!(downloaded["linkwright"], "design/1");
+    assert_eq!(downloaded["status"], "ok");
+
+    // Reload: the scene (and the design) come back.
+    let before = scene(page).await?;
+    page.reload().await?;
+    until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
+    assert_eq!(scene(page).await?, before);
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(10)).await?;
+
+    // When no linkage can exist (every link would enter an avoid region), the app says so, and why.
+    eval(page, "window.linkwright.store.edit('samples', (s) => { s.settings.samples = 500; s.avoid_regions = [[[-1e3, -1e3], [1e3, -1e3], [1e3, 1e3], [-1e3, 1e3]]]; }) && true").await?;
+    click(page, "#btn-design").await?;
+    until(page, "/No linkage found/.test(document.getElementById('tab-result').textContent)", Duration::from_secs(20))
+        .await?;
+    // Cancel stops a long design, here and on the server.
+    eval(page, "window.linkwright.store.edit('long', (s) => { s.settings.samples = 5000000; }) && true").await?;
+    click(page, "#btn-design").await?;
+    until(page, "/%/.test(document.getElementById('job-text').textContent)", Duration::from_secs(20)).await?;
+    click(page, "#btn-cancel").await?;
+    until(page, "document.getElementById('job').hidden", Duration::from_secs(5)).await?;
+    until(page, "fetch('/api/status').then(r => r.json()).then(s => s.running === 0)", Duration::from_secs(15)).await?;
+
+    // A scene the engine refuses: the problems are listed by field.
+    eval(page, "window.linkwright.store.edit('bound', (s) => { s.settings.min_transmission_deg = 95; }) && true")
+        .await?;
+    click(page, "#btn-design").await?;
+    until(
+        page,
+        "/settings.min_transmission_deg/.test(document.querySelector('#tab-result .callout.error')?.textContent)",
+        Duration::from_secs(20),
+    )
+    .await?;
+
+    if shots.is_some() {
+        garbage_truck(page, shots).await?;
+    }
+    Ok(())
+}
+
+/// The garbage truck example, designed and animating (for the README's screenshot).
+async fn garbage_truck(page: &Page, shots: Option<&Path>) -> Result<()> {
+    click(page, "#btn-examples").await?;
+    until(page, "document.querySelector('[data-example=k1_garbage_truck] svg') !== null", Duration::from_secs(10))
+        .await?;
+    screenshot(page, shots, "gallery.png").await?;
+    click(page, "[data-example=k1_garbage_truck]").await?;
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='20000 samples']").await?;
+    click(page, "#btn-design").await?;
+    screenshot(page, shots, "progress.png").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    click(page, "[data-tab=result]").await?;
+    tokio::time::sleep(Duration::from_millis(1300)).await;
+    screenshot(page, shots, "garbage_truck.png").await?;
+    eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
+    tokio::time::sleep(Duration::from_millis(700)).await;
+    screenshot(page, shots, "analysis.png").await
+}
+
+async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<PathBuf> {
+    let start = Instant::now();
+    loop {
+        if let Some(found) = std::fs::read_dir(dir)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.to_string_lossy().ends_with(suffix))
+        {
+            return Ok(found);
+        }
+        if start.elapsed() > within {
+            return Err(format!("no *{suffix} in {} after {within:?}", dir.display()).into());
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}

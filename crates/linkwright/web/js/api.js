@@ -1,0 +1,119 @@
+// The server's API (docs/api.md). Errors come back as ApiError with the server's message and issues.
+
+/** One id per browser tab: the server runs at most one design per client. */
+const CLIENT = (() => {
+  try {
+    let id = sessionStorage.getItem('linkwright.client');
+    if (!id) {
+      id = Array.from(crypto.getRandomValues(new Uint8Array(12)), (b) => b.toString(16).padStart(2, '0')).join('');
+      sessionStorage.setItem('linkwright.client', id);
+    }
+    return id;
+  } catch {
+    return 'tab';
+  }
+})();
+
+export class ApiError extends Error {
+  constructor(status, error, issues = []) {
+    super(error);
+    this.status = status;
+    this.issues = issues;
+  }
+}
+
+async function failure(response) {
+  let body = null;
+  try {
+    body = await response.json();
+  } catch {
+    // not JSON: use the status text
+  }
+  return new ApiError(response.status, body?.error || `${response.status} ${response.statusText}`, body?.issues || []);
+}
+
+async function request(method, path, body, { as = 'json', signal } = {}) {
+  let response;
+  try {
+    response = await fetch(path, {
+      method,
+      headers: { 'content-type': 'application/json', 'x-linkwright-client': CLIENT },
+      body: body === undefined ? undefined : JSON.stringify(body),
+      signal,
+    });
+  } catch (e) {
+    if (e.name === 'AbortError') throw e;
+    throw new ApiError(0, 'the Linkwright server does not answer: is `linkwright serve` still running?');
+  }
+  if (!response.ok) throw await failure(response);
+  return as === 'json' ? response.json() : as === 'blob' ? response.blob() : response.text();
+}
+
+export const examples = () => request('GET', '/api/examples');
+export const example = (name) => request('GET', `/api/examples/${encodeURIComponent(name)}`);
+export const check = (scene, design) => request('POST', '/api/check', { scene, design });
+export const simulate = (scene, design, alternative = null, steps = 240) =>
+  request('POST', '/api/simulate', { scene, design, alternative, steps });
+export const render = (scene, design, kind, alternative = null) =>
+  request('POST', '/api/render', { scene, design, kind, alternative }, { as: 'blob' });
+
+/**
+ * Runs a design with live progress: `on(event, data)` is called for every server-sent event
+ * (accepted, queued, started, progress, design, cancelled, error). Resolves with the design, or null
+ * when cancelled. Aborting `signal` closes the connection, which cancels the job on the server.
+ */
+export async function designStream(scene, on, signal) {
+  let response;
+  try {
+    response = await fetch('/api/design/stream', {
+      method: 'POST',
+      headers: { 'content-type': 'application/json', 'x-linkwright-client': CLIENT },
+      body: JSON.stringify(scene),
+      signal,
+    });
+  } catch (e) {
+    if (e.name === 'AbortError') return null;
+    throw new ApiError(0, 'the Linkwright server does not answer: is `linkwright serve` still running?');
+  }
+  if (!response.ok) throw await failure(response);
+  const reader = response.body.pipeThrough(new TextDecoderStream()).getReader();
+  let buffer = '';
+  let design = null;
+  try {
+    for (;;) {
+      const { value, done } = await reader.read();
+      if (done) break;
+      buffer += value;
+      let cut;
+      while ((cut = buffer.search(/\r?\n\r?\n/)) >= 0) {
+        const block = buffer.slice(0, cut);
+        buffer = buffer.slice(cut).replace(/^\r?\n\r?\n/, '');
+        const event = parseEvent(block);
+        if (!event) continue;
+        on(event.name, event.data);
+        if (event.name === 'design') design = event.data;
+        if (event.name === 'error') throw new ApiError(500, event.data?.error || 'the design failed');
+      }
+    }
+  } catch (e) {
+    if (e.name === 'AbortError') return null;
+    throw e;
+  }
+  return design;
+}
+
+/** One server-sent event block: `event:` and `data:` lines (comments and keep-alives ignored). */
+function parseEvent(block) {
+  let name = 'message';
+  const data = [];
+  for (const line of block.split(/\r?\n/)) {
+    if (line.startsWith('event:')) name = line.slice(6).trim();
+    else if (line.startsWith('data:')) data.push(line.slice(5).replace(/^ /, ''));
+  }
+  if (data.length === 0) return null;
+  try {
+    return { name, data: JSON.parse(data.join('\n')) };
+  } catch {
+    return { name, data: data.join('\n') };
+  }
+}

@@ -1,0 +1,263 @@
+// The drawing: grid, scene, onion-skinned poses, the designed linkage in motion, selection handles and
+// the shape being drawn. Everything is drawn in screen pixels from world coordinates (y up) through
+// the viewport, so strokes and handles keep their size at any zoom.
+
+import { centroid, placed, toWorld } from './geom.js';
+import { clear, points, svg } from './svg.js';
+
+export const BODY_COLOURS = ['#e67e22', '#2e9e4f', '#8e5cc2', '#a0522d', '#d6489b', '#1aa3b8', '#a6a61e'];
+export const PATH_COLOURS = ['#1b9e77', '#d95f02', '#7570b3', '#e7298a', '#66a61e', '#c79a00', '#a6761d', '#555555'];
+export const bodyColour = (b) => BODY_COLOURS[b % BODY_COLOURS.length];
+
+/** Pixels from a vertex within which it is grabbed. */
+export const GRAB_PX = 9;
+/** Distance of the rotate handle beyond the body, pixels. */
+const ROTATE_PX = 28;
+
+export class Canvas {
+  constructor(root, store, viewport) {
+    this.root = root;
+    this.store = store;
+    this.view = viewport;
+    this.preview = null; // {points: world[], cursor: world|null, kind, closed}
+    this.layers = {};
+    for (const name of ['grid', 'scene', 'resultStatic', 'resultDynamic', 'overlay']) {
+      this.layers[name] = svg('g', { class: `layer-${name}` });
+      root.append(this.layers[name]);
+    }
+    this.frame = null; // the result frame drawn now
+    this.resultShown = false;
+  }
+
+  s(p) {
+    return this.view.toScreen(p);
+  }
+
+  /** Redraws everything but the moving result. */
+  render() {
+    this.renderGrid();
+    this.renderScene();
+    this.renderResultStatic();
+    this.renderResultFrame(this.frame);
+    this.renderOverlay();
+  }
+
+  renderGrid() {
+    const g = clear(this.layers.grid);
+    if (!this.store.ui.grid) return;
+    const v = this.view, step = v.gridStep(), box = v.visible();
+    const lines = [];
+    const major = step * 5;
+    const kind = (x) => (Math.abs(x) < step / 2 ? 'axis' : Math.abs(x / major - Math.round(x / major)) < 1e-6 ? 'major' : 'minor');
+    for (let x = Math.ceil(box.minX / step) * step; x <= box.maxX; x += step) {
+      const sx = v.toScreen([x, 0])[0];
+      lines.push(svg('line', { x1: sx, y1: 0, x2: sx, y2: v.height, class: `grid-${kind(x)}` }));
+    }
+    for (let y = Math.ceil(box.minY / step) * step; y <= box.maxY; y += step) {
+      const sy = v.toScreen([0, y])[1];
+      lines.push(svg('line', { x1: 0, y1: sy, x2: v.width, y2: sy, class: `grid-${kind(y)}` }));
+    }
+    g.append(...lines);
+  }
+
+  poly(world, attrs) {
+    return svg('polygon', { points: points(world.map((p) => this.s(p))), ...attrs });
+  }
+
+  /** True while a fresh design is shown (then poses are all drawn as skins and bodies move). */
+  showingResult() {
+    return this.resultShown;
+  }
+
+  renderScene() {
+    const g = clear(this.layers.scene);
+    const { scene, ui } = this.store;
+    if (scene.linkage_region) {
+      g.append(this.poly(scene.linkage_region, { class: 'region', 'data-kind': 'region', 'data-index': 0 }));
+    }
+    (scene.avoid_regions || []).forEach((r, i) => {
+      g.append(this.poly(r, { class: 'avoid', 'data-kind': 'avoid', 'data-index': i }));
+    });
+    scene.fixed_bodies.forEach((b, i) => {
+      g.append(this.poly(b.polygon, { class: 'fixed', 'data-kind': 'fixed', 'data-index': i }));
+    });
+    const result = this.showingResult();
+    // Onion skins first, then every body at the current pose on top.
+    scene.moving_bodies.forEach((b, i) => {
+      b.poses.forEach((pose, p) => {
+        if (p === ui.pose && !result) return;
+        g.append(this.poly(placed(b.polygon, pose), {
+          class: 'skin', style: `--c:${bodyColour(i)}`, 'data-kind': 'moving', 'data-index': i, 'data-pose': p,
+        }));
+      });
+    });
+    if (!result) {
+      scene.moving_bodies.forEach((b, i) => {
+        const pose = b.poses[ui.pose];
+        if (!pose) return;
+        g.append(this.poly(placed(b.polygon, pose), {
+          class: 'moving', style: `--c:${bodyColour(i)}`, 'data-kind': 'moving', 'data-index': i, 'data-pose': ui.pose,
+        }));
+      });
+    }
+  }
+
+  /** Joint paths and the slider guide of the shown design. */
+  renderResultStatic() {
+    const g = clear(this.layers.resultStatic);
+    const r = this.store.result;
+    if (!this.resultShown || !r?.analysis) return;
+    const a = r.analysis;
+    const fixed = new Set(a.fixed_joints);
+    if (this.store.ui.paths !== false) {
+      a.joint_names.forEach((name, j) => {
+        if (fixed.has(name)) return;
+        const pts = a.frames.map((f) => this.s(f.joints[j]));
+        g.append(svg('polyline', { class: 'joint-path', points: points(pts), stroke: PATH_COLOURS[j % PATH_COLOURS.length] }));
+      });
+    }
+    const slider = r.mechanism?.slider;
+    if (slider) {
+      const d = slider.direction, p = slider.point;
+      const at = (t) => this.s([p[0] + d[0] * t, p[1] + d[1] * t]);
+      const [s0, s1] = slider.stroke;
+      const pad = 0.1 * Math.abs(s1 - s0);
+      const [a0, a1] = [at(s0 - pad), at(s1 + pad)];
+      g.append(svg('line', { class: 'guide', x1: a0[0], y1: a0[1], x2: a1[0], y2: a1[1] }));
+    }
+  }
+
+  /** The bodies and the linkage at one frame ({joints, bodies}); null hides them. */
+  renderResultFrame(frame) {
+    this.frame = frame;
+    const g = clear(this.layers.resultDynamic);
+    const r = this.store.result;
+    if (!frame || !this.resultShown || !r?.analysis) return;
+    const { scene } = this.store;
+    const a = r.analysis;
+    const index = new Map(a.joint_names.map((n, j) => [n, j]));
+    const at = (name) => this.s(frame.joints[index.get(name)]);
+    scene.moving_bodies.forEach((b, i) => {
+      const pose = frame.bodies[i];
+      if (pose) g.append(this.poly(placed(b.polygon, pose), { class: 'moving animated', style: `--c:${bodyColour(i)}` }));
+    });
+    const m = r.mechanism;
+    if (!m) return;
+    const driver = m.driver;
+    for (const part of m.parts) {
+      if (part.kind === 'link') {
+        const pts = part.joints.filter((n) => index.has(n)).map(at);
+        const crank = part.joints.includes(driver.pivot) && part.joints.includes(driver.tip);
+        if (pts.length === 2) {
+          g.append(svg('line', { class: crank ? 'link crank' : 'link', x1: pts[0][0], y1: pts[0][1], x2: pts[1][0], y2: pts[1][1] }));
+        } else if (pts.length > 2) {
+          g.append(svg('polygon', { class: 'link ternary', points: points(pts) }));
+        }
+      } else if (part.kind === 'body') {
+        // A bracket from the body to its joints, so joints outside the outline are seen to be fixed to it.
+        const pts = part.joints.filter((n) => index.has(n)).map(at);
+        const pose = frame.bodies[part.body];
+        const body = scene.moving_bodies[part.body];
+        if (pose && body) {
+          const c = this.s(toWorld(pose, centroid(body.polygon)));
+          for (const p of pts) {
+            g.append(svg('line', { class: 'bracket', x1: c[0], y1: c[1], x2: p[0], y2: p[1], style: `--c:${bodyColour(part.body)}` }));
+          }
+        }
+      }
+    }
+    if (m.slider && index.has(m.slider.joint)) {
+      const p = at(m.slider.joint), d = m.slider.direction;
+      const deg = (-Math.atan2(d[1], d[0]) * 180) / Math.PI;
+      g.append(svg('rect', { class: 'slider-block', x: -12, y: -7, width: 24, height: 14, transform: `translate(${p[0]},${p[1]}) rotate(${deg})` }));
+    }
+    for (const name of a.fixed_joints) {
+      const p = at(name);
+      g.append(svg('path', { class: 'ground', d: `M${p[0]},${p[1]} l-9,14 h18 z` }));
+    }
+    a.joint_names.forEach((name) => {
+      const p = at(name);
+      g.append(svg('circle', { class: 'joint', cx: p[0], cy: p[1], r: 4.5, 'data-joint': name }));
+    });
+  }
+
+  renderOverlay() {
+    const g = clear(this.layers.overlay);
+    const { scene, ui } = this.store;
+    this.renderSelection(g);
+    // Pose numbers on every copy of every moving body.
+    scene.moving_bodies.forEach((b, i) => {
+      b.poses.forEach((pose, p) => {
+        const c = this.s(toWorld(pose, centroid(b.polygon)));
+        const current = p === ui.pose && !this.showingResult();
+        g.append(svg('g', { class: current ? 'pose-tag current' : 'pose-tag', transform: `translate(${c[0]},${c[1]})`, style: `--c:${bodyColour(i)}` }, [
+          svg('circle', { r: 9 }),
+          svg('text', { 'text-anchor': 'middle', dy: '0.35em', text: String(p + 1) }),
+        ]));
+      });
+    });
+    this.renderPreview(g);
+  }
+
+  /** Outline, vertex handles and (for a moving body) the rotate handle of the selection. */
+  renderSelection(g) {
+    const { scene, ui } = this.store;
+    const sel = ui.selection;
+    if (!sel || (this.showingResult() && !this.store.ui.live)) return;
+    const world = this.selectionWorld();
+    if (!world) return;
+    const scr = world.map((p) => this.s(p));
+    g.append(svg('polygon', { class: 'selection', points: points(scr) }));
+    scr.forEach((p, v) => {
+      const active = sel.vertex === v;
+      g.append(svg('rect', {
+        class: active ? 'vertex active' : 'vertex', x: p[0] - 5, y: p[1] - 5, width: 10, height: 10,
+        'data-handle': 'vertex', 'data-vertex': v,
+      }));
+    });
+    if (sel.kind === 'moving') {
+      const b = scene.moving_bodies[sel.index];
+      const pose = b.poses[ui.pose];
+      const { origin, handle } = this.rotateHandle(b, pose);
+      g.append(svg('line', { class: 'rotate-stem', x1: origin[0], y1: origin[1], x2: handle[0], y2: handle[1] }));
+      g.append(svg('circle', { class: 'rotate-handle', cx: handle[0], cy: handle[1], r: 7, 'data-handle': 'rotate' }));
+      g.append(svg('path', { class: 'origin', d: `M${origin[0] - 6},${origin[1]} h12 M${origin[0]},${origin[1] - 6} v12` }));
+    }
+  }
+
+  /** Screen positions of a moving body's pose origin and its rotate handle (along the body's own up). */
+  rotateHandle(body, pose) {
+    const origin = this.s([pose[0], pose[1]]);
+    const reach = Math.max(...body.polygon.map((m) => Math.hypot(m[0], m[1]))) * this.view.k + ROTATE_PX;
+    const up = toWorld([0, 0, pose[2]], [0, 1]);
+    return { origin, handle: [origin[0] + up[0] * reach, origin[1] - up[1] * reach] };
+  }
+
+  selectionWorld() {
+    const { scene, ui } = this.store;
+    const sel = ui.selection;
+    switch (sel?.kind) {
+      case 'fixed': return scene.fixed_bodies[sel.index]?.polygon;
+      case 'moving': {
+        const b = scene.moving_bodies[sel.index];
+        return b && b.poses[ui.pose] ? placed(b.polygon, b.poses[ui.pose]) : null;
+      }
+      case 'region': return scene.linkage_region;
+      case 'avoid': return scene.avoid_regions?.[sel.index];
+      default: return null;
+    }
+  }
+
+  renderPreview(g) {
+    const pv = this.preview;
+    if (!pv || pv.points.length === 0) return;
+    const pts = pv.points.map((p) => this.s(p));
+    const cls = `preview preview-${pv.kind}`;
+    if (pv.closed) g.append(svg('polygon', { class: cls, points: points(pts) }));
+    else {
+      const all = pv.cursor ? [...pts, this.s(pv.cursor)] : pts;
+      g.append(svg('polyline', { class: cls, points: points(all) }));
+      pts.forEach((p, i) => g.append(svg('circle', { class: i === 0 ? 'preview-start' : 'preview-dot', cx: p[0], cy: p[1], r: i === 0 ? 6 : 3 })));
+    }
+  }
+}

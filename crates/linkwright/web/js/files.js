@@ -1,0 +1,116 @@
+// Files in and out: open a scene (button or drag-and-drop), save it, download blobs, the example
+// gallery, and the autosave that brings the last scene back on reload.
+
+import * as api from './api.js';
+import { bodyColour } from './canvas.js';
+import { bounds, placed } from './geom.js';
+import { normalize, toFile } from './scene.js';
+import { clear, html, points, svg } from './svg.js';
+
+const AUTOSAVE = 'linkwright.autosave.v1';
+
+/** Offers `blob` as a download called `name`. */
+export function saveBlob(blob, name) {
+  const url = URL.createObjectURL(blob);
+  const a = html('a', { href: url, download: name });
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10000);
+}
+
+export function saveScene(scene) {
+  const name = (scene.name || 'scene').replace(/[^\w.-]+/g, '_');
+  saveBlob(new Blob([JSON.stringify(toFile(scene), null, 1)], { type: 'application/json' }), `${name}.json`);
+}
+
+/** Reads a dropped or chosen file: a scene/1 or a design/1. */
+export async function readFile(file) {
+  if (file.size > 2 * 1024 * 1024) throw new Error(`${file.name} is larger than 2 MB: not a scene file`);
+  let doc;
+  try {
+    doc = JSON.parse(await file.text());
+  } catch (e) {
+    throw new Error(`${file.name} is not JSON (${e.message})`);
+  }
+  if (doc?.linkwright === 'design/1') return { design: doc };
+  return { scene: normalize(doc) };
+}
+
+/** Wires drag-and-drop of files onto the page; `open(file)` handles one. */
+export function dropTarget(overlay, open) {
+  let depth = 0;
+  const hasFiles = (e) => [...(e.dataTransfer?.types || [])].includes('Files');
+  window.addEventListener('dragenter', (e) => { if (hasFiles(e)) { depth++; overlay.hidden = false; } });
+  window.addEventListener('dragleave', () => { depth = Math.max(0, depth - 1); if (!depth) overlay.hidden = true; });
+  window.addEventListener('dragover', (e) => { if (hasFiles(e)) e.preventDefault(); });
+  window.addEventListener('drop', (e) => {
+    if (!hasFiles(e)) return;
+    e.preventDefault();
+    depth = 0;
+    overlay.hidden = true;
+    const file = e.dataTransfer.files[0];
+    if (file) open(file);
+  });
+}
+
+/** A small picture of a scene: fixed bodies and the moving bodies at every pose. */
+export function sceneThumbnail(scene, w = 150, h = 96) {
+  const moving = scene.moving_bodies.flatMap((b, i) => b.poses.map((p, k) => ({ i, k, pts: placed(b.polygon, p) })));
+  const all = [...scene.fixed_bodies.flatMap((b) => b.polygon), ...moving.flatMap((m) => m.pts)];
+  const pic = svg('svg', { viewBox: `0 0 ${w} ${h}`, width: w, height: h });
+  if (!all.length) return pic;
+  const bb = bounds(all), pad = 5;
+  const k = Math.min((w - 2 * pad) / Math.max(bb.maxX - bb.minX, 1e-9), (h - 2 * pad) / Math.max(bb.maxY - bb.minY, 1e-9));
+  const ox = (w - (bb.maxX - bb.minX) * k) / 2, oy = (h - (bb.maxY - bb.minY) * k) / 2;
+  const s = (p) => [ox + (p[0] - bb.minX) * k, h - oy - (p[1] - bb.minY) * k];
+  for (const b of scene.fixed_bodies) pic.append(svg('polygon', { class: 'fixed', points: points(b.polygon.map(s)) }));
+  for (const m of moving) {
+    pic.append(svg('polygon', { class: m.k === 0 ? 'moving' : 'skin', style: `--c:${bodyColour(m.i)}`, points: points(m.pts.map(s)) }));
+  }
+  return pic;
+}
+
+/** Fills the example gallery; `choose(scene)` opens one. */
+export async function fillGallery(list, choose, fail) {
+  clear(list);
+  let entries;
+  try {
+    entries = await api.examples();
+  } catch (e) {
+    fail(e.message);
+    return;
+  }
+  for (const entry of entries) {
+    const button = html('button', { class: 'example', 'data-example': entry.name, title: `Open “${entry.title}”` }, [
+      html('div', { class: 'pic' }),
+      html('b', { text: entry.title }),
+      html('small', { text: `${entry.bodies} moving bod${entry.bodies === 1 ? 'y' : 'ies'}, ${entry.poses} poses` }),
+    ]);
+    list.append(button);
+    api.example(entry.name).then((scene) => {
+      button.querySelector('.pic').append(sceneThumbnail(normalize(scene)));
+      button.addEventListener('click', () => choose(normalize(scene), entry));
+    }).catch((e) => fail(e.message));
+  }
+}
+
+/** The last session's state, or null. */
+export function restore() {
+  try {
+    const saved = JSON.parse(localStorage.getItem(AUTOSAVE) || 'null');
+    if (!saved?.scene) return null;
+    return { ...saved, scene: normalize(saved.scene) };
+  } catch {
+    return null;
+  }
+}
+
+/** Saves the state for the next reload (quietly does nothing when storage is unavailable or full). */
+export function autosave(state) {
+  try {
+    localStorage.setItem(AUTOSAVE, JSON.stringify(state));
+  } catch {
+    // Private mode or full storage: the scene can still be saved as a file.
+  }
+}

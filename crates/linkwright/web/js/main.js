@@ -1,0 +1,313 @@
+// The app: wires the store, the canvas, the tools, the panels, the results and the files together.
+
+import { Canvas } from './canvas.js';
+import * as F from './files.js';
+import { renderObjectTab, renderSettingsTab } from './panels.js';
+import { geometryKey, Results } from './result.js';
+import * as S from './scene.js';
+import { Store } from './store.js';
+import { toolHint, Tools } from './tools.js';
+import { Viewport } from './viewport.js';
+
+const $ = (id) => document.getElementById(id);
+
+const WELCOME_HINT = 'Start by drawing the part of your object that never moves: “Fixed body” is chosen, so drag a rectangle on the grid. Or open one of the Examples.';
+
+const saved = F.restore();
+const store = new Store(saved?.scene ?? S.newScene());
+const view = new Viewport();
+const root = $('canvas');
+const canvas = new Canvas(root, store, view);
+
+const results = new Results(store, canvas, {
+  job: $('job'), jobFill: $('job-fill'), jobText: $('job-text'), design: $('btn-design'), cancel: $('btn-cancel'),
+  player: $('player'), play: $('btn-play'), scrub: $('scrub'), readout: $('crank-readout'), speed: $('speed'),
+  paths: $('opt-paths'), edit: $('btn-edit'), show: $('btn-show'), live: $('opt-live'),
+}, F.saveBlob);
+
+const tools = new Tools(root, store, canvas, view, {
+  redraw: () => canvas.render(),
+  leaveResult: () => results.leave(),
+  liveResult: () => !!store.ui.live && canvas.showingResult(),
+  poseEdited: () => results.poseEdited(),
+  deleteSelection,
+  pointer: (w) => { $('coords').textContent = `x ${w[0].toFixed(1)}  y ${w[1].toFixed(1)} ${store.scene.units || 'mm'}`; },
+});
+
+function deleteSelection() {
+  const sel = store.ui.selection;
+  if (!sel) return;
+  if (sel.vertex !== undefined) {
+    const done = store.edit('delete a corner', (s) => S.deleteVertex(s, sel, sel.vertex));
+    if (done !== false) {
+      store.setUi({ selection: { kind: sel.kind, index: sel.index } });
+      return;
+    }
+    store.hint('A shape needs at least three corners; press Delete again to delete the whole shape.');
+    store.setUi({ selection: { kind: sel.kind, index: sel.index } });
+    return;
+  }
+  store.edit('delete', (s) => S.deleteShape(s, sel));
+  store.setUi({ selection: null });
+}
+
+// ---- Toolbar -----------------------------------------------------------------------------------
+
+for (const b of document.querySelectorAll('[data-tool]')) {
+  b.addEventListener('click', () => tools.setTool(b.dataset.tool));
+}
+for (const b of document.querySelectorAll('[data-kind-choice]')) {
+  b.addEventListener('click', () => {
+    store.setUi({ kind: b.dataset.kindChoice });
+    // Choosing what to draw also picks a drawing tool, so the next drag draws it.
+    if (store.ui.tool === 'select' || store.ui.tool === 'pan') tools.setTool('rect');
+    else store.hint(toolHint(store.ui));
+  });
+}
+$('opt-grid').addEventListener('change', (e) => store.setUi({ grid: e.target.checked }));
+$('opt-snap').addEventListener('change', (e) => store.setUi({ snap: e.target.checked }));
+$('btn-fit').addEventListener('click', fit);
+$('btn-undo').addEventListener('click', undo);
+$('btn-redo').addEventListener('click', redo);
+$('scene-name').addEventListener('change', (e) => store.edit('rename the scene', (s) => { s.name = e.target.value || 'untitled'; }));
+
+function fit() {
+  view.fit(S.allPoints(store.scene));
+  canvas.render();
+}
+
+function undo() {
+  const label = store.undo();
+  store.hint(label ? `Undid: ${label}. (Redo: Ctrl+Shift+Z)` : 'Nothing to undo.');
+}
+
+function redo() {
+  const label = store.redo();
+  store.hint(label ? `Redid: ${label}.` : 'Nothing to redo.');
+}
+
+// ---- Poses -------------------------------------------------------------------------------------
+
+$('btn-pose-insert').addEventListener('click', () => {
+  const at = store.ui.pose;
+  results.leave();
+  store.edit('insert a pose', (s) => S.insertPose(s, at));
+  store.setUi({ pose: at + 1 });
+  store.hint(`Pose ${at + 2} inserted halfway between its neighbours: drag it into place.`);
+});
+$('btn-pose-delete').addEventListener('click', () => {
+  const at = store.ui.pose;
+  if (store.edit(`delete pose ${at + 1}`, (s) => S.deletePose(s, at)) === false) {
+    store.hint('Every moving body needs at least two poses (a start and an end).');
+    return;
+  }
+  store.clampSelection();
+  store.changed('ui');
+});
+$('btn-pose-earlier').addEventListener('click', () => movePose(-1));
+$('btn-pose-later').addEventListener('click', () => movePose(1));
+
+function movePose(step) {
+  const at = store.ui.pose, to = at + step;
+  if (to < 0 || to >= S.poseCount(store.scene)) return;
+  store.edit(`move pose ${at + 1}`, (s) => S.swapPoses(s, at, to));
+  store.setUi({ pose: to });
+}
+
+function renderPoseBar() {
+  const n = S.poseCount(store.scene);
+  $('posebar').hidden = n === 0;
+  const host = $('pose-buttons');
+  host.replaceChildren(...Array.from({ length: n }, (_, i) => {
+    const b = document.createElement('button');
+    b.textContent = `Pose ${i + 1}`;
+    b.className = i === store.ui.pose ? 'on' : '';
+    b.setAttribute('aria-pressed', String(i === store.ui.pose));
+    b.addEventListener('click', () => { results.leave(); store.setUi({ pose: i }); });
+    return b;
+  }));
+  $('btn-pose-delete').disabled = n <= 2;
+  $('btn-pose-earlier').disabled = store.ui.pose === 0;
+  $('btn-pose-later').disabled = store.ui.pose >= n - 1;
+}
+
+// ---- Tabs --------------------------------------------------------------------------------------
+
+for (const b of document.querySelectorAll('[data-tab]')) {
+  b.addEventListener('click', () => store.setUi({ tab: b.dataset.tab }));
+}
+
+let shownTab = null;
+function renderTabs(what) {
+  const tab = store.ui.tab;
+  for (const b of document.querySelectorAll('[data-tab]')) {
+    b.classList.toggle('on', b.dataset.tab === tab);
+    $(`tab-${b.dataset.tab}`).hidden = b.dataset.tab !== tab;
+  }
+  const switched = tab !== shownTab;
+  shownTab = tab;
+  if (tab === 'object') renderObjectTab($('tab-object'), store);
+  if (tab === 'settings' && (switched || what.has('scene'))) renderSettingsTab($('tab-settings'), store);
+  if (tab === 'result' && (switched || what.has('result') || what.has('scene'))) results.renderTab($('tab-result'));
+}
+
+// ---- Files -------------------------------------------------------------------------------------
+
+async function openFile(file) {
+  try {
+    const got = await F.readFile(file);
+    if (got.scene) {
+      results.leave();
+      store.replace(got.scene, `open ${file.name}`);
+      results.clear();
+      fit();
+      store.hint(`Opened ${file.name}. (Undo brings the previous scene back.)`);
+    } else {
+      store.result = { design: got.design, scene: S.toFile(store.scene), key: geometryKey(store.scene), which: null };
+      await results.select(null);
+      store.setUi({ tab: 'result' });
+      store.hint(`Opened the design ${file.name} for this scene.`);
+    }
+  } catch (e) {
+    store.hint(`Cannot open ${file.name}: ${e.message}`);
+  }
+}
+
+$('btn-open').addEventListener('click', () => $('file-input').click());
+$('file-input').addEventListener('change', (e) => {
+  const file = e.target.files[0];
+  e.target.value = '';
+  if (file) openFile(file);
+});
+$('btn-save').addEventListener('click', () => {
+  F.saveScene(store.scene);
+  store.hint(`Saved ${store.scene.name}.json to your downloads.`);
+});
+$('btn-new').addEventListener('click', () => {
+  results.leave();
+  store.replace(S.newScene(), 'new scene');
+  results.clear();
+  fit();
+  store.hint(`New scene. (Undo brings the previous one back.) ${WELCOME_HINT}`);
+});
+F.dropTarget($('drop'), openFile);
+
+const gallery = $('gallery');
+function openGallery() {
+  gallery.showModal();
+  F.fillGallery($('gallery-list'), (scene, entry) => {
+    gallery.close();
+    results.leave();
+    store.replace(scene, `open the ${entry.title} example`);
+    results.clear();
+    fit();
+    store.hint(`Opened the ${entry.title} example: press “Design linkage” to find its mechanism.`);
+  }, (message) => store.hint(`Cannot load the examples: ${message}`));
+}
+$('btn-examples').addEventListener('click', openGallery);
+$('btn-gallery-close').addEventListener('click', () => gallery.close());
+$('welcome-examples').addEventListener('click', openGallery);
+$('welcome-start').addEventListener('click', () => {
+  store.setUi({ kind: 'fixed', welcomeClosed: true });
+  tools.setTool('rect');
+});
+
+// ---- Keyboard ----------------------------------------------------------------------------------
+
+window.addEventListener('keydown', (e) => {
+  const typing = e.target.closest?.('input, select, textarea') && e.target.type !== 'checkbox' && e.target.type !== 'range';
+  const mod = e.ctrlKey || e.metaKey;
+  if (mod && e.key.toLowerCase() === 'z') {
+    if (typing) return;
+    e.preventDefault();
+    if (e.shiftKey) redo(); else undo();
+    return;
+  }
+  if (mod && e.key.toLowerCase() === 'y') { if (!typing) { e.preventDefault(); redo(); } return; }
+  if (mod && e.key.toLowerCase() === 's') { e.preventDefault(); $('btn-save').click(); return; }
+  if (mod && e.key.toLowerCase() === 'o') { e.preventDefault(); $('btn-open').click(); return; }
+  if (typing || mod || e.altKey) return;
+  if (e.key === ' ') { tools.space = true; e.preventDefault(); return; }
+  if (tools.key(e)) { e.preventDefault(); return; }
+  const shortcuts = { v: 'select', h: 'pan', r: 'rect', p: 'polygon', e: 'ellipse' };
+  const key = e.key.toLowerCase();
+  if (shortcuts[key]) tools.setTool(shortcuts[key]);
+  else if (key === 'f') fit();
+  else if (key === '+' || key === '=' || key === '-') {
+    view.zoomAt([view.width / 2, view.height / 2], key === '-' ? 1 / 1.25 : 1.25);
+    canvas.render();
+  }
+  else if (key === 'g') { store.setUi({ grid: !store.ui.grid }); $('opt-grid').checked = store.ui.grid; }
+  else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) { results.leave(); store.setUi({ pose: Number(key) - 1 }); }
+});
+window.addEventListener('keyup', (e) => { if (e.key === ' ') tools.space = false; });
+
+// ---- Rendering ---------------------------------------------------------------------------------
+
+function resize() {
+  const r = root.getBoundingClientRect();
+  view.resize(r.width, r.height);
+  canvas.render();
+}
+new ResizeObserver(resize).observe(root);
+
+let saveTimer = null;
+store.subscribe((what) => {
+  if (what.has('scene')) store.clampSelection();
+  results.sync();
+  if (document.activeElement !== $('scene-name')) $('scene-name').value = store.scene.name;
+  $('btn-undo').disabled = !store.canUndo();
+  $('btn-redo').disabled = !store.canRedo();
+  for (const b of document.querySelectorAll('[data-tool]')) b.classList.toggle('on', b.dataset.tool === store.ui.tool);
+  for (const b of document.querySelectorAll('[data-kind-choice]')) b.classList.toggle('on', b.dataset.kindChoice === store.ui.kind);
+  $('welcome').hidden = !S.isEmpty(store.scene) || !!store.ui.welcomeClosed;
+  $('hint').textContent = store.ui.hint;
+  renderPoseBar();
+  renderTabs(what);
+  canvas.render();
+  clearTimeout(saveTimer);
+  saveTimer = setTimeout(persist, 250);
+});
+
+function persist() {
+  const r = store.result;
+  F.autosave({
+    scene: store.scene,
+    pose: store.ui.pose,
+    view: { ox: view.ox, oy: view.oy, k: view.k },
+    result: r && results.fresh() ? { design: r.design, scene: r.scene, which: r.which } : null,
+  });
+}
+window.addEventListener('pagehide', persist);
+
+// ---- Start -------------------------------------------------------------------------------------
+
+resize();
+if (saved) {
+  store.ui.pose = saved.pose || 0;
+  store.clampSelection();
+  if (saved.view && Number.isFinite(saved.view.k)) Object.assign(view, saved.view);
+  else fit();
+  store.hint('Welcome back: your last scene is restored.');
+  if (saved.result?.design) {
+    store.result = { design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene), which: null };
+    results.select(saved.result.which ?? null).then(() => results.verify());
+  }
+} else {
+  fit();
+  store.hint(WELCOME_HINT);
+}
+store.changed('scene');
+store.hint(store.ui.hint || toolHint(store.ui));
+if (S.isEmpty(store.scene)) store.ui.tool = 'rect';
+
+// For the end-to-end tests and the curious: the state, and the page position of a world point.
+window.linkwright = {
+  store,
+  screenOf(p) {
+    const r = root.getBoundingClientRect();
+    const s = view.toScreen(p);
+    return [r.left + s[0], r.top + s[1]];
+  },
+};
+document.body.dataset.ready = 'true';

@@ -1,0 +1,157 @@
+// The side panel's Object and Settings tabs: the list of shapes with names and poses, and the search
+// settings. Every change goes through the store as one undo step.
+
+import { bodyColour } from './canvas.js';
+import { tidy } from './geom.js';
+import * as S from './scene.js';
+import { clear, html } from './svg.js';
+
+/** Replaces a panel's content, keeping the focused field focused (the panel is rebuilt on every change). */
+function rebuild(host, children) {
+  const focused = host.contains(document.activeElement) ? document.activeElement?.dataset?.key : null;
+  clear(host).append(...children);
+  if (focused) {
+    const again = host.querySelector(`[data-key="${CSS.escape(focused)}"]`);
+    again?.focus();
+  }
+}
+
+const number = (value, key, onCommit, attrs = {}) =>
+  html('input', {
+    type: 'number', value: String(value), 'data-key': key, step: 'any', ...attrs,
+    onchange: (e) => {
+      const v = Number(e.target.value);
+      if (e.target.value !== '' && Number.isFinite(v)) onCommit(v);
+    },
+    onkeydown: (e) => e.key === 'Enter' && e.target.blur(),
+  });
+
+export function renderObjectTab(host, store) {
+  const { scene, ui } = store;
+  const sel = ui.selection;
+  const isSel = (kind, index) => sel && sel.kind === kind && sel.index === index;
+  const select = (kind, index) => store.setUi({ selection: { kind, index } });
+  const remove = (kind, index) => store.edit(`delete ${kind}`, (s) => S.deleteShape(s, { kind, index }));
+  const row = (kind, index, label, colour, named) =>
+    html('li', { class: isSel(kind, index) ? 'row selected' : 'row', onclick: () => select(kind, index) }, [
+      html('span', { class: 'swatch', style: `background:${colour}` }),
+      named
+        ? html('input', {
+          class: 'name', value: label, 'data-key': `${kind}-name-${index}`, 'aria-label': 'name',
+          onclick: (e) => e.stopPropagation(),
+          onchange: (e) => store.edit('rename', (s) => {
+            (kind === 'fixed' ? s.fixed_bodies : s.moving_bodies)[index].name = e.target.value;
+          }),
+        })
+        : html('span', { class: 'name', text: label }),
+      html('button', { class: 'icon', title: 'Delete', 'aria-label': `delete ${label}`, text: '×', onclick: (e) => { e.stopPropagation(); remove(kind, index); } }),
+    ]);
+
+  const out = [];
+  out.push(html('h3', { text: 'Fixed bodies' }));
+  out.push(scene.fixed_bodies.length
+    ? html('ul', { class: 'list' }, scene.fixed_bodies.map((b, i) => row('fixed', i, b.name, '#c4c4c4', true)))
+    : html('p', { class: 'empty', text: 'None yet: choose Draw “Fixed body” and drag a rectangle.' }));
+  out.push(html('h3', { text: 'Moving bodies' }));
+  out.push(scene.moving_bodies.length
+    ? html('ul', { class: 'list' }, scene.moving_bodies.map((b, i) => row('moving', i, b.name, bodyColour(i), true)))
+    : html('p', { class: 'empty', text: 'None yet: choose Draw “Moving body” to draw the part that moves.' }));
+  out.push(html('h3', { text: 'Regions' }));
+  const regions = [];
+  if (scene.linkage_region) regions.push(row('region', 0, 'linkage region', '#2b6cb0', false));
+  (scene.avoid_regions || []).forEach((_, i) => regions.push(row('avoid', i, `avoid region ${i + 1}`, '#d62728', false)));
+  out.push(regions.length
+    ? html('ul', { class: 'list' }, regions)
+    : html('p', { class: 'empty', text: 'Optional: a linkage region says where the joints should go; avoid regions where links may not go.' }));
+
+  if (sel?.kind === 'moving' && scene.moving_bodies[sel.index]) out.push(...poseTable(store, sel.index));
+  rebuild(host, out);
+}
+
+/** The selected moving body's poses as editable numbers. */
+function poseTable(store, b) {
+  const body = store.scene.moving_bodies[b];
+  const set = (p, k, v) => store.edit(`edit pose ${p + 1}`, (s) => { s.moving_bodies[b].poses[p][k] = tidy(v, k === 2 ? 2 : 3); });
+  const head = html('tr', {}, ['Pose', 'x', 'y', 'angle°'].map((t) => html('th', { text: t })));
+  const rows = body.poses.map((pose, p) =>
+    html('tr', { class: p === store.ui.pose ? 'current' : '', onclick: () => store.setUi({ pose: p }) }, [
+      html('td', { text: String(p + 1) }),
+      html('td', {}, [number(tidy(pose[0], 2), `pose-${b}-${p}-x`, (v) => set(p, 0, v))]),
+      html('td', {}, [number(tidy(pose[1], 2), `pose-${b}-${p}-y`, (v) => set(p, 1, v))]),
+      html('td', {}, [number(tidy(pose[2], 2), `pose-${b}-${p}-a`, (v) => set(p, 2, v))]),
+    ]));
+  return [
+    html('h3', { text: `Poses of ${body.name}` }),
+    html('table', { class: 'poses' }, [html('thead', {}, [head]), html('tbody', {}, rows)]),
+    html('p', { class: 'note', text: 'Pose 1 is where the motion starts; the linkage visits the poses in order. Every moving body has one pose per column of the pose bar.' }),
+  ];
+}
+
+const WEIGHTS = [
+  ['accuracy', 'Accuracy', 'how closely the poses are hit'],
+  ['smoothness', 'Smoothness', 'how direct the motion between poses is'],
+  ['location', 'Location', 'how strongly joints keep to the linkage region'],
+  ['size', 'Size', 'how short the links are'],
+];
+
+/** A log-scale slider (0.01 to 100) with a number field beside it. */
+function weightControl(store, key, label, help) {
+  const value = store.scene.weights[key];
+  const pos = value > 0 ? Math.log10(value) : -2;
+  const field = number(value, `w-${key}`, (v) => commit(Math.max(0, v)), { min: 0 });
+  const commit = (v) => store.edit(`weight ${key}`, (s) => { s.weights[key] = v; });
+  const slider = html('input', {
+    type: 'range', min: -2, max: 2, step: 0.05, value: String(pos), 'data-key': `ws-${key}`, 'aria-label': `${label} weight`,
+    oninput: (e) => { field.value = String(tidy(10 ** Number(e.target.value), 3)); },
+    onchange: (e) => commit(tidy(10 ** Number(e.target.value), 3)),
+  });
+  return html('div', { class: 'field' }, [
+    html('label', { text: label, title: help }), slider, field,
+    html('small', { text: help }),
+  ]);
+}
+
+export function renderSettingsTab(host, store) {
+  const { scene } = store;
+  const st = scene.settings;
+  const setSetting = (k, v) => store.edit(`setting ${k}`, (s) => { s.settings[k] = v; });
+  const row = (label, control, help) => html('div', { class: 'field' }, [html('label', { text: label }), control, help ? html('small', { text: help }) : null]);
+  const mechanism = html('select', {
+    'data-key': 'mechanism',
+    onchange: (e) => store.edit('mechanism', (s) => { s.mechanism = e.target.value; }),
+  }, [
+    ['auto', 'Automatic (best of all types)'],
+    ['chain', 'Bar linkage (four-bar, six-bar, …)'],
+    ['slider_crank', 'Slider-crank (one moving body)'],
+  ].map(([v, t]) => html('option', { value: v, text: t, selected: scene.mechanism === v })));
+  const samples = html('div', { class: 'inline' }, [
+    number(st.samples, 'samples', (v) => setSetting('samples', Math.max(1, Math.round(v))), { min: 1, step: 1000 }),
+    ...[['Quick', 5000], ['Normal', 20000], ['Paper', 100000]].map(([t, n]) =>
+      html('button', { class: st.samples === n ? 'small on' : 'small', text: t, title: `${n} samples`, onclick: () => setSetting('samples', n) })),
+  ]);
+  const seed = html('div', { class: 'inline' }, [
+    number(st.seed, 'seed', (v) => setSetting('seed', Math.max(0, Math.round(v))), { min: 0, step: 1 }),
+    html('button', { class: 'small', text: 'New seed', title: 'Another random search', onclick: () => setSetting('seed', Math.floor(Math.random() * 1e6)) }),
+  ]);
+  rebuild(host, [
+    html('h3', { text: 'Mechanism' }),
+    row('Type', mechanism),
+    html('h3', { text: 'What matters most' }),
+    ...WEIGHTS.map(([k, l, h]) => weightControl(store, k, l, h)),
+    html('h3', { text: 'Tolerances' }),
+    row('Pose tolerance', number(st.pose_tolerance, 'pose_tolerance', (v) => setSetting('pose_tolerance', Math.max(0, v)), { min: 0, step: 0.1 }),
+      'how loosely the in-between poses may be met, as a fraction of the body size (0 = exactly)'),
+    row('Angle tolerance °', number(st.angle_tolerance_deg, 'angle_tolerance_deg', (v) => setSetting('angle_tolerance_deg', Math.max(0, v)), { min: 0, step: 1 })),
+    row('Min. transmission °', number(st.min_transmission_deg, 'min_transmission_deg', (v) => setSetting('min_transmission_deg', Math.max(0, v)), { min: 0, max: 80, step: 1 }),
+      'how far every joint angle must stay from a dead point (0° or 180°)'),
+    html('h3', { text: 'Search' }),
+    row('Samples', samples, 'more samples: better designs, longer runs'),
+    row('Seed', seed, 'the same seed gives the same design'),
+    row('Particles', number(st.particles, 'particles', (v) => setSetting('particles', Math.max(1, Math.round(v))), { min: 1, step: 10 })),
+    row('Iterations', number(st.iterations, 'iterations', (v) => setSetting('iterations', Math.max(0, Math.round(v))), { min: 0, step: 1 })),
+    html('button', {
+      text: 'Reset to defaults',
+      onclick: () => store.edit('reset settings', (s) => { s.weights = { ...S.DEFAULT_WEIGHTS }; s.settings = { ...S.DEFAULT_SETTINGS }; s.mechanism = 'auto'; }),
+    }),
+  ]);
+}

@@ -1,0 +1,105 @@
+// Small SVG charts of a design's analysis: transmission angles over the motion, the error at each
+// pose, and each loop's Grashof type.
+
+import { bodyColour, PATH_COLOURS } from './canvas.js';
+import { html, points, svg } from './svg.js';
+
+const W = 300, H = 150, PAD = { l: 40, r: 8, t: 14, b: 30 };
+
+/** Axes with horizontal grid lines at `yTicks`, labelled with `unit`, and an x-axis caption. */
+function axes(xLabel, unit, yTicks, scaleY) {
+  const g = svg('g', { class: 'axes' });
+  g.append(svg('line', { x1: PAD.l, y1: H - PAD.b, x2: W - PAD.r, y2: H - PAD.b }));
+  g.append(svg('line', { x1: PAD.l, y1: PAD.t, x2: PAD.l, y2: H - PAD.b }));
+  for (const t of yTicks) {
+    const y = scaleY(t);
+    g.append(svg('line', { class: 'tick', x1: PAD.l - 3, y1: y, x2: W - PAD.r, y2: y }));
+    g.append(svg('text', { x: PAD.l - 5, y, dy: '0.35em', 'text-anchor': 'end', text: `${t}${unit}` }));
+  }
+  g.append(svg('text', { x: (PAD.l + W - PAD.r) / 2, y: H - 4, 'text-anchor': 'middle', text: xLabel }));
+  return g;
+}
+
+/**
+ * Transmission angle (0–180°) of every dyad against the crank angle, with the forbidden bands near 0°
+ * and 180° shaded, the poses marked, and a cursor at the current frame (returned for updates).
+ */
+export function transmissionPlot(analysis) {
+  const frames = analysis.frames;
+  const xs = frames.map((f) => f.crank_deg);
+  const x0 = xs[0], x1 = xs[xs.length - 1] === x0 ? x0 + 1 : xs[xs.length - 1];
+  const sx = (x) => PAD.l + ((x - x0) / (x1 - x0)) * (W - PAD.l - PAD.r);
+  const sy = (y) => H - PAD.b - (y / 180) * (H - PAD.t - PAD.b);
+  const bound = analysis.min_transmission_bound_deg;
+  const root = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', role: 'img', 'aria-label': 'transmission angles' });
+  root.append(svg('rect', { class: 'band', x: PAD.l, y: sy(bound), width: W - PAD.l - PAD.r, height: sy(0) - sy(bound) }));
+  root.append(svg('rect', { class: 'band', x: PAD.l, y: sy(180), width: W - PAD.l - PAD.r, height: sy(180 - bound) - sy(180) }));
+  root.append(axes(`crank angle, ${x0.toFixed(0)}° to ${x1.toFixed(0)}°`, '°', [0, 45, 90, 135, 180], sy));
+  for (const p of analysis.poses) {
+    const x = sx(p.crank_deg);
+    root.append(svg('line', { class: 'pose-mark', x1: x, y1: PAD.t, x2: x, y2: H - PAD.b }));
+    root.append(svg('text', { class: 'pose-num', x, y: PAD.t - 4, 'text-anchor': 'middle', text: String(p.pose + 1) }));
+  }
+  analysis.dyads.forEach((d, i) => {
+    const pts = frames.map((f) => [sx(f.crank_deg), sy(f.transmission_deg[i])]);
+    root.append(svg('polyline', { class: 'series', points: points(pts), stroke: PATH_COLOURS[i % PATH_COLOURS.length] }));
+  });
+  const cursor = svg('line', { class: 'cursor', x1: PAD.l, y1: PAD.t, x2: PAD.l, y2: H - PAD.b });
+  root.append(cursor);
+  const legend = html('div', { class: 'legend' }, analysis.dyads.map((d, i) =>
+    html('span', {}, [html('i', { style: `background:${PATH_COLOURS[i % PATH_COLOURS.length]}` }), `at ${d.joint} (${d.from.join('–')})`])));
+  const note = html('small', { text: `Shaded: closer than ${bound}° to a dead point. Worst along the motion: ${analysis.min_transmission_deg.toFixed(1)}°.` });
+  return {
+    element: html('div', { class: 'chart' }, [root, legend, note]),
+    moveCursor: (crankDeg) => {
+      const x = sx(crankDeg);
+      cursor.setAttribute('x1', x);
+      cursor.setAttribute('x2', x);
+    },
+  };
+}
+
+/** The largest vertex error of every body at every pose, as bars. */
+export function errorPlot(analysis, scene) {
+  const poses = analysis.poses;
+  const bodies = scene.moving_bodies.length;
+  const max = Math.max(1e-9, ...poses.flatMap((p) => p.bodies.map((b) => b.max_vertex)));
+  const top = niceCeil(max);
+  const sy = (y) => H - PAD.b - (y / top) * (H - PAD.t - PAD.b);
+  const root = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', role: 'img', 'aria-label': 'error at each pose' });
+  root.append(axes('pose', ` ${scene.units || 'mm'}`, [0, top / 2, top].map((t) => +t.toPrecision(3)), sy));
+  const slot = (W - PAD.l - PAD.r) / poses.length;
+  const bar = Math.min(28, (slot * 0.7) / Math.max(bodies, 1));
+  poses.forEach((p, i) => {
+    const cx = PAD.l + slot * (i + 0.5);
+    p.bodies.forEach((b, k) => {
+      const x = cx - (bar * bodies) / 2 + k * bar;
+      const y = sy(b.max_vertex);
+      root.append(svg('rect', { class: 'bar', x, y, width: bar - 2, height: Math.max(H - PAD.b - y, 0.5), fill: bodyColour(k) }, [
+        svg('title', { text: `pose ${i + 1}, ${scene.moving_bodies[k]?.name}: off by up to ${b.max_vertex.toFixed(2)}, turned ${b.angle_deg.toFixed(2)}° too far` }),
+      ]));
+    });
+    root.append(svg('text', { x: cx, y: H - PAD.b + 12, 'text-anchor': 'middle', text: String(i + 1) }));
+  });
+  const worst = Math.max(...poses.flatMap((p) => p.bodies.map((b) => Math.abs(b.angle_deg))));
+  return html('div', { class: 'chart' }, [root, html('small', {
+    text: `How far each body's outline is from where it was drawn, at each pose (largest corner distance). Largest angle miss: ${worst.toFixed(2)}°.`,
+  })]);
+}
+
+/** 1, 2 or 5 × 10ⁿ at or above `x`. */
+function niceCeil(x) {
+  const p = 10 ** Math.floor(Math.log10(x));
+  for (const m of [1, 2, 5, 10]) if (m * p >= x) return m * p;
+  return 10 * p;
+}
+
+/** Each loop with its Grashof type and link lengths. */
+export function loopList(analysis) {
+  return html('ul', { class: 'loops' }, analysis.loops.map((l) => html('li', {}, [
+    html('b', { text: l.name }), ' ',
+    html('span', { class: l.grashof ? 'badge ok' : 'badge', text: l.grashof ? 'Grashof' : 'non-Grashof' }),
+    html('div', { text: l.description }),
+    html('small', { text: l.links.map((k) => `${k.role} ${k.joints.join('–')} ${k.length.toFixed(1)}`).join(' · ') }),
+  ])));
+}

@@ -1,0 +1,434 @@
+// Running a design (with live progress and cancel), showing the result: the animation player, the
+// metrics, alternatives as thumbnails, the analysis plots and the downloads.
+
+import * as api from './api.js';
+import { bodyColour } from './canvas.js';
+import { bounds, placed } from './geom.js';
+import { errorPlot, loopList, transmissionPlot } from './plots.js';
+import { toFile } from './scene.js';
+import { clear, html, points, svg } from './svg.js';
+
+const STAGES = { sampling: 'Sampling linkages', collision: 'Checking collisions', refining: 'Refining the best' };
+const FAMILIES = { chain: 'bar linkage', slider_crank: 'slider-crank' };
+/** Seconds one way through the motion at speed 1. */
+const TRAVEL_SECONDS = 3;
+
+/** What a design depends on in the drawing (settings may change without hiding it). */
+export function geometryKey(scene) {
+  return JSON.stringify([scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || []]);
+}
+
+export function mechanismName(m) {
+  if (!m) return '';
+  if (m.type === 'slider_crank') return 'slider-crank';
+  const k = m.parts.filter((p) => p.kind === 'body').length;
+  return k === 1 ? 'four-bar linkage' : k === 2 ? 'Watt-I six-bar linkage' : `${2 * k + 2}-bar linkage`;
+}
+
+export class Results {
+  constructor(store, canvas, els, save) {
+    this.store = store;
+    this.canvas = canvas;
+    this.els = els; // {job, jobFill, jobText, design, cancel, player, play, scrub, readout, speed, paths, edit, tab}
+    this.save = save; // (blob, filename) => void
+    this.controller = null;
+    this.error = null; // {message, issues}
+    this.pos = 0;
+    this.dir = 1;
+    this.playing = false;
+    this.speed = 1;
+    this.last = null;
+    this.plot = null;
+    els.design.addEventListener('click', () => this.run());
+    els.cancel.addEventListener('click', () => this.cancel());
+    els.play.addEventListener('click', () => this.setPlaying(!this.playing));
+    els.scrub.addEventListener('input', () => {
+      this.setPlaying(false);
+      this.pos = (Number(els.scrub.value) / 1000) * (this.frameCount() - 1);
+      this.drawFrame();
+    });
+    els.speed.addEventListener('change', () => { this.speed = Number(els.speed.value) || 1; });
+    els.paths.addEventListener('change', () => this.store.setUi({ paths: els.paths.checked }));
+    els.edit.addEventListener('click', () => this.leave());
+    els.live.addEventListener('change', () => {
+      this.store.setUi({ live: els.live.checked });
+      this.store.hint(els.live.checked
+        ? 'Live: drag a numbered pose (or its round handle) and the linkage is redesigned as you go.'
+        : 'Live redesign is off.');
+    });
+    els.show.addEventListener('click', () => this.enter());
+  }
+
+  get result() {
+    return this.store.result;
+  }
+
+  /** True when the shown design was made for the drawing as it is now. */
+  fresh() {
+    const r = this.result;
+    return !!r && r.key === geometryKey(this.store.scene);
+  }
+
+  frameCount() {
+    return this.result?.analysis?.frames.length || 0;
+  }
+
+  /** Shows the animation (when there is a fresh design). */
+  enter() {
+    if (!this.fresh() || !this.result.analysis) return;
+    this.store.setUi({ showResult: true, selection: null });
+    this.setPlaying(true);
+  }
+
+  /** Back to editing: the animation stops and the poses are editable again. */
+  leave() {
+    if (!this.store.ui.showResult) return;
+    this.setPlaying(false);
+    this.store.setUi({ showResult: false });
+  }
+
+  /** Keeps the canvas and the player in step with the state (called on every change). */
+  sync() {
+    // In live mode the last design stays up while the next one is computed for the edited poses.
+    const current = this.fresh() || (this.store.ui.live && this.liveBusy);
+    const show = !!this.store.ui.showResult && current && !!this.result?.analysis;
+    this.canvas.resultShown = show;
+    this.els.player.hidden = !show;
+    this.els.show.hidden = show || !this.fresh() || !this.result?.analysis;
+    if (!show) this.setPlaying(false);
+    // While a design runs, its progress bar and Cancel take the Design button's place.
+    this.els.design.hidden = !!this.controller;
+  }
+
+  setPlaying(on) {
+    if (on && this.frameCount() < 2) on = false;
+    this.playing = on;
+    this.els.play.textContent = on ? '❚❚ Pause' : '▶ Play';
+    this.els.play.setAttribute('aria-pressed', String(on));
+    if (on && !this.raf) {
+      this.last = null;
+      this.raf = requestAnimationFrame((t) => this.tick(t));
+    }
+  }
+
+  tick(t) {
+    this.raf = null;
+    if (!this.playing) return;
+    const n = this.frameCount();
+    if (this.last !== null && n > 1) {
+      const dt = Math.min((t - this.last) / 1000, 0.1);
+      this.pos += (this.dir * dt * this.speed * (n - 1)) / TRAVEL_SECONDS;
+      if (this.pos >= n - 1) { this.pos = n - 1; this.dir = -1; }
+      if (this.pos <= 0) { this.pos = 0; this.dir = 1; }
+      this.drawFrame();
+    }
+    this.last = t;
+    this.raf = requestAnimationFrame((u) => this.tick(u));
+  }
+
+  /** The configuration at fractional frame `pos`, interpolated between neighbouring frames. */
+  frameAt(pos) {
+    const frames = this.result.analysis.frames;
+    const i = Math.max(0, Math.min(frames.length - 1, Math.floor(pos)));
+    const j = Math.min(frames.length - 1, i + 1);
+    const t = Math.max(0, Math.min(1, pos - i));
+    const a = frames[i], b = frames[j];
+    const mix = (x, y) => x + (y - x) * t;
+    return {
+      crank_deg: mix(a.crank_deg, b.crank_deg),
+      joints: a.joints.map((p, k) => [mix(p[0], b.joints[k][0]), mix(p[1], b.joints[k][1])]),
+      bodies: a.bodies.map((p, k) => [mix(p[0], b.bodies[k][0]), mix(p[1], b.bodies[k][1]), mix(p[2], b.bodies[k][2])]),
+    };
+  }
+
+  drawFrame() {
+    if (!this.result?.analysis) return;
+    const frame = this.frameAt(this.pos);
+    this.canvas.renderResultFrame(frame);
+    const n = this.frameCount();
+    this.els.scrub.value = String(n > 1 ? Math.round((this.pos / (n - 1)) * 1000) : 0);
+    this.els.readout.textContent = `crank ${frame.crank_deg.toFixed(1)}°`;
+    this.canvas.root.dataset.crank = frame.crank_deg.toFixed(3);
+    this.plot?.moveCursor(frame.crank_deg);
+  }
+
+  /** The Design button: streams progress, then shows the design. */
+  async run() {
+    if (this.controller) return;
+    const scene = toFile(this.store.scene);
+    const key = geometryKey(this.store.scene);
+    this.controller = new AbortController();
+    this.error = null;
+    this.progress({ fraction: 0, text: 'Starting…' });
+    this.sync();
+    try {
+      const design = await api.designStream(scene, (name, data) => this.onEvent(name, data), this.controller.signal);
+      if (design) {
+        this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: this.warnings };
+        await this.select(null);
+        this.store.setUi({ tab: 'result' });
+        if (design.status === 'ok') {
+          this.store.hint(`Done: a ${mechanismName(design.mechanism)}. Press Pause or drag the slider to study it; try an alternative on the right.`);
+          this.verify();
+        } else {
+          this.store.hint('No linkage found: the Result tab says why and what to change.');
+        }
+      } else {
+        this.store.hint('Design cancelled.');
+      }
+    } catch (e) {
+      this.error = { message: e.message, issues: e.issues || [] };
+      this.store.setUi({ tab: 'result' });
+      this.store.hint(`Cannot design: ${e.message}`);
+    } finally {
+      this.controller = null;
+      this.progress(null);
+      this.sync();
+      this.store.changed('result');
+    }
+  }
+
+  cancel() {
+    this.controller?.abort();
+  }
+
+  /** Forgets the design and any error (a new scene was opened). */
+  clear() {
+    this.store.result = null;
+    this.error = null;
+    this.good = null;
+    this.setPlaying(false);
+    this.store.changed('result');
+  }
+
+  /**
+   * Live mode: after a pose was moved, designs again from the last good design (a warm start, fast),
+   * at most one request at a time; edits made meanwhile are picked up by one more run.
+   */
+  poseEdited() {
+    if (!this.store.ui.live || this.controller || !this.lastGood()) return;
+    if (this.liveBusy) {
+      this.livePending = true;
+      return;
+    }
+    this.runLive();
+  }
+
+  lastGood() {
+    const r = this.result;
+    if (r?.design?.status === 'ok') this.good = r.design;
+    return this.good;
+  }
+
+  async runLive() {
+    this.liveBusy = true;
+    this.livePending = false;
+    const scene = toFile(this.store.scene);
+    const key = geometryKey(this.store.scene);
+    try {
+      const design = await api.designStream({ scene, from: this.lastGood() }, () => {});
+      if (design?.status === 'ok') {
+        this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: [] };
+        await this.select(null, { keep: true });
+        this.store.hint(`Live: redesigned for the moved pose (cost ${design.metrics.cost.toFixed(2)}).`);
+      } else if (design) {
+        this.store.hint('Live: no linkage reaches the poses as they are now; move the pose back a little, or press Design linkage.');
+      }
+    } catch (e) {
+      this.store.hint(`Live: ${e.message}`);
+    }
+    this.liveBusy = false;
+    if (this.livePending) this.runLive();
+    else {
+      this.sync();
+      this.store.changed('result');
+    }
+  }
+
+  onEvent(name, data) {
+    if (name === 'accepted') this.warnings = data.warnings || [];
+    if (name === 'queued') this.progress({ fraction: 0, text: 'Waiting for the server (another design is running)…' });
+    if (name === 'started') this.progress({ fraction: 0, text: 'Starting…' });
+    if (name === 'progress') {
+      const pct = Math.round(data.fraction * 100);
+      const best = data.best_cost == null ? '' : ` · best cost ${data.best_cost.toFixed(3)}`;
+      this.progress({ fraction: data.fraction, text: `${STAGES[data.stage] || data.stage} (${FAMILIES[data.mechanism] || data.mechanism}) ${pct}%${best}` });
+    }
+  }
+
+  progress(p) {
+    const { job, jobFill, jobText } = this.els;
+    job.hidden = !p;
+    if (!p) return;
+    jobFill.style.width = `${Math.round(p.fraction * 100)}%`;
+    jobText.textContent = p.text;
+  }
+
+  /** Shows mechanism `which` (null: the design itself) of the current result. */
+  async select(which, { keep = false } = {}) {
+    const r = this.result;
+    if (!r) return;
+    r.which = which;
+    const d = r.design;
+    r.mechanism = which === null ? d.mechanism : d.alternatives[which]?.mechanism;
+    r.metrics = which === null ? d.metrics : d.alternatives[which]?.metrics;
+    r.analysis = null;
+    this.plot = null;
+    if (d.status !== 'ok' || !r.mechanism) {
+      this.store.changed('result');
+      return;
+    }
+    try {
+      const before = this.frameCount();
+      r.analysis = await api.simulate(r.scene, d, which);
+      if (keep && before > 1) {
+        // The same place along the motion, in the new design's frames.
+        this.pos = Math.min((this.pos / (before - 1)) * (r.analysis.frames.length - 1), r.analysis.frames.length - 1);
+      } else {
+        this.pos = 0;
+        this.dir = 1;
+      }
+      this.store.ui.showResult = true;
+      this.store.ui.selection = null;
+      this.sync();
+      this.drawFrame();
+      this.setPlaying(true);
+    } catch (e) {
+      this.error = { message: e.message, issues: e.issues || [] };
+    }
+    this.store.changed('result');
+  }
+
+  async verify() {
+    const r = this.result;
+    try {
+      const answer = await api.check(r.scene, r.design);
+      r.verified = answer;
+    } catch (e) {
+      r.verified = { ok: false, violations: [{ constraint: 'check', message: e.message }] };
+    }
+    this.store.changed('result');
+  }
+
+  async download(kind) {
+    const r = this.result;
+    if (!r) return;
+    const base = (r.scene.name || 'design').replace(/[^\w.-]+/g, '_');
+    if (kind === 'json') {
+      this.save(new Blob([JSON.stringify(r.design, null, 2)], { type: 'application/json' }), `${base}.design.json`);
+      return;
+    }
+    try {
+      const blob = await api.render(r.scene, r.design, kind, r.which);
+      this.save(blob, `${base}.${kind}.svg`);
+    } catch (e) {
+      this.store.hint(`Cannot make the picture: ${e.message}`);
+    }
+  }
+
+  /** The Result tab. */
+  renderTab(host) {
+    clear(host);
+    const r = this.result;
+    if (this.error) {
+      host.append(html('div', { class: 'callout error' }, [
+        html('b', { text: 'Cannot design this yet' }),
+        html('p', { text: this.error.message }),
+        this.error.issues.length ? html('ul', {}, this.error.issues.map((i) =>
+          html('li', { class: i.severity }, [html('code', { text: i.field }), ` ${i.message}`]))) : null,
+      ]));
+    }
+    if (!r) {
+      if (!this.error) host.append(html('p', { class: 'empty', text: 'No design yet. Draw a fixed body, a moving body and its poses, then press “Design linkage”.' }));
+      return;
+    }
+    const d = r.design;
+    if (!this.fresh()) {
+      host.append(html('div', { class: 'callout warn', text: 'The drawing changed since this design. Press “Design linkage” to update it.' }));
+    }
+    if (d.status !== 'ok') {
+      host.append(html('div', { class: 'callout warn' }, [
+        html('b', { text: 'No linkage found' }),
+        html('p', { text: d.reason || '' }),
+      ]));
+      host.append(statsLine(d));
+      return;
+    }
+    const m = r.metrics || d.metrics;
+    host.append(html('h3', { text: r.which === null ? `Best design: ${mechanismName(d.mechanism)}` : `Alternative ${r.which + 1}: ${mechanismName(r.mechanism)}` }));
+    if (r.verified) {
+      host.append(r.verified.ok
+        ? html('p', { class: 'badge ok verified', text: '✓ Re-simulated independently: every constraint holds' })
+        : html('div', { class: 'callout error' }, r.verified.violations.map((v) => html('p', { text: `${v.constraint}: ${v.message}` }))));
+    }
+    host.append(html('table', { class: 'metrics' }, [
+      ['Cost (lower is better)', m.cost.toFixed(3)],
+      ['Accuracy (mean squared error)', m.accuracy.toPrecision(3)],
+      ['Smoothness (path/chord)', m.smoothness.toFixed(3)],
+      ['Distance from region', m.location.toFixed(2)],
+      ['Mean link length', m.size.toFixed(1)],
+      ['Worst transmission angle', `${m.min_transmission_deg.toFixed(1)}°`],
+    ].map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
+    host.append(statsLine(d));
+    for (const w of r.warnings || []) host.append(html('p', { class: 'note', text: `Note: ${w.field}: ${w.message}` }));
+
+    const options = [null, ...d.alternatives.map((_, i) => i)];
+    if (options.length > 1) {
+      host.append(html('h3', { text: 'Alternatives' }));
+      host.append(html('div', { class: 'thumbs' }, options.map((w) => this.thumbnail(w))));
+    }
+    host.append(html('h3', { text: 'Downloads' }));
+    host.append(html('div', { class: 'inline' }, [
+      html('button', { text: 'Design JSON', title: 'the design/1 file', onclick: () => this.download('json') }),
+      html('button', { text: 'Animation SVG', title: 'open it in a browser to watch the motion', onclick: () => this.download('animation') }),
+      html('button', { text: 'Design sheet SVG', onclick: () => this.download('design') }),
+    ]));
+    if (r.analysis) {
+      const a = r.analysis;
+      this.plot = transmissionPlot(a);
+      host.append(html('h3', { text: 'Transmission angles over the motion' }), this.plot.element);
+      host.append(html('h3', { text: 'Error at each pose' }), errorPlot(a, r.scene));
+      host.append(html('h3', { text: 'Loops' }), loopList(a));
+      this.drawFrame();
+    }
+  }
+
+  /** A small picture of one design at its first pose, to pick it. */
+  thumbnail(which) {
+    const r = this.result;
+    const d = r.design;
+    const m = which === null ? d.mechanism : d.alternatives[which].mechanism;
+    const metrics = which === null ? d.metrics : d.alternatives[which].metrics;
+    const scene = r.scene;
+    const bodies = scene.moving_bodies.map((b) => placed(b.polygon, b.poses[0]));
+    const joints = m.joints;
+    const all = [...scene.fixed_bodies.flatMap((b) => b.polygon), ...bodies.flat(), ...Object.values(joints)];
+    const bb = bounds(all);
+    const w = 84, h = 54, pad = 3;
+    const k = Math.min((w - 2 * pad) / Math.max(bb.maxX - bb.minX, 1e-9), (h - 2 * pad) / Math.max(bb.maxY - bb.minY, 1e-9));
+    const s = (p) => [pad + (p[0] - bb.minX) * k, h - pad - (p[1] - bb.minY) * k];
+    const pic = svg('svg', { viewBox: `0 0 ${w} ${h}`, width: w, height: h });
+    for (const b of scene.fixed_bodies) pic.append(svg('polygon', { class: 'fixed', points: points(b.polygon.map(s)) }));
+    bodies.forEach((b, i) => pic.append(svg('polygon', { class: 'moving', style: `--c:${bodyColour(i)}`, points: points(b.map(s)) })));
+    for (const part of m.parts.filter((p) => p.kind === 'link')) {
+      const pts = part.joints.filter((n) => joints[n]).map((n) => s(joints[n]));
+      pic.append(svg(pts.length > 2 ? 'polygon' : 'polyline', { class: 'link thin', points: points(pts) }));
+    }
+    for (const p of Object.values(joints)) {
+      const q = s(p);
+      pic.append(svg('circle', { class: 'joint', cx: q[0], cy: q[1], r: 2 }));
+    }
+    const label = which === null ? 'Best' : `#${which + 1}`;
+    return html('button', {
+      class: r.which === which ? 'thumb selected' : 'thumb',
+      title: `${label}: ${mechanismName(m)}, cost ${metrics.cost.toFixed(3)}`,
+      'data-which': which === null ? 'best' : String(which),
+      onclick: () => this.select(which),
+    }, [pic, html('span', { text: `${label} · ${metrics.cost.toFixed(2)}` })]);
+  }
+}
+
+function statsLine(d) {
+  const s = d.stats;
+  return html('p', { class: 'note', text: `${s.valid} valid of ${s.samples} samples in ${s.seconds.total.toFixed(1)} s, seed ${s.seed}.` });
+}

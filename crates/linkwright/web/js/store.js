@@ -1,0 +1,145 @@
+// The app's state and its undo history. The scene (the document) changes only through `edit` or a
+// `begin`/`update`/`end` gesture, each of which is one undo step; everything else is view state.
+
+const HISTORY = 200;
+
+export class Store {
+  constructor(scene) {
+    this.scene = scene;
+    this.ui = {
+      tool: 'select', // select | pan | rect | polygon | ellipse
+      kind: 'fixed', // what the drawing tools draw: fixed | moving | region | avoid
+      selection: null, // {kind, index, vertex?}
+      pose: 0, // the current pose
+      grid: true,
+      snap: true,
+      tab: 'object',
+      hint: '',
+    };
+    this.result = null; // {design, which, analysis, sceneKey, verified}
+    this.job = null; // {stage, fraction, bestCost, controller, queued}
+    this.undoStack = [];
+    this.redoStack = [];
+    this.listeners = new Set();
+    this.gesture = null;
+    this.scheduled = false;
+  }
+
+  subscribe(fn) {
+    this.listeners.add(fn);
+    return () => this.listeners.delete(fn);
+  }
+
+  /** Tells every listener, once per animation frame. `what` names what changed. */
+  changed(what = 'ui') {
+    this.pending = new Set([...(this.pending || []), what]);
+    if (this.scheduled) return;
+    this.scheduled = true;
+    requestAnimationFrame(() => {
+      this.scheduled = false;
+      const pending = this.pending;
+      this.pending = null;
+      for (const fn of this.listeners) fn(pending);
+    });
+  }
+
+  /** One undoable change of the scene. `fn(scene)` may return false to say nothing changed. */
+  edit(label, fn) {
+    const before = JSON.stringify(this.scene);
+    const out = fn(this.scene);
+    if (out === false || JSON.stringify(this.scene) === before) return out;
+    this.push(before, label);
+    this.changed('scene');
+    return out;
+  }
+
+  /** Starts a gesture (a drag): its updates become one undo step at `end`. */
+  begin(label) {
+    this.gesture = { label, before: JSON.stringify(this.scene) };
+  }
+  update(fn) {
+    fn(this.scene);
+    this.changed('scene');
+  }
+  end() {
+    if (!this.gesture) return;
+    const { label, before } = this.gesture;
+    this.gesture = null;
+    if (JSON.stringify(this.scene) !== before) {
+      this.push(before, label);
+      this.changed('scene');
+    }
+  }
+
+  /** Replaces the whole scene (open, example, new), undoably. */
+  replace(scene, label) {
+    this.push(JSON.stringify(this.scene), label);
+    this.scene = scene;
+    this.ui.selection = null;
+    this.ui.pose = 0;
+    this.changed('scene');
+  }
+
+  push(before, label) {
+    this.undoStack.push({ scene: before, label, ui: this.uiSnapshot() });
+    if (this.undoStack.length > HISTORY) this.undoStack.shift();
+    this.redoStack = [];
+  }
+
+  uiSnapshot() {
+    return { selection: this.ui.selection, pose: this.ui.pose };
+  }
+
+  canUndo() { return this.undoStack.length > 0; }
+  canRedo() { return this.redoStack.length > 0; }
+
+  undo() {
+    const step = this.undoStack.pop();
+    if (!step) return null;
+    this.redoStack.push({ scene: JSON.stringify(this.scene), label: step.label, ui: this.uiSnapshot() });
+    this.restore(step);
+    return step.label;
+  }
+
+  redo() {
+    const step = this.redoStack.pop();
+    if (!step) return null;
+    this.undoStack.push({ scene: JSON.stringify(this.scene), label: step.label, ui: this.uiSnapshot() });
+    this.restore(step);
+    return step.label;
+  }
+
+  restore(step) {
+    this.scene = JSON.parse(step.scene);
+    this.ui.selection = step.ui.selection;
+    this.ui.pose = step.ui.pose;
+    this.clampSelection();
+    this.changed('scene');
+  }
+
+  /** Keeps the selection and the current pose pointing at things that exist. */
+  clampSelection() {
+    const s = this.scene;
+    const n = s.moving_bodies.length ? s.moving_bodies[0].poses.length : 0;
+    this.ui.pose = Math.max(0, Math.min(this.ui.pose, Math.max(n - 1, 0)));
+    const sel = this.ui.selection;
+    if (!sel) return;
+    const exists = {
+      fixed: () => sel.index < s.fixed_bodies.length,
+      moving: () => sel.index < s.moving_bodies.length,
+      region: () => !!s.linkage_region,
+      avoid: () => sel.index < (s.avoid_regions || []).length,
+    }[sel.kind];
+    if (!exists || !exists()) this.ui.selection = null;
+  }
+
+  setUi(patch) {
+    Object.assign(this.ui, patch);
+    this.changed('ui');
+  }
+
+  hint(text) {
+    this.ui.hint = text;
+    this.changed('hint');
+  }
+}

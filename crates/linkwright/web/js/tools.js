@@ -1,0 +1,299 @@
+// What the pointer and the keyboard do on the canvas: select and move shapes and poses, edit vertices,
+// rotate poses, draw rectangles, polygons and ellipses, pan and zoom.
+
+import { GRAB_PX } from './canvas.js';
+import { dist, ellipse, rectangle, segmentDistance, sub } from './geom.js';
+import * as S from './scene.js';
+
+const KIND_NAMES = {
+  fixed: 'a fixed body (a part that never moves)',
+  moving: 'a moving body (a part the linkage will move)',
+  region: 'the linkage region (where the joints should go)',
+  avoid: 'an avoid region (no link may enter it)',
+};
+
+export const TOOL_HINTS = {
+  select: 'Select: click a shape to select it, drag to move it (a moving body: its current pose). Drag a square handle to move a corner, double-click an edge to add one, Delete removes. Drag empty space to pan, scroll to zoom.',
+  pan: 'Pan: drag to move the view, scroll (or + and −) to zoom. Press F to fit everything.',
+  rect: 'Rectangle: drag to draw {kind}.',
+  ellipse: 'Ellipse: drag to draw {kind}.',
+  polygon: 'Polygon: click to place corners of {kind}; click the first corner, double-click or press Enter to close. Backspace removes the last corner, Esc cancels.',
+};
+
+export function toolHint(ui) {
+  return TOOL_HINTS[ui.tool].replace('{kind}', KIND_NAMES[ui.kind]);
+}
+
+export class Tools {
+  constructor(root, store, canvas, view, actions) {
+    this.root = root;
+    this.store = store;
+    this.canvas = canvas;
+    this.view = view;
+    this.actions = actions; // {redraw(), leaveResult(), fit(), deleteSelection()}
+    this.drag = null;
+    this.polygon = [];
+    this.space = false;
+    root.addEventListener('pointerdown', (e) => this.down(e));
+    root.addEventListener('pointermove', (e) => this.move(e));
+    root.addEventListener('pointerup', (e) => this.up(e));
+    root.addEventListener('pointercancel', (e) => this.up(e));
+    root.addEventListener('dblclick', (e) => this.dblclick(e));
+    root.addEventListener('wheel', (e) => this.wheel(e), { passive: false });
+    root.addEventListener('contextmenu', (e) => e.preventDefault());
+  }
+
+  screen(e) {
+    const r = this.root.getBoundingClientRect();
+    return [e.clientX - r.left, e.clientY - r.top];
+  }
+
+  /** The world point under the pointer, on the grid when snapping is on (Alt turns it off). */
+  snapped(e) {
+    const w = this.view.toWorld(this.screen(e));
+    if (!this.store.ui.snap || e.altKey) return w;
+    const step = this.view.gridStep();
+    return w.map((v) => Math.round(v / step) * step);
+  }
+
+  setTool(tool) {
+    this.cancelDrawing();
+    this.store.setUi({ tool });
+    this.store.hint(toolHint(this.store.ui));
+  }
+
+  cancelDrawing() {
+    this.polygon = [];
+    this.canvas.preview = null;
+    this.actions.redraw();
+  }
+
+  down(e) {
+    this.root.setPointerCapture?.(e.pointerId);
+    const s = this.screen(e);
+    const ui = this.store.ui;
+    if (e.button === 1 || e.button === 2 || this.space || ui.tool === 'pan') {
+      this.drag = { type: 'pan', last: s };
+      return;
+    }
+    if (e.button !== 0) return;
+    if (ui.tool === 'select') return this.selectDown(e, s);
+    this.actions.leaveResult();
+    if (ui.tool === 'rect' || ui.tool === 'ellipse') {
+      this.drag = { type: 'box', start: this.snapped(e) };
+      return;
+    }
+    if (ui.tool === 'polygon') {
+      const w = this.snapped(e);
+      const first = this.polygon[0];
+      if (first && this.polygon.length >= 3 && dist(this.view.toScreen(first), s) <= GRAB_PX) {
+        this.finishPolygon();
+        return;
+      }
+      const last = this.polygon[this.polygon.length - 1];
+      if (!last || dist(this.view.toScreen(last), s) > 2) this.polygon.push(w);
+      this.canvas.preview = { points: this.polygon, cursor: w, kind: ui.kind, closed: false };
+      this.actions.redraw();
+    }
+  }
+
+  selectDown(e, s) {
+    const ui = this.store.ui;
+    const handle = e.target.closest?.('[data-handle]');
+    if (handle && ui.selection) {
+      if (handle.dataset.handle === 'vertex') {
+        const v = Number(handle.dataset.vertex);
+        this.store.setUi({ selection: { ...ui.selection, vertex: v } });
+        this.store.begin('move a corner');
+        this.drag = { type: 'vertex', v };
+      } else if (handle.dataset.handle === 'rotate') {
+        this.store.begin('rotate a pose');
+        this.drag = { type: 'rotate' };
+      }
+      return;
+    }
+    const shape = e.target.closest?.('[data-kind]');
+    if (shape) {
+      // In live mode the linkage keeps moving while a pose is dragged (and is redesigned).
+      if (!(this.actions.liveResult() && shape.dataset.kind === 'moving')) this.actions.leaveResult();
+      const sel = { kind: shape.dataset.kind, index: Number(shape.dataset.index) };
+      const patch = { selection: sel };
+      if (shape.dataset.pose !== undefined) patch.pose = Number(shape.dataset.pose);
+      this.store.setUi(patch);
+      this.store.begin(sel.kind === 'moving' ? `move pose ${(patch.pose ?? ui.pose) + 1}` : 'move a shape');
+      this.drag = { type: 'move', start: this.snapped(e), applied: [0, 0] };
+      this.store.hint(sel.kind === 'moving'
+        ? `Pose ${this.store.ui.pose + 1} of ${this.store.scene.moving_bodies[sel.index].name}: drag to move it, drag the round handle to turn it. The numbered copies are its other poses.`
+        : toolHint(ui));
+      return;
+    }
+    this.store.setUi({ selection: null });
+    this.drag = { type: 'pan', last: s };
+  }
+
+  move(e) {
+    const s = this.screen(e);
+    const w = this.view.toWorld(s);
+    this.actions.pointer?.(w);
+    const d = this.drag;
+    const ui = this.store.ui;
+    if (!d) {
+      if (ui.tool === 'polygon' && this.polygon.length) {
+        this.canvas.preview = { points: this.polygon, cursor: this.snapped(e), kind: ui.kind, closed: false };
+        this.actions.redraw();
+      }
+      return;
+    }
+    switch (d.type) {
+      case 'pan':
+        this.view.pan(s[0] - d.last[0], s[1] - d.last[1]);
+        d.last = s;
+        this.actions.redraw();
+        break;
+      case 'box': {
+        const end = this.snapped(e);
+        const pts = ui.tool === 'rect' ? rectangle(d.start, end) : ellipse(d.start, end);
+        this.canvas.preview = { points: pts, kind: ui.kind, closed: true };
+        this.actions.redraw();
+        break;
+      }
+      case 'vertex':
+        this.store.update((sc) => S.moveVertex(sc, ui.selection, d.v, this.snapped(e), ui.pose));
+        break;
+      case 'move': {
+        const total = sub(this.snapped(e), d.start);
+        const delta = sub(total, d.applied);
+        d.applied = total;
+        if (delta[0] || delta[1]) {
+          this.store.update((sc) => S.translate(sc, ui.selection, delta, ui.pose));
+          if (ui.selection.kind === 'moving') this.actions.poseEdited();
+        }
+        break;
+      }
+      case 'rotate': {
+        const b = this.store.scene.moving_bodies[ui.selection.index];
+        const pose = b.poses[ui.pose];
+        const v = sub(w, [pose[0], pose[1]]);
+        let deg = (Math.atan2(v[1], v[0]) * 180) / Math.PI - 90;
+        const step = e.shiftKey ? 15 : ui.snap && !e.altKey ? 5 : 0;
+        if (step) deg = Math.round(deg / step) * step;
+        // Keep the angle continuous with the previous value (poses may wind past ±180°).
+        const prev = pose[2];
+        deg += 360 * Math.round((prev - deg) / 360);
+        this.store.update((sc) => S.setPoseAngle(sc, ui.selection.index, ui.pose, deg));
+        this.actions.poseEdited();
+        this.store.hint(`Pose ${ui.pose + 1}: ${deg.toFixed(1)}° (Shift: steps of 15°, Alt: free)`);
+        break;
+      }
+      default:
+        break;
+    }
+  }
+
+  up(e) {
+    const d = this.drag;
+    this.drag = null;
+    if (!d) return;
+    if (d.type === 'box') {
+      const end = this.snapped(e);
+      const a = this.view.toScreen(d.start), b = this.view.toScreen(end);
+      this.canvas.preview = null;
+      if (Math.abs(a[0] - b[0]) < 4 || Math.abs(a[1] - b[1]) < 4) {
+        this.store.hint('Drag (press, move, release) to draw the shape.');
+        this.actions.redraw();
+        return;
+      }
+      const pts = this.store.ui.tool === 'rect' ? rectangle(d.start, end) : ellipse(d.start, end);
+      this.addShape(pts);
+    } else if (d.type === 'vertex' || d.type === 'move' || d.type === 'rotate') {
+      this.store.end();
+    }
+  }
+
+  dblclick(e) {
+    const ui = this.store.ui;
+    if (ui.tool === 'polygon') {
+      if (this.polygon.length >= 3) this.finishPolygon();
+      return;
+    }
+    if (ui.tool !== 'select' || !ui.selection) return;
+    const world = this.canvas.selectionWorld();
+    if (!world) return;
+    const s = this.screen(e);
+    let best = null;
+    world.forEach((p, i) => {
+      const q = world[(i + 1) % world.length];
+      const { d } = segmentDistance(s, this.view.toScreen(p), this.view.toScreen(q));
+      if (d <= GRAB_PX && (!best || d < best.d)) best = { d, i };
+    });
+    if (best) {
+      const w = this.snapped(e);
+      this.store.edit('add a corner', (sc) => S.insertVertex(sc, ui.selection, best.i, w, ui.pose));
+      this.store.setUi({ selection: { ...ui.selection, vertex: best.i + 1 } });
+    }
+  }
+
+  wheel(e) {
+    e.preventDefault();
+    const factor = Math.exp(-e.deltaY * (e.deltaMode === 1 ? 0.05 : 0.0015));
+    this.view.zoomAt(this.screen(e), factor);
+    this.actions.redraw();
+  }
+
+  finishPolygon() {
+    const pts = this.polygon.filter((p, i, all) => i === 0 || dist(p, all[i - 1]) > 1e-9);
+    this.polygon = [];
+    this.canvas.preview = null;
+    if (pts.length >= 3) this.addShape(pts);
+    else this.actions.redraw();
+  }
+
+  addShape(world) {
+    const kind = this.store.ui.kind;
+    const sel = this.store.edit(`draw ${kind === 'region' ? 'the linkage region' : `a ${kind} shape`}`, (sc) => S.addShape(sc, kind, world));
+    if (!sel) return;
+    this.store.setUi({ selection: sel });
+    if (kind === 'moving') {
+      const body = this.store.scene.moving_bodies[sel.index];
+      this.store.setUi({ tool: 'select', pose: body.poses.length - 1 });
+      this.store.hint(`Moving body drawn. Pose ${body.poses.length} is a copy: drag it to where the part should end up, and turn it with its round handle. Add poses in between with "Insert pose".`);
+    } else if (kind === 'fixed') {
+      this.store.hint('Fixed body drawn. Draw more parts, or switch "Draw" to Moving body to draw the part that moves.');
+    } else if (kind === 'region') {
+      this.store.hint('Linkage region drawn: the joints will be placed in or near it.');
+    } else {
+      this.store.hint('Avoid region drawn: no link will enter it.');
+    }
+  }
+
+  /** Keyboard shortcuts on the canvas; returns true when the key was used. */
+  key(e) {
+    const ui = this.store.ui;
+    if (ui.tool === 'polygon' && this.polygon.length) {
+      if (e.key === 'Enter') { this.finishPolygon(); return true; }
+      if (e.key === 'Escape') { this.cancelDrawing(); return true; }
+      if (e.key === 'Backspace') {
+        this.polygon.pop();
+        this.canvas.preview = this.polygon.length ? { ...this.canvas.preview, points: this.polygon } : null;
+        this.actions.redraw();
+        return true;
+      }
+    }
+    if ((e.key === 'Delete' || e.key === 'Backspace') && ui.selection) {
+      this.actions.deleteSelection();
+      return true;
+    }
+    if (e.key === 'Escape') {
+      this.store.setUi({ selection: null });
+      return true;
+    }
+    if (e.key.startsWith('Arrow') && ui.selection) {
+      const step = e.shiftKey ? this.view.gridStep() * 5 : this.view.gridStep();
+      const delta = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, step], ArrowDown: [0, -step] }[e.key];
+      this.actions.leaveResult();
+      this.store.edit('nudge', (sc) => S.translate(sc, ui.selection, delta, ui.pose));
+      return true;
+    }
+    return false;
+  }
+}
