@@ -12,6 +12,7 @@
 //! - [`synth`]: sampling, hard constraints, soft costs, the particle filter and the pipeline.
 //! - [`design`]: the `design/1` format.
 //! - [`render`]: pictures of a design (SVG text, static and animated).
+//! - [`fab`]: fabrication: connectors, depth ordering, part solids, STL/3MF/SVG/DXF, plates, sheets.
 //! - [`analysis`]: a design's motion replayed for display: frames, error at each pose, Grashof types.
 //!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
@@ -20,6 +21,7 @@
 
 pub mod analysis;
 pub mod design;
+pub mod fab;
 pub mod geom;
 pub mod kinematics;
 pub mod mechanism;

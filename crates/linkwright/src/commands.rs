@@ -34,6 +34,12 @@ pub struct DesignArgs {
     /// design and alternatives seed the search, which then takes a fraction of the time.
     #[arg(long, value_name = "PREVIOUS.json")]
     from: Option<PathBuf>,
+    /// After a successful design, also fabricate it into <output>/fabrication (as `fabricate` does).
+    #[arg(long)]
+    fabricate: bool,
+    /// Print settings for --fabricate (JSON, millimetres; missing fields keep their defaults).
+    #[arg(long, value_name = "PRINT.json", requires = "fabricate")]
+    print_settings: Option<PathBuf>,
 }
 
 /// Shows progress as a bar on stderr (hidden when stderr is not a terminal).
@@ -57,7 +63,9 @@ impl Observer for Bar {
 }
 
 pub fn design(args: DesignArgs) -> Result<(), Failure> {
-    let (_, mut problem) = read_problem(&args.scene)?;
+    let (scene, mut problem) = read_problem(&args.scene)?;
+    let print_settings =
+        if args.fabricate { Some(crate::fabricate::read_settings(args.print_settings.as_deref())?) } else { None };
     if let Some(seed) = args.seed {
         problem.settings.seed = seed;
     }
@@ -112,6 +120,19 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         println!("{json}");
     } else {
         println!("{}", summary(&file, &out_dir));
+    }
+    if let Some(settings) = &print_settings {
+        if outcome.best.is_some() {
+            let line = crate::fabricate::run(&scene, &problem, &file, settings, &out_dir.join("fabrication"))?;
+            // Keep stdout the design JSON alone with --json.
+            if args.json {
+                eprintln!("{line}");
+            } else {
+                println!("{line}");
+            }
+        } else {
+            eprintln!("no design to fabricate");
+        }
     }
     Ok(())
 }

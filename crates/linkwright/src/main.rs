@@ -3,6 +3,7 @@
 
 mod bench;
 mod commands;
+mod fabricate;
 mod files;
 mod serve;
 
@@ -36,6 +37,9 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Start the local web app: sketch an object, design its linkage, watch it move.
     Serve(serve::ServeArgs),
+    /// Printable parts for a design: STL per part, assembly and plates as 3MF, SVG/DXF profiles, the
+    /// assembly sheet and fabrication.json.
+    Fabricate(fabricate::FabricateArgs),
     /// Print the joint positions along a design's motion as CSV.
     Simulate {
         scene: PathBuf,
@@ -59,6 +63,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Design(args) => commands::design(args),
         Command::Check { scene, design, json } => commands::check(&scene, &design, json),
+        Command::Fabricate(args) => fabricate::fabricate(args),
         Command::Simulate { scene, design, steps } => commands::simulate(&scene, &design, steps),
         Command::Serve(args) => serve::serve(args),
         Command::Bench(args) => bench::bench(args),

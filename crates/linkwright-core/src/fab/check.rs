@@ -1,0 +1,200 @@
+//! The checks every fabrication must pass, computed from the parts themselves (not from the ordering's
+//! reasoning): every mesh is a closed, consistently oriented 2-manifold with a positive volume; no two
+//! parts overlap (and no part enters a body) at any row of the motion, decided exactly on the parts'
+//! prisms with a polygon library's overlap predicate; every pin is coaxial with its holes at every row,
+//! with the set radial clearance and its holes within its shaft; every recorded constraint holds.
+
+use super::depth::{violations, Constraint};
+use super::parts::{Prism, Role};
+use super::Fabrication;
+use crate::geom::{point_segment_distance, Aabb, Point, Rigid};
+use i_overlay::float::relate::FloatRelate;
+use serde::Serialize;
+
+/// What the checks found (every list empty when all holds).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct CheckReport {
+    /// Parts whose mesh is not closed or has no positive volume.
+    pub meshes: Vec<String>,
+    /// Pairs of parts that overlap, with where.
+    pub intersections: Vec<String>,
+    /// Pins not seated in their holes.
+    pub seats: Vec<String>,
+    /// Recorded constraints the layers break.
+    pub ordering: Vec<String>,
+    /// Rows of the motion checked.
+    pub rows: usize,
+    /// Pairs of prisms whose overlap was decided by the polygon predicate.
+    pub exact_tests: usize,
+}
+
+impl CheckReport {
+    pub fn ok(&self) -> bool {
+        self.meshes.is_empty() && self.intersections.is_empty() && self.seats.is_empty() && self.ordering.is_empty()
+    }
+}
+
+/// Runs every check over the fabrication's whole motion.
+pub fn check(fab: &Fabrication) -> CheckReport {
+    let mut report = CheckReport { rows: fab.trace.len(), ..CheckReport::default() };
+    for p in &fab.parts {
+        if let Err(e) = p.mesh.check_closed() {
+            report.meshes.push(format!("{}: {e}", p.name));
+        } else if p.mesh.volume() <= 0.0 {
+            report.meshes.push(format!("{}: volume {} is not positive", p.name, p.mesh.volume()));
+        }
+        if let Err(e) = p.print_mesh.check_closed() {
+            report.meshes.push(format!("{} (print orientation): {e}", p.name));
+        }
+    }
+    let c: Vec<Constraint> = violations(&fab.layout, &fab.recorded, &fab.ordering);
+    report.ordering = c.iter().map(|c| format!("{c:?}")).collect();
+    intersections(fab, &mut report);
+    seats(fab, &mut report);
+    report
+}
+
+/// A prism in the world: contours, box, heights.
+type Placed = (Vec<Vec<[f64; 2]>>, Aabb, (f64, f64));
+
+fn is_body(r: Role) -> bool {
+    matches!(r, Role::Body | Role::Ground)
+}
+
+fn intersections(fab: &Fabrication, report: &mut CheckReport) {
+    let parts = &fab.parts;
+    let scale = fab.dims.half_width;
+    let ztol = 1e-9 * scale.max(1.0);
+    let mut poses: Vec<Rigid> = Vec::new();
+    let mut found: std::collections::BTreeSet<(usize, usize)> = Default::default();
+    for r in 0..fab.trace.len() {
+        fab.layout.carrier_poses(fab.trace.row(r), &mut poses);
+        let world: Vec<Vec<Placed>> =
+            parts.iter().map(|p| p.prisms.iter().map(|pr| place(pr, &poses[p.carrier])).collect()).collect();
+        for a in 0..parts.len() {
+            for b in a + 1..parts.len() {
+                let (pa, pb) = (&parts[a], &parts[b]);
+                if found.contains(&(a, b)) {
+                    continue;
+                }
+                // Bodies against bodies is the synthesis's concern, except for the pads fabrication adds.
+                let both_bodies = is_body(pa.role) && is_body(pb.role);
+                if both_bodies && pa.pads.is_empty() && pb.pads.is_empty() {
+                    continue;
+                }
+                if r > 0 && pa.carrier == pb.carrier {
+                    continue;
+                }
+                let pads_a: Vec<_> = pa.pads.iter().map(|pr| place(pr, &poses[pa.carrier])).collect();
+                let pads_b: Vec<_> = pb.pads.iter().map(|pr| place(pr, &poses[pb.carrier])).collect();
+                let pairs: Vec<(&Placed, &Placed)> = if both_bodies {
+                    pads_a
+                        .iter()
+                        .flat_map(|x| world[b].iter().map(move |y| (x, y)))
+                        .chain(pads_b.iter().flat_map(|y| world[a].iter().map(move |x| (x, y))))
+                        .collect()
+                } else {
+                    world[a].iter().flat_map(|x| world[b].iter().map(move |y| (x, y))).collect()
+                };
+                'pairs: for ((sa, ba, za), (sb, bb, zb)) in pairs {
+                    {
+                        if za.1.min(zb.1) - za.0.max(zb.0) <= ztol || !ba.overlaps(bb, 0.0) {
+                            continue;
+                        }
+                        report.exact_tests += 1;
+                        if sa.interiors_intersect(sb) {
+                            found.insert((a, b));
+                            report.intersections.push(format!(
+                                "{} and {} overlap at crank {:.2}° (heights {:.3}..{:.3} and {:.3}..{:.3})",
+                                pa.name,
+                                pb.name,
+                                fab.trace.thetas[r].to_degrees(),
+                                za.0,
+                                za.1,
+                                zb.0,
+                                zb.1
+                            ));
+                            break 'pairs;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A prism in the world: contours (outline counter-clockwise, holes clockwise), box, heights.
+fn place(p: &Prism, pose: &Rigid) -> Placed {
+    let orient = |pts: &[Point], ccw: bool| -> Vec<[f64; 2]> {
+        let mut v: Vec<[f64; 2]> = pts.iter().map(|&q| pose.apply(q)).map(|q| [q.x, q.y]).collect();
+        let area = crate::geom::Polygon::new(pts.to_vec()).signed_area();
+        if (area > 0.0) != ccw {
+            v.reverse();
+        }
+        v
+    };
+    let mut contours = vec![orient(&p.outline, true)];
+    contours.extend(p.holes.iter().map(|h| orient(h, false)));
+    let bb = Aabb::around(contours[0].iter().map(|&[x, y]| Point::new(x, y)))
+        .unwrap_or(Aabb { min: Point::ORIGIN, max: Point::ORIGIN });
+    (contours, bb, p.z)
+}
+
+fn seats(fab: &Fabrication, report: &mut CheckReport) {
+    let d = &fab.dims;
+    let tol = 1e-7 * d.half_width.max(1e-9) * 100.0;
+    let mut poses: Vec<Rigid> = Vec::new();
+    for seat in &fab.seats {
+        let name = &fab.layout_joint_name(seat.joint);
+        let pin_part = &fab.parts[seat.pin_part];
+        for (part, _, r, z) in &seat.holes {
+            if ((r - seat.pin_radius) - d.clearance).abs() > 1e-9 * d.half_width {
+                report.seats.push(format!(
+                    "joint {name}: hole of {} has clearance {}",
+                    fab.parts[*part].name,
+                    r - seat.pin_radius
+                ));
+            }
+            if z.0 < seat.shaft.0 - 1e-9 || z.1 > seat.shaft.1 + 1e-9 {
+                report.seats.push(format!(
+                    "joint {name}: the pin ({:.3}..{:.3}) does not go through {} ({:.3}..{:.3})",
+                    seat.shaft.0, seat.shaft.1, fab.parts[*part].name, z.0, z.1
+                ));
+            }
+        }
+        if seat.holes.is_empty() && seat.slot.is_none() {
+            report.seats.push(format!("joint {name}: the pin on {} goes through no hole", pin_part.name));
+        }
+        for r in 0..fab.trace.len() {
+            fab.layout.carrier_poses(fab.trace.row(r), &mut poses);
+            let axis = poses[pin_part.carrier].apply(seat.pin_at);
+            for (part, at, _, _) in &seat.holes {
+                let centre = poses[fab.parts[*part].carrier].apply(*at);
+                if centre.distance(axis) > tol {
+                    report.seats.push(format!(
+                        "joint {name}: the hole of {} is {:.3e} off the pin at crank {:.2}°",
+                        fab.parts[*part].name,
+                        centre.distance(axis),
+                        fab.trace.thetas[r].to_degrees()
+                    ));
+                    break;
+                }
+            }
+            if let Some((part, (s0, s1), half, _)) = seat.slot {
+                let pose = &poses[fab.parts[part].carrier];
+                let off = point_segment_distance(axis, pose.apply(s0), pose.apply(s1));
+                if off > tol || (half - seat.pin_radius - d.clearance).abs() > 1e-9 * d.half_width {
+                    report.seats.push(format!("joint {name}: the pin leaves the guide's slot at row {r}"));
+                    break;
+                }
+            }
+        }
+    }
+}
+
+impl Fabrication {
+    /// The mechanism's name of joint `j`, or its index.
+    pub fn layout_joint_name(&self, j: usize) -> String {
+        self.joint_names.get(j).cloned().unwrap_or_else(|| j.to_string())
+    }
+}

@@ -1,0 +1,468 @@
+//! Depth ordering (paper §7.2, eq. 16–19): record along the whole motion which member passes over
+//! which connector post or joint pin, then give every member a layer (and a face of the bodies) with
+//! the Pumpkin constraint solver, minimising the number of layers, or prove that none exists.
+//!
+//! Every printed member is the hull of discs of radius `w/2` around a convex core (its joints, and its
+//! post for connectors), so "overlaps in projection" is exactly "the cores are closer than the sum of
+//! the radii"; the test adds the radial clearance. The constraints recorded, for members `a`, `m` and
+//! joint `j` with members `L_j`:
+//! - [`Constraint::Distinct`] (eq. 18–19, over the whole motion rather than the first pose only): two
+//!   members whose outlines overlap at some step lie on different layers;
+//! - [`Constraint::Below`] (eq. 16): a member passing over the post of connector `c` lies above `c`;
+//! - [`Constraint::Around`] (eq. 17): a member passing over the pin of joint `j` lies below every
+//!   member of `L_j` or above every one; [`Constraint::Above`] when the pin stands on a body (nothing
+//!   can pass under it);
+//! - [`Constraint::Outermost`]: the slider guide is the outermost member on its joint (the pin comes
+//!   from the body side and runs in the guide's slot);
+//! - [`Constraint::OppositeFaces`]: two pillars (posts or pins standing on different bodies) that meet
+//!   during the motion must stand on opposite faces of the bodies.
+//!
+//! All members on one joint share a face. The solver minimises the layers on the busier face.
+
+use super::layout::{Layout, MemberKind};
+use super::settings::Faces;
+use super::FabError;
+use crate::geom::{Point, Rigid};
+use crate::kinematics::Trace;
+use pumpkin_conflict_resolvers::resolvers::ResolutionResolver;
+use pumpkin_core::results::{ProblemSolution, SatisfactionResult};
+use pumpkin_core::termination::TimeBudget;
+use pumpkin_core::variables::{DomainId, Literal};
+use pumpkin_core::Solver;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// A pillar: something standing on a body's face up through the layers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PillarRef {
+    /// The post of this connector (or guide) member.
+    Post(usize),
+    /// The pin of this joint, fused to a body or the ground.
+    Pin(usize),
+}
+
+/// One recorded ordering constraint (indices are members of the [`Layout`] and joints).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Constraint {
+    /// `z(a) ≠ z(b)` when on the same face.
+    Distinct { a: usize, b: usize },
+    /// `z(lower) < z(upper)` when on the same face.
+    Below { lower: usize, upper: usize },
+    /// `z(member) < min z(L_joint) ∨ z(member) > max z(L_joint)` when on the same face.
+    Around { member: usize, joint: usize },
+    /// `z(member) > max z(L_joint)` when on the same face.
+    Above { member: usize, joint: usize },
+    /// `z(member) > z(l)` for every other `l` of `L_joint`.
+    Outermost { member: usize, joint: usize },
+    /// The two pillars stand on opposite faces.
+    OppositeFaces { a: PillarRef, b: PillarRef },
+    /// Every member of `L_joint` is on one face (always imposed; never recorded, only reported broken).
+    SameFace { joint: usize },
+}
+
+/// The constraints of one motion, each with the first crank angle (degrees) where it was seen.
+#[derive(Clone, Debug, Default)]
+pub struct Recorded {
+    pub constraints: BTreeMap<Constraint, f64>,
+}
+
+/// A face of the bodies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Face {
+    Front,
+    Back,
+}
+
+/// A depth ordering: every member's face and layer (1 = next to the bodies).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Ordering {
+    pub face: Vec<Face>,
+    pub layer: Vec<u32>,
+    /// The most layers on either face.
+    pub layers: u32,
+    /// True when the solver proved that fewer layers are impossible.
+    pub optimal: bool,
+}
+
+/// Records every constraint along the motion `trace` (paper §7.2: a 2D kinematic simulation).
+pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
+    let d = &layout.dims;
+    let hw = d.half_width;
+    let margin = d.clearance;
+    let members = &layout.members;
+    let m = members.len();
+    let mut out = Recorded::default();
+    let mut poses: Vec<Rigid> = Vec::new();
+    let mut cores: Vec<Vec<Point>> = members.iter().map(|x| x.core.clone()).collect();
+    let pillars: Vec<(PillarRef, usize)> = members
+        .iter()
+        .enumerate()
+        .filter(|(_, x)| x.post.is_some())
+        .map(|(i, x)| (PillarRef::Post(i), x.carrier))
+        .chain(layout.body_pins.iter().enumerate().filter_map(|(j, p)| p.map(|p| (PillarRef::Pin(j), p.carrier))))
+        .collect();
+    let pillar_radius = |p: PillarRef| match p {
+        PillarRef::Post(_) => d.post_collar_radius,
+        PillarRef::Pin(_) => d.boss_radius,
+    };
+    let mut pillar_at: Vec<Point> = vec![Point::ORIGIN; pillars.len()];
+    // Each member's core box, for a cheap test before the exact distance.
+    let mut boxes: Vec<(Point, Point)> = vec![(Point::ORIGIN, Point::ORIGIN); m];
+    let gap = |a: &(Point, Point), b: &(Point, Point)| -> f64 {
+        let dx = (a.0.x - b.1.x).max(b.0.x - a.1.x).max(0.0);
+        let dy = (a.0.y - b.1.y).max(b.0.y - a.1.y).max(0.0);
+        dx.hypot(dy)
+    };
+    for r in 0..trace.len() {
+        let row = trace.row(r);
+        let deg = trace.thetas[r].to_degrees();
+        layout.carrier_poses(row, &mut poses);
+        for (i, x) in members.iter().enumerate() {
+            let pose = &poses[x.carrier];
+            for (k, &c) in x.core.iter().enumerate() {
+                cores[i][k] = pose.apply(c);
+            }
+            let (mut lo, mut hi) = (cores[i][0], cores[i][0]);
+            for q in &cores[i] {
+                lo = Point::new(lo.x.min(q.x), lo.y.min(q.y));
+                hi = Point::new(hi.x.max(q.x), hi.y.max(q.y));
+            }
+            boxes[i] = (lo, hi);
+        }
+        for (k, &(p, carrier)) in pillars.iter().enumerate() {
+            pillar_at[k] = match p {
+                PillarRef::Post(i) => poses[carrier].apply(members[i].post.unwrap_or_default()),
+                PillarRef::Pin(j) => row[j],
+            };
+        }
+        let mut note = |c: Constraint| {
+            out.constraints.entry(c).or_insert(deg);
+        };
+        let moving = |a: usize, b: usize| r == 0 || a != b;
+        for a in 0..m {
+            for b in a + 1..m {
+                if !moving(members[a].carrier, members[b].carrier) {
+                    continue;
+                }
+                if gap(&boxes[a], &boxes[b]) < 2.0 * hw + margin
+                    && super::shapes::core_distance(&cores[a], &cores[b]) < 2.0 * hw + margin
+                {
+                    note(Constraint::Distinct { a, b });
+                }
+            }
+            // Posts and pins the member passes over.
+            for (k, &(p, carrier)) in pillars.iter().enumerate() {
+                if !moving(members[a].carrier, carrier) {
+                    continue;
+                }
+                let reach = hw + pillar_radius(p) + margin;
+                if gap(&boxes[a], &(pillar_at[k], pillar_at[k])) >= reach {
+                    continue;
+                }
+                match p {
+                    PillarRef::Post(c)
+                        if c != a && super::shapes::point_core_distance(pillar_at[k], &cores[a]) < reach =>
+                    {
+                        note(Constraint::Below { lower: c, upper: a });
+                    }
+                    PillarRef::Pin(j)
+                        if !layout.joint_members[j].contains(&a)
+                            && super::shapes::point_core_distance(pillar_at[k], &cores[a]) < reach =>
+                    {
+                        note(Constraint::Above { member: a, joint: j });
+                    }
+                    _ => {}
+                }
+            }
+            // Pins carried by members.
+            for (j, lj) in layout.joint_members.iter().enumerate() {
+                if layout.body_pins[j].is_some() || lj.contains(&a) || lj.is_empty() {
+                    continue;
+                }
+                let reach = hw + d.boss_radius + margin;
+                if gap(&boxes[a], &(row[j], row[j])) < reach
+                    && super::shapes::point_core_distance(row[j], &cores[a]) < reach
+                {
+                    note(Constraint::Around { member: a, joint: j });
+                }
+            }
+        }
+        for k in 0..pillars.len() {
+            for l in k + 1..pillars.len() {
+                let (pk, ck) = pillars[k];
+                let (pl, cl) = pillars[l];
+                if ck == cl {
+                    continue;
+                }
+                if pillar_at[k].distance(pillar_at[l]) < pillar_radius(pk) + pillar_radius(pl) + margin {
+                    note(Constraint::OppositeFaces { a: pk, b: pl });
+                }
+            }
+        }
+    }
+    if let Some(j) = layout.slider_joint {
+        if let Some(g) = layout.joint_members[j].iter().copied().find(|&i| members[i].kind == MemberKind::Guide) {
+            out.constraints
+                .entry(Constraint::Outermost { member: g, joint: j })
+                .or_insert(trace.thetas[0].to_degrees());
+        }
+    }
+    out
+}
+
+/// Why no ordering was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoOrdering {
+    /// Proven: no ordering exists with the faces allowed.
+    Infeasible,
+    /// The solver ran out of its time budget.
+    TimedOut,
+}
+
+/// Solves the ordering, minimising the layers: the smallest layer count is found by asking the
+/// solver for each count from a lower bound upwards, so the first satisfiable count is proven optimal.
+/// With [`Faces::Auto`], one face is tried first and both faces only when one face has no ordering.
+pub fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> Result<Ordering, NoOrdering> {
+    let m = layout.members.len();
+    if m == 0 {
+        return Ok(Ordering { face: vec![], layer: vec![], layers: 0, optimal: true });
+    }
+    let started = std::time::Instant::now();
+    let remaining = || (budget_s - started.elapsed().as_secs_f64()).max(0.001);
+    let lower = layout.joint_members.iter().map(Vec::len).max().unwrap_or(1).max(1) as i32;
+    let attempts: &[bool] = match faces {
+        Faces::One => &[false],
+        Faces::Both => &[true],
+        Faces::Auto => &[false, true],
+    };
+    let mut timed_out = false;
+    for &two in attempts {
+        // Feasibility first (with as many layers as members, which any ordering can be compressed to).
+        match solve_with(layout, recorded, two, m as i32, remaining()) {
+            Outcome::Unsat => continue,
+            Outcome::Unknown => {
+                timed_out = true;
+                continue;
+            }
+            Outcome::Sat(mut best) => {
+                let mut optimal = true;
+                for upper in lower..best.layers as i32 {
+                    match solve_with(layout, recorded, two, upper, remaining()) {
+                        Outcome::Sat(o) => {
+                            best = o;
+                            break;
+                        }
+                        Outcome::Unsat => {}
+                        Outcome::Unknown => {
+                            optimal = false;
+                            break;
+                        }
+                    }
+                }
+                best.optimal = optimal;
+                return Ok(best);
+            }
+        }
+    }
+    Err(if timed_out { NoOrdering::TimedOut } else { NoOrdering::Infeasible })
+}
+
+/// Whether any ordering exists with the faces allowed (no minimisation).
+pub fn feasible(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> bool {
+    let m = layout.members.len() as i32;
+    let attempts: &[bool] = match faces {
+        Faces::One => &[false],
+        Faces::Both | Faces::Auto => &[true],
+    };
+    attempts.iter().any(|&two| matches!(solve_with(layout, recorded, two, m.max(1), budget_s), Outcome::Sat(_)))
+}
+
+enum Outcome {
+    Sat(Ordering),
+    Unsat,
+    Unknown,
+}
+
+/// One satisfaction problem: every member on a layer in `1..=upper`, on one face or (with `two`) on
+/// either face.
+fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budget_s: f64) -> Outcome {
+    let m = layout.members.len();
+    let mut solver = Solver::default();
+    let tag = solver.new_constraint_tag();
+    let z: Vec<DomainId> = (0..m).map(|_| solver.new_bounded_integer(1, upper)).collect();
+    let front: Vec<Literal> = (0..m).map(|_| solver.new_literal()).collect();
+    let t = |l: Literal| l.get_true_predicate();
+    let f = |l: Literal| l.get_false_predicate();
+    let truth = solver.get_true_literal();
+    if two {
+        // Symmetry: the first member is on the front.
+        solver.add_clause([t(front[0])], tag);
+    } else {
+        for &s in &front {
+            solver.add_clause([t(s)], tag);
+        }
+    }
+    // Members on one joint share a face.
+    for lj in &layout.joint_members {
+        for w in lj.windows(2) {
+            let (a, b) = (front[w[0]], front[w[1]]);
+            solver.add_clause([f(a), t(b)], tag);
+            solver.add_clause([t(a), f(b)], tag);
+        }
+    }
+    // `same[a][b]` ⇔ a and b are on the same face (created on demand).
+    let mut same_cache: BTreeMap<(usize, usize), Literal> = BTreeMap::new();
+    let mut same = |solver: &mut Solver, a: usize, b: usize| -> Literal {
+        if !two {
+            return truth;
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(&l) = same_cache.get(&key) {
+            return l;
+        }
+        let e = solver.new_literal();
+        let (sa, sb) = (front[a], front[b]);
+        solver.add_clause([t(e), t(sa), t(sb)], tag);
+        solver.add_clause([t(e), f(sa), f(sb)], tag);
+        solver.add_clause([f(e), f(sa), t(sb)], tag);
+        solver.add_clause([f(e), t(sa), f(sb)], tag);
+        same_cache.insert(key, e);
+        e
+    };
+    let pillar_face = |p: PillarRef| -> Option<Literal> {
+        match p {
+            PillarRef::Post(i) => Some(front[i]),
+            PillarRef::Pin(j) => layout.joint_members[j].first().map(|&i| front[i]),
+        }
+    };
+    for &c in recorded.constraints.keys() {
+        match c {
+            Constraint::Distinct { a, b } => {
+                let e = same(&mut solver, a, b);
+                solver.add_constraint(pumpkin_constraints::binary_not_equals(z[a], z[b], tag)).implied_by(e);
+            }
+            Constraint::Below { lower, upper } => {
+                let e = same(&mut solver, lower, upper);
+                solver.add_constraint(pumpkin_constraints::binary_less_than(z[lower], z[upper], tag)).implied_by(e);
+            }
+            Constraint::Above { member, joint } | Constraint::Outermost { member, joint } => {
+                let Some(&first) = layout.joint_members[joint].first() else { continue };
+                let e = same(&mut solver, member, first);
+                for &l in layout.joint_members[joint].iter().filter(|&&l| l != member) {
+                    solver.add_constraint(pumpkin_constraints::binary_less_than(z[l], z[member], tag)).implied_by(e);
+                }
+            }
+            Constraint::Around { member, joint } => {
+                let Some(&first) = layout.joint_members[joint].first() else { continue };
+                let e = same(&mut solver, member, first);
+                let below = solver.new_literal();
+                let above = solver.new_literal();
+                solver.add_clause([f(e), t(below), t(above)], tag);
+                for &l in &layout.joint_members[joint] {
+                    solver
+                        .add_constraint(pumpkin_constraints::binary_less_than(z[member], z[l], tag))
+                        .implied_by(below);
+                    solver
+                        .add_constraint(pumpkin_constraints::binary_less_than(z[l], z[member], tag))
+                        .implied_by(above);
+                }
+            }
+            // Imposed for every joint above.
+            Constraint::SameFace { .. } => {}
+            Constraint::OppositeFaces { a, b } => {
+                let (Some(fa), Some(fb)) = (pillar_face(a), pillar_face(b)) else { continue };
+                if !two {
+                    return Outcome::Unsat;
+                }
+                solver.add_clause([t(fa), t(fb)], tag);
+                solver.add_clause([f(fa), f(fb)], tag);
+            }
+        }
+    }
+    let mut brancher = solver.default_brancher();
+    let mut termination = TimeBudget::starting_now(std::time::Duration::from_secs_f64(budget_s));
+    let mut resolver = ResolutionResolver::default();
+    let result = solver.satisfy(&mut brancher, &mut termination, &mut resolver);
+    match result {
+        SatisfactionResult::Satisfiable(s) => {
+            let sol = s.solution();
+            let layer: Vec<u32> = z.iter().map(|&v| sol.get_integer_value(v).max(1) as u32).collect();
+            let face: Vec<Face> =
+                front.iter().map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back }).collect();
+            let (layer, layers) = compress(&layer, &face);
+            Outcome::Sat(Ordering { face, layer, layers, optimal: false })
+        }
+        SatisfactionResult::Unsatisfiable(..) => Outcome::Unsat,
+        SatisfactionResult::Unknown(..) => Outcome::Unknown,
+    }
+}
+
+/// Renumbers the layers of each face to 1, 2, ... keeping their order (the constraints only compare
+/// layers, so this keeps every one of them), and returns the most layers on a face.
+fn compress(layer: &[u32], face: &[Face]) -> (Vec<u32>, u32) {
+    let mut out = layer.to_vec();
+    let mut most = 0;
+    for side in [Face::Front, Face::Back] {
+        let mut used: Vec<u32> = (0..layer.len()).filter(|&i| face[i] == side).map(|i| layer[i]).collect();
+        used.sort_unstable();
+        used.dedup();
+        for i in (0..layer.len()).filter(|&i| face[i] == side) {
+            out[i] = used.binary_search(&layer[i]).map_or(layer[i], |k| k as u32 + 1);
+        }
+        most = most.max(used.len() as u32);
+    }
+    (out, most)
+}
+
+/// Which recorded constraints an ordering breaks (empty when it satisfies them all).
+pub fn violations(layout: &Layout, recorded: &Recorded, o: &Ordering) -> Vec<Constraint> {
+    let z = |i: usize| o.layer[i];
+    let same = |a: usize, b: usize| o.face[a] == o.face[b];
+    let lj = |j: usize| &layout.joint_members[j];
+    let mut out = Vec::new();
+    for (joint, l) in layout.joint_members.iter().enumerate() {
+        if l.windows(2).any(|w| !same(w[0], w[1])) {
+            out.push(Constraint::SameFace { joint });
+        }
+    }
+    for &c in recorded.constraints.keys() {
+        let ok = match c {
+            Constraint::Distinct { a, b } => !same(a, b) || z(a) != z(b),
+            Constraint::Below { lower, upper } => !same(lower, upper) || z(lower) < z(upper),
+            Constraint::Above { member, joint } | Constraint::Outermost { member, joint } => {
+                lj(joint).iter().all(|&l| l == member || !same(l, member) || z(l) < z(member))
+            }
+            Constraint::Around { member, joint } => {
+                let l = lj(joint);
+                l.is_empty()
+                    || !same(l[0], member)
+                    || l.iter().all(|&x| z(member) < z(x))
+                    || l.iter().all(|&x| z(member) > z(x))
+            }
+            Constraint::OppositeFaces { a, b } => {
+                let face = |p: PillarRef| match p {
+                    PillarRef::Post(i) => Some(o.face[i]),
+                    PillarRef::Pin(j) => lj(j).first().map(|&i| o.face[i]),
+                };
+                face(a) != face(b) || face(a).is_none()
+            }
+            Constraint::SameFace { joint } => lj(joint).windows(2).all(|w| same(w[0], w[1])),
+        };
+        if !ok {
+            out.push(c);
+        }
+    }
+    out
+}
+
+impl From<NoOrdering> for FabError {
+    fn from(e: NoOrdering) -> FabError {
+        match e {
+            NoOrdering::Infeasible => FabError::NoOrdering,
+            NoOrdering::TimedOut => FabError::OrderingTimedOut,
+        }
+    }
+}

@@ -1,0 +1,481 @@
+//! Part solids from a depth ordering (paper §7.3, fig. 9): links and connectors on their layers with
+//! pins, bosses and holes at their joints, connectors held by square posts fused to the bodies, the
+//! slotted slider guide, and the bodies extruded with their posts and pins.
+//!
+//! At every joint the members are stacked by layer. The pin is fused to the body when the joint lies
+//! inside it, otherwise to the innermost member (paper fig. 9e puts it on the middle one; printing
+//! flat needs it on the innermost, pointing outwards). Every member but the outermost has a boss up
+//! to the next member, so the stack is held with an axial gap between neighbours; the pin ends in a
+//! snap cap above the outermost member.
+
+use super::depth::{Face, Ordering};
+use super::layout::{Layout, MemberKind, SceneShapes};
+use super::settings::Dims;
+use super::shapes::{circle, rounded_outline, stadium};
+use super::solid::{ring_outline, Feature, Mesh, RingShape, Slab};
+use super::FabError;
+use crate::geom::Point;
+use serde::Serialize;
+
+/// What a printed part is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Role {
+    Link,
+    Connector,
+    Guide,
+    /// A moving body (or one half of it when it carries parts on both faces).
+    Body,
+    /// A piece of the fixed bodies.
+    Ground,
+}
+
+/// A prism: a planar region (outline minus holes) between two heights, in a part's frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prism {
+    pub outline: Vec<Point>,
+    pub holes: Vec<Vec<Point>>,
+    pub z: (f64, f64),
+}
+
+/// A printed part.
+#[derive(Clone, Debug)]
+pub struct Part {
+    /// Unique, usable as a file name.
+    pub name: String,
+    pub role: Role,
+    /// Index into [`Layout::carriers`]: what moves it.
+    pub carrier: usize,
+    /// The member it is, for links, connectors and the guide.
+    pub member: Option<usize>,
+    pub face: Face,
+    /// Layer (1 next to the bodies), 0 for bodies and ground.
+    pub layer: u32,
+    /// The solid in the carrier's frame, at its assembled heights (z = 0 is the front face of the
+    /// bodies, which span `-body_thickness..0`).
+    pub mesh: Mesh,
+    /// The solid as prisms, same frame and heights (exact up to the snap cap's taper, which is
+    /// replaced by its widest section).
+    pub prisms: Vec<Prism>,
+    /// Outline then holes, carrier frame: the laser-cutting profile.
+    pub profile: Vec<Vec<Point>>,
+    /// Bodies only: the pads fused to it for posts (in the bodies' plane), as prisms.
+    pub pads: Vec<Prism>,
+    /// The solid laid flat for printing: its base face on z = 0, pins and posts pointing up.
+    pub print_mesh: Mesh,
+}
+
+/// Heights `(bottom, top)`.
+pub type Heights = (f64, f64);
+/// A hole a pin goes through: (part, hole centre in its carrier frame, hole radius, heights).
+pub type HoleSeat = (usize, Point, f64, Heights);
+/// A slot a pin runs in: (part, slot ends in its carrier frame, half width, heights).
+pub type SlotSeat = (usize, (Point, Point), f64, Heights);
+/// A pin: (part, axis in its carrier frame, shaft heights).
+type PinAt = (usize, Point, Heights);
+/// One printed slab of a body: name, face, heights, the studs on it.
+type Half<'a> = (String, Face, Heights, Vec<&'a Spec>);
+
+/// A pin and the holes it must sit in, for checking.
+#[derive(Clone, Debug)]
+pub struct PinSeat {
+    pub joint: usize,
+    /// Part that carries the pin, and the pin's axis in that part's carrier frame.
+    pub pin_part: usize,
+    pub pin_at: Point,
+    pub pin_radius: f64,
+    /// Heights of the pin's shaft (assembled).
+    pub shaft: (f64, f64),
+    /// Parts with a hole for the pin: (part, hole centre in its carrier frame, hole radius, heights).
+    pub holes: Vec<HoleSeat>,
+    /// The guide's slot: (part, slot ends, half width, heights).
+    pub slot: Option<SlotSeat>,
+}
+
+/// The shape of one feature, from which its mesh feature and its prisms both come.
+enum Spec {
+    Hole { c: Point, r: f64 },
+    Socket { c: Point, half: f64 },
+    Bossed { c: Point, r: f64, rb: f64, top: f64 },
+    Stud { c: Point, steps: Vec<(f64, RingShape)>, top: f64, tip: Option<RingShape> },
+}
+
+impl Spec {
+    fn feature(&self, z0: f64, z1: f64) -> Feature {
+        match self {
+            Spec::Hole { c, r } => Feature::hole(*c, *r, z0, z1),
+            Spec::Socket { c, half } => Feature::socket(*c, *half, z0, z1),
+            Spec::Bossed { c, r, rb, top } => Feature::bossed_hole(*c, *r, *rb, z0, z1, *top),
+            Spec::Stud { c, steps, top, tip } => Feature::stud(*c, z1, steps, *top, *tip),
+        }
+    }
+    /// The hole this feature cuts through the slab.
+    fn slab_hole(&self, seg: usize) -> Option<Vec<Point>> {
+        match self {
+            Spec::Hole { c, r } | Spec::Bossed { c, r, .. } => Some(circle(*c, *r, seg)),
+            Spec::Socket { c, half } => Some(ring_outline(*c, RingShape::Square(*half), seg)),
+            Spec::Stud { .. } => None,
+        }
+    }
+    /// Prisms above the slab's top face `z1`.
+    fn prisms(&self, z1: f64, seg: usize) -> Vec<Prism> {
+        match self {
+            Spec::Bossed { c, r, rb, top } => {
+                vec![Prism { outline: circle(*c, *rb, seg), holes: vec![circle(*c, *r, seg)], z: (z1, *top) }]
+            }
+            Spec::Stud { c, steps, top, .. } => {
+                let mut out = Vec::new();
+                for (k, &(z, shape)) in steps.iter().enumerate() {
+                    let end = steps.get(k + 1).map_or(*top, |s| s.0);
+                    if end > z {
+                        out.push(Prism { outline: ring_outline(*c, shape, seg), holes: vec![], z: (z, end) });
+                    }
+                }
+                out
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// Builds every part. `layer_z(k)` heights follow paper eq. 20 ([`Dims::layer_bottom`]).
+pub fn build(
+    shapes: &SceneShapes,
+    layout: &Layout,
+    ordering: &Ordering,
+    body_names: &[String],
+    bed: &super::settings::Bed,
+) -> Result<(Vec<Part>, Vec<PinSeat>), FabError> {
+    let d = &layout.dims;
+    let seg = d.segments;
+    let members = &layout.members;
+    // Each joint's members from the innermost out.
+    let stacks: Vec<Vec<usize>> = layout
+        .joint_members
+        .iter()
+        .map(|l| {
+            let mut l = l.clone();
+            l.sort_by_key(|&i| ordering.layer[i]);
+            l
+        })
+        .collect();
+    let bottom = |i: usize| d.layer_bottom(ordering.layer[i]);
+    let top = |i: usize| d.layer_top(ordering.layer[i]);
+    let cap_base = |stack: &[usize]| stack.last().map_or(0.0, |&i| top(i) + d.gap);
+    let pin_steps = |base: f64, collar_top: f64, stack: &[usize]| -> (Vec<(f64, RingShape)>, f64) {
+        let zc = cap_base(stack);
+        let mut steps = Vec::new();
+        if collar_top > base + 1e-9 {
+            steps.push((base, RingShape::Circle(d.boss_radius)));
+            steps.push((collar_top, RingShape::Circle(d.pin_radius)));
+        } else {
+            steps.push((base, RingShape::Circle(d.pin_radius)));
+        }
+        steps.push((zc, RingShape::Circle(d.cap_base_radius)));
+        (steps, zc + d.cap_height)
+    };
+    let mirror_z = |z: f64| -d.body_thickness - z;
+
+    let mut parts: Vec<Part> = Vec::new();
+    let mut part_of_member = vec![usize::MAX; members.len()];
+    let mut seats: Vec<PinSeat> = Vec::new();
+    // Pins and holes are recorded per joint while the members are built.
+    let mut pin_of_joint: Vec<Option<PinAt>> = vec![None; layout.joint_members.len()];
+    let mut holes_of_joint: Vec<Vec<HoleSeat>> = vec![Vec::new(); layout.joint_members.len()];
+    let mut slot_of_joint: Vec<Option<SlotSeat>> = vec![None; layout.joint_members.len()];
+
+    for (i, m) in members.iter().enumerate() {
+        let (z0, z1) = (bottom(i), top(i));
+        let mut specs = Vec::new();
+        let mut holes = Vec::new();
+        let face = ordering.face[i];
+        let zr = |a: f64, b: f64| if face == Face::Front { (a, b) } else { (mirror_z(b), mirror_z(a)) };
+        let part_index = parts.len();
+        for &j in &m.joints {
+            let stack = &stacks[j];
+            let pos = stack.iter().position(|&x| x == i).unwrap_or(0);
+            if let (MemberKind::Guide, Some((s0, s1))) = (m.kind, m.slot) {
+                holes.push(stadium(s0, s1, d.hole_radius, seg));
+                slot_of_joint[j] = Some((part_index, (s0, s1), d.hole_radius, zr(z0, z1)));
+                continue;
+            }
+            let at = match m.kind {
+                MemberKind::Link => m.core[m.joints.iter().position(|&x| x == j).unwrap_or(0)],
+                _ => m.core[1],
+            };
+            if pos == 0 && layout.body_pins[j].is_none() {
+                let collar_top = stack.get(1).map_or(z1, |&n| bottom(n) - d.gap);
+                let (steps, tip) = pin_steps(z1, collar_top, stack);
+                pin_of_joint[j] = Some((part_index, at, zr(z1, cap_base(stack))));
+                specs.push(Spec::Stud { c: at, steps, top: tip, tip: Some(RingShape::Circle(d.cap_tip_radius)) });
+            } else if pos + 1 < stack.len() {
+                let boss_top = bottom(stack[pos + 1]) - d.gap;
+                holes_of_joint[j].push((part_index, at, d.hole_radius, zr(z0, boss_top)));
+                specs.push(Spec::Bossed { c: at, r: d.hole_radius, rb: d.boss_radius, top: boss_top });
+            } else {
+                holes_of_joint[j].push((part_index, at, d.hole_radius, zr(z0, z1)));
+                specs.push(Spec::Hole { c: at, r: d.hole_radius });
+            }
+        }
+        if let Some(p) = m.post {
+            specs.push(Spec::Socket { c: p, half: d.post_half + d.clearance });
+        }
+        let outline = rounded_outline(&m.core, d.half_width, seg);
+        let role = match m.kind {
+            MemberKind::Link => Role::Link,
+            MemberKind::Connector => Role::Connector,
+            MemberKind::Guide => Role::Guide,
+        };
+        let part = assemble(
+            m.name.clone(),
+            role,
+            m.carrier,
+            Some(i),
+            face,
+            ordering.layer[i],
+            outline,
+            holes,
+            (z0, z1),
+            &specs,
+            seg,
+            d,
+        )?;
+        part_of_member[i] = parts.len();
+        parts.push(part);
+    }
+
+    // Bodies and ground: slabs with the posts and pins that stand on them, per face.
+    for (c, _) in layout.carriers.iter().enumerate().take(1 + shapes.bodies.len()) {
+        let mut front: Vec<Spec> = Vec::new();
+        let mut back: Vec<Spec> = Vec::new();
+        let mut pin_here: Vec<(usize, Point, Face, (f64, f64))> = Vec::new();
+        for (j, bp) in layout.body_pins.iter().enumerate() {
+            let Some(bp) = bp.filter(|b| b.carrier == c) else { continue };
+            let stack = &stacks[j];
+            let Some(&first) = stack.first() else { continue };
+            let face = ordering.face[first];
+            let (steps, tip) = pin_steps(0.0, bottom(first) - d.gap, stack);
+            pin_here.push((j, bp.at, face, (0.0, cap_base(stack))));
+            let spec = Spec::Stud { c: bp.at, steps, top: tip, tip: Some(RingShape::Circle(d.cap_tip_radius)) };
+            if face == Face::Front {
+                front.push(spec)
+            } else {
+                back.push(spec)
+            }
+        }
+        for (i, m) in members.iter().enumerate() {
+            let (Some(p), true) = (m.post, m.carrier == c) else { continue };
+            let collar_top = bottom(i) - d.gap;
+            let mut steps = Vec::new();
+            if collar_top > 1e-9 {
+                steps.push((0.0, RingShape::Circle(d.post_collar_radius)));
+                steps.push((collar_top, RingShape::Square(d.post_half)));
+            } else {
+                steps.push((0.0, RingShape::Square(d.post_half)));
+            }
+            let zc = top(i) + d.gap;
+            steps.push((zc, RingShape::Square(d.post_cap_half)));
+            let tip_half = (d.post_half - (d.pin_radius - d.cap_tip_radius)).max(0.25 * d.post_half);
+            let spec = Spec::Stud { c: p, steps, top: zc + d.cap_height, tip: Some(RingShape::Square(tip_half)) };
+            if ordering.face[i] == Face::Front {
+                front.push(spec)
+            } else {
+                back.push(spec)
+            }
+        }
+        // The slab pieces this carrier is printed as.
+        let pieces: Vec<(String, Vec<Point>, Vec<Vec<Point>>)> = if c == 0 {
+            let many = shapes.ground.len() > 1;
+            shapes
+                .ground
+                .iter()
+                .enumerate()
+                .map(|(k, r)| {
+                    let name = if many { format!("ground_{}", k + 1) } else { "ground".to_string() };
+                    (name, r.contours[0].clone(), r.contours[1..].to_vec())
+                })
+                .collect()
+        } else {
+            vec![(body_names[c - 1].clone(), shapes.bodies[c - 1].contours[0].clone(), Vec::new())]
+        };
+        let role = if c == 0 { Role::Ground } else { Role::Body };
+        for (name, outline, holes) in pieces {
+            let region = super::shapes::Region {
+                contours: std::iter::once(outline.clone()).chain(holes.iter().cloned()).collect(),
+            };
+            let pads: Vec<(Point, f64)> =
+                layout.pads.iter().filter(|p| p.0 == c && region.depth(p.1) > 0.0).map(|p| (p.1, p.2)).collect();
+            let merged = super::shapes::union_with_discs(&region.contours, &pads, seg);
+            // Too large for the bed: cut into pieces joined by dovetails, clear of posts and pins.
+            let mm: Vec<Point> =
+                merged[0].iter().map(|p| Point::new(p.x * d.mm_per_unit, p.y * d.mm_per_unit)).collect();
+            let pieces: Vec<(String, Vec<Vec<Point>>)> = if super::plates::fits_bed(&mm, bed) {
+                vec![(name.clone(), merged)]
+            } else {
+                let keep: Vec<(Point, f64)> = front.iter().chain(back.iter()).filter_map(stud_disc).collect();
+                let fits = |outline: &[Point]| {
+                    let mm: Vec<Point> =
+                        outline.iter().map(|p| Point::new(p.x * d.mm_per_unit, p.y * d.mm_per_unit)).collect();
+                    super::plates::fits_bed(&mm, bed)
+                };
+                match super::split::split(&merged, super::plates::long_axis(&merged[0]), &keep, d, &fits) {
+                    Some(split) => {
+                        split.into_iter().enumerate().map(|(k, c)| (format!("{name}_{}", k + 1), c)).collect()
+                    }
+                    None => vec![(name.clone(), merged)],
+                }
+            };
+            for (name, merged) in pieces {
+                let (outline, holes) = (merged[0].clone(), merged[1..].to_vec());
+                let region = super::shapes::Region { contours: merged };
+                let mine = |s: &Spec| match s {
+                    Spec::Stud { c, .. } => region.contains(*c),
+                    _ => false,
+                };
+                let f: Vec<&Spec> = front.iter().filter(|s| mine(s)).collect();
+                let b: Vec<&Spec> = back.iter().filter(|s| mine(s)).collect();
+                let t = d.body_thickness;
+                let halves: Vec<Half> = match (f.is_empty(), b.is_empty()) {
+                    (_, true) => vec![(name.clone(), Face::Front, (-t, 0.0), f)],
+                    (true, false) => vec![(name.clone(), Face::Back, (-t, 0.0), b)],
+                    (false, false) => vec![
+                        (format!("{name}_front"), Face::Front, (-0.5 * t, 0.0), f),
+                        (format!("{name}_back"), Face::Back, (-0.5 * t, 0.0), b),
+                    ],
+                };
+                for (pname, face, (z0, z1), specs) in halves {
+                    let idx = parts.len();
+                    for &(j, at, pf, shaft) in &pin_here {
+                        if pf == face && region.contains(at) {
+                            let shaft =
+                                if face == Face::Front { shaft } else { (mirror_z(shaft.1), mirror_z(shaft.0)) };
+                            pin_of_joint[j] = Some((idx, at, shaft));
+                        }
+                    }
+                    let owned: Vec<Spec> = specs.into_iter().map(clone_spec).collect();
+                    let mut part = assemble(
+                        pname,
+                        role,
+                        c,
+                        None,
+                        face,
+                        0,
+                        outline.clone(),
+                        holes.clone(),
+                        (z0, z1),
+                        &owned,
+                        seg,
+                        d,
+                    )?;
+                    let zr = part.prisms[0].z;
+                    part.pads = pads
+                        .iter()
+                        .filter(|&&(p, _)| region.depth(p) > 0.0)
+                        .map(|&(p, r)| Prism { outline: circle(p, r, seg), holes: vec![], z: zr })
+                        .collect();
+                    parts.push(part);
+                }
+            }
+        }
+    }
+    for (j, pin) in pin_of_joint.iter().enumerate() {
+        let Some((pin_part, pin_at, shaft)) = *pin else { continue };
+        seats.push(PinSeat {
+            joint: j,
+            pin_part,
+            pin_at,
+            pin_radius: d.pin_radius,
+            shaft,
+            holes: holes_of_joint[j].clone(),
+            slot: slot_of_joint[j],
+        });
+    }
+    let _ = part_of_member;
+    Ok((parts, seats))
+}
+
+/// The disc a stud stands on: its centre and widest radius.
+fn stud_disc(s: &Spec) -> Option<(Point, f64)> {
+    match s {
+        Spec::Stud { c, steps, .. } => {
+            let r = steps
+                .iter()
+                .map(|&(_, shape)| match shape {
+                    RingShape::Circle(r) => r,
+                    RingShape::Square(h) => h * std::f64::consts::SQRT_2,
+                    RingShape::Apex => 0.0,
+                })
+                .fold(0.0, f64::max);
+            Some((*c, r))
+        }
+        _ => None,
+    }
+}
+
+fn clone_spec(s: &Spec) -> Spec {
+    match s {
+        Spec::Hole { c, r } => Spec::Hole { c: *c, r: *r },
+        Spec::Socket { c, half } => Spec::Socket { c: *c, half: *half },
+        Spec::Bossed { c, r, rb, top } => Spec::Bossed { c: *c, r: *r, rb: *rb, top: *top },
+        Spec::Stud { c, steps, top, tip } => Spec::Stud { c: *c, steps: steps.clone(), top: *top, tip: *tip },
+    }
+}
+
+/// One part: its slab with features meshed in front-face heights, then placed on its face.
+#[allow(clippy::too_many_arguments, reason = "one call site per kind of part; a struct would only rename them")]
+fn assemble(
+    name: String,
+    role: Role,
+    carrier: usize,
+    member: Option<usize>,
+    face: Face,
+    layer: u32,
+    outline: Vec<Point>,
+    mut holes: Vec<Vec<Point>>,
+    (z0, z1): (f64, f64),
+    specs: &[Spec],
+    seg: usize,
+    d: &Dims,
+) -> Result<Part, FabError> {
+    let contour_holes = holes.clone();
+    let slab = Slab {
+        outline: outline.clone(),
+        holes: contour_holes,
+        z0,
+        z1,
+        through: specs.iter().filter(|s| !matches!(s, Spec::Stud { .. })).map(|s| s.feature(z0, z1)).collect(),
+        studs: specs.iter().filter(|s| matches!(s, Spec::Stud { .. })).map(|s| s.feature(z0, z1)).collect(),
+    };
+    let local = slab.mesh(seg).map_err(|e| FabError::Mesh(format!("{name}: {e}")))?;
+    holes.extend(specs.iter().filter_map(|s| s.slab_hole(seg)));
+    let mut prisms = vec![Prism { outline: outline.clone(), holes: holes.clone(), z: (z0, z1) }];
+    for s in specs {
+        prisms.extend(s.prisms(z1, seg));
+    }
+    let (lo, _) = local.bounds();
+    let print_mesh = local.mapped(|v| [v[0], v[1], v[2] - lo[2]], false);
+    let t = d.body_thickness;
+    let (mesh, prisms) = if face == Face::Front {
+        (local, prisms)
+    } else {
+        // Mirror through the bodies' middle plane: z ↦ −t − z (reverses orientation).
+        let m = local.mapped(|v| [v[0], v[1], -t - v[2]], true);
+        let p = prisms.into_iter().map(|p| Prism { z: (-t - p.z.1, -t - p.z.0), ..p }).collect();
+        (m, p)
+    };
+    // The laser-cutting profile: a cut part takes separate pins and posts, so every stud becomes a hole
+    // (a round pin hole, or the square socket of a post).
+    let mut profile = vec![outline];
+    profile.extend(holes);
+    for s in specs {
+        if let Spec::Stud { c, steps, .. } = s {
+            let square = steps.iter().any(|&(_, shape)| matches!(shape, RingShape::Square(_)));
+            profile.push(if square {
+                ring_outline(*c, RingShape::Square(d.post_half + d.clearance), seg)
+            } else {
+                circle(*c, d.hole_radius, seg)
+            });
+        }
+    }
+    Ok(Part { name, role, carrier, member, face, layer, mesh, prisms, profile, print_mesh, pads: Vec::new() })
+}

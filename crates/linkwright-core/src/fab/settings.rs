@@ -1,0 +1,341 @@
+//! Print settings: every physical size of the printed parts, in millimetres, with defaults that work on
+//! a common desktop FDM printer (0.4 mm nozzle, PLA), and the same sizes converted to scene units.
+
+use serde::{Deserialize, Serialize};
+
+/// How the links may be spread over the two faces of the bodies.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Faces {
+    /// One face when an ordering exists there, otherwise both faces (default).
+    #[default]
+    Auto,
+    /// Only the front face: no ordering on one face is an error.
+    One,
+    /// Both faces allowed from the start (the solver still minimises the layers).
+    Both,
+}
+
+/// The snap cap at the end of every pin and post: a cone whose base is wider than the hole, so the
+/// pin clicks through the last part and holds the stack together.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SnapCap {
+    /// Height of the cap, mm (JD of paper eq. 20). Default 1.6.
+    pub height: f64,
+    /// How much wider than the hole the cap's base is (radius), mm: the snap interference. Default 0.2.
+    pub lip: f64,
+    /// How much narrower than the pin the cap's tip is (radius), mm: the lead-in. Default 0.5.
+    pub tip_inset: f64,
+}
+
+impl Default for SnapCap {
+    fn default() -> Self {
+        SnapCap { height: 1.6, lip: 0.2, tip_inset: 0.5 }
+    }
+}
+
+/// The print bed and how parts are spread on it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Bed {
+    /// Usable width (x), mm. Default 220.
+    pub width: f64,
+    /// Usable depth (y), mm. Default 220.
+    pub depth: f64,
+    /// Free border along the bed's edges, mm. Default 5.
+    pub margin: f64,
+    /// Free space between two parts, mm. Default 4.
+    pub spacing: f64,
+}
+
+impl Default for Bed {
+    fn default() -> Self {
+        Bed { width: 220.0, depth: 220.0, margin: 5.0, spacing: 4.0 }
+    }
+}
+
+/// Every physical size of the fabricated parts, millimetres. Read from `--settings PRINT.json`; any
+/// field left out keeps its default; unknown fields are an error (a misspelt setting would otherwise
+/// be silently ignored).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PrintSettings {
+    /// Width of links and connectors (the diameter of their rounded ends), mm. Default 10.
+    pub link_width: f64,
+    /// Thickness of links and connectors (LD of paper eq. 20), mm. Default 3.
+    pub link_thickness: f64,
+    /// Axial play between two stacked parts and between a part and a snap cap (GP of eq. 20), mm.
+    /// Default 0.3.
+    pub axial_gap: f64,
+    /// Radial play between a pin and its hole (and a post and its socket), mm. Default 0.25.
+    pub radial_clearance: f64,
+    /// Radius of every pin, mm. Default 2 (a 4 mm pin in a 4.5 mm hole).
+    pub pin_radius: f64,
+    /// The snap cap of pins and posts.
+    pub snap_cap: SnapCap,
+    /// Thickness of the extruded bodies, mm. Default 6.
+    pub body_thickness: f64,
+    /// Side of the square post that holds a connector on its body, mm. Default 4.
+    pub connector_post: f64,
+    /// Least material around any hole, post or pin base, mm. Default 1.2 (three perimeters).
+    pub wall: f64,
+    /// Segments of a full circle in meshes and outlines. Default 48.
+    pub circle_segments: usize,
+    /// Which faces of the bodies may carry links. Default auto.
+    pub faces: Faces,
+    /// The printer's bed.
+    pub bed: Bed,
+    /// Material density, g/cm³. Default 1.24 (PLA).
+    pub density: f64,
+    /// Fraction of a part's volume the slicer fills (walls and infill); 1 is solid. Default 0.5.
+    pub fill_fraction: f64,
+}
+
+impl Default for PrintSettings {
+    fn default() -> Self {
+        PrintSettings {
+            link_width: 10.0,
+            link_thickness: 3.0,
+            axial_gap: 0.3,
+            radial_clearance: 0.25,
+            pin_radius: 2.0,
+            snap_cap: SnapCap::default(),
+            body_thickness: 6.0,
+            connector_post: 4.0,
+            wall: 1.2,
+            circle_segments: 48,
+            faces: Faces::Auto,
+            bed: Bed::default(),
+            density: 1.24,
+            fill_fraction: 0.5,
+        }
+    }
+}
+
+/// A setting that cannot work, naming the field.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct SettingsIssue {
+    pub field: String,
+    pub message: String,
+}
+
+impl PrintSettings {
+    /// Parses settings from JSON text (missing fields keep their defaults).
+    pub fn from_json(text: &str) -> Result<PrintSettings, SettingsIssue> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        serde_path_to_error::deserialize(de)
+            .map_err(|e| SettingsIssue { field: e.path().to_string(), message: e.into_inner().to_string() })
+    }
+
+    /// Every setting that cannot work, each naming its field (empty when all is well).
+    pub fn validate(&self) -> Vec<SettingsIssue> {
+        let mut out: Vec<SettingsIssue> = Vec::new();
+        fn push(out: &mut Vec<SettingsIssue>, field: &str, message: String) {
+            out.push(SettingsIssue { field: field.into(), message });
+        }
+        macro_rules! issue {
+            ($f:expr, $m:expr $(,)?) => {
+                push(&mut out, $f, $m)
+            };
+        }
+        let positive = [
+            ("link_width", self.link_width),
+            ("link_thickness", self.link_thickness),
+            ("axial_gap", self.axial_gap),
+            ("radial_clearance", self.radial_clearance),
+            ("pin_radius", self.pin_radius),
+            ("snap_cap.height", self.snap_cap.height),
+            ("snap_cap.lip", self.snap_cap.lip),
+            ("body_thickness", self.body_thickness),
+            ("connector_post", self.connector_post),
+            ("wall", self.wall),
+            ("bed.width", self.bed.width),
+            ("bed.depth", self.bed.depth),
+            ("density", self.density),
+        ];
+        for (field, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                issue!(field, format!("must be a positive number of millimetres (is {v})"));
+            }
+        }
+        for (field, v) in [("snap_cap.tip_inset", self.snap_cap.tip_inset), ("bed.margin", self.bed.margin)] {
+            if !(v.is_finite() && v >= 0.0) {
+                issue!(field, format!("must be zero or more (is {v})"));
+            }
+        }
+        if !(self.bed.spacing.is_finite() && self.bed.spacing > 0.0) {
+            issue!("bed.spacing", format!("must be positive (is {})", self.bed.spacing));
+        }
+        if !(self.fill_fraction > 0.0 && self.fill_fraction <= 1.0) {
+            issue!("fill_fraction", format!("must be in (0, 1] (is {})", self.fill_fraction));
+        }
+        if !(8..=512).contains(&self.circle_segments) {
+            issue!("circle_segments", format!("must be between 8 and 512 (is {})", self.circle_segments));
+        }
+        if !out.is_empty() {
+            return out;
+        }
+        if self.snap_cap.tip_inset >= self.pin_radius {
+            issue!("snap_cap.tip_inset", "must be smaller than pin_radius".into());
+        }
+        let d = Dims::new(self, 1.0);
+        if 0.5 * self.link_width - self.wall < d.hole_radius + self.wall - 1e-12 {
+            issue!(
+                "link_width",
+                format!(
+                    "{} mm leaves no wall around a {} mm hole: it must be at least {:.2} mm",
+                    self.link_width,
+                    2.0 * d.hole_radius,
+                    2.0 * (d.hole_radius + 2.0 * self.wall)
+                ),
+            );
+        }
+        if d.post_hole_circumradius + self.wall > d.half_width {
+            issue!(
+                "connector_post",
+                format!("a {} mm post does not fit in a {} mm wide connector", self.connector_post, self.link_width),
+            );
+        }
+        let usable = (self.bed.width - 2.0 * self.bed.margin).min(self.bed.depth - 2.0 * self.bed.margin);
+        if usable < 4.0 * self.link_width {
+            issue!("bed", "the bed minus its margins is too small for any part".into());
+        }
+        out
+    }
+}
+
+/// Millimetres in one unit of a scene's `units` field, `None` for a unit this version does not know.
+pub fn millimetres_per_unit(units: &str) -> Option<f64> {
+    match units.trim().to_ascii_lowercase().as_str() {
+        "mm" | "millimeter" | "millimeters" | "millimetre" | "millimetres" | "" => Some(1.0),
+        "cm" | "centimeter" | "centimeters" | "centimetre" | "centimetres" => Some(10.0),
+        "m" | "meter" | "meters" | "metre" | "metres" => Some(1000.0),
+        "in" | "inch" | "inches" => Some(25.4),
+        "ft" | "foot" | "feet" => Some(304.8),
+        "um" | "µm" | "micrometer" | "micrometers" => Some(0.001),
+        _ => None,
+    }
+}
+
+/// The settings as the lengths geometry is built from, in scene units (every field derived from
+/// [`PrintSettings`]; nothing here is chosen independently).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dims {
+    /// Millimetres per scene unit.
+    pub mm_per_unit: f64,
+    /// Half the link width: the radius of every rounded end.
+    pub half_width: f64,
+    /// Link thickness LD.
+    pub thickness: f64,
+    /// Axial gap GP.
+    pub gap: f64,
+    /// Cap height JD.
+    pub cap_height: f64,
+    /// Layer pitch `LD + JD + 2 GP` (eq. 20 with Δz = 1 plus LD).
+    pub pitch: f64,
+    pub pin_radius: f64,
+    /// Pin radius plus the radial clearance.
+    pub hole_radius: f64,
+    /// Radius of the bosses and collars that space stacked parts on a pin (the pin column).
+    pub boss_radius: f64,
+    /// Radius of the cap's base (wider than the hole by the lip).
+    pub cap_base_radius: f64,
+    /// Radius of the cap's tip.
+    pub cap_tip_radius: f64,
+    /// Half side of the square connector post.
+    pub post_half: f64,
+    /// Circumradius of the square socket of a connector (post plus clearance).
+    pub post_hole_circumradius: f64,
+    /// Radius of the round collar under a connector, around its post (the post column).
+    pub post_collar_radius: f64,
+    /// Half side of the post's cap base.
+    pub post_cap_half: f64,
+    pub body_thickness: f64,
+    pub wall: f64,
+    pub clearance: f64,
+    pub segments: usize,
+}
+
+impl Dims {
+    /// The settings in a scene whose unit is `mm_per_unit` millimetres.
+    pub fn new(s: &PrintSettings, mm_per_unit: f64) -> Dims {
+        let u = 1.0 / mm_per_unit;
+        let half_width = 0.5 * s.link_width;
+        let hole_radius = s.pin_radius + s.radial_clearance;
+        let boss_radius = (half_width - s.wall).max(hole_radius + s.wall);
+        let post_half = 0.5 * s.connector_post;
+        let post_hole_circumradius = (post_half + s.radial_clearance) * std::f64::consts::SQRT_2;
+        Dims {
+            mm_per_unit,
+            half_width: half_width * u,
+            thickness: s.link_thickness * u,
+            gap: s.axial_gap * u,
+            cap_height: s.snap_cap.height * u,
+            pitch: (s.link_thickness + s.snap_cap.height + 2.0 * s.axial_gap) * u,
+            pin_radius: s.pin_radius * u,
+            hole_radius: hole_radius * u,
+            boss_radius: boss_radius * u,
+            cap_base_radius: (hole_radius + s.snap_cap.lip) * u,
+            cap_tip_radius: (s.pin_radius - s.snap_cap.tip_inset) * u,
+            post_half: post_half * u,
+            post_hole_circumradius: post_hole_circumradius * u,
+            post_collar_radius: (post_hole_circumradius + s.wall) * u,
+            post_cap_half: (post_half + s.radial_clearance + s.snap_cap.lip) * u,
+            body_thickness: s.body_thickness * u,
+            wall: s.wall * u,
+            clearance: s.radial_clearance * u,
+            segments: s.circle_segments,
+        }
+    }
+
+    /// Bottom of a part on layer `k ≥ 1`, measured from the face of the bodies (paper eq. 20: two
+    /// parts `Δz` layers apart are `Δz·(LD + JD + 2 GP) − LD` apart).
+    pub fn layer_bottom(&self, k: u32) -> f64 {
+        self.gap + f64::from(k.saturating_sub(1)) * self.pitch
+    }
+    /// Top of a part on layer `k`.
+    pub fn layer_top(&self, k: u32) -> f64 {
+        self.layer_bottom(k) + self.thickness
+    }
+    /// Least depth inside a body for a pin fused to it (its collar and a wall).
+    pub fn pin_depth(&self) -> f64 {
+        self.boss_radius + self.wall
+    }
+    /// Least depth inside a body for a connector post (its collar and a wall).
+    pub fn post_depth(&self) -> f64 {
+        self.post_collar_radius + self.wall
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_pins_have_the_set_clearance() {
+        let s = PrintSettings::default();
+        assert!(s.validate().is_empty(), "{:?}", s.validate());
+        let d = Dims::new(&s, 1.0);
+        assert!((d.hole_radius - d.pin_radius - 0.25).abs() < 1e-12);
+        assert!((d.layer_bottom(2) - d.layer_top(1) - (1.6 + 0.6)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn unknown_and_bad_fields_are_named() {
+        let e = PrintSettings::from_json(r#"{"pin_radus": 2}"#).unwrap_err();
+        assert!(e.message.contains("pin_radus"), "{e}");
+        let s = PrintSettings::from_json(r#"{"link_width": 3, "bed": {"width": 100}}"#).unwrap();
+        assert_eq!(s.bed.depth, 220.0);
+        assert!(s.validate().iter().any(|i| i.field == "link_width"));
+    }
+
+    #[test]
+    fn units_scale_the_parts() {
+        let s = PrintSettings::default();
+        let cm = Dims::new(&s, millimetres_per_unit("cm").unwrap());
+        assert!((cm.half_width - 0.5).abs() < 1e-12);
+        assert_eq!(millimetres_per_unit("furlong"), None);
+    }
+}

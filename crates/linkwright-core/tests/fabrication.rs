@@ -1,0 +1,327 @@
+//! Fabrication end to end (issue 4): designs from the engine on the bundled examples are fabricated,
+//! every check holds (closed meshes with positive volume, no part crossing another or a body at any
+//! 1° step, pins seated with the set clearance, every recorded ordering constraint satisfied), and
+//! every exporter's output is read back by an independent reader.
+
+use linkwright_core::fab::bundle::{assembled_meshes, bundle};
+use linkwright_core::fab::check::check;
+use linkwright_core::fab::{self, FeasibilityCheck, PrintSettings, Travel};
+use linkwright_core::scene::{Problem, Scene};
+use linkwright_core::synth::{synthesize, Candidate, Silent};
+use std::io::Read;
+use std::time::Instant;
+
+fn scenes_dir() -> String {
+    std::env::var("LW_FAB_SCENES").unwrap_or_else(|_| format!("{}/../../examples", env!("CARGO_MANIFEST_DIR")))
+}
+
+fn problem(name: &str, samples: usize) -> Problem {
+    let path = format!("{}/{name}.json", scenes_dir());
+    let scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let mut p = Problem::new(&scene).unwrap();
+    p.settings.samples = samples;
+    p.settings.iterations = 5;
+    p
+}
+
+fn travel(c: &Candidate) -> Travel {
+    Travel { start: c.trace.thetas[0], end: *c.trace.thetas.last().unwrap() }
+}
+
+/// The engine's designs for a scene, best first, and the first one that fabricates (what the
+/// synthesis does once it rejects candidates without an ordering).
+fn fabricated(name: &str, samples: usize) -> (Problem, fab::Fabrication) {
+    try_fabricated(name, samples).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn try_fabricated(name: &str, samples: usize) -> Result<(Problem, fab::Fabrication), String> {
+    let p = problem(name, samples);
+    let outcome = synthesize(&p, &Silent).unwrap();
+    let settings = PrintSettings::default();
+    let feasible = FeasibilityCheck::new(&p, &settings, 1.0);
+    let mut errors = Vec::new();
+    for c in outcome.best.iter().chain(&outcome.alternatives) {
+        let quick = feasible.check(&c.mechanism, &c.trace);
+        match fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings) {
+            Ok(f) => {
+                assert!(quick, "{name}: the feasibility check rejected a design that fabricates");
+                return Ok((p, f));
+            }
+            Err(e) => {
+                assert!(
+                    !quick || !matches!(e, fab::FabError::NoOrdering | fab::FabError::NoRoomForPost { .. }),
+                    "{name}: the feasibility check accepted a design without an ordering: {e}"
+                );
+                errors.push(e.to_string());
+            }
+        }
+    }
+    Err(format!("{name}: no design fabricates ({} designs): {errors:?}", errors.len()))
+}
+
+fn assert_sound(name: &str, f: &fab::Fabrication) {
+    let report = check(f);
+    assert!(report.ok(), "{name}: {report:#?}");
+    assert!(report.rows >= 2, "{name}: the motion was checked at {} rows", report.rows);
+    // Every step of the checked motion is at most 1°.
+    for w in f.trace.thetas.windows(2) {
+        assert!((w[1] - w[0]).abs() <= 1f64.to_radians() + 1e-12);
+    }
+    for p in &f.parts {
+        p.mesh.check_closed().unwrap_or_else(|e| panic!("{name}: {}: {e}", p.name));
+        assert!(p.mesh.volume() > 0.0, "{name}: {} has volume {}", p.name, p.mesh.volume());
+    }
+    // Every pin sits in its holes with the set clearance.
+    for seat in &f.seats {
+        for &(_, _, r, _) in &seat.holes {
+            assert!((r - seat.pin_radius - f.dims.clearance).abs() < 1e-12, "{name}: joint {}", seat.joint);
+        }
+    }
+    assert!(fab::depth::violations(&f.layout, &f.recorded, &f.ordering).is_empty());
+}
+
+fn read_3mf(bytes: &[u8]) -> Vec<(String, usize, usize)> {
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).expect("a zip");
+    for required in ["[Content_Types].xml", "_rels/.rels"] {
+        assert!(zip.by_name(required).is_ok(), "3MF lacks {required}");
+    }
+    let mut model = String::new();
+    zip.by_name("3D/3dmodel.model").expect("a model").read_to_string(&mut model).unwrap();
+    let doc = roxmltree::Document::parse(&model).expect("well-formed XML");
+    assert_eq!(doc.root_element().attribute("unit"), Some("millimeter"));
+    let objects: Vec<(String, usize, usize)> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("object"))
+        .map(|o| {
+            let v = o.descendants().filter(|n| n.has_tag_name("vertex")).count();
+            let t = o.descendants().filter(|n| n.has_tag_name("triangle")).count();
+            for tri in o.descendants().filter(|n| n.has_tag_name("triangle")) {
+                for k in ["v1", "v2", "v3"] {
+                    let i: usize = tri.attribute(k).unwrap().parse().unwrap();
+                    assert!(i < v);
+                }
+            }
+            (o.attribute("name").unwrap_or("").to_string(), v, t)
+        })
+        .collect();
+    let items = doc.descendants().filter(|n| n.has_tag_name("item")).count();
+    assert_eq!(items, objects.len(), "every object is built");
+    objects
+}
+
+fn assert_exports_read_back(name: &str, f: &fab::Fabrication) {
+    let b = bundle(f).unwrap();
+    let file = |path: &str| &b.files.iter().find(|(p, _)| p == path).unwrap_or_else(|| panic!("{name}: no {path}")).1;
+    // STL: parsed by stl_io; same triangles, closed, every vertex on the bed or above.
+    for p in &f.parts {
+        let bytes = file(&format!("parts/{}.stl", p.name));
+        let mesh =
+            stl_io::read_stl(&mut std::io::Cursor::new(bytes)).unwrap_or_else(|e| panic!("{name}: {}: {e}", p.name));
+        assert_eq!(mesh.faces.len(), p.print_mesh.triangles.len());
+        assert!(mesh.validate().is_ok(), "{name}: {}: {:?}", p.name, mesh.validate());
+        let zmin = mesh.vertices.iter().map(|v| v[2]).fold(f32::INFINITY, f32::min);
+        assert!(zmin.abs() < 1e-3, "{name}: {} is not laid flat (z from {zmin})", p.name);
+    }
+    // 3MF: the assembly has every part, named, with its triangles.
+    let objects = read_3mf(file("assembly.3mf"));
+    assert_eq!(objects.len(), f.parts.len());
+    for (p, (n, _, t)) in f.parts.iter().zip(&objects) {
+        assert_eq!(&p.name, n);
+        assert_eq!(p.mesh.triangles.len(), *t);
+    }
+    // Plates: every part on exactly one plate unless larger than the bed; every plate within the bed.
+    let bed = &f.settings.bed;
+    let mut on_plates = 0;
+    for plate in &b.report.plates {
+        let objs = read_3mf(file(&plate.file));
+        on_plates += objs.len();
+        let bytes = file(&plate.file);
+        let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+        let mut model = String::new();
+        zip.by_name("3D/3dmodel.model").unwrap().read_to_string(&mut model).unwrap();
+        let doc = roxmltree::Document::parse(&model).unwrap();
+        for v in doc.descendants().filter(|n| n.has_tag_name("vertex")) {
+            let x: f64 = v.attribute("x").unwrap().parse().unwrap();
+            let y: f64 = v.attribute("y").unwrap().parse().unwrap();
+            assert!(x >= -1e-3 && x <= bed.width + 1e-3 && y >= -1e-3 && y <= bed.depth + 1e-3, "{name}: off the bed");
+        }
+    }
+    assert_eq!(on_plates + b.report.oversized.len(), f.parts.len());
+    // SVG sheets are XML; DXF has one closed polyline per contour.
+    for svg in ["profiles.svg", "assembly.svg"] {
+        let text = std::str::from_utf8(file(svg)).unwrap();
+        roxmltree::Document::parse(text).unwrap_or_else(|e| panic!("{name}: {svg}: {e}"));
+    }
+    let dxf = std::str::from_utf8(file("profiles.dxf")).unwrap();
+    let lines: Vec<&str> = dxf.lines().collect();
+    assert!(lines.len() % 2 == 0, "DXF is pairs of group code and value");
+    let polylines = lines.chunks(2).filter(|p| p[0].trim() == "0" && p[1] == "POLYLINE").count();
+    let contours: usize = f.parts.iter().map(|p| p.profile.len()).sum();
+    assert_eq!(polylines, contours);
+    assert_eq!(lines.chunks(2).last().map(|p| p[1]), Some("EOF"));
+    // fabrication.json parses and tells the layers.
+    let json: serde_json::Value = serde_json::from_slice(file("fabrication.json")).unwrap();
+    assert_eq!(json["linkwright"], "fabrication/1");
+    assert_eq!(json["parts"].as_array().unwrap().len(), f.parts.len());
+    assert!(json["checks"]["intersections"].as_array().unwrap().is_empty());
+    // The assembled meshes are the parts in place: same volume as the printed ones.
+    for (p, m) in f.parts.iter().zip(assembled_meshes(f)) {
+        assert!((m.volume() - p.print_mesh.volume()).abs() < 1e-6 * p.print_mesh.volume().abs().max(1.0));
+    }
+}
+
+#[test]
+fn garbage_truck_fabricates_and_exports() {
+    let (_, f) = fabricated("k1_garbage_truck", 3000);
+    assert_sound("garbage truck", &f);
+    assert_exports_read_back("garbage truck", &f);
+}
+
+#[test]
+fn sofa_bed_slider_crank_fabricates_with_its_guide() {
+    let (_, f) = fabricated("k1_sofa_bed", 3000);
+    assert_sound("sofa bed", &f);
+    if f.layout.slider_joint.is_some() {
+        assert!(f.parts.iter().any(|p| p.role == fab::Role::Guide));
+        assert!(f.seats.iter().any(|s| s.slot.is_some()));
+    }
+    assert_exports_read_back("sofa bed", &f);
+}
+
+#[test]
+fn wall_chair_six_bar_fabricates() {
+    let (_, f) = fabricated("k2_wall_chair", 3000);
+    assert_sound("wall chair", &f);
+    assert!(f.parts.iter().any(|p| p.role == fab::Role::Link && f.layout.members[p.member.unwrap()].joints.len() == 3));
+    assert_exports_read_back("wall chair", &f);
+}
+
+#[test]
+fn wall_bed_parts_lie_on_plates_with_the_wall_cut_by_dovetails() {
+    let (_, f) = fabricated("k2_wall_bed", 3000);
+    assert_sound("wall bed", &f);
+    let b = bundle(&f).unwrap();
+    assert!(b.report.oversized.is_empty(), "{:?}", b.report.oversized);
+    // The wall (257 mm long) does not fit a 220 mm bed in one piece.
+    assert!(f.parts.iter().filter(|p| p.role == fab::Role::Ground).count() >= 2);
+    assert_exports_read_back("wall bed", &f);
+}
+
+/// Whatever the mechanism (random joints around a real design), fabrication answers with parts that
+/// pass every check or with an error, never a panic.
+#[test]
+fn perturbed_designs_fabricate_soundly_or_fail_cleanly() {
+    use rand::{RngExt, SeedableRng};
+    let p = problem("k1_garbage_truck", 3000);
+    let outcome = synthesize(&p, &Silent).unwrap();
+    let base = outcome.best.expect("a design");
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+    let settings = PrintSettings::default();
+    let (mut ok, mut failed) = (0, 0);
+    for _ in 0..24 {
+        let mut m = base.mechanism.clone();
+        for j in m.joints.iter_mut() {
+            j.x += rng.random_range(-15.0..15.0);
+            j.y += rng.random_range(-15.0..15.0);
+        }
+        let t = travel(&base);
+        match fab::fabricate(&p, 1.0, &m, Travel { start: t.start, end: t.start + 0.3 * (t.end - t.start) }, &settings)
+        {
+            Ok(f) => {
+                assert_sound("perturbed garbage truck", &f);
+                ok += 1;
+            }
+            Err(_) => failed += 1,
+        }
+    }
+    eprintln!("perturbed designs: {ok} fabricated, {failed} refused");
+}
+
+#[test]
+fn a_scene_in_centimetres_gets_parts_of_the_same_physical_size() {
+    let p = problem("k1_garbage_truck", 3000);
+    let outcome = synthesize(&p, &Silent).unwrap();
+    let settings = PrintSettings::default();
+    // The same mechanism read as drawn in millimetres and (scaled by 1/10) in centimetres.
+    let c = outcome
+        .best
+        .iter()
+        .chain(&outcome.alternatives)
+        .find(|c| fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings).is_ok());
+    let Some(c) = c else { panic!("no fabricable design") };
+    let mm = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings).unwrap();
+    let link_mm = mm.parts.iter().find(|p| p.role == fab::Role::Link).unwrap();
+    let (lo, hi) = link_mm.print_mesh.bounds();
+    // Thickness of a link in mm is the setting, whatever the unit.
+    assert!(((hi[2] - lo[2]) - 3.0).abs() < 1e-9 || hi[2] - lo[2] > 3.0);
+    let dims_cm = fab::Dims::new(&settings, 10.0);
+    assert!((dims_cm.thickness * 10.0 - 3.0).abs() < 1e-12);
+    assert!((dims_cm.hole_radius - dims_cm.pin_radius) * 10.0 - 0.25 < 1e-12);
+}
+
+#[test]
+fn feasibility_check_is_fast() {
+    let p = problem("k2_wall_chair", 3000);
+    let outcome = synthesize(&p, &Silent).unwrap();
+    let check = FeasibilityCheck::new(&p, &PrintSettings::default(), 1.0);
+    let candidates: Vec<&Candidate> = outcome.best.iter().chain(&outcome.alternatives).collect();
+    assert!(!candidates.is_empty());
+    let started = Instant::now();
+    let mut n = 0;
+    for _ in 0..20 {
+        for c in &candidates {
+            std::hint::black_box(check.check(&c.mechanism, &c.trace));
+            n += 1;
+        }
+    }
+    let per = started.elapsed().as_secs_f64() / n as f64;
+    eprintln!("feasibility check: {:.0} µs per candidate ({n} calls)", per * 1e6);
+    assert!(per < 0.05, "{per} s per feasibility check");
+}
+
+/// Every bundled example (or every scene of the folder `LW_FAB_SCENES`): the engine's designs, the
+/// first that fabricates, its layers, parts and times. Slow; run with
+/// `cargo test -p linkwright-core --test fabrication -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn every_example_fabricates() {
+    let dir = scenes_dir();
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .filter(|n| n.ends_with(".json"))
+        .map(|n| n.trim_end_matches(".json").to_string())
+        .collect();
+    names.sort();
+    let mut failures = Vec::new();
+    for name in names {
+        let samples = std::env::var("LW_FAB_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(6000);
+        let started = Instant::now();
+        let outcome = std::panic::catch_unwind(|| try_fabricated(&name, samples));
+        let f = match outcome.unwrap_or_else(|_| Err(format!("{name}: panicked"))) {
+            Ok((_, f)) => f,
+            Err(e) => {
+                eprintln!("{e}");
+                failures.push(e);
+                continue;
+            }
+        };
+        assert_sound(&name, &f);
+        let b = bundle(&f).unwrap();
+        eprintln!(
+            "{name}: {} parts, {} layers (front {}, back {}), {} plates, oversized {:?}; recording {:.4} s, ordering {:.4} s, meshing {:.4} s (run {:.1} s)",
+            f.parts.len(),
+            f.ordering.layers,
+            b.report.layers.front,
+            b.report.layers.back,
+            b.report.plates.len(),
+            b.report.oversized,
+            f.timings.recording,
+            f.timings.ordering,
+            f.timings.meshing,
+            started.elapsed().as_secs_f64()
+        );
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
