@@ -1,27 +1,9 @@
 //! The CLI as a person or a script uses it: design, check, simulate, exit codes and outputs.
 
+mod common;
+use common::{example, linkwright, text, workdir};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn linkwright(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_linkwright")).args(args).output().expect("the binary runs")
-}
-
-fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkwright-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn example(name: &str) -> String {
-    format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// Designs the garbage truck with a small budget into `dir`, returning the design file's path.
 fn design_garbage_truck(dir: &Path, threads: &str) -> PathBuf {

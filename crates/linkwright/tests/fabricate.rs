@@ -1,28 +1,11 @@
 //! `linkwright fabricate` and `design --fabricate` as a person uses them: every output file, bad print
 //! settings named, and the assembled 3MF opened by an independent reader (Python's trimesh).
 
+mod common;
+use common::{example, linkwright, text, workdir};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn linkwright(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_linkwright")).args(args).output().expect("the binary runs")
-}
-
-fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkwright-fab-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn example(name: &str) -> String {
-    format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use std::process::Command;
 
 /// Designs and fabricates the garbage truck with a small budget; returns the design folder.
 fn design_and_fabricate(dir: &Path) -> PathBuf {

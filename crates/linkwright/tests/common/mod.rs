@@ -1,8 +1,34 @@
-//! What the web-app tests share: the server binary started on a free port, and scenes to send it.
+//! What the binary's tests share: running the binary, scratch folders, the bundled examples, and the
+//! server started on a free port.
 #![allow(dead_code, reason = "each test file uses a different part of this module")]
 
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::path::PathBuf;
+use std::process::{Child, Command, Output, Stdio};
+
+/// Runs `linkwright` with `args` and waits for it.
+pub fn linkwright(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_linkwright")).args(args).output().expect("the binary runs")
+}
+
+/// An empty scratch folder of this test file's own (named after the test binary and `name`).
+pub fn workdir(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("linkwright-{}-{}-{name}", env!("CARGO_CRATE_NAME"), std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The path of a bundled example.
+pub fn example(name: &str) -> String {
+    format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Output bytes as text.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
 
 /// `linkwright serve` on a free port of 127.0.0.1, stopped (by its own pid) when dropped.
 pub struct Server {
