@@ -99,7 +99,7 @@ pub fn refine(
             })
             .flatten()
             .collect();
-        let pool: Vec<Candidate> = particles.iter().cloned().chain(fresh.iter().cloned()).collect();
+        let pool: Vec<Candidate> = particles.into_iter().chain(fresh.iter().cloned()).collect();
         produced.extend(fresh);
         particles = resample(&pool, options.particles, &weight, &mut resample_rng);
         let best = pool.iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);

@@ -168,12 +168,12 @@ pub fn synthesize_from(problem: &Problem, start: Start, observer: &dyn Observer)
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut picked: Vec<Candidate> = Vec::new();
+    let min_shift = DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
     for c in valid {
         if picked.len() > MAX_ALTERNATIVES {
             break;
         }
-        let size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
-        if picked.iter().all(|p| distinct(p, &c, DISTINCT * size)) {
+        if picked.iter().all(|p| distinct(p, &c, min_shift)) {
             picked.push(c);
         }
     }
