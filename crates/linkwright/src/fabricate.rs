@@ -85,12 +85,13 @@ pub fn run(
     );
     if which > 0 {
         line.push_str(&format!(
-            "\nnote: the design itself cannot be fabricated; this is its alternative {which} (alternatives[{}])",
+            "\nnote: the design itself cannot be fabricated, or has parts larger than the bed; this is its alternative \
+             {which} (alternatives[{}])",
             which - 1
         ));
     }
-    if !r.oversized.is_empty() {
-        line.push_str(&format!("\nwarning: larger than the bed in every turn: {}", r.oversized.join(", ")));
+    if let Some(advice) = r.oversized_advice() {
+        line.push_str(&format!("\nwarning: {advice}; they are not on any plate (fabrication.json \"oversized\")"));
     }
     if !r.checks.ok() {
         line.push_str("\nwarning: the fabrication checks found problems (see fabrication.json \"checks\")");

@@ -5,7 +5,7 @@ mod common;
 use common::{example, linkwright, text, workdir};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// Designs and fabricates the garbage truck with a small budget; returns the design folder.
 fn design_and_fabricate(dir: &Path) -> PathBuf {
@@ -54,51 +54,59 @@ fn design_with_fabricate_writes_every_file() {
     assert!(report["layers"]["count"].as_u64().unwrap() >= 1);
 }
 
+/// `linkwright fabricate` of the garbage truck's `design` into `dir/fab`, with print settings `json`.
+fn fabricate_with_settings(dir: &Path, design: &Path, json: &str) -> Output {
+    let settings = dir.join("print.json");
+    std::fs::write(&settings, json).unwrap();
+    let out = dir.join("fab");
+    linkwright(&[
+        "fabricate",
+        &example("k1_garbage_truck"),
+        design.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--settings",
+        settings.to_str().unwrap(),
+    ])
+}
+
 #[test]
 fn fabricate_names_bad_print_settings_and_exits_2() {
     let dir = workdir("settings");
     let design = design_and_fabricate(&dir).join("design.json");
-    let settings = dir.join("print.json");
-    std::fs::write(&settings, r#"{"pin_radus": 2}"#).unwrap();
-    let out = dir.join("fab");
-    let run = linkwright(&[
-        "fabricate",
-        &example("k1_garbage_truck"),
-        design.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--settings",
-        settings.to_str().unwrap(),
-    ]);
-    assert_eq!(run.status.code(), Some(2));
-    assert!(text(&run.stderr).contains("pin_radus"), "{}", text(&run.stderr));
-    std::fs::write(&settings, r#"{"link_width": 4}"#).unwrap();
-    let run = linkwright(&[
-        "fabricate",
-        &example("k1_garbage_truck"),
-        design.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--settings",
-        settings.to_str().unwrap(),
-    ]);
-    assert_eq!(run.status.code(), Some(2));
-    assert!(text(&run.stderr).contains("link_width"), "{}", text(&run.stderr));
+    for (json, field) in [(r#"{"pin_radus": 2}"#, "pin_radus"), (r#"{"link_width": 4}"#, "link_width")] {
+        let run = fabricate_with_settings(&dir, &design, json);
+        assert_eq!(run.status.code(), Some(2));
+        assert!(text(&run.stderr).contains(field), "{}", text(&run.stderr));
+    }
     // Good settings (wider links) work and show in the report.
-    std::fs::write(&settings, r#"{"link_width": 12, "bed": {"width": 250, "depth": 210}}"#).unwrap();
-    let run = linkwright(&[
-        "fabricate",
-        &example("k1_garbage_truck"),
-        design.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--settings",
-        settings.to_str().unwrap(),
-    ]);
+    let run = fabricate_with_settings(&dir, &design, r#"{"link_width": 12, "bed": {"width": 250, "depth": 210}}"#);
     assert!(run.status.success(), "{}", text(&run.stderr));
-    let report: Value = serde_json::from_str(&std::fs::read_to_string(out.join("fabrication.json")).unwrap()).unwrap();
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fab/fabrication.json")).unwrap()).unwrap();
     assert_eq!(report["settings"]["link_width"], 12.0);
     assert_eq!(report["settings"]["bed"]["depth"], 210.0);
+}
+
+/// A bed too small for the truck's links: the parts are still written, and the summary and
+/// `fabrication.json` say which parts are too large and what bed or scale would take them.
+#[test]
+fn fabricate_says_which_parts_are_larger_than_the_bed_and_what_to_change() {
+    let dir = workdir("small-bed");
+    let design = design_and_fabricate(&dir).join("design.json");
+    let run = fabricate_with_settings(&dir, &design, r#"{"bed": {"width": 60, "depth": 60, "margin": 5}}"#);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let summary = text(&run.stdout);
+    assert!(summary.contains("warning:") && summary.contains("mm square") && summary.contains("scale"), "{summary}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fab/fabrication.json")).unwrap()).unwrap();
+    let oversized = report["oversized"].as_array().unwrap();
+    assert!(!oversized.is_empty(), "{report}");
+    for o in oversized {
+        assert!(summary.contains(o["name"].as_str().unwrap()), "{summary}");
+        assert!(o["square_bed_mm"].as_f64().unwrap() > 60.0, "{o}");
+        assert!(o["max_scale"].as_f64().unwrap() < 1.0, "{o}");
+    }
 }
 
 /// The assembled 3MF is the whole object for an independent reader: trimesh loads every part, each

@@ -1,8 +1,10 @@
 //! The checks every fabrication must pass, computed from the parts themselves (not from the ordering's
-//! reasoning): every mesh is a closed, consistently oriented 2-manifold with a positive volume; no two
-//! parts overlap (and no part enters a body) at any row of the motion, decided exactly on the parts'
-//! prisms with a polygon library's overlap predicate; every pin is coaxial with its holes at every row,
-//! with the set radial clearance and its holes within its shaft; every recorded constraint holds.
+//! reasoning): every mesh is a closed, consistently oriented 2-manifold with a positive volume; every
+//! pin, post and boss stands on its part's slab; no two parts overlap (and no part, pad, pin or post
+//! enters a body) at any row of the motion, decided exactly on the parts' prisms with a polygon
+//! library's overlap predicate (only the bodies as drawn may touch each other: that is the synthesis's
+//! concern); every pin is coaxial with its holes at every row, with the set radial clearance and its
+//! holes within its shaft; every recorded constraint holds.
 
 use super::depth::{violations, Constraint};
 use super::parts::{Prism, Role};
@@ -16,6 +18,8 @@ use serde::Serialize;
 pub struct CheckReport {
     /// Parts whose mesh is not closed or has no positive volume.
     pub meshes: Vec<String>,
+    /// Pins, posts and bosses that do not stand wholly on their part's slab.
+    pub supports: Vec<String>,
     /// Pairs of parts that overlap, with where.
     pub intersections: Vec<String>,
     /// Pins not seated in their holes.
@@ -30,7 +34,11 @@ pub struct CheckReport {
 
 impl CheckReport {
     pub fn ok(&self) -> bool {
-        self.meshes.is_empty() && self.intersections.is_empty() && self.seats.is_empty() && self.ordering.is_empty()
+        self.meshes.is_empty()
+            && self.supports.is_empty()
+            && self.intersections.is_empty()
+            && self.seats.is_empty()
+            && self.ordering.is_empty()
     }
 }
 
@@ -49,6 +57,7 @@ pub fn check(fab: &Fabrication) -> CheckReport {
     }
     let c: Vec<Constraint> = violations(&fab.layout, &fab.recorded, &fab.ordering);
     report.ordering = c.iter().map(|c| format!("{c:?}")).collect();
+    supports(fab, &mut report);
     intersections(fab, &mut report);
     seats(fab, &mut report);
     report
@@ -77,25 +86,21 @@ fn intersections(fab: &Fabrication, report: &mut CheckReport) {
                 if found.contains(&(a, b)) {
                     continue;
                 }
-                // Bodies against bodies is the synthesis's concern, except for the pads fabrication adds.
-                let both_bodies = is_body(pa.role) && is_body(pb.role);
-                if both_bodies && pa.pads.is_empty() && pb.pads.is_empty() {
-                    continue;
-                }
                 if r > 0 && pa.carrier == pb.carrier {
                     continue;
                 }
+                // Two bodies as drawn may touch (the synthesis's concern); what fabrication adds to them
+                // (pads, pins, posts) may not enter anything.
+                let both_bodies = is_body(pa.role) && is_body(pb.role);
                 let pads_a: Vec<_> = pa.pads.iter().map(|pr| place(pr, &poses[pa.carrier])).collect();
                 let pads_b: Vec<_> = pb.pads.iter().map(|pr| place(pr, &poses[pb.carrier])).collect();
-                let pairs: Vec<(&Placed, &Placed)> = if both_bodies {
-                    pads_a
-                        .iter()
-                        .flat_map(|x| world[b].iter().map(move |y| (x, y)))
-                        .chain(pads_b.iter().flat_map(|y| world[a].iter().map(move |x| (x, y))))
-                        .collect()
-                } else {
-                    world[a].iter().flat_map(|x| world[b].iter().map(move |y| (x, y))).collect()
-                };
+                let (all_a, all_b) = (tagged(&world[a], &pads_a), tagged(&world[b], &pads_b));
+                let pairs: Vec<(&Placed, &Placed)> = all_a
+                    .iter()
+                    .flat_map(|&(da, x)| all_b.iter().map(move |&(db, y)| (da && db, x, y)))
+                    .filter(|&(drawn, _, _)| !(both_bodies && drawn))
+                    .map(|(_, x, y)| (x, y))
+                    .collect();
                 'pairs: for ((sa, ba, za), (sb, bb, zb)) in pairs {
                     {
                         if za.1.min(zb.1) - za.0.max(zb.0) <= ztol || !ba.overlaps(bb, 0.0) {
@@ -118,6 +123,35 @@ fn intersections(fab: &Fabrication, report: &mut CheckReport) {
                         }
                     }
                 }
+            }
+        }
+    }
+}
+
+/// A part's prisms and pads, each with whether it is the part's slab (for a body: the body as drawn).
+fn tagged<'p>(prisms: &'p [Placed], pads: &'p [Placed]) -> Vec<(bool, &'p Placed)> {
+    let slabs = prisms.iter().enumerate().map(|(k, x)| (k == 0, x));
+    slabs.chain(pads.iter().map(|x| (false, x))).collect()
+}
+
+/// Every prism standing on a part's slab (the first step of a pin, post or collar, a boss) lies within
+/// the slab's outline and outside its holes: nothing hangs in the air.
+fn supports(fab: &Fabrication, report: &mut CheckReport) {
+    let tol = 1e-9 * fab.dims.half_width.max(1.0);
+    for p in &fab.parts {
+        let Some((slab, rest)) = p.prisms.split_first() else { continue };
+        let base = place(slab, &Rigid::IDENTITY);
+        for pr in rest {
+            let on_top = (pr.z.0 - slab.z.1).abs() <= tol;
+            let under = (pr.z.1 - slab.z.0).abs() <= tol;
+            if !(on_top || under) {
+                continue;
+            }
+            if !place(pr, &Rigid::IDENTITY).0.within(&base.0) {
+                let c = crate::geom::Polygon::new(pr.outline.clone()).centroid();
+                report
+                    .supports
+                    .push(format!("{}: the pillar at ({:.2}, {:.2}) is not wholly on the part", p.name, c.x, c.y));
             }
         }
     }

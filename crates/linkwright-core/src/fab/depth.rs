@@ -12,14 +12,14 @@
 //! - [`Constraint::Around`] (eq. 17): a member passing over the pin of joint `j` lies below every
 //!   member of `L_j` or above every one; [`Constraint::Above`] when the pin stands on a body (nothing
 //!   can pass under it);
-//! - [`Constraint::Outermost`]: the slider guide is the outermost member on its joint (the pin comes
-//!   from the body side and runs in the guide's slot);
+//! - [`Constraint::Outermost`]: the slider guide (or the frame holding the slot) is the outermost member
+//!   on its joint (the pin comes from the body side and runs in the slot);
 //! - [`Constraint::OppositeFaces`]: two pillars (posts or pins standing on different bodies) that meet
 //!   during the motion must stand on opposite faces of the bodies.
 //!
 //! All members on one joint share a face. The solver minimises the layers on the busier face.
 
-use super::layout::{Layout, MemberKind};
+use super::layout::Layout;
 use super::settings::Faces;
 use super::FabError;
 use crate::geom::{Point, Rigid};
@@ -204,7 +204,8 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
         }
     }
     if let Some(j) = layout.slider_joint {
-        if let Some(g) = layout.joint_members[j].iter().copied().find(|&i| members[i].kind == MemberKind::Guide) {
+        let slotted = |i: &usize| members[*i].slot.is_some_and(|s| s.joint == j);
+        if let Some(g) = layout.joint_members[j].iter().copied().find(slotted) {
             out.constraints
                 .entry(Constraint::Outermost { member: g, joint: j })
                 .or_insert(trace.thetas[0].to_degrees());

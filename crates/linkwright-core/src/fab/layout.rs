@@ -1,7 +1,9 @@
 //! Connecting the linkage to the bodies (paper §7.1): which printed members exist (links, joint
-//! connectors, the slider guide), which rigid carrier each rides on, where connector posts stand on the
-//! bodies, and which joints are pins fused straight onto a body.
+//! connectors, the slider guide, the frame of a scene without a fixed body), which rigid carrier each
+//! rides on, where connector posts stand on the bodies ([`super::posts`]), and which joints are pins
+//! fused straight onto a body.
 
+use super::posts::{self, Pad, Pillar};
 use super::settings::Dims;
 use super::shapes::Region;
 use super::FabError;
@@ -32,6 +34,18 @@ pub enum MemberKind {
     Connector,
     /// The slider's guide: a slotted plate fixed to the ground by a post.
     Guide,
+    /// A scene without a fixed body: a plate on its own layer joining the ground joints (and holding
+    /// the slider's slot), which the hand holds or a base is fixed to.
+    Frame,
+}
+
+/// The slot a slider's pin runs in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slot {
+    /// The slider joint.
+    pub joint: usize,
+    /// The ends of the slot's centre line, ground frame.
+    pub ends: (Point, Point),
 }
 
 /// A flat printed part on one layer: the convex hull of discs of radius `half_width` around `core`.
@@ -41,14 +55,31 @@ pub struct Member {
     pub kind: MemberKind,
     /// Index into [`Layout::carriers`].
     pub carrier: usize,
-    /// Disc centres in the carrier's frame (the joints, and the post for connectors).
+    /// Disc centres in the carrier's frame: links and the frame their joints in order (then the
+    /// frame's slot ends), connectors their post then their joint, the guide its slot ends then its post.
     pub core: Vec<Point>,
-    /// The joints this member turns on (or slides on, for the guide).
+    /// The joints this member turns on (or slides on, for the slot).
     pub joints: Vec<usize>,
     /// Connectors and the guide: where the square post stands, carrier frame.
     pub post: Option<Point>,
-    /// The guide: the ends of the slot's centre line, ground frame.
-    pub slot: Option<(Point, Point)>,
+    /// The guide (or the frame): the slot its slider joint runs in.
+    pub slot: Option<Slot>,
+}
+
+impl Member {
+    /// Where the member turns on joint `j`, carrier frame: `None` for a joint it does not carry or
+    /// the one running in its slot.
+    pub fn joint_at(&self, j: usize) -> Option<Point> {
+        if self.slot.is_some_and(|s| s.joint == j) {
+            return None;
+        }
+        let k = self.joints.iter().position(|&x| x == j)?;
+        match self.kind {
+            MemberKind::Connector => self.core.get(1).copied(),
+            MemberKind::Link | MemberKind::Frame => self.core.get(k).copied(),
+            MemberKind::Guide => None,
+        }
+    }
 }
 
 /// A joint pin fused to a body or the ground (the joint lies deep enough inside it).
@@ -72,10 +103,12 @@ pub struct Layout {
     pub body_pins: Vec<Option<BodyPin>>,
     /// The slider joint, if any (its pin runs in the guide's slot).
     pub slider_joint: Option<usize>,
-    /// Round pads added to bodies too thin for a post: (carrier, centre in its frame, radius). They are
-    /// fused to the body's outline, in the bodies' plane, and checked against every other body along
-    /// the motion.
-    pub pads: Vec<(usize, Point, f64)>,
+    /// Round pads added to bodies too thin for a post. They are fused to the body's outline, in the
+    /// bodies' plane, and checked against every other body along the motion.
+    pub pads: Vec<Pad>,
+    /// The frame's foot in a scene without a fixed body: a disc in the bodies' plane, standing on the
+    /// table where no body comes along the motion, carrying the frame's post.
+    pub foot: Option<Pad>,
     pub dims: Dims,
     frames: BodyFrames,
 }
@@ -91,6 +124,8 @@ pub struct SceneShapes {
     pub bodies: Vec<Region>,
     pub first_poses: Vec<Rigid>,
     pub dims: Dims,
+    /// For each carrier (0 the ground, `1 + b` body `b`), its places for posts on thin stretches.
+    thin: Vec<posts::ThinSites>,
 }
 
 impl SceneShapes {
@@ -121,7 +156,7 @@ impl SceneShapes {
                 .filter(|r: &Region| !r.contours.is_empty())
                 .collect()
         };
-        let bodies = problem
+        let bodies: Vec<Region> = problem
             .bodies
             .iter()
             .map(|b| {
@@ -132,21 +167,22 @@ impl SceneShapes {
                 Region { contours: vec![c] }
             })
             .collect();
-        SceneShapes { ground, bodies, first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(), dims }
+        let thin = std::iter::once(ground.as_slice())
+            .chain(bodies.iter().map(std::slice::from_ref))
+            .map(|regions| posts::ThinSites::new(regions, &dims))
+            .collect();
+        SceneShapes { ground, bodies, first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(), dims, thin }
     }
 
-    /// The region of a carrier that can hold posts and pins, in the carrier's frame.
-    fn regions(&self, carrier: Carrier) -> &[Region] {
-        match carrier {
-            Carrier::Ground => &self.ground,
-            Carrier::Body(b) => std::slice::from_ref(&self.bodies[b]),
-            Carrier::Link(_) => &[],
+    /// The regions of carrier `k` (0 the ground, `1 + b` moving body `b`) that can hold posts and pins,
+    /// in the carrier's frame (empty for the ground of a scene without fixed bodies).
+    pub fn carrier_regions(&self, k: usize) -> &[Region] {
+        match k {
+            0 => &self.ground,
+            _ => std::slice::from_ref(&self.bodies[k - 1]),
         }
     }
 }
-
-/// A pillar already standing on a carrier: position and radius.
-type Pillar = (Point, f64);
 
 impl Layout {
     /// Connects every joint of `mechanism` to the parts that carry it. `trace` is the motion (its rows
@@ -191,19 +227,7 @@ impl Layout {
             carriers.push(Carrier::Link(pi));
             link_frames.push((a, b));
             let core: Vec<Point> = part.joints.iter().map(|&j| frame.inverse().apply(mechanism.joints[j])).collect();
-            let need = dims.min_joint_spacing();
-            for (x, &ja) in part.joints.iter().enumerate() {
-                for &jb in &part.joints[x + 1..] {
-                    if mechanism.joints[ja].distance(mechanism.joints[jb]) < need {
-                        return Err(FabError::JointsTooClose {
-                            link: part.name.clone(),
-                            a: topo.joint_names[ja].clone(),
-                            b: topo.joint_names[jb].clone(),
-                            need_mm: need * dims.mm_per_unit,
-                        });
-                    }
-                }
-            }
+            too_close(&part.name, &part.joints, mechanism, dims)?;
             for &j in &part.joints {
                 joint_members[j].push(members.len());
             }
@@ -219,11 +243,13 @@ impl Layout {
         }
 
         // Joints on the ground and on bodies: a pin fused to the body when the joint lies deep inside
-        // it, otherwise a connector from the nearest place a post fits.
+        // it, otherwise a connector from a post (see [`super::posts`]). Without a fixed body, the ground
+        // joints are held by a printed frame instead.
         let mut pillars: Vec<Vec<Pillar>> = vec![Vec::new(); carriers.len()];
         let mut pins = vec![None; n];
-        let mut pads: Vec<(usize, Point, f64)> = Vec::new();
+        let mut pads: Vec<Pad> = Vec::new();
         let mut connectors: Vec<Vec<(Point, Point)>> = vec![Vec::new(); carriers.len()];
+        let mut frame_joints: Vec<usize> = Vec::new();
         // Where the links are at every row (world), to keep posts out of their way.
         let link_rows: Vec<Vec<Vec<Point>>> = (0..trace.len())
             .map(|r| {
@@ -241,6 +267,9 @@ impl Layout {
                     .collect()
             })
             .collect();
+        // Every carrier's pose along the motion, for pads (computed when a body needs one).
+        let poses = std::cell::OnceCell::new();
+        let poses = || poses.get_or_init(|| posts::Poses::new(&frames, trace));
         let sweep_reach = dims.half_width + dims.post_collar_radius + dims.clearance;
         // A preference only (validity comes from the recorded constraints), so every few rows suffice.
         let stride = trace.len().div_ceil(90).max(1);
@@ -257,130 +286,55 @@ impl Layout {
                 PartKind::Body(b) => (Carrier::Body(b), 1 + b),
                 PartKind::Link => continue,
             };
-            let to_local = carrier_first_pose(carrier, shapes, mechanism).inverse();
+            let regions = shapes.carrier_regions(ci);
+            if regions.is_empty() {
+                frame_joints.extend(&part.joints);
+                continue;
+            }
+            let to_local = carrier_first_pose(carrier, shapes).inverse();
             for &j in &part.joints {
                 let at = to_local.apply(mechanism.joints[j]);
-                let regions = shapes.regions(carrier);
-                if regions.is_empty() {
-                    return Err(FabError::NoGround);
-                }
-                let free = |p: Point, r: f64, placed: &[Pillar]| {
-                    placed.iter().all(|&(q, rq)| p.distance(q) >= r + rq + dims.wall)
-                };
                 let depth = |p: Point| regions.iter().map(|r| r.depth(p)).fold(f64::NEG_INFINITY, f64::max);
-                if body_pins && depth(at) >= dims.pin_depth() && free(at, dims.boss_radius, &pillars[ci]) {
+                let free = pillars[ci].iter().all(|&(q, rq)| at.distance(q) >= dims.boss_radius + rq + dims.wall);
+                if body_pins && depth(at) >= dims.pin_depth() && free {
                     pillars[ci].push((at, dims.boss_radius));
                     pins[j] = Some(BodyPin { carrier: ci, at });
                     continue;
                 }
-                let min_reach = dims.boss_radius + dims.post_collar_radius + dims.wall;
                 // Connectors of one body must not cover each other's posts both ways (no layer order
                 // could then exist): prefer posts that neither cover nor are covered, then posts that
                 // are not both.
                 let reach = dims.half_width + dims.post_collar_radius + dims.clearance;
                 let mine = &connectors[ci];
-                let clear = |level: u8| {
-                    move |p: Point| {
-                        mine.iter().all(|&(q, jq): &(Point, Point)| {
-                            let new_covers_old = point_segment_distance(q, p, at) < reach;
-                            let old_covers_new = point_segment_distance(p, q, jq) < reach;
-                            match level {
-                                2 => !new_covers_old && !old_covers_new,
-                                1 => !(new_covers_old && old_covers_new),
-                                _ => true,
-                            }
-                        })
-                    }
+                let clear = |p: Point, level: u8| {
+                    mine.iter().all(|&(q, jq): &(Point, Point)| {
+                        let new_covers_old = point_segment_distance(q, p, at) < reach;
+                        let old_covers_new = point_segment_distance(p, q, jq) < reach;
+                        match level {
+                            2 => !new_covers_old && !old_covers_new,
+                            1 => !(new_covers_old && old_covers_new),
+                            _ => true,
+                        }
+                    })
                 };
-                // Nearest first; a place no other member sweeps over is worth a longer connector.
-                let mut fallback = None;
-                let mut chosen = None;
-                // The paper's place first: the nearest boundary point pushed in, when it is good.
-                if let Some((q, inward)) = regions
-                    .iter()
-                    .filter_map(|r| r.nearest_boundary(at).map(|(q, n)| (q.distance(at), q, n)))
-                    .min_by(|a, b| a.0.total_cmp(&b.0))
-                    .map(|(_, q, n)| (q, n))
-                {
-                    let p = q + inward * (dims.post_depth() * 1.05);
-                    let deep = regions.iter().any(|r| r.depth(p) >= dims.post_depth());
-                    let apart = pillars[ci].iter().all(|&(o, ro)| p.distance(o) >= dims.post_collar_radius + ro + 1e-9);
-                    if deep && apart && p.distance(at) >= min_reach && clear(2)(p) && !swept(ci, p) {
-                        chosen = Some(p);
-                    }
-                }
-                if chosen.is_none() {
-                    // The grid once; then the strictest rule that leaves an unswept place.
-                    let cands = find_posts(
-                        regions,
-                        at,
-                        dims.post_depth(),
-                        min_reach,
-                        dims.post_collar_radius,
-                        &pillars[ci],
-                        &|_| true,
-                        96,
-                    );
-                    'levels: for level in [2u8, 1, 0] {
-                        let rule = clear(level);
-                        for &p in cands.iter().filter(|&&p| rule(p)).take(24) {
-                            if !swept(ci, p) {
-                                chosen = Some(p);
-                                break 'levels;
-                            }
-                        }
-                        if fallback.is_none() {
-                            fallback = cands.iter().copied().find(|&p| rule(p));
-                        }
-                    }
-                }
-                let post = match chosen.or(fallback) {
-                    Some(p) => p,
-                    None => {
-                        let mut candidates = Vec::new();
-                        for level in [2u8, 1, 0] {
-                            candidates = pad_posts(
-                                regions,
-                                at,
-                                dims.post_depth(),
-                                min_reach,
-                                dims.post_collar_radius,
-                                &pillars[ci],
-                                &clear(level),
-                            );
-                            if !candidates.is_empty() {
-                                break;
-                            }
-                        }
-                        if candidates.is_empty() {
-                            return Err(FabError::NoRoomForPost {
-                                joint: topo.joint_names[j].clone(),
-                                body: carrier_name(carrier, shapes),
-                            });
-                        }
-                        let mut first_hit = None;
-                        let mut chosen = None;
-                        for p in candidates {
-                            match pad_hit(shapes, &frames, trace, ci, p, dims.post_depth(), &pads) {
-                                None => {
-                                    chosen = Some(p);
-                                    break;
-                                }
-                                Some(deg) => {
-                                    first_hit.get_or_insert(deg);
-                                }
-                            }
-                        }
-                        let Some(p) = chosen else {
-                            return Err(FabError::PadCollides {
-                                body: carrier_name(carrier, shapes),
-                                at_deg: first_hit.unwrap_or(0.0),
-                            });
-                        };
-                        pads.push((ci, p, dims.post_depth()));
-                        p
-                    }
+                let swept_here = |p: Point| swept(ci, p);
+                let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), ci, p, r, &pads);
+                let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == ci).copied().collect();
+                let query = posts::Query {
+                    regions,
+                    thin: &shapes.thin[ci],
+                    target: (at, at),
+                    min_reach: dims.boss_radius + dims.post_collar_radius + dims.wall,
+                    placed: &pillars[ci],
+                    pads: &carrier_pads,
+                    pad_hit: &hit,
                 };
+                let site = posts::place(&query, &posts::Rules { clear: &clear, swept: &swept_here }, &dims)
+                    .map_err(|e| refusal(e, &topo.joint_names[j], carrier))?;
+                if let Some(radius) = site.pad {
+                    pads.push(Pad { carrier: ci, centre: site.at, radius });
+                }
+                let post = site.at;
                 pillars[ci].push((post, dims.post_collar_radius));
                 connectors[ci].push((post, at));
                 joint_members[j].push(members.len());
@@ -396,42 +350,79 @@ impl Layout {
             }
         }
 
-        // The slider guide: a slotted plate over the stroke, fixed to the ground by one post.
+        // The slider guide: a slotted plate over the stroke, fixed to the ground by one post (or part
+        // of the frame when there is no fixed body).
+        let mut frame_slot = None;
         if let (Some(j), Some(line)) = (topo.slider_joint, mechanism.slider) {
             let along = (0..trace.len()).map(|r| (trace.row(r)[j] - line.point).dot(line.direction));
             let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| (lo.min(s), hi.max(s)));
             if !(lo.is_finite() && hi.is_finite()) {
                 return Err(FabError::Mismatch("the slider's stroke is empty".into()));
             }
-            let (s0, s1) = (line.point + line.direction * lo, line.point + line.direction * hi);
-            let mid = s0.lerp(s1, 0.5);
-            let min_reach = 0.5 * s0.distance(s1) + dims.half_width + dims.post_collar_radius + dims.wall;
-            let post = find_posts(
-                &shapes.ground,
-                mid,
-                dims.post_depth(),
-                min_reach,
-                dims.post_collar_radius,
-                &pillars[0],
-                &|_| true,
-                1,
-            )
-            .first()
-            .copied()
-            .ok_or_else(|| FabError::NoRoomForPost {
-                joint: format!("{} (slider guide)", topo.joint_names[j]),
-                body: "ground".into(),
-            })?;
-            pillars[0].push((post, dims.post_collar_radius));
-            joint_members[j].push(members.len());
+            let slot = Slot { joint: j, ends: (line.point + line.direction * lo, line.point + line.direction * hi) };
+            if shapes.ground.is_empty() {
+                frame_slot = Some(slot);
+            } else {
+                let swept_here = |p: Point| swept(0, p);
+                let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), 0, p, r, &pads);
+                // Clear of the slider's own members running along the slot.
+                let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == 0).copied().collect();
+                let query = posts::Query {
+                    regions: &shapes.ground,
+                    thin: &shapes.thin[0],
+                    target: slot.ends,
+                    min_reach: dims.half_width + dims.post_collar_radius + dims.wall,
+                    placed: &pillars[0],
+                    pads: &carrier_pads,
+                    pad_hit: &hit,
+                };
+                let site = posts::place(&query, &posts::Rules { clear: &|_, _| true, swept: &swept_here }, &dims)
+                    .map_err(|e| refusal(e, &format!("{} (slider guide)", topo.joint_names[j]), Carrier::Ground))?;
+                if let Some(radius) = site.pad {
+                    pads.push(Pad { carrier: 0, centre: site.at, radius });
+                }
+                pillars[0].push((site.at, dims.post_collar_radius));
+                joint_members[j].push(members.len());
+                members.push(Member {
+                    name: "slider_guide".into(),
+                    kind: MemberKind::Guide,
+                    carrier: 0,
+                    core: vec![slot.ends.0, slot.ends.1, site.at],
+                    joints: vec![j],
+                    post: Some(site.at),
+                    slot: Some(slot),
+                });
+            }
+        }
+
+        // No fixed body: a frame on its own layer joins the ground joints (and carries the slot), held
+        // by a square post on a foot that stands on the table where no body comes.
+        let mut foot = None;
+        if !frame_joints.is_empty() || frame_slot.is_some() {
+            too_close("the frame", &frame_joints, mechanism, dims)?;
+            let mut core: Vec<Point> = frame_joints.iter().map(|&j| mechanism.joints[j]).collect();
+            let mut joints = frame_joints.clone();
+            if let Some(slot) = frame_slot {
+                core.extend([slot.ends.0, slot.ends.1]);
+                joints.push(slot.joint);
+            }
+            let hit = |p: Point| posts::pad_hit(shapes, poses(), 0, p, dims.post_depth(), &pads).is_some();
+            let at = posts::foot(&core, &dims, &|p| swept(0, p), &hit);
+            if let Some(p) = at {
+                core.push(p);
+                foot = Some(Pad { carrier: 0, centre: p, radius: dims.post_depth() });
+            }
+            for &j in &joints {
+                joint_members[j].push(members.len());
+            }
             members.push(Member {
-                name: "slider_guide".into(),
-                kind: MemberKind::Guide,
+                name: "frame".into(),
+                kind: MemberKind::Frame,
                 carrier: 0,
-                core: vec![s0, s1, post],
-                joints: vec![j],
-                post: Some(post),
-                slot: Some((s0, s1)),
+                core,
+                joints,
+                post: at,
+                slot: frame_slot,
             });
         }
         let layout = Layout {
@@ -442,6 +433,7 @@ impl Layout {
             body_pins: pins,
             slider_joint: topo.slider_joint,
             pads,
+            foot,
             dims,
             frames,
         };
@@ -463,6 +455,19 @@ impl Layout {
         }
     }
 
+    /// The members that fit the print bed in no turn, each with what it would take.
+    pub fn off_bed(&self, bed: &super::settings::Bed) -> Vec<(usize, super::plates::Misfit)> {
+        let mm = self.dims.mm_per_unit;
+        self.members
+            .iter()
+            .enumerate()
+            .filter_map(|(i, m)| {
+                let core: Vec<Point> = m.core.iter().map(|p| Point::new(p.x * mm, p.y * mm)).collect();
+                super::plates::misfit(&core, self.dims.half_width * mm, bed).map(|f| (i, f))
+            })
+            .collect()
+    }
+
     /// The member whose name is `name`.
     pub fn member(&self, name: &str) -> Option<usize> {
         self.members.iter().position(|m| m.name == name)
@@ -474,174 +479,45 @@ fn link_frame(a: Point, b: Point) -> Rigid {
     Rigid::from_frame(a, b - a)
 }
 
-fn carrier_first_pose(carrier: Carrier, shapes: &SceneShapes, _m: &Mechanism) -> Rigid {
+fn carrier_first_pose(carrier: Carrier, shapes: &SceneShapes) -> Rigid {
     match carrier {
         Carrier::Body(b) => shapes.first_poses[b],
         _ => Rigid::IDENTITY,
     }
 }
 
-/// The crank angle (degrees) of the first row where a pad of `radius` at `at` on carrier `c` (0 the
-/// ground, 1 + b body b) enters another body or pad, or `None`.
-fn pad_hit(
-    shapes: &SceneShapes,
-    frames: &BodyFrames,
-    trace: &Trace,
-    c: usize,
-    at: Point,
-    radius: f64,
-    pads: &[(usize, Point, f64)],
-) -> Option<f64> {
-    let tol = 1e-3 * radius;
-    let pose = |k: usize, row: &[Point]| if k == 0 { Rigid::IDENTITY } else { frames.pose(k - 1, row) };
-    for r in 0..trace.len() {
-        let row = trace.row(r);
-        let centre = pose(c, row).apply(at);
-        let pad = crate::geom::Polygon::new(super::shapes::circle(centre, radius, 24));
-        for other in (0..=shapes.bodies.len()).filter(|&o| o != c) {
-            let regions: &[Region] =
-                if other == 0 { &shapes.ground } else { std::slice::from_ref(&shapes.bodies[other - 1]) };
-            let placed = pose(other, row);
-            let hit = regions.iter().any(|region| {
-                pad.penetrates(&crate::geom::Polygon::new(region.contours[0].clone()).transformed(&placed), tol)
-            }) || pads
-                .iter()
-                .filter(|p| p.0 == other)
-                .any(|&(_, q, rq)| placed.apply(q).distance(centre) < radius + rq - tol);
-            if hit {
-                return Some(trace.thetas[r].to_degrees());
+/// The error for a post that has no place on `carrier`.
+fn refusal(e: posts::Refusal, joint: &str, carrier: Carrier) -> FabError {
+    let body = carrier_name(carrier);
+    match e {
+        posts::Refusal::NoRoom => FabError::NoRoomForPost { joint: joint.to_string(), body },
+        posts::Refusal::PadsCollide { at_deg } => FabError::PadCollides { joint: joint.to_string(), body, at_deg },
+    }
+}
+
+/// [`FabError::JointsTooClose`] when two of `joints` are closer than two pins need.
+fn too_close(name: &str, joints: &[usize], mechanism: &Mechanism, dims: Dims) -> Result<(), FabError> {
+    let need = dims.min_joint_spacing();
+    for (x, &ja) in joints.iter().enumerate() {
+        for &jb in &joints[x + 1..] {
+            if mechanism.joints[ja].distance(mechanism.joints[jb]) < need {
+                let names = &mechanism.topology.joint_names;
+                return Err(FabError::JointsTooClose {
+                    link: name.to_string(),
+                    a: names[ja].clone(),
+                    b: names[jb].clone(),
+                    need_mm: need * dims.mm_per_unit,
+                });
             }
         }
     }
-    None
+    Ok(())
 }
 
-/// For a body too thin for a post: places on the body's medial line for the post, nearest the joint
-/// first (a round pad of radius `depth` is then fused to the body there).
-#[allow(clippy::too_many_arguments, reason = "the placement rules of one post, named at the call sites")]
-fn pad_posts(
-    regions: &[Region],
-    joint: Point,
-    depth: f64,
-    min_reach: f64,
-    radius: f64,
-    placed: &[Pillar],
-    clear: &dyn Fn(Point) -> bool,
-) -> Vec<Point> {
-    let wall_free = |p: Point| placed.iter().all(|&(q, rq)| p.distance(q) >= radius + rq + 1e-9) && clear(p);
-    let mut found: Vec<(f64, Point)> = Vec::new();
-    for r in regions {
-        for c in &r.contours {
-            let n = c.len();
-            for i in 0..n {
-                let (a, b) = (c[i], c[(i + 1) % n]);
-                let steps = ((a.distance(b) / (0.5 * depth)).ceil() as usize).max(1);
-                for k in 0..steps {
-                    let q = a.lerp(b, k as f64 / steps as f64);
-                    // The deepest point straight inwards from q.
-                    let normal = {
-                        let e = (b - a).perp().normalized();
-                        if r.contains(q + e * (1e-4 * depth)) {
-                            e
-                        } else {
-                            -e
-                        }
-                    };
-                    let mut deepest = (f64::NEG_INFINITY, q);
-                    for t in 1..=20 {
-                        let p = q + normal * (depth * t as f64 / 20.0);
-                        let dp = r.depth(p);
-                        if dp > deepest.0 {
-                            deepest = (dp, p);
-                        }
-                    }
-                    let p = deepest.1;
-                    if deepest.0 <= 0.0 || !wall_free(p) || p.distance(joint) < min_reach {
-                        continue;
-                    }
-                    found.push((p.distance(joint), p));
-                }
-            }
-        }
-    }
-    found.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut out: Vec<Point> = Vec::new();
-    for (_, p) in found {
-        if out.iter().all(|q| q.distance(p) >= 0.5 * depth) {
-            out.push(p);
-        }
-        if out.len() >= 240 {
-            break;
-        }
-    }
-    out
-}
-
-fn carrier_name(carrier: Carrier, _shapes: &SceneShapes) -> String {
+fn carrier_name(carrier: Carrier) -> String {
     match carrier {
         Carrier::Ground => "ground".into(),
         Carrier::Body(b) => format!("moving body {b}"),
         Carrier::Link(p) => format!("link {p}"),
     }
-}
-
-/// The place nearest to `joint` where a post of column radius `radius` stands at least `depth` inside
-/// the regions, at least `min_reach` from the joint, clear of the pillars already placed. Tries the
-/// nearest boundary point pushed inwards first (paper §7.1), then a grid over the regions.
-#[allow(clippy::too_many_arguments, reason = "the placement rules of one post, named at the call sites")]
-fn find_posts(
-    regions: &[Region],
-    joint: Point,
-    depth: f64,
-    min_reach: f64,
-    radius: f64,
-    placed: &[Pillar],
-    clear: &dyn Fn(Point) -> bool,
-    limit: usize,
-) -> Vec<Point> {
-    let wall_free = |p: Point| placed.iter().all(|&(q, rq)| p.distance(q) >= radius + rq + 1e-9) && clear(p);
-    let deep = |p: Point| regions.iter().any(|r| r.deeper_than(p, depth));
-    let ok = |p: Point| deep(p) && wall_free(p) && p.distance(joint) >= min_reach;
-    let mut found: Vec<(f64, Point)> = Vec::new();
-    for r in regions {
-        if let Some((q, inward)) = r.nearest_boundary(joint) {
-            let p = q + inward * (depth * 1.05);
-            if ok(p) {
-                found.push((-1.0, p));
-            }
-        }
-    }
-    for r in regions {
-        let Some(bb) = r.aabb() else { continue };
-        // A window around the joint, wide enough to reach into the region.
-        let reach = r.boundary_distance(joint).max(0.0) + 8.0 * depth + min_reach;
-        let (x0, x1) = (bb.min.x.max(joint.x - reach), bb.max.x.min(joint.x + reach));
-        let (y0, y1) = (bb.min.y.max(joint.y - reach), bb.max.y.min(joint.y + reach));
-        if x1 < x0 || y1 < y0 {
-            continue;
-        }
-        let step = (depth / 3.0).max((x1 - x0).max(y1 - y0) / 64.0);
-        let nx = ((x1 - x0) / step).ceil() as usize + 1;
-        let ny = ((y1 - y0) / step).ceil() as usize + 1;
-        for ix in 0..nx {
-            for iy in 0..ny {
-                let p = Point::new(x0 + ix as f64 * step, y0 + iy as f64 * step);
-                let d = p.distance(joint);
-                if d >= min_reach && r.deeper_than(p, depth) && wall_free(p) {
-                    found.push((d, p));
-                }
-            }
-        }
-    }
-    found.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut out: Vec<Point> = Vec::new();
-    for (_, p) in found {
-        if out.iter().all(|q| q.distance(p) >= 0.5 * depth) {
-            out.push(p);
-        }
-        if out.len() >= limit {
-            break;
-        }
-    }
-    out
 }

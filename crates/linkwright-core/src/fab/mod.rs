@@ -3,14 +3,18 @@
 //! The stages, each a module:
 //! - [`settings`]: print settings in millimetres (defaults for a desktop FDM printer) and the derived
 //!   sizes in scene units;
-//! - [`layout`]: joint connectors (§7.1): which members exist, what carries each, where posts stand;
+//! - [`layout`]: joint connectors (§7.1): which members exist (with the frame of a scene without a
+//!   fixed body), what carries each; [`posts`]: where their posts stand (inside the body, on the middle
+//!   line of a thin one, or on a pad fused to the side of one too thin);
 //! - [`depth`]: collisions recorded along the motion and the depth ordering solved by a constraint
 //!   solver (§7.2, eq. 16–19), minimising layers; [`ordering_feasible`] is the fast check the
 //!   synthesis can run per candidate;
 //! - [`solid`], [`parts`]: closed meshes of every part (§7.3, eq. 20);
-//! - [`export`]: binary STL, 3MF, SVG and DXF profiles; [`plates`]: parts spread on print beds;
+//! - [`export`]: binary STL, 3MF, SVG and DXF profiles; [`plates`]: parts spread on print beds (and
+//!   what a part too large for the bed would need); [`split`]: bodies too large cut by dovetails;
 //!   [`sheet`]: the assembly sheet; [`report`]: `fabrication.json`; [`check`]: the checks every
-//!   fabrication must pass (closed meshes, no part crossing another along the motion, pins seated).
+//!   fabrication must pass (closed meshes, posts on their parts, no part crossing another along the
+//!   motion, pins seated).
 //!
 //! Conventions: the bodies are extruded from `z = -body_thickness` to `z = 0` (the front face); layer
 //! k on the front face spans `layer_bottom(k)..layer_top(k)`, and the back face mirrors it. Geometry is
@@ -23,6 +27,7 @@ pub mod export;
 pub mod layout;
 pub mod parts;
 pub mod plates;
+pub mod posts;
 pub mod report;
 pub mod settings;
 pub mod shapes;
@@ -49,8 +54,6 @@ pub enum FabError {
     Units(String),
     #[error("the design does not match the scene: {0}")]
     Mismatch(String),
-    #[error("the scene has no fixed body to hold the ground joints; draw one")]
-    NoGround,
     #[error(
         "no room for the connector post of joint {joint} on {body}: the body is too thin for a post with \
          the print settings (make the body larger or connector_post smaller)"
@@ -64,14 +67,22 @@ pub enum FabError {
     #[error("the depth-ordering solver ran out of time; try again or allow both faces")]
     OrderingTimedOut,
     #[error(
-        "{body} is too thin for a connector post, and a pad fused to it would enter another body at crank {at_deg:.1}°"
+        "{body} is too thin for the connector post of joint {joint}, and every pad fused to its side near the \
+         joint would enter another body (first at crank {at_deg:.1}°): draw the body thicker near the joint, \
+         or choose another design"
     )]
-    PadCollides { body: String, at_deg: f64 },
+    PadCollides { joint: String, body: String, at_deg: f64 },
     #[error(
         "joints {a} and {b} of {link} are closer than the {need_mm:.1} mm two pins need with these print settings: \
          the linkage is too small to print (choose a larger design, or narrower links and pins)"
     )]
     JointsTooClose { link: String, a: String, b: String, need_mm: f64 },
+    #[error(
+        "{parts} fit the {width:.0} × {depth:.0} mm print area (the bed minus its margins) in no turn: print on a \
+         bed of at least {square_bed_mm:.0} mm square (print settings \"bed\"), scale the scene by at most \
+         {max_scale:.2}, or choose another design"
+    )]
+    OffBed { parts: String, width: f64, depth: f64, square_bed_mm: f64, max_scale: f64 },
     #[error("cannot build a part's solid: {0}")]
     Mesh(String),
     #[error("the design's motion cannot be simulated: {0}")]
@@ -142,36 +153,53 @@ pub fn fabricate(
     let trace = motion_trace(mechanism, travel)?;
     let shapes = SceneShapes::new(problem, dims);
     let (mut recording, mut ordering_s) = (0.0, 0.0);
+    // The first attempt with an ordering whose members all fit the bed; else the first with an ordering.
     let mut found = None;
+    let mut off_bed = None;
     let mut first_error = None;
+    // Each layout (with pins fused to the bodies, without) is built and recorded once.
+    let mut built: [Option<Result<(Layout, Recorded), FabError>>; 2] = [None, None];
     for (body_pins, faces) in strategies(settings.faces) {
-        let t0 = Instant::now();
-        let attempt = Layout::new(&shapes, mechanism, &trace, body_pins).map(|l| {
-            let r = depth::record(&l, &trace);
-            (l, r)
+        let k = usize::from(!body_pins);
+        // With no pin fused to a body, the layout without them is the same one: nothing new to try.
+        if let (false, Some(Ok((with_pins, _)))) = (body_pins, &built[0]) {
+            if with_pins.body_pins.iter().all(Option::is_none) {
+                continue;
+            }
+        }
+        let attempt = built[k].get_or_insert_with(|| {
+            let t0 = Instant::now();
+            let attempt = Layout::new(&shapes, mechanism, &trace, body_pins).map(|l| {
+                let r = depth::record(&l, &trace);
+                (l, r)
+            });
+            recording += t0.elapsed().as_secs_f64();
+            attempt
         });
-        recording += t0.elapsed().as_secs_f64();
         let (layout, recorded) = match attempt {
             Ok(x) => x,
             Err(e) => {
-                first_error.get_or_insert(e);
+                first_error.get_or_insert(e.clone());
                 continue;
             }
         };
         let t1 = Instant::now();
-        let solved = depth::solve(&layout, &recorded, faces, 20.0);
+        let solved = depth::solve(layout, recorded, faces, 20.0);
         ordering_s += t1.elapsed().as_secs_f64();
         match solved {
-            Ok(o) => {
-                found = Some((layout, recorded, o));
+            Ok(o) if layout.off_bed(&settings.bed).is_empty() => {
+                found = Some((layout.clone(), recorded.clone(), o));
                 break;
+            }
+            Ok(o) => {
+                off_bed.get_or_insert((layout.clone(), recorded.clone(), o));
             }
             Err(e) => {
                 first_error.get_or_insert(e.into());
             }
         }
     }
-    let Some((layout, recorded, ordering)) = found else {
+    let Some((layout, recorded, ordering)) = found.or(off_bed) else {
         return Err(first_error.unwrap_or(FabError::NoOrdering));
     };
     let t2 = Instant::now();
@@ -221,8 +249,9 @@ pub fn fabricate_design(
 }
 
 /// Fabricates the design's mechanism, or when it cannot be fabricated (no ordering, no room for a
-/// post, links too short to print), the first of its alternatives that can. Returns which one was
-/// used (0 the design itself, k the k-th alternative) and the first design's error when none can.
+/// post, links too short to print) or has links or connectors larger than the bed, the first of its
+/// alternatives that can with every member on the bed. Returns which one was used (0 the design itself,
+/// k the k-th alternative): the design itself when none is better, and its error when none fabricates.
 pub fn fabricate_design_or_alternative(
     problem: &Problem,
     units: &str,
@@ -230,10 +259,11 @@ pub fn fabricate_design_or_alternative(
     settings: &PrintSettings,
 ) -> Result<(usize, Fabrication), FabError> {
     let first = match fabricate_design(problem, units, design, settings) {
-        Ok(f) => return Ok((0, f)),
+        Ok(f) if f.off_bed().is_empty() => return Ok((0, f)),
         Err(e @ (FabError::Settings(_) | FabError::Units(_))) => return Err(e),
-        Err(e) => e,
+        other => other,
     };
+    let mut fallback = None;
     for (k, alt) in design.alternatives.iter().enumerate() {
         let view = crate::design::DesignFile {
             mechanism: Some(alt.mechanism.clone()),
@@ -242,11 +272,39 @@ pub fn fabricate_design_or_alternative(
             alternatives: Vec::new(),
             ..design.clone()
         };
-        if let Ok(f) = fabricate_design(problem, units, &view, settings) {
-            return Ok((k + 1, f));
+        match fabricate_design(problem, units, &view, settings) {
+            Ok(f) if f.off_bed().is_empty() => return Ok((k + 1, f)),
+            Ok(f) if first.is_err() && fallback.is_none() => fallback = Some((k + 1, f)),
+            _ => {}
         }
     }
-    Err(first)
+    match first {
+        Ok(f) => Ok((0, f)),
+        Err(e) => fallback.ok_or(e),
+    }
+}
+
+impl Fabrication {
+    /// The members (links, connectors, the guide, the frame) that fit the print bed in no turn, with
+    /// what it would take.
+    pub fn off_bed(&self) -> Vec<(usize, plates::Misfit)> {
+        self.layout.off_bed(&self.settings.bed)
+    }
+}
+
+/// [`FabError::OffBed`] for the members of `layout` in `misfits`.
+fn off_bed_error(layout: &Layout, misfits: &[(usize, plates::Misfit)], bed: &settings::Bed) -> FabError {
+    let parts: Vec<String> = misfits
+        .iter()
+        .map(|(i, f)| format!("{} ({:.0} × {:.0} mm)", layout.members[*i].name, f.footprint_mm[0], f.footprint_mm[1]))
+        .collect();
+    FabError::OffBed {
+        parts: parts.join(", "),
+        width: bed.width - 2.0 * bed.margin,
+        depth: bed.depth - 2.0 * bed.margin,
+        square_bed_mm: misfits.iter().map(|m| m.1.square_bed_mm).fold(0.0, f64::max),
+        max_scale: misfits.iter().map(|m| m.1.max_scale).fold(f64::INFINITY, f64::min),
+    }
 }
 
 /// Unique file-name-safe names of the moving bodies.
@@ -275,38 +333,77 @@ pub fn sanitize(name: &str) -> String {
     s.trim_matches('_').to_string()
 }
 
-/// A reusable depth-ordering feasibility check for one scene (paper §7.2: candidates without an
-/// ordering are rejected). Build it once per problem; [`FeasibilityCheck::check`] then places the
-/// connectors (testing candidate post places against the links' sweep), records the constraints over
-/// the trace's rows (about `rows × members²` distances between cores of at most three points) and asks
-/// the solver for any ordering, with pins fused to bodies and then with connectors everywhere. Measured
-/// on the bundled examples: 1–3 ms per candidate (placing 0.5–2 ms, recording 0.2–0.5 ms, solving
-/// 0.1–0.4 ms), so run it after the collision check (see `docs/fabrication.md`).
+/// A reusable printability check for one scene (paper §7.2: candidates without an ordering are
+/// rejected). Build it once per problem; [`FeasibilityCheck::check`] then simulates the motion at the
+/// steps fabrication takes, places the connectors (testing candidate post places against the links'
+/// sweep, and pads against the other bodies on bodies too thin for a post), checks that every link,
+/// connector, guide and frame fits the print bed, records the constraints over the rows (about
+/// `rows × members²` distances between cores of at most three points) and asks the solver for any
+/// ordering, with pins fused to bodies and then with connectors everywhere. Measured in release builds
+/// on the engine's designs: 0.8–0.9 ms per candidate (wall chair, car roof), 2.7 ms on the car K=3, so
+/// run it after the collision check (see `docs/fabrication.md`).
 #[derive(Clone, Debug)]
 pub struct FeasibilityCheck {
     shapes: SceneShapes,
     faces: Faces,
+    bed: settings::Bed,
 }
 
 impl FeasibilityCheck {
     /// The check with the given settings in a scene of `mm_per_unit` millimetres per unit.
     pub fn new(problem: &Problem, settings: &PrintSettings, mm_per_unit: f64) -> FeasibilityCheck {
-        FeasibilityCheck { shapes: SceneShapes::new(problem, Dims::new(settings, mm_per_unit)), faces: settings.faces }
+        FeasibilityCheck {
+            shapes: SceneShapes::new(problem, Dims::new(settings, mm_per_unit)),
+            faces: settings.faces,
+            bed: settings.bed.clone(),
+        }
     }
     /// The least distance between two joints of one link, in scene units (pins need room).
     pub fn min_joint_spacing(&self) -> f64 {
         self.shapes.dims.min_joint_spacing()
     }
-    /// True when `mechanism`, moving along `trace` (rows of joint positions at crank steps of at most
-    /// 1°, as [`crate::synth::Candidate::trace`]), has connectors that fit and a depth ordering.
+    /// True when `mechanism`, moving from the first to the last crank angle of `trace` (as
+    /// [`crate::synth::Candidate::trace`]), has connectors that fit, members that fit the bed and a
+    /// depth ordering; what it accepts, [`fabricate`] over that travel builds with every member on the
+    /// bed (it may refuse a design whose ordering the solver does not find within 50 ms).
     pub fn check(&self, mechanism: &Mechanism, trace: &Trace) -> bool {
+        self.diagnose(mechanism, trace).is_ok()
+    }
+    /// [`FeasibilityCheck::check`] with the reason when it fails (the first strategy's reason: pins
+    /// fused to the bodies where they fit). The motion is simulated again from the trace's first to its
+    /// last crank angle at the steps [`fabricate`] takes ([`motion_trace`]), so the constraints are
+    /// recorded at the very rows fabrication records them (a grazing contact between two rows of one
+    /// sampling can show in the other's), and what the check accepts fabricates.
+    pub fn diagnose(&self, mechanism: &Mechanism, trace: &Trace) -> Result<(), FabError> {
+        let (Some(&start), Some(&end)) = (trace.thetas.first(), trace.thetas.last()) else {
+            return Err(FabError::Motion("the trace is empty".into()));
+        };
+        let trace = &motion_trace(mechanism, Travel { start, end })?;
         // Both faces allowed is a relaxation of one face, so it alone decides feasibility for `auto`.
         let faces = if self.faces == Faces::One { Faces::One } else { Faces::Both };
-        [(true, faces), (false, faces)].into_iter().any(|(body_pins, faces)| {
-            let Ok(layout) = Layout::new(&self.shapes, mechanism, trace, body_pins) else { return false };
-            let recorded = depth::record(&layout, trace);
-            depth::feasible(&layout, &recorded, faces, 0.05)
-        })
+        let mut first = None;
+        for body_pins in [true, false] {
+            let (error, pinned) = match Layout::new(&self.shapes, mechanism, trace, body_pins) {
+                Err(e) => (e, true),
+                Ok(layout) => {
+                    let misfits = layout.off_bed(&self.bed);
+                    let pinned = layout.body_pins.iter().any(Option::is_some);
+                    if !misfits.is_empty() {
+                        (off_bed_error(&layout, &misfits, &self.bed), pinned)
+                    } else if depth::feasible(&layout, &depth::record(&layout, trace), faces, 0.05) {
+                        return Ok(());
+                    } else {
+                        (FabError::NoOrdering, pinned)
+                    }
+                }
+            };
+            first.get_or_insert(error);
+            // With no pin fused to a body, the layout without them is the same one.
+            if !pinned {
+                break;
+            }
+        }
+        Err(first.unwrap_or(FabError::NoOrdering))
     }
 }
 

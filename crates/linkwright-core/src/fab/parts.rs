@@ -15,6 +15,7 @@ use super::shapes::{circle, rounded_outline, stadium};
 use super::solid::{ring_outline, Feature, Mesh, RingShape, Slab};
 use super::FabError;
 use crate::geom::Point;
+use i_overlay::core::overlay_rule::OverlayRule;
 use serde::Serialize;
 
 /// What a printed part is.
@@ -28,6 +29,8 @@ pub enum Role {
     Body,
     /// A piece of the fixed bodies.
     Ground,
+    /// The frame holding the ground joints of a scene without a fixed body.
+    Frame,
 }
 
 /// A prism: a planar region (outline minus holes) between two heights, in a part's frame.
@@ -59,7 +62,8 @@ pub struct Part {
     pub prisms: Vec<Prism>,
     /// Outline then holes, carrier frame: the laser-cutting profile.
     pub profile: Vec<Vec<Point>>,
-    /// Bodies only: the pads fused to it for posts (in the bodies' plane), as prisms.
+    /// Bodies only: what fabrication adds to the body as drawn (the pads fused to it for posts, the
+    /// whole foot of a frame), in the bodies' plane, as prisms.
     pub pads: Vec<Prism>,
     /// The solid laid flat for printing: its base face on z = 0, pins and posts pointing up.
     pub print_mesh: Mesh,
@@ -194,14 +198,13 @@ pub fn build(
         for &j in &m.joints {
             let stack = &stacks[j];
             let pos = stack.iter().position(|&x| x == i).unwrap_or(0);
-            if let (MemberKind::Guide, Some((s0, s1))) = (m.kind, m.slot) {
-                holes.push(stadium(s0, s1, d.hole_radius, seg));
-                slot_of_joint[j] = Some((part_index, (s0, s1), d.hole_radius, zr(z0, z1)));
+            let Some(at) = m.joint_at(j) else {
+                if let Some(slot) = m.slot.filter(|s| s.joint == j) {
+                    let (s0, s1) = slot.ends;
+                    holes.push(stadium(s0, s1, d.hole_radius, seg));
+                    slot_of_joint[j] = Some((part_index, (s0, s1), d.hole_radius, zr(z0, z1)));
+                }
                 continue;
-            }
-            let at = match m.kind {
-                MemberKind::Link => m.core[m.joints.iter().position(|&x| x == j).unwrap_or(0)],
-                _ => m.core[1],
             };
             if pos == 0 && layout.body_pins[j].is_none() {
                 let collar_top = stack.get(1).map_or(z1, |&n| bottom(n) - d.gap);
@@ -225,6 +228,7 @@ pub fn build(
             MemberKind::Link => Role::Link,
             MemberKind::Connector => Role::Connector,
             MemberKind::Guide => Role::Guide,
+            MemberKind::Frame => Role::Frame,
         };
         let part = assemble(
             m.name.clone(),
@@ -284,7 +288,9 @@ pub fn build(
             }
         }
         // The slab pieces this carrier is printed as.
-        let pieces: Vec<(String, Vec<Point>, Vec<Vec<Point>>)> = if c == 0 {
+        let pieces: Vec<(String, Vec<Point>, Vec<Vec<Point>>)> = if let (0, Some(foot)) = (c, layout.foot) {
+            vec![("foot".to_string(), circle(foot.centre, foot.radius, seg), Vec::new())]
+        } else if c == 0 {
             let many = shapes.ground.len() > 1;
             shapes
                 .ground
@@ -303,9 +309,23 @@ pub fn build(
             let region = super::shapes::Region {
                 contours: std::iter::once(outline.clone()).chain(holes.iter().cloned()).collect(),
             };
-            let pads: Vec<(Point, f64)> =
-                layout.pads.iter().filter(|p| p.0 == c && region.depth(p.1) > 0.0).map(|p| (p.1, p.2)).collect();
+            // Each pad on the piece it is fused to (the nearest, when the ground is in pieces).
+            let nearest_piece = |p: Point| {
+                let depth = |r: &super::shapes::Region| r.depth(p);
+                shapes.carrier_regions(c).iter().map(depth).fold(f64::NEG_INFINITY, f64::max)
+            };
+            // The frame's foot is tested against the bodies like a pad (it is no body as drawn).
+            let pads: Vec<(Point, f64)> = layout
+                .pads
+                .iter()
+                .filter(|p| p.carrier == c && region.depth(p.centre) >= nearest_piece(p.centre))
+                .chain(layout.foot.iter().filter(|_| c == 0))
+                .map(|p| (p.centre, p.radius))
+                .collect();
             let merged = super::shapes::union_with_discs(&region.contours, &pads, seg);
+            // What fabrication adds to the body as drawn (the pads, the whole foot), which the check
+            // tests against the other bodies.
+            let drawn: &[Vec<Point>] = if layout.foot.is_some() && c == 0 { &[] } else { &region.contours };
             // Too large for the bed: cut into pieces joined by dovetails, clear of posts and pins.
             let mm: Vec<Point> =
                 merged[0].iter().map(|p| Point::new(p.x * d.mm_per_unit, p.y * d.mm_per_unit)).collect();
@@ -368,11 +388,13 @@ pub fn build(
                         d,
                     )?;
                     let zr = part.prisms[0].z;
-                    part.pads = pads
-                        .iter()
-                        .filter(|&&(p, _)| region.depth(p) > 0.0)
-                        .map(|&(p, r)| Prism { outline: circle(p, r, seg), holes: vec![], z: zr })
-                        .collect();
+                    if !pads.is_empty() {
+                        part.pads = super::shapes::overlay(&region.contours, drawn, OverlayRule::Difference)
+                            .into_iter()
+                            .filter(|c| !sliver(&c[0], d.wall))
+                            .map(|mut c| Prism { outline: c.remove(0), holes: c, z: zr })
+                            .collect();
+                    }
                     parts.push(part);
                 }
             }
@@ -392,6 +414,14 @@ pub fn build(
     }
     let _ = part_of_member;
     Ok((parts, seats))
+}
+
+/// Whether a piece of a polygon difference is a sliver left by rounding (on average thinner than a
+/// tenth of a wall) rather than material.
+fn sliver(outline: &[Point], wall: f64) -> bool {
+    let poly = crate::geom::Polygon::new(outline.to_vec());
+    let perimeter: f64 = poly.edges().map(|(a, b)| a.distance(b)).sum();
+    2.0 * poly.area() < 0.1 * wall * perimeter
 }
 
 /// The disc a stud stands on: its centre and widest radius.

@@ -39,12 +39,48 @@ fn footprint(pts: &[Point], turn: f64) -> (f64, f64, Point) {
 
 /// Whether a part whose outline has these points (millimetres) fits the bed in some turn.
 pub fn fits_bed(points_mm: &[Point], bed: &Bed) -> bool {
-    let hull = super::shapes::convex_hull(points_mm);
+    misfit(points_mm, 0.0, bed).is_none()
+}
+
+/// What it would take for a part that does not fit the bed to fit.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Misfit {
+    /// The part's smallest footprint (in its best turn), mm.
+    pub footprint_mm: [f64; 2],
+    /// The side of the smallest square bed (with the bed's margins) the part fits, mm.
+    pub square_bed_mm: f64,
+    /// The largest factor the scene may be scaled by for the part to fit this bed (the print sizes, such
+    /// as the width of links, do not scale).
+    pub max_scale: f64,
+}
+
+/// `None` when the part fits the bed in some turn, else what it would take. The part is the convex
+/// hull of discs of radius `grow_mm` around `core_mm` (a link or connector: its joints and post; a body:
+/// its outline with `grow_mm` 0).
+pub fn misfit(core_mm: &[Point], grow_mm: f64, bed: &Bed) -> Option<Misfit> {
+    let hull = super::shapes::convex_hull(core_mm);
     let (w_max, d_max) = (bed.width - 2.0 * bed.margin, bed.depth - 2.0 * bed.margin);
-    (0..180).any(|step| {
-        let (w, d, _) = footprint(&hull, (step as f64).to_radians());
-        w <= w_max + 1e-9 && d <= d_max + 1e-9
-    })
+    let g = 2.0 * grow_mm;
+    // A part of diameter D fits a D × D square in any turn.
+    let diameter = hull.iter().flat_map(|a| hull.iter().map(move |b| a.distance(*b))).fold(0.0, f64::max);
+    if diameter + g <= w_max.min(d_max) {
+        return None;
+    }
+    let turns = || (0..180).map(|step| footprint(&hull, (step as f64).to_radians()));
+    if turns().any(|(w, d, _)| w + g <= w_max + 1e-9 && d + g <= d_max + 1e-9) {
+        return None;
+    }
+    let (mut area, mut footprint_mm, mut side, mut max_scale) = (f64::INFINITY, [0.0; 2], f64::INFINITY, 0.0f64);
+    for (w, d, _) in turns() {
+        if (w + g) * (d + g) < area {
+            area = (w + g) * (d + g);
+            footprint_mm = [(w + g).max(d + g), (w + g).min(d + g)];
+        }
+        side = side.min((w + g).max(d + g) + 2.0 * bed.margin);
+        let fit = |room: f64, size: f64| if size <= 0.0 { f64::INFINITY } else { ((room - g) / size).max(0.0) };
+        max_scale = max_scale.max(fit(w_max, w).min(fit(d_max, d)));
+    }
+    Some(Misfit { footprint_mm, square_bed_mm: side, max_scale })
 }
 
 /// The direction of the long side of the smallest box around the points.
@@ -146,4 +182,25 @@ pub fn placed_mesh(mesh: &Mesh, scale: f64, p: &Placement) -> Mesh {
         },
         false,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bar_too_long_for_the_bed_says_what_bed_and_scale_would_take_it() {
+        let bed = Bed::default();
+        let bar = |len: f64| [Point::ORIGIN, Point::new(len, 0.0)];
+        // Laid across the diagonal, a 270 mm bar fits the 210 mm square area.
+        assert!(misfit(&bar(270.0), 5.0, &bed).is_none());
+        let m = misfit(&bar(400.0), 5.0, &bed).expect("too long");
+        assert!((m.footprint_mm[0] - 410.0).abs() < 1e-9 && (m.footprint_mm[1] - 10.0).abs() < 1e-9, "{m:?}");
+        let side = m.square_bed_mm;
+        assert!(misfit(&bar(400.0), 5.0, &Bed { width: side + 1e-6, depth: side + 1e-6, ..bed.clone() }).is_none());
+        assert!(misfit(&bar(400.0), 5.0, &Bed { width: side - 1.0, depth: side - 1.0, ..bed.clone() }).is_some());
+        // Scaled by the factor given (the width stays), it fits.
+        assert!(misfit(&bar(400.0 * m.max_scale * 0.999), 5.0, &bed).is_none());
+        assert!(misfit(&bar(400.0 * m.max_scale * 1.01), 5.0, &bed).is_some());
+    }
 }

@@ -3,8 +3,9 @@
 use super::check::CheckReport;
 use super::depth::{Constraint, Face};
 use super::parts::Role;
-use super::plates::Plates;
+use super::plates::{misfit, Misfit, Plates};
 use super::Fabrication;
+use crate::geom::Point;
 use serde::Serialize;
 
 /// The version string of the report.
@@ -20,14 +21,24 @@ pub struct Report {
     pub layers: Layers,
     pub parts: Vec<PartReport>,
     pub plates: Vec<PlateReport>,
-    /// Parts larger than the bed in every turn (print them on a larger printer or scale the scene).
-    pub oversized: Vec<String>,
+    /// Parts larger than the bed in every turn, each with what it would take to print it.
+    pub oversized: Vec<Oversized>,
     pub totals: Totals,
     /// The recorded ordering constraints, with member and joint names.
     pub constraints: Vec<ConstraintReport>,
     pub assembly: Vec<String>,
     pub seconds: super::Timings,
     pub checks: CheckReport,
+}
+
+/// A part larger than the bed in every turn.
+#[derive(Clone, Debug, Serialize)]
+pub struct Oversized {
+    pub name: String,
+    pub role: Role,
+    /// Its footprint, the smallest square bed it fits and the largest scene scale that fits this bed.
+    #[serde(flatten)]
+    pub misfit: Misfit,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -164,11 +175,50 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
                 parts: p.placements.iter().map(|x| fab.parts[x.part].name.clone()).collect(),
             })
             .collect(),
-        oversized: plates.oversized.iter().map(|&k| fab.parts[k].name.clone()).collect(),
+        oversized: plates.oversized.iter().map(|&k| oversized(fab, k)).collect(),
         parts,
         constraints,
         assembly: super::sheet::steps(fab),
         seconds: fab.timings,
         checks,
+    }
+}
+
+/// What it would take to print part `k`, which fits the bed in no turn.
+fn oversized(fab: &Fabrication, k: usize) -> Oversized {
+    let p = &fab.parts[k];
+    let (s, bed) = (fab.dims.mm_per_unit, &fab.settings.bed);
+    let outline: Vec<Point> = p.print_mesh.vertices.iter().map(|v| Point::new(v[0] * s, v[1] * s)).collect();
+    // A member's joints and post scale with the scene, its width does not.
+    let member = p.member.and_then(|i| {
+        let core: Vec<Point> = fab.layout.members[i].core.iter().map(|q| Point::new(q.x * s, q.y * s)).collect();
+        misfit(&core, fab.dims.half_width * s, bed)
+    });
+    let found = member.or_else(|| misfit(&outline, 0.0, bed));
+    let misfit = found.unwrap_or(Misfit { footprint_mm: [0.0; 2], square_bed_mm: 0.0, max_scale: 1.0 });
+    Oversized { name: p.name.clone(), role: p.role, misfit }
+}
+
+impl Report {
+    /// One sentence on the parts larger than the bed and what to change, `None` when every part fits.
+    pub fn oversized_advice(&self) -> Option<String> {
+        if self.oversized.is_empty() {
+            return None;
+        }
+        let bed = &self.settings.bed;
+        let names: Vec<String> = self
+            .oversized
+            .iter()
+            .map(|o| format!("{} ({:.0} × {:.0} mm)", o.name, o.misfit.footprint_mm[0], o.misfit.footprint_mm[1]))
+            .collect();
+        let side = self.oversized.iter().map(|o| o.misfit.square_bed_mm).fold(0.0, f64::max);
+        let scale = self.oversized.iter().map(|o| o.misfit.max_scale).fold(f64::INFINITY, f64::min);
+        Some(format!(
+            "{} larger than the {:.0} × {:.0} mm print area (the bed minus its margins) in every turn: print on a \
+             bed of at least {side:.0} mm square (print settings \"bed\"), or scale the scene by at most {scale:.2}",
+            names.join(", "),
+            bed.width - 2.0 * bed.margin,
+            bed.depth - 2.0 * bed.margin,
+        ))
     }
 }

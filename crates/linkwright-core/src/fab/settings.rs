@@ -312,6 +312,11 @@ impl Dims {
     pub fn post_depth(&self) -> f64 {
         self.post_collar_radius + self.wall
     }
+    /// Least depth inside a body too thin for [`Dims::post_depth`]: the collar within the radial
+    /// clearance of the body's edge (a solid column fused on a solid slab needs no wall around it).
+    pub fn post_flush_depth(&self) -> f64 {
+        self.post_collar_radius + self.clearance
+    }
 }
 
 #[cfg(test)]

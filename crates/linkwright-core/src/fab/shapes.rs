@@ -218,19 +218,43 @@ impl Region {
     }
 }
 
-/// The union of a region (outline then holes) with discs, as one outline and its holes (the piece
-/// containing the region's first vertex when the union falls apart, which pads touching the region
-/// never make it do).
+/// `subject` combined with `clip` by `rule`, both read even-odd: the pieces of positive area, each its
+/// outline then its holes.
+pub fn overlay(
+    subject: &[Vec<Point>],
+    clip: &[Vec<Point>],
+    rule: i_overlay::core::overlay_rule::OverlayRule,
+) -> Vec<Vec<Vec<Point>>> {
+    use i_overlay::core::fill_rule::FillRule;
+    use i_overlay::float::single::SingleFloatOverlay;
+    let to = |c: &Vec<Point>| -> Vec<[f64; 2]> { c.iter().map(|p| [p.x, p.y]).collect() };
+    let s: Vec<Vec<[f64; 2]>> = subject.iter().map(to).collect();
+    let c: Vec<Vec<[f64; 2]>> = clip.iter().map(to).collect();
+    s.overlay(&c, rule, FillRule::EvenOdd)
+        .into_iter()
+        .map(|shape| shape.into_iter().map(|c| c.into_iter().map(|[x, y]| Point::new(x, y)).collect()).collect())
+        .filter(|c: &Vec<Vec<Point>>| !c.is_empty() && crate::geom::Polygon::new(c[0].clone()).area() > 0.0)
+        .collect()
+}
+
+/// The union of a region (outline then holes) with discs, as one outline and its holes (the largest
+/// piece when the union falls apart, which pads touching the region never make it do). Pockets the
+/// discs close off outside the region (two pads meeting beside a thin bar) are filled: only what
+/// remains of the region's own holes stays open.
 pub fn union_with_discs(contours: &[Vec<Point>], discs: &[(Point, f64)], segments: usize) -> Vec<Vec<Point>> {
     use i_overlay::core::fill_rule::FillRule;
     use i_overlay::core::overlay_rule::OverlayRule;
+    use i_overlay::float::simplify::SimplifyShape;
     use i_overlay::float::single::SingleFloatOverlay;
     if discs.is_empty() {
         return contours.to_vec();
     }
     let to = |c: &[Point]| -> Vec<[f64; 2]> { c.iter().map(|p| [p.x, p.y]).collect() };
     let subject: Vec<Vec<[f64; 2]>> = contours.iter().map(|c| to(c)).collect();
-    let clip: Vec<Vec<[f64; 2]>> = discs.iter().map(|&(c, r)| to(&circle(c, r, segments))).collect();
+    // The discs merged first (non-zero: where two overlap is inside both), then read even-odd with the
+    // region and its holes.
+    let discs: Vec<Vec<[f64; 2]>> = discs.iter().map(|&(c, r)| to(&circle(c, r, segments))).collect();
+    let clip: Vec<Vec<[f64; 2]>> = discs.simplify_shape(FillRule::NonZero).into_iter().flatten().collect();
     let shapes = subject.overlay(&clip, OverlayRule::Union, FillRule::EvenOdd);
     let back = |c: Vec<[f64; 2]>| -> Vec<Point> { c.into_iter().map(|[x, y]| Point::new(x, y)).collect() };
     let mut best: Option<(f64, Vec<Vec<Point>>)> = None;
@@ -242,7 +266,17 @@ pub fn union_with_discs(contours: &[Vec<Point>], discs: &[(Point, f64)], segment
             best = Some((area, contours));
         }
     }
-    best.map_or_else(|| contours.to_vec(), |b| b.1)
+    let Some((_, mut merged)) = best else { return contours.to_vec() };
+    // A hole of the union is what is left of a hole of the region, or a pocket to fill.
+    let holes: Vec<Vec<[f64; 2]>> = contours[1..].iter().map(|c| to(c)).collect();
+    let outer = merged.remove(0);
+    merged.retain(|h| {
+        let pocket: Vec<Vec<[f64; 2]>> = vec![to(h)];
+        let overlap = pocket.overlay(&holes, OverlayRule::Intersect, FillRule::EvenOdd);
+        overlap.iter().flatten().any(|c| crate::geom::Polygon::new(back(c.clone())).area() > 0.0)
+    });
+    merged.insert(0, outer);
+    merged
 }
 
 #[cfg(test)]
@@ -260,6 +294,27 @@ mod tests {
         let tri = [p(0., 0.), p(4., 0.), p(0., 4.)];
         assert_close(core_distance(&tri, &[p(1., 1.)]), 0.0, 0.0);
         assert_close(core_distance(&tri, &[p(3., 3.), p(5., 5.)]), 2f64.sqrt(), 1e-12);
+    }
+
+    #[test]
+    fn overlapping_discs_merge_whole_into_a_region() {
+        let p = Point::new;
+        let square = vec![vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]];
+        // Two discs bulging out of the top side and overlapping each other.
+        let discs = [(p(3., 12.), 4.0), (p(7., 12.), 4.0)];
+        let merged = Region { contours: union_with_discs(&square, &discs, 48) };
+        assert_eq!(merged.contours.len(), 1);
+        for (c, r) in discs {
+            assert!(merged.depth(c) > r * (std::f64::consts::PI / 48.0).cos() - 1e-4, "{}", merged.depth(c));
+        }
+        assert!(merged.contains(p(5., 12.)), "the overlap of the discs is inside");
+        // Two discs beside a side, meeting above it: the pocket they close off is filled; a hole of
+        // the region stays open.
+        let holed = vec![square[0].clone(), vec![p(4., 4.), p(4., 6.), p(6., 6.), p(6., 4.)]];
+        let discs = [(p(2., 13.), 4.0), (p(8., 13.), 4.0)];
+        let merged = Region { contours: union_with_discs(&holed, &discs, 48) };
+        assert_eq!(merged.contours.len(), 2, "the square's hole only");
+        assert!(merged.contains(p(5., 10.15)) && !merged.contains(p(5., 5.)), "the pocket is filled");
     }
 
     #[test]

@@ -17,6 +17,14 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
     let bodies: Vec<&str> =
         parts.iter().filter(|p| matches!(p.role, Role::Body | Role::Ground)).map(|p| p.name.as_str()).collect();
     out.push(format!("Lay {} flat, posts and pins up, in their first pose as drawn.", bodies.join(", ")));
+    if let Some(frame) = parts.iter().find(|p| p.role == Role::Frame) {
+        out.push(format!(
+            "The scene has no fixed body: {} holds the ground joints{}; hold it (or fix it to a base) to \
+             drive the mechanism.",
+            frame.name,
+            if fab.layout.foot.is_some() { ", on the post of foot, which stands on the table" } else { "" }
+        ));
+    }
     let cut: Vec<&str> = parts
         .iter()
         .filter(|p| matches!(p.role, Role::Body | Role::Ground))
@@ -57,7 +65,7 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
                 for &j in &m.joints {
                     let seat = fab.seats.iter().find(|x| x.joint == j);
                     let carries = seat.is_some_and(|x| parts[x.pin_part].member == Some(i));
-                    if m.kind == MemberKind::Guide {
+                    if m.slot.is_some_and(|slot| slot.joint == j) {
                         let _ = write!(s, "; its slot over the pin at {} (of {})", joint(j), pin_holder(j));
                     } else if carries {
                         let _ = write!(s, "; its pin at {} points up", joint(j));
@@ -82,8 +90,10 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
 
 /// The body part (or piece of it) that holds the point `at` of `carrier`.
 fn carrier_name(fab: &Fabrication, carrier: usize, at: Option<Point>) -> String {
-    let holds =
-        |p: &&super::parts::Part| at.is_none_or(|a| super::shapes::Region { contours: p.profile.clone() }.contains(a));
+    // Within the outline (the profile's holes include the post's own socket).
+    let holds = |p: &&super::parts::Part| {
+        at.is_none_or(|a| super::shapes::Region { contours: p.profile[..1].to_vec() }.contains(a))
+    };
     fab.parts
         .iter()
         .filter(|p| p.carrier == carrier && p.member.is_none())
@@ -137,7 +147,7 @@ pub fn assembly_svg(fab: &Fabrication) -> String {
         let p = &fab.parts[k];
         let fill = match p.role {
             Role::Body => "#f4d58d",
-            Role::Ground => "#bdbdbd",
+            Role::Ground | Role::Frame => "#bdbdbd",
             Role::Connector => "#8ecae6",
             Role::Guide => "#90be6d",
             Role::Link => {
