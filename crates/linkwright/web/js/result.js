@@ -39,6 +39,7 @@ export class Results {
     this.speed = 1;
     this.last = null;
     this.plot = null;
+    this.fab = null; // the Fabricator, which adds its part to the Result tab and follows the animation
     els.design.addEventListener('click', () => this.run());
     els.cancel.addEventListener('click', () => this.cancel());
     els.play.addEventListener('click', () => this.setPlaying(!this.playing));
@@ -96,6 +97,7 @@ export class Results {
     this.els.player.hidden = !show;
     this.els.show.hidden = show || !this.fresh() || !this.result?.analysis;
     if (!show) this.setPlaying(false);
+    this.fab?.sync(show);
     // While a design runs, its progress bar and Cancel take the Design button's place.
     this.els.design.hidden = !!this.controller;
   }
@@ -150,6 +152,8 @@ export class Results {
     this.els.readout.textContent = `crank ${frame.crank_deg.toFixed(1)}°`;
     this.canvas.root.dataset.crank = frame.crank_deg.toFixed(3);
     this.plot?.moveCursor(frame.crank_deg);
+    const frames = this.result.analysis.frames, first = frames[0].crank_deg, last = frames[n - 1].crank_deg;
+    this.fab?.frame(last === first ? 0 : (frame.crank_deg - first) / (last - first));
   }
 
   /** The Design button: streams progress, then shows the design. */
@@ -383,6 +387,7 @@ export class Results {
       html('button', { text: 'Animation SVG', title: 'open it in a browser to watch the motion', onclick: () => this.download('animation') }),
       html('button', { text: 'Design sheet SVG', onclick: () => this.download('design') }),
     ]));
+    this.fab?.render(host);
     if (r.analysis) {
       const a = r.analysis;
       this.plot = transmissionPlot(a);
