@@ -1,7 +1,8 @@
 //! Micro-benchmarks of the hot kernels, so a regression shows up as a number: `cargo bench`.
 //!
 //! Each kernel runs on a real bundled scene: the rigidity fit (K = 1, 2, 3), the kinematic checks
-//! with their simulation (the defect check), the collision sweep, and one kinematic step.
+//! with their simulation (the defect check), the collision sweep, one kinematic step, and
+//! fabrication's printability check.
 
 use linkwright_core::geom::Point;
 use linkwright_core::kinematics::Plan;
@@ -84,4 +85,14 @@ fn kinematic_step(bencher: divan::Bencher, k: usize) {
     let mut row = vec![Point::ORIGIN; plan.joint_count()];
     let theta = best.trace.thetas[best.trace.len() / 2];
     bencher.bench_local(|| plan.solve(divan::black_box(theta), &mut row));
+}
+
+/// Fabrication's feasibility check (connectors placed, constraints recorded along the motion, the
+/// ordering solved) on the engine's design: the synthesis runs it on each kept design when it is asked
+/// for printable designs.
+#[divan::bench(args = [1, 2, 3])]
+fn printability_check(bencher: divan::Bencher, k: usize) {
+    let (problem, best) = fixture(k);
+    let check = linkwright_core::fab::FeasibilityCheck::new(problem, &Default::default(), 1.0);
+    bencher.bench_local(|| check.check(divan::black_box(&best.mechanism), &best.trace));
 }

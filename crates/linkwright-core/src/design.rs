@@ -121,6 +121,9 @@ pub struct Seconds {
     pub sampling: f64,
     pub collision: f64,
     pub pfo: f64,
+    /// Checking designs for printability (added to `design/1`; 0 when not asked).
+    #[serde(default)]
+    pub printability: f64,
     pub total: f64,
 }
 
@@ -283,6 +286,7 @@ impl DesignFile {
                     sampling: s.seconds_sampling,
                     collision: s.seconds_collision,
                     pfo: s.seconds_pfo,
+                    printability: s.seconds_printability,
                     total: s.seconds_total,
                 },
                 seed: problem.settings.seed,

@@ -160,7 +160,7 @@ fn progress_rises_to_completion_and_cancellation_stops_the_run() {
 
 #[test]
 fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
-    use linkwright_core::synth::{synthesize_from, Start, WARM_SAMPLES};
+    use linkwright_core::synth::{synthesize_with, Options, Start, WARM_SAMPLES};
     let mut problem = example("k2_wall_bed");
     problem.settings.samples = 20000;
     problem.settings.iterations = 8;
@@ -175,7 +175,7 @@ fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
         moved.angle(),
         moved.translation() + linkwright_core::geom::Vec2::new(0.05 * d, 0.0),
     );
-    let warm = synthesize_from(&problem, Start::Warm(&previous), &Silent).unwrap();
+    let warm = synthesize_with(&problem, &Options { start: Start::Warm(&previous), printable: None }, &Silent).unwrap();
     assert_eq!(warm.stats.samples, WARM_SAMPLES, "no fallback to a cold start was needed");
     let design = DesignFile::from_outcome(&problem, &warm);
     assert_eq!(design.status, Status::Ok);
@@ -189,6 +189,7 @@ fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
         joints: vec![Point::ORIGIN, Point::new(1.0, 0.0), Point::new(3.0, 0.0)],
         slider: None,
     };
-    let cold = synthesize_from(&slider_only, Start::Warm(&[stranger]), &Silent).unwrap();
+    let cold =
+        synthesize_with(&slider_only, &Options { start: Start::Warm(&[stranger]), printable: None }, &Silent).unwrap();
     assert_eq!(cold.stats.samples, 2000);
 }

@@ -5,9 +5,10 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::design::{DesignFile, Status};
+use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
-use linkwright_core::synth::{synthesize_from, Observer, Progress, Stage, Start};
+use linkwright_core::synth::{synthesize_with, Observer, Options, Progress, Stage, Start};
 use linkwright_core::verify::verify;
 use std::path::{Path, PathBuf};
 
@@ -37,9 +38,14 @@ pub struct DesignArgs {
     /// After a successful design, also fabricate it into <output>/fabrication (as `fabricate` does).
     #[arg(long)]
     fabricate: bool,
-    /// Print settings for --fabricate (JSON, millimetres; missing fields keep their defaults).
-    #[arg(long, value_name = "PRINT.json", requires = "fabricate")]
+    /// Print settings the design must be printable with, and --fabricate uses (JSON, millimetres;
+    /// missing fields keep their defaults).
+    #[arg(long, value_name = "PRINT.json", conflicts_with = "no_print_check")]
     print_settings: Option<PathBuf>,
+    /// Accept designs that cannot be printed (joints too close for pins, no depth ordering of the
+    /// links): the paper's synthesis alone, for designs built some other way.
+    #[arg(long, conflicts_with = "fabricate")]
+    no_print_check: bool,
 }
 
 /// Shows progress as a bar on stderr (hidden when stderr is not a terminal).
@@ -64,8 +70,19 @@ impl Observer for Bar {
 
 pub fn design(args: DesignArgs) -> Result<(), Failure> {
     let (scene, mut problem) = read_problem(&args.scene)?;
-    let print_settings =
-        if args.fabricate { Some(crate::fabricate::read_settings(args.print_settings.as_deref())?) } else { None };
+    let print_settings = crate::fabricate::read_settings(args.print_settings.as_deref())?;
+    let printable = if args.no_print_check {
+        None
+    } else {
+        let mm = millimetres_per_unit(&scene.units).ok_or_else(|| {
+            Failure::Input(format!(
+                "error: {}: units: \"{}\" is not a known unit; use mm, cm, m, in or ft (or --no-print-check)",
+                args.scene.display(),
+                scene.units
+            ))
+        })?;
+        Some(FeasibilityCheck::new(&problem, &print_settings, mm))
+    };
     if let Some(seed) = args.seed {
         problem.settings.seed = seed;
     }
@@ -98,7 +115,8 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         None => Vec::new(),
     };
     let start = if previous.is_empty() { Start::Cold } else { Start::Warm(&previous) };
-    let outcome = pool.install(|| synthesize_from(&problem, start, &observer)).expect("the CLI never cancels");
+    let options = Options { start, printable: printable.as_ref() };
+    let outcome = pool.install(|| synthesize_with(&problem, &options, &observer)).expect("the CLI never cancels");
     observer.0.finish_and_clear();
 
     let file = DesignFile::from_outcome(&problem, &outcome);
@@ -121,9 +139,9 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     } else {
         println!("{}", summary(&file, &out_dir));
     }
-    if let Some(settings) = &print_settings {
+    if args.fabricate {
         if outcome.best.is_some() {
-            let line = crate::fabricate::run(&scene, &problem, &file, settings, &out_dir.join("fabrication"))?;
+            let line = crate::fabricate::run(&scene, &problem, &file, &print_settings, &out_dir.join("fabrication"))?;
             // Keep stdout the design JSON alone with --json.
             if args.json {
                 eprintln!("{line}");

@@ -59,10 +59,15 @@ fn design_writes_the_design_its_pictures_and_passes_check() {
     let csv = text(&sim.stdout);
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 12, "header and 11 rows");
-    assert_eq!(lines[0], "step,crank_deg,p1_x,p1_y,q0_x,q0_y,q1_x,q1_y,r0_x,r0_y");
+    // A column pair per joint, in the order of their names, starting where the design's joints are.
+    let joints = parsed["mechanism"]["joints"].as_object().unwrap();
+    let columns: Vec<String> = joints.keys().map(|n| format!("{n}_x,{n}_y")).collect();
+    assert_eq!(lines[0], format!("step,crank_deg,{}", columns.join(",")));
     let first: Vec<f64> = lines[1].split(',').map(|v| v.parse().unwrap()).collect();
-    let q0 = &parsed["mechanism"]["joints"]["q0"];
-    assert!((first[4] - q0[0].as_f64().unwrap()).abs() < 1e-9 && (first[5] - q0[1].as_f64().unwrap()).abs() < 1e-9);
+    for (k, at) in joints.values().enumerate() {
+        let (x, y) = (first[2 + 2 * k], first[3 + 2 * k]);
+        assert!((x - at[0].as_f64().unwrap()).abs() < 1e-9 && (y - at[1].as_f64().unwrap()).abs() < 1e-9);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -191,7 +191,7 @@ impl Layout {
             carriers.push(Carrier::Link(pi));
             link_frames.push((a, b));
             let core: Vec<Point> = part.joints.iter().map(|&j| frame.inverse().apply(mechanism.joints[j])).collect();
-            let need = 2.0 * dims.boss_radius + dims.wall;
+            let need = dims.min_joint_spacing();
             for (x, &ja) in part.joints.iter().enumerate() {
                 for &jb in &part.joints[x + 1..] {
                     if mechanism.joints[ja].distance(mechanism.joints[jb]) < need {

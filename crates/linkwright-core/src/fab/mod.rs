@@ -293,6 +293,10 @@ impl FeasibilityCheck {
     pub fn new(problem: &Problem, settings: &PrintSettings, mm_per_unit: f64) -> FeasibilityCheck {
         FeasibilityCheck { shapes: SceneShapes::new(problem, Dims::new(settings, mm_per_unit)), faces: settings.faces }
     }
+    /// The least distance between two joints of one link, in scene units (pins need room).
+    pub fn min_joint_spacing(&self) -> f64 {
+        self.shapes.dims.min_joint_spacing()
+    }
     /// True when `mechanism`, moving along `trace` (rows of joint positions at crank steps of at most
     /// 1°, as [`crate::synth::Candidate::trace`]), has connectors that fit and a depth ordering.
     pub fn check(&self, mechanism: &Mechanism, trace: &Trace) -> bool {

@@ -290,6 +290,11 @@ impl Dims {
         }
     }
 
+    /// The least distance between two joints of one link: two bosses side by side with a wall between.
+    pub fn min_joint_spacing(&self) -> f64 {
+        2.0 * self.boss_radius + self.wall
+    }
+
     /// Bottom of a part on layer `k ≥ 1`, measured from the face of the bodies (paper eq. 20: two
     /// parts `Δz` layers apart are `Δz·(LD + JD + 2 GP) − LD` apart).
     pub fn layer_bottom(&self, k: u32) -> f64 {

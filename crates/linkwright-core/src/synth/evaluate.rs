@@ -29,13 +29,15 @@ pub enum Reject {
     AvoidRegion,
     /// A moving body penetrates a fixed body or another moving body (§5.5).
     Collision,
+    /// Valid, but it cannot be printed: no room for its connectors, or no depth ordering (§7.2).
+    Unprintable,
     /// Not a defect: its cost, bounded from below before any simulation, could not beat the designs
     /// already kept.
     Outclassed,
 }
 
 impl Reject {
-    pub const ALL: [Reject; 8] = [
+    pub const ALL: [Reject; 9] = [
         Reject::JointsTooClose,
         Reject::Order,
         Reject::Branch,
@@ -43,6 +45,7 @@ impl Reject {
         Reject::Transmission,
         Reject::AvoidRegion,
         Reject::Collision,
+        Reject::Unprintable,
         Reject::Outclassed,
     ];
 }
@@ -69,6 +72,8 @@ pub struct Candidate {
     pub soft: SoftTerms,
     /// Weighted sum of the soft terms (eq. 14).
     pub cost: f64,
+    /// Fabrication's feasibility check passed (false: failed or not run).
+    pub printable: bool,
 }
 
 impl Candidate {
@@ -173,7 +178,7 @@ pub fn evaluate(
                     + w.smoothness * soft.smoothness
                     + w.location * soft.location
                     + w.size * soft.size;
-                return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost });
+                return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
             }
             Err(r) => {
                 first_failure.get_or_insert(r);

@@ -15,6 +15,6 @@ pub use context::Context;
 pub use evaluate::{evaluate, Candidate, Reject, Scratch, SoftTerms};
 pub use pfo::FilterOptions;
 pub use pipeline::{
-    families, synthesize, synthesize_from, Cancelled, Observer, Outcome, Progress, RunStats, Silent, Stage, Start,
-    WARM_SAMPLES,
+    families, synthesize, synthesize_with, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent, Stage,
+    Start, WARM_SAMPLES,
 };

@@ -6,8 +6,8 @@ use super::context::Context;
 use super::evaluate::{evaluate, Candidate, Reject, Scratch};
 use super::pfo::{refine, FilterOptions};
 use super::sample::{x_from_mechanism, SampleScratch, Sampler};
-use crate::mechanism::Mechanism;
-use crate::mechanism::MechanismType;
+use crate::fab::FeasibilityCheck;
+use crate::mechanism::{Mechanism, MechanismType};
 use crate::scene::{MechanismChoice, Problem};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -81,6 +81,8 @@ pub struct RunStats {
     pub seconds_sampling: f64,
     pub seconds_collision: f64,
     pub seconds_pfo: f64,
+    /// Checking the kept designs for printability (when asked).
+    pub seconds_printability: f64,
     pub seconds_total: f64,
 }
 
@@ -106,9 +108,10 @@ pub fn families(problem: &Problem) -> Vec<MechanismType> {
 }
 
 /// Where the search starts.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub enum Start<'a> {
     /// From scratch: `settings.samples` samples drawn uniformly in the linkage region.
+    #[default]
     Cold,
     /// From earlier designs of a similar scene (a previous design and its alternatives, after the
     /// person moved a pose, say): [`WARM_SAMPLES`] samples are fitted from those designs' joints to the
@@ -120,13 +123,24 @@ pub enum Start<'a> {
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
 
-/// Runs the synthesis from scratch on the current rayon pool.
-pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
-    synthesize_from(problem, Start::Cold, observer)
+/// How a run starts and what its designs must also satisfy.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Options<'a> {
+    pub start: Start<'a>,
+    /// When given, every design must be printable with these print settings (paper §7.2): the joints
+    /// of one part at least [`FeasibilityCheck::min_joint_spacing`] apart, connectors that fit, and a
+    /// depth ordering of links and connectors. Checked on the kept designs, cheapest first, so the
+    /// paper's stages run unchanged.
+    pub printable: Option<&'a FeasibilityCheck>,
 }
 
-/// Runs the synthesis from `start` on the current rayon pool.
-pub fn synthesize_from(problem: &Problem, start: Start, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
+/// Runs the paper's synthesis from scratch (no fabrication check) on the current rayon pool.
+pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
+    synthesize_with(problem, &Options::default(), observer)
+}
+
+/// Runs the synthesis with `options` on the current rayon pool.
+pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();
     let families = families(problem);
     let mut stats = RunStats::default();
@@ -134,13 +148,16 @@ pub fn synthesize_from(problem: &Problem, start: Start, observer: &dyn Observer)
     let mut valid: Vec<Candidate> = Vec::new();
     let mut best_cost: Option<f64> = None;
     for (f, &family) in families.iter().enumerate() {
-        let ctx = Context::new(problem, family);
+        let mut ctx = Context::new(problem, family);
+        if let Some(check) = options.printable {
+            ctx.min_spacing = ctx.min_spacing.max(check.min_joint_spacing());
+        }
         let share = |x: f64| (f as f64 + x) / families.len() as f64;
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
         };
         let report = |stage, x, b| report(stage, x, min_opt(best_cost, b));
-        let seeds: Vec<Vec<f64>> = match start {
+        let seeds: Vec<Vec<f64>> = match options.start {
             Start::Cold => Vec::new(),
             Start::Warm(previous) => previous
                 .iter()
@@ -154,34 +171,80 @@ pub fn synthesize_from(problem: &Problem, start: Start, observer: &dyn Observer)
         };
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(&ctx, family_id(family), &seeds, &mut stats, &mut rejected, observer, &report)?;
+            found = run_family(&ctx, family, &seeds, options.printable, &mut stats, &mut rejected, observer, &report)?;
         }
         if found.is_empty() {
-            found = run_family(&ctx, family_id(family), &[], &mut stats, &mut rejected, observer, &report)?;
+            found = run_family(&ctx, family, &[], options.printable, &mut stats, &mut rejected, observer, &report)?;
         }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
         }
         valid.extend(found);
     }
-    stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-    let mut picked: Vec<Candidate> = Vec::new();
-    let min_shift = DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
-    for c in valid {
-        if picked.len() > MAX_ALTERNATIVES {
-            break;
-        }
-        if picked.iter().all(|p| distinct(p, &c, min_shift)) {
-            picked.push(c);
-        }
-    }
+    let t = Instant::now();
+    let picked = pick_designs(problem, valid, options.printable, &mut rejected, observer)?;
+    stats.seconds_printability = t.elapsed().as_secs_f64();
+    stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
     stats.seconds_total = started.elapsed().as_secs_f64();
     let mut picked = picked.into_iter();
     let best = picked.next();
     let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
     Ok(Outcome { best, alternatives: picked.collect(), stats, reason })
+}
+
+/// The best design and up to [`MAX_ALTERNATIVES`] alternatives from `valid` (sorted by cost): each
+/// distinct from those picked before it and, with a `printable` check, printable. Printability is
+/// checked in parallel batches in order of cost (a few milliseconds each), so only as many designs
+/// are checked as the picking needs.
+fn pick_designs(
+    problem: &Problem,
+    valid: Vec<Candidate>,
+    printable: Option<&FeasibilityCheck>,
+    rejected: &mut [usize; Reject::ALL.len()],
+    observer: &dyn Observer,
+) -> Result<Vec<Candidate>, Cancelled> {
+    let min_shift = DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+    let wanted = MAX_ALTERNATIVES + 1;
+    let mut picked: Vec<Candidate> = Vec::new();
+    let mut queue = valid.into_iter().peekable();
+    while picked.len() < wanted && queue.peek().is_some() {
+        if observer.cancelled() {
+            return Err(Cancelled);
+        }
+        // Only designs distinct from every one picked so far need the (costly) printability check. The
+        // batch's size changes how many are checked, never which are picked.
+        let mut batch: Vec<Candidate> = Vec::new();
+        while batch.len() < 2 * rayon::current_num_threads() {
+            let Some(c) = queue.next() else { break };
+            if picked.iter().all(|p| distinct(p, &c, min_shift)) {
+                batch.push(c);
+            }
+        }
+        let checked: Vec<Result<Candidate, Reject>> = match printable {
+            Some(check) => batch.into_par_iter().map(|c| mark_printable(check, c)).collect(),
+            None => batch.into_iter().map(Ok).collect(),
+        };
+        for r in checked {
+            match r {
+                Err(reject) => rejected[reject as usize] += 1,
+                Ok(c) if picked.len() < wanted && picked.iter().all(|p| distinct(p, &c, min_shift)) => picked.push(c),
+                Ok(_) => {}
+            }
+        }
+    }
+    Ok(picked)
+}
+
+/// `c` marked printable, or why not (a candidate already found printable is not checked again).
+fn mark_printable(check: &FeasibilityCheck, mut c: Candidate) -> Result<Candidate, Reject> {
+    c.printable = c.printable || check.check(&c.mechanism, &c.trace);
+    if c.printable {
+        Ok(c)
+    } else {
+        Err(Reject::Unprintable)
+    }
 }
 
 fn family_id(family: MechanismType) -> u64 {
@@ -200,10 +263,12 @@ fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
 }
 
 /// Sampling, checks and the particle filter for one family; returns every valid candidate.
+#[allow(clippy::too_many_arguments)]
 fn run_family(
     ctx: &Context,
-    family: u64,
+    family: MechanismType,
     seeds: &[Vec<f64>],
+    printable: Option<&FeasibilityCheck>,
     stats: &mut RunStats,
     rejected: &mut [usize; Reject::ALL.len()],
     observer: &dyn Observer,
@@ -211,6 +276,7 @@ fn run_family(
 ) -> Result<Vec<Candidate>, Cancelled> {
     let settings = &ctx.problem.settings;
     let seed = settings.seed;
+    let family = family_id(family);
     let warm = !seeds.is_empty();
     let total = if warm { WARM_SAMPLES.min(settings.samples) } else { settings.samples };
     let iterations = if warm { (settings.iterations / 4).max(1).min(settings.iterations) } else { settings.iterations };
@@ -259,8 +325,10 @@ fn run_family(
     stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    // A warm start begins near good designs: one particle set of valid ones is enough.
-    let enough = if warm { 1 } else { VALID_PER_PARTICLE } * settings.particles.max(1);
+    // A warm start begins near good designs: one particle set of valid ones is enough. So is one set
+    // of printable designs: that check costs milliseconds, and the particle filter stays near them.
+    let per_particle = if warm || printable.is_some() { 1 } else { VALID_PER_PARTICLE };
+    let enough = per_particle * settings.particles.max(1);
     let mut valid = Vec::new();
     let mut queue = candidates.into_iter().peekable();
     while queue.peek().is_some() && valid.len() < enough {
@@ -270,7 +338,13 @@ fn run_family(
         let chunk: Vec<Candidate> = queue.by_ref().take(COLLISION_CHUNK).collect();
         let checked: Vec<Result<Candidate, Reject>> = chunk
             .into_par_iter()
-            .map_init(Scratch::default, |scratch, c| check_collisions(ctx, &c, scratch).map(|()| c))
+            .map_init(Scratch::default, |scratch, c| {
+                check_collisions(ctx, &c, scratch)?;
+                match printable {
+                    Some(check) => mark_printable(check, c),
+                    None => Ok(c),
+                }
+            })
             .collect();
         for r in checked {
             match r {
@@ -352,6 +426,10 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
             .to_string(),
         Reject::Collision => "moving bodies hit a fixed body or each other on the way: give them more \
                               clearance, or add intermediate poses that steer around the obstacle"
+            .to_string(),
+        Reject::Unprintable => "linkages could not be printed with these print settings: no room for the \
+                                connectors, or no order of the links in depth avoids every collision; widen the \
+                                linkage_region, allow links on both faces, or choose narrower links"
             .to_string(),
         Reject::Outclassed => unreachable!("filtered out above"),
     };

@@ -15,10 +15,11 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
 use linkwright_core::design::{DesignFile, DESIGN_FORMAT};
+use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
 use linkwright_core::mechanism::Mechanism;
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize_from, Progress, Start};
+use linkwright_core::synth::{synthesize_with, Options, Progress, Start};
 use linkwright_core::verify::{verify, Violation};
 use serde_json::{json, Map, Value};
 use std::convert::Infallible;
@@ -118,10 +119,16 @@ fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
     Ok((scene, problem))
 }
 
+/// The check that designs print with the default print settings, when the scene's units are known.
+fn printable_in(scene: &Scene, problem: &Problem) -> Option<FeasibilityCheck> {
+    millimetres_per_unit(&scene.units).map(|mm| FeasibilityCheck::new(problem, &PrintSettings::default(), mm))
+}
+
 /// What a design request carries: the scene, and the mechanisms of an earlier design to start from.
 struct DesignInput {
     problem: Problem,
     previous: Vec<Mechanism>,
+    printable: Option<FeasibilityCheck>,
 }
 
 impl DesignInput {
@@ -132,9 +139,12 @@ impl DesignInput {
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
         let Some(scene) = wrapped else {
-            return Ok(DesignInput { problem: scene_of(text, "")?.1, previous: Vec::new() });
+            let (scene, problem) = scene_of(text, "")?;
+            let printable = printable_in(&scene, &problem);
+            return Ok(DesignInput { problem, previous: Vec::new(), printable });
         };
-        let (_, problem) = scene_of(&scene.to_string(), "scene")?;
+        let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
+        let printable = printable_in(&scene, &problem);
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
@@ -145,15 +155,13 @@ impl DesignInput {
                 all.filter_map(|m| m.to_mechanism().ok()).collect()
             }
         };
-        Ok(DesignInput { problem, previous })
+        Ok(DesignInput { problem, previous, printable })
     }
 
-    fn start(&self) -> Start<'_> {
-        if self.previous.is_empty() {
-            Start::Cold
-        } else {
-            Start::Warm(&self.previous)
-        }
+    /// Designs start from the earlier design when there is one, and must be printable.
+    fn options(&self) -> Options<'_> {
+        let start = if self.previous.is_empty() { Start::Cold } else { Start::Warm(&self.previous) };
+        Options { start, printable: self.printable.as_ref() }
     }
 }
 
@@ -256,7 +264,7 @@ pub async fn design(
     let result = blocking(move || {
         let _running = running;
         let observer = JobObserver { flag: job_flag, on_progress: |_: &Progress| {} };
-        pool.install(|| synthesize_from(&input.problem, input.start(), &observer))
+        pool.install(|| synthesize_with(&input.problem, &input.options(), &observer))
             .map(|outcome| DesignFile::from_outcome(&input.problem, &outcome))
     })
     .await?;
@@ -328,7 +336,7 @@ pub async fn design_stream(
                 let _ = progress_tx.try_send(Note::Progress(*p));
             };
             let observer = JobObserver { flag: job_flag, on_progress };
-            pool.install(|| synthesize_from(&input.problem, input.start(), &observer))
+            pool.install(|| synthesize_with(&input.problem, &input.options(), &observer))
                 .map(|outcome| DesignFile::from_outcome(&input.problem, &outcome))
         })
         .await;
