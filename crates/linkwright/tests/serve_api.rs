@@ -111,6 +111,14 @@ fn bad_input_is_a_4xx_that_names_the_problem() {
     let (status, body) = post(&server, "/api/simulate", &json!({"scene": {"linkwright": "scene/2"}, "design": {}}));
     assert_error(status, &body, 400);
     assert!(body["issues"][0]["field"].as_str().unwrap().starts_with("scene"), "{body}");
+
+    // Print settings a design must be printable with are checked like the fabrication's.
+    let scene = quick_garbage_truck(100, 0);
+    let (status, body) = post(&server, "/api/design", &json!({"scene": scene, "print_settings": {"pin_radius": -2}}));
+    assert_error(status, &body, 400);
+    assert_eq!(body["issues"][0]["field"], "print_settings.pin_radius", "{body}");
+    let (status, body) = post(&server, "/api/design", &json!({"scene": scene, "print_settings": {"link_width": 12}}));
+    assert_eq!((status, &body["linkwright"]), (200, &json!("design/1")), "{body}");
 }
 
 #[test]

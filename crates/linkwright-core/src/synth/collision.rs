@@ -53,8 +53,9 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
         slack.push(sweep.distance(pair, &previous) + ctx.contact_tolerance);
     }
     let mut body_motion = Vec::new();
+    let mut current = sweep.place(trace.row(0));
     for r in 1..trace.len() {
-        let current = sweep.place(trace.row(r));
+        sweep.place_into(trace.row(r), &mut current);
         body_motion.clear();
         body_motion.extend(previous.bodies.iter().zip(&current.bodies).map(|(p, q)| largest_motion(p, q)));
         for (&pair, slack) in pairs.iter().zip(slack.iter_mut()) {
@@ -76,7 +77,7 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
             }
             *slack = clearance;
         }
-        previous = current;
+        std::mem::swap(&mut previous, &mut current);
     }
     Ok(())
 }
@@ -111,18 +112,25 @@ struct Sweep<'s, 'p> {
 
 impl Sweep<'_, '_> {
     fn place(&self, row: &[Point]) -> Placed {
+        let mut placed = Placed { poses: Vec::new(), bodies: Vec::new(), body_boxes: Vec::new(), links: Vec::new() };
+        self.place_into(row, &mut placed);
+        placed
+    }
+
+    /// [`Sweep::place`] into reused buffers.
+    fn place_into(&self, row: &[Point], out: &mut Placed) {
         let problem = self.ctx.problem;
-        let poses: Vec<Rigid> = (0..problem.bodies.len()).map(|b| self.frames.pose(b, row)).collect();
-        let bodies: Vec<Vec<Point>> = problem
-            .bodies
-            .iter()
-            .zip(&poses)
-            .map(|(body, pose)| body.outline.vertices().iter().map(|&p| pose.apply(p)).collect())
-            .collect();
-        let body_boxes =
-            bodies.iter().map(|o| Aabb::around(o.iter().copied()).expect("outlines have vertices")).collect();
-        let links = self.ctx.link_segments.iter().map(|&(a, b)| [row[a], row[b]]).collect();
-        Placed { poses, bodies, body_boxes, links }
+        out.poses.clear();
+        out.poses.extend((0..problem.bodies.len()).map(|b| self.frames.pose(b, row)));
+        out.bodies.resize_with(problem.bodies.len(), Vec::new);
+        out.body_boxes.clear();
+        for ((body, pose), outline) in problem.bodies.iter().zip(&out.poses).zip(&mut out.bodies) {
+            outline.clear();
+            outline.extend(body.outline.vertices().iter().map(|&p| pose.apply(p)));
+            out.body_boxes.push(Aabb::around(outline.iter().copied()).expect("outlines have vertices"));
+        }
+        out.links.clear();
+        out.links.extend(self.ctx.link_segments.iter().map(|&(a, b)| [row[a], row[b]]));
     }
 
     /// The mover's and the obstacle's outlines and boxes in configuration `at`, and the verdict when
@@ -245,28 +253,45 @@ fn box_gap(a: &Aabb, b: &Aabb) -> f64 {
 /// The least distance between the boundaries of two outlines (a two-point outline is a segment): the
 /// nearest pair of boundary points always includes a vertex of one of them.
 fn boundary_distance(a: &[Point], b: &[Point]) -> f64 {
-    let one_way = |p: &[Point], q: &[Point]| {
-        let n = q.len();
-        let edges = if n == 2 { 1 } else { n };
-        p.iter()
-            .flat_map(|&v| (0..edges).map(move |i| point_segment_distance_sq(v, q[i], q[(i + 1) % n])))
-            .fold(f64::INFINITY, f64::min)
-    };
-    one_way(a, b).min(one_way(b, a)).sqrt()
+    nearest_sq(a, b, f64::INFINITY, false).sqrt()
 }
 
-/// True when the boundaries of two outlines that do not cross (a two-point outline is a segment) are
-/// at least `gap` apart. The nearest pair of boundary points always includes a vertex of one of them;
-/// the test stops at the first pair closer than `gap`.
+/// True when the boundaries of two outlines that do not cross are at least `gap` apart.
 fn clear_of(a: &[Point], b: &[Point], gap: f64) -> bool {
-    if gap <= 0.0 {
-        return true;
-    }
-    let gap_sq = gap * gap;
-    let one_way = |p: &[Point], q: &[Point]| {
+    gap <= 0.0 || nearest_sq(a, b, gap * gap, true) >= gap * gap
+}
+
+/// The least squared distance between a vertex of one outline and an edge of the other, when it is
+/// below `limit_sq` (otherwise a value at least `limit_sq`); with `first`, any value below `limit_sq`
+/// once one is found. Edges whose box is farther from the other outline's box than the best distance
+/// so far are skipped.
+fn nearest_sq(a: &[Point], b: &[Point], limit_sq: f64, first: bool) -> f64 {
+    let mut best = limit_sq;
+    for (p, q) in [(a, b), (b, a)] {
+        let Some(box_p) = Aabb::around(p.iter().copied()) else { continue };
         let n = q.len();
         let edges = if n == 2 { 1 } else { n };
-        p.iter().all(|&v| (0..edges).all(|i| point_segment_distance_sq(v, q[i], q[(i + 1) % n]) >= gap_sq))
-    };
-    one_way(a, b) && one_way(b, a)
+        for i in 0..edges {
+            let (q0, q1) = (q[i], q[(i + 1) % n]);
+            let edge = Aabb {
+                min: Point::new(q0.x.min(q1.x), q0.y.min(q1.y)),
+                max: Point::new(q0.x.max(q1.x), q0.y.max(q1.y)),
+            };
+            let gap = box_gap(&box_p, &edge);
+            if gap * gap >= best {
+                continue;
+            }
+            for &v in p {
+                let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
+                let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
+                if dx * dx + dy * dy < best {
+                    best = best.min(point_segment_distance_sq(v, q0, q1));
+                }
+            }
+            if first && best < limit_sq {
+                return best;
+            }
+        }
+    }
+    best
 }

@@ -119,9 +119,9 @@ fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
     Ok((scene, problem))
 }
 
-/// The check that designs print with the default print settings, when the scene's units are known.
-fn printable_in(scene: &Scene, problem: &Problem) -> Option<FeasibilityCheck> {
-    millimetres_per_unit(&scene.units).map(|mm| FeasibilityCheck::new(problem, &PrintSettings::default(), mm))
+/// The check that designs print with `settings`, when the scene's units are known.
+fn printable_in(scene: &Scene, problem: &Problem, settings: &PrintSettings) -> Option<FeasibilityCheck> {
+    millimetres_per_unit(&scene.units).map(|mm| FeasibilityCheck::new(problem, settings, mm))
 }
 
 /// What a design request carries: the scene, and the mechanisms of an earlier design to start from.
@@ -132,19 +132,22 @@ struct DesignInput {
 }
 
 impl DesignInput {
-    /// A bare `scene/1` document, or `{"scene": scene/1, "from": design/1}` for a warm start from an
-    /// earlier design of a similar scene (its mechanism and alternatives).
+    /// A bare `scene/1` document, or `{"scene": scene/1, "from": design/1, "print_settings": {...}}`:
+    /// `from` (optional) warm-starts from an earlier design of a similar scene (its mechanism and
+    /// alternatives); `print_settings` (optional, as `POST /api/fabricate` takes them) are what the
+    /// designs must be printable with (default: the default print settings).
     fn parse(text: &str) -> Result<DesignInput, ApiError> {
         let value: Value = serde_json::from_str(text)
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
         let Some(scene) = wrapped else {
             let (scene, problem) = scene_of(text, "")?;
-            let printable = printable_in(&scene, &problem);
+            let printable = printable_in(&scene, &problem, &PrintSettings::default());
             return Ok(DesignInput { problem, previous: Vec::new(), printable });
         };
         let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
-        let printable = printable_in(&scene, &problem);
+        let settings = super::fabricate::print_settings(value.get("print_settings"), "print_settings")?;
+        let printable = printable_in(&scene, &problem, &settings);
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {

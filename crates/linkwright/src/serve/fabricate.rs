@@ -38,7 +38,7 @@ impl Request {
     /// `{scene, design, settings?, alternative?}`.
     fn parse(text: &str) -> Result<Request, ApiError> {
         let compound = Compound::parse(text)?;
-        let settings = print_settings(compound.fields.get("settings"))?;
+        let settings = print_settings(compound.fields.get("settings"), "settings")?;
         let which = compound.which()?;
         let Compound { problem, units, mut design, .. } = compound;
         if design.mechanism.is_none() {
@@ -85,23 +85,23 @@ impl Request {
     }
 }
 
-/// The print settings of a request: absent or null for the defaults, otherwise an object whose
-/// missing fields keep their defaults. Every problem is named by its field.
-fn print_settings(value: Option<&Value>) -> Result<PrintSettings, ApiError> {
+/// The print settings in request field `name`: absent or null for the defaults, otherwise an object
+/// whose missing fields keep their defaults. Every problem is named by its field.
+pub(super) fn print_settings(value: Option<&Value>, name: &str) -> Result<PrintSettings, ApiError> {
     let Some(value) = value.filter(|v| !v.is_null()) else { return Ok(PrintSettings::default()) };
     if !value.is_object() {
         let message = "must be an object of print settings in millimetres (GET /api/fabricate/settings lists them)";
-        return Err(ApiError::bad_request(format!("settings {message}")).with_issue("settings", message));
+        return Err(ApiError::bad_request(format!("{name} {message}")).with_issue(name, message));
     }
     let settings = PrintSettings::from_json(&value.to_string()).map_err(|e| {
-        let field = join_field("settings", &e.field);
+        let field = join_field(name, &e.field);
         // The position is in the text re-serialised here, not in anything the client sent.
         let message = e.message.split(" at line ").next().unwrap_or_default();
         ApiError::bad_request(format!("print settings: {field}: {message}")).with_issue(field, message)
     })?;
     let issues = settings.validate();
     let Some(first) = issues.first() else { return Ok(settings) };
-    let field = |path: &str| join_field("settings", path);
+    let field = |path: &str| join_field(name, path);
     let error = match issues.len() {
         1 => format!("print settings: {}: {}", field(&first.field), first.message),
         n => format!("print settings have {n} problems; the first: {}: {}", field(&first.field), first.message),

@@ -64,6 +64,20 @@ function problems(e) {
   });
 }
 
+/** The print settings a saved form asks for: the defaults, changed by the fields filled in. */
+function settingsOf(print) {
+  const out = { faces: print.faces };
+  for (const [path, value] of Object.entries(print.values)) {
+    if (FIELDS.some(([p]) => p === path) && Number.isFinite(value)) setAt(out, path, value);
+  }
+  return out;
+}
+
+/** The print settings last saved in the panel: designs are asked to be printable with them. */
+export function savedPrintSettings() {
+  return settingsOf(loadSaved());
+}
+
 function loadSaved() {
   try {
     const saved = JSON.parse(localStorage.getItem(SAVED) || 'null');
@@ -105,11 +119,7 @@ export class Fabricator {
 
   /** The settings to send: the defaults, changed by the fields filled in. */
   settings() {
-    const out = { faces: this.print.faces };
-    for (const [path, value] of Object.entries(this.print.values)) {
-      if (FIELDS.some(([p]) => p === path) && Number.isFinite(value)) setAt(out, path, value);
-    }
-    return out;
+    return settingsOf(this.print);
   }
 
   saveSettings() {

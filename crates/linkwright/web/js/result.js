@@ -3,6 +3,7 @@
 
 import * as api from './api.js';
 import { bodyColour } from './canvas.js';
+import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
 import { errorPlot, loopList, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
@@ -166,7 +167,8 @@ export class Results {
     this.progress({ fraction: 0, text: 'Starting…' });
     this.sync();
     try {
-      const design = await api.designStream(scene, (name, data) => this.onEvent(name, data), this.controller.signal);
+      const request = { scene, print_settings: savedPrintSettings() };
+      const design = await api.designStream(request, (name, data) => this.onEvent(name, data), this.controller.signal);
       if (design) {
         this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: this.warnings };
         await this.select(null);
@@ -230,7 +232,7 @@ export class Results {
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
     try {
-      const design = await api.designStream({ scene, from: this.lastGood() }, () => {});
+      const design = await api.designStream({ scene, from: this.lastGood(), print_settings: savedPrintSettings() }, () => {});
       if (design?.status === 'ok') {
         this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: [] };
         await this.select(null, { keep: true });
