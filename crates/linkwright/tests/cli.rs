@@ -90,7 +90,7 @@ fn json_flag_prints_the_design() {
     let dir = workdir("json");
     let run = linkwright(&[
         "design",
-        &example("k2_wall_bed"),
+        &example("k2_wall_chair"),
         "-o",
         dir.join("out").to_str().unwrap(),
         "--samples",

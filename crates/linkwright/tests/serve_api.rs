@@ -1,5 +1,6 @@
 //! The web app's API as a client sees it: examples, designs (plain and streamed), checks, simulations,
-//! pictures, bad input, size limits, job limits and cancellation when the client goes away.
+//! pictures, fabrication and its downloads, bad input, size limits, job limits and cancellation when the
+//! client goes away.
 
 mod common;
 
@@ -110,6 +111,14 @@ fn bad_input_is_a_4xx_that_names_the_problem() {
     let (status, body) = post(&server, "/api/simulate", &json!({"scene": {"linkwright": "scene/2"}, "design": {}}));
     assert_error(status, &body, 400);
     assert!(body["issues"][0]["field"].as_str().unwrap().starts_with("scene"), "{body}");
+
+    // Print settings a design must be printable with are checked like the fabrication's.
+    let scene = quick_garbage_truck(100, 0);
+    let (status, body) = post(&server, "/api/design", &json!({"scene": scene, "print_settings": {"pin_radius": -2}}));
+    assert_error(status, &body, 400);
+    assert_eq!(body["issues"][0]["field"], "print_settings.pin_radius", "{body}");
+    let (status, body) = post(&server, "/api/design", &json!({"scene": scene, "print_settings": {"link_width": 12}}));
+    assert_eq!((status, &body["linkwright"]), (200, &json!("design/1")), "{body}");
 }
 
 #[test]
@@ -297,21 +306,46 @@ fn a_job_stops_when_its_client_goes_away() {
     wait_idle(&server, Duration::from_secs(15));
 
     // The plain endpoint too: a client that hangs up mid-request stops its job.
-    let body = scene.to_string();
+    let raw = raw_post(&server, "/api/design", &scene);
+    wait_status(&server, "running", 1);
+    drop(raw);
+    wait_idle(&server, Duration::from_secs(15));
+}
+
+/// Posts `body` on a raw connection, without reading the answer: dropping it hangs up.
+fn raw_post(server: &Server, path: &str, body: &Value) -> std::net::TcpStream {
+    let body = body.to_string();
     let host = server.url.trim_start_matches("http://").trim_end_matches('/');
     let mut raw = std::net::TcpStream::connect(host).unwrap();
     let head = format!(
-        "POST /api/design HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n",
+        "POST {path} HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n",
         body.len()
     );
     std::io::Write::write_all(&mut raw, head.as_bytes()).unwrap();
     std::io::Write::write_all(&mut raw, body.as_bytes()).unwrap();
+    raw
+}
+
+/// Waits until `/api/status` reports `count` jobs `running` or `queued`.
+fn wait_status(server: &Server, what: &str, count: u64) {
     let start = Instant::now();
-    while get(&server, "/api/status").1["running"] != 1 {
-        assert!(start.elapsed() < Duration::from_secs(10), "the job never started");
+    while get(server, "/api/status").1[what] != count {
+        assert!(start.elapsed() < Duration::from_secs(10), "never {count} {what}");
         std::thread::sleep(Duration::from_millis(50));
     }
+}
+
+#[test]
+fn a_fabrication_waiting_in_line_leaves_it_when_its_client_goes_away() {
+    let server = Server::start(&["--jobs", "1"]);
+    let (scene, design) = quick_design(&server);
+    let mut busy = stream(&server, &quick_garbage_truck(5_000_000, 1), "designer");
+    assert!(busy.find(|(n, _)| n == "progress").is_some());
+    let raw = raw_post(&server, "/api/fabricate", &json!({"scene": scene, "design": design}));
+    wait_status(&server, "queued", 1);
     drop(raw);
+    wait_status(&server, "queued", 0);
+    drop(busy);
     wait_idle(&server, Duration::from_secs(15));
 }
 
@@ -383,4 +417,155 @@ fn other_web_sites_cannot_use_the_server() {
             .send(json!({"scene": quick_garbage_truck(100, 0)}).to_string()),
     );
     assert_eq!(status, 400, "a same-origin post goes through (and fails on its missing design)");
+}
+
+/// The garbage truck and a quick design of it, from the server.
+fn quick_design(server: &Server) -> (Value, Value) {
+    let scene = quick_garbage_truck(3000, 5);
+    let (status, design) = post(server, "/api/design", &scene);
+    assert_eq!((status, &design["status"]), (200, &json!("ok")), "{design}");
+    (scene, design)
+}
+
+/// Status, content type and bytes of a GET.
+fn download(server: &Server, path: &str) -> (u16, String, Vec<u8>) {
+    let mut response = agent().get(server.at(path)).call().expect("the server answers");
+    let kind = response.headers().get("content-type").and_then(|v| v.to_str().ok()).unwrap_or("").to_string();
+    let bytes = response.body_mut().read_to_vec().expect("a body");
+    (response.status().as_u16(), kind, bytes)
+}
+
+#[test]
+fn fabrication_lists_serves_and_zips_every_file_and_previews_the_motion() {
+    let server = Server::start(&[]);
+    let (scene, design) = quick_design(&server);
+    let request = json!({"scene": scene, "design": design, "settings": {"bed": {"width": 200}}});
+    let (status, made) = post(&server, "/api/fabricate", &request);
+    assert_eq!(status, 200, "{made}");
+    let report = &made["report"];
+    assert_eq!(report["linkwright"], "fabrication/1");
+    assert_eq!(
+        (report["settings"]["bed"]["width"].as_f64(), report["settings"]["bed"]["depth"].as_f64()),
+        (Some(200.0), Some(220.0)),
+        "the settings sent, the defaults for the rest"
+    );
+    assert_eq!((made["used"].as_u64(), made["checks_ok"].as_bool()), (Some(0), Some(true)), "{}", report["checks"]);
+
+    let files = made["files"].as_array().unwrap();
+    let names: Vec<&str> = files.iter().filter_map(|f| f["name"].as_str()).collect();
+    for name in ["assembly.3mf", "plate_1.3mf", "profiles.svg", "profiles.dxf", "assembly.svg", "fabrication.json"] {
+        assert!(names.contains(&name), "{name} missing from {names:?}");
+    }
+    let parts = report["parts"].as_array().unwrap();
+    let stls: Vec<&str> = names.iter().copied().filter(|n| n.ends_with(".stl")).collect();
+    assert_eq!(stls.len(), parts.len(), "{names:?}");
+    for f in files {
+        let (status, kind, bytes) = download(&server, f["url"].as_str().unwrap());
+        assert_eq!(
+            (status, kind.as_str(), bytes.len() as u64),
+            (200, f["media_type"].as_str().unwrap(), f["bytes"].as_u64().unwrap()),
+            "{f}"
+        );
+    }
+    // A part as binary STL: an 80-byte header, the triangle count, 50 bytes a triangle, as many as the
+    // report says.
+    let part = &parts[0];
+    let url = files.iter().find(|f| f["name"] == part["file"]).unwrap()["url"].as_str().unwrap();
+    let (_, kind, stl) = download(&server, url);
+    assert_eq!(kind, "model/stl");
+    let triangles = u32::from_le_bytes(stl[80..84].try_into().unwrap()) as usize;
+    assert_eq!(stl.len(), 84 + 50 * triangles);
+    assert_eq!(Some(triangles as u64), part["triangles"].as_u64(), "{part}");
+    let corners =
+        stl[84..].chunks(50).flat_map(|t| t[12..48].chunks(4)).map(|b| f32::from_le_bytes(b.try_into().unwrap()));
+    assert!(corners.into_iter().all(f32::is_finite));
+
+    // The zip holds the same files, byte for byte in size.
+    let (status, kind, zip) = download(&server, made["zip"]["url"].as_str().unwrap());
+    assert_eq!(
+        (status, kind.as_str(), zip.len() as u64),
+        (200, "application/zip", made["zip"]["bytes"].as_u64().unwrap())
+    );
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(zip)).expect("a zip");
+    let mut in_zip: Vec<(String, u64)> = (0..archive.len())
+        .map(|i| archive.by_index(i).map(|e| (e.name().unwrap().to_string(), e.size())).unwrap())
+        .collect();
+    let mut listed: Vec<(String, u64)> =
+        files.iter().map(|f| (f["name"].as_str().unwrap().to_string(), f["bytes"].as_u64().unwrap())).collect();
+    in_zip.sort();
+    listed.sort();
+    assert_eq!(in_zip, listed);
+    let mut json_text = String::new();
+    archive.by_name("fabrication.json").unwrap().read_to_string(&mut json_text).unwrap();
+    assert_eq!(&serde_json::from_str::<Value>(&json_text).unwrap(), report, "the report is fabrication.json");
+
+    // The preview: every part's indexed mesh and every carrier's pose at each row of the motion.
+    let preview = &made["preview"];
+    let meshes = preview["parts"].as_array().unwrap();
+    assert_eq!(meshes.len(), parts.len());
+    for (mesh, part) in meshes.iter().zip(parts) {
+        let vertices = mesh["positions"].as_array().unwrap().len();
+        let indices = mesh["indices"].as_array().unwrap();
+        assert_eq!(vertices % 3, 0);
+        assert_eq!(indices.len() as u64, 3 * part["triangles"].as_u64().unwrap(), "{}", part["name"]);
+        assert!(indices.iter().all(|i| i.as_u64().is_some_and(|i| (i as usize) < vertices / 3)));
+    }
+    let carriers = preview["carriers"].as_u64().unwrap() as usize;
+    let rows = preview["poses"].as_array().unwrap();
+    assert!(rows.len() >= 2 && rows.len() == preview["crank_deg"].as_array().unwrap().len());
+    assert!(rows.iter().all(|r| r.as_array().unwrap().len() == 3 * carriers));
+
+    // Unknown bundles and files; the default settings.
+    let (status, body) = get(&server, "/api/fabricate/0000/assembly.3mf");
+    assert_error(status, &body, 404);
+    let (status, body) = get(&server, &format!("/api/fabricate/{}/parts/nothing.stl", made["id"].as_str().unwrap()));
+    assert_error(status, &body, 404);
+    let (status, defaults) = get(&server, "/api/fabricate/settings");
+    assert_eq!((status, defaults["link_width"].as_f64(), &defaults["faces"]), (200, Some(10.0), &json!("auto")));
+}
+
+#[test]
+fn fabrication_names_bad_settings_and_designs_it_cannot_make() {
+    let server = Server::start(&[]);
+    let (scene, design) = quick_design(&server);
+    let fabricate = |design: &Value, extra: Value| {
+        let mut request = json!({"scene": scene, "design": design});
+        request.as_object_mut().unwrap().extend(extra.as_object().unwrap().clone());
+        post(&server, "/api/fabricate", &request)
+    };
+    for (settings, field) in [
+        (json!({"pin_radus": 2}), "settings.pin_radus"),
+        (json!({"link_width": 4}), "settings.link_width"),
+        (json!({"faces": "three"}), "settings.faces"),
+        (json!({"bed": {"width": -1}}), "settings.bed.width"),
+        (json!("wide"), "settings"),
+    ] {
+        let (status, body) = fabricate(&design, json!({ "settings": settings }));
+        assert_error(status, &body, 400);
+        assert!(body["error"].as_str().unwrap().contains(field), "{body}");
+        assert!(body["issues"].as_array().unwrap().iter().any(|i| i["field"] == field), "{body}");
+    }
+    // An alternative asked for is the one made (the first of them the library can make, here).
+    let alternatives = design["alternatives"].as_array().unwrap().len();
+    let made = (0..alternatives).find_map(|i| {
+        let (status, body) = fabricate(&design, json!({ "alternative": i }));
+        (status == 200).then(|| (i, body["used"].as_u64()))
+    });
+    let (i, used) = made.expect("an alternative can be made");
+    assert_eq!(used, Some(i as u64 + 1));
+    let (status, body) = fabricate(&design, json!({"alternative": 99}));
+    assert_error(status, &body, 422);
+    assert_eq!(body["issues"][0]["field"], "alternative");
+
+    // A design that found no linkage has nothing to fabricate.
+    let mut nothing = design.clone();
+    for member in ["mechanism", "motion", "metrics"] {
+        nothing[member] = Value::Null;
+    }
+    nothing["status"] = json!("no_solution");
+    nothing["reason"] = json!("no linkage reaches every pose");
+    nothing["alternatives"] = json!([]);
+    let (status, body) = fabricate(&nothing, json!({}));
+    assert_error(status, &body, 422);
+    assert!(body["error"].as_str().unwrap().contains("no linkage to fabricate"), "{body}");
 }

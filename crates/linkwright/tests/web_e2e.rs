@@ -1,6 +1,6 @@
 //! End to end in a real headless Chromium, as a person uses the app: draw a fixed and a moving body,
 //! place and add poses, undo and redo, design, watch it move, download the design, reload and find the
-//! scene again.
+//! scene again; then open an example, design it, make its parts, download one and see them in 3D.
 //!
 //! Chromium is `/usr/bin/chromium` (or `$LINKWRIGHT_CHROMIUM`). Without it the test is skipped with a
 //! message, except under `CI=true`, where a missing browser is a failure. With
@@ -381,30 +381,84 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     )
     .await?;
 
-    if shots.is_some() {
-        garbage_truck(page, shots).await?;
-    }
-    Ok(())
+    garbage_truck(page, downloads, shots).await
 }
 
-/// The garbage truck example, designed and animating (for the README's screenshot).
-async fn garbage_truck(page: &Page, shots: Option<&Path>) -> Result<()> {
+/// Counts the pixels of the 3D preview that differ from its background, the colour of its top-left
+/// corner (the canvas keeps its drawing, so it can be copied).
+const PREVIEW_PIXELS: &str = "(() => { const c = document.getElementById('view3d-canvas'); \
+    const copy = document.createElement('canvas'); copy.width = c.width; copy.height = c.height; \
+    const g = copy.getContext('2d'); g.drawImage(c, 0, 0); \
+    const d = g.getImageData(0, 0, copy.width, copy.height).data; let n = 0; \
+    for (let i = 0; i < d.length; i += 4) \
+      if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 30) n++; \
+    return n; })()";
+
+/// The garbage truck example: designed, made into parts, an STL downloaded and the parts seen moving
+/// in 3D (and, with screenshots on, the README's pictures of the app).
+async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> Result<()> {
     click(page, "#btn-examples").await?;
     until(page, "document.querySelector('[data-example=k1_garbage_truck] svg') !== null", Duration::from_secs(10))
         .await?;
     screenshot(page, shots, "gallery.png").await?;
     click(page, "[data-example=k1_garbage_truck]").await?;
     click(page, "[data-tab=settings]").await?;
-    click(page, "button[title='20000 samples']").await?;
+    // A quick search for the test; the README's pictures show a fuller one.
+    let samples = if shots.is_some() { 20000 } else { 5000 };
+    click(page, &format!("button[title='{samples} samples']")).await?;
     click(page, "#btn-design").await?;
     screenshot(page, shots, "progress.png").await?;
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
     click(page, "[data-tab=result]").await?;
-    tokio::time::sleep(Duration::from_millis(1300)).await;
-    screenshot(page, shots, "garbage_truck.png").await?;
-    eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
-    tokio::time::sleep(Duration::from_millis(700)).await;
-    screenshot(page, shots, "analysis.png").await
+    if shots.is_some() {
+        tokio::time::sleep(Duration::from_millis(1300)).await;
+        screenshot(page, shots, "garbage_truck.png").await?;
+        eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
+        tokio::time::sleep(Duration::from_millis(700)).await;
+        screenshot(page, shots, "analysis.png").await?;
+    }
+
+    // Make the parts: a summary, and every file offered for download.
+    click(page, "#btn-fabricate").await?;
+    until(page, "document.querySelector('#tab-result .fab-summary') !== null", Duration::from_secs(60)).await?;
+    let summary = eval(page, "document.querySelector('#tab-result .fab-summary').textContent").await?;
+    let summary = summary.as_str().unwrap_or_default();
+    assert!(summary.contains("Parts") && summary.contains("Print beds") && summary.contains(" g at "), "{summary}");
+    let offered =
+        eval(page, "[...document.querySelectorAll('#tab-result a[data-file]')].map(a => a.dataset.file)").await?;
+    let offered: Vec<&str> = offered.as_array().ok_or("no files")?.iter().filter_map(Value::as_str).collect();
+    for name in ["fabrication.zip", "assembly.3mf", "plate_1.3mf", "profiles.svg", "profiles.dxf", "assembly.svg"] {
+        assert!(offered.contains(&name), "{name} is not offered: {offered:?}");
+    }
+    assert!(offered.iter().filter(|f| f.starts_with("parts/") && f.ends_with(".stl")).count() >= 5, "{offered:?}");
+
+    // Download a part: a binary STL (an 80-byte header, a count, 50 bytes a triangle).
+    click(page, "#tab-result a[data-file$='.stl']").await?;
+    let stl = std::fs::read(wait_for_file(downloads, ".stl", Duration::from_secs(10)).await?)?;
+    let triangles = u32::from_le_bytes(stl.get(80..84).ok_or("a short STL")?.try_into()?) as usize;
+    assert!(triangles > 0 && stl.len() == 84 + 50 * triangles, "{} bytes, {triangles} triangles", stl.len());
+
+    // The parts in 3D, in place of the drawing, moving with the animation.
+    until(
+        page,
+        "!document.getElementById('view3d').hidden && Number(document.getElementById('view3d-canvas').dataset.frames) > 0",
+        Duration::from_secs(10),
+    )
+    .await?;
+    let drawn = eval(page, PREVIEW_PIXELS).await?.as_u64().unwrap_or(0);
+    assert!(drawn > 5000, "the 3D preview shows the parts: {drawn} pixels");
+    let frames = "Number(document.getElementById('view3d-canvas').dataset.frames)";
+    let before = eval(page, frames).await?.as_u64().unwrap_or(0);
+    until(page, &format!("{frames} > {before}"), Duration::from_secs(5)).await?;
+    if shots.is_some() {
+        eval(page, "document.getElementById('fab-heading').scrollIntoView() || true").await?;
+        tokio::time::sleep(Duration::from_millis(700)).await;
+        screenshot(page, shots, "fabrication.png").await?;
+    }
+    // Back to the drawing.
+    click(page, "#btn-3d").await?;
+    assert_eq!(eval(page, "document.getElementById('view3d').hidden").await?, Value::Bool(true));
+    Ok(())
 }
 
 async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<PathBuf> {

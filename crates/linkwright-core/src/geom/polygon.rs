@@ -201,18 +201,28 @@ impl Polygon {
 /// that keep transformed vertices in reused buffers and have already compared bounding boxes.
 pub fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
     let (na, nb) = (a.len(), b.len());
+    let (Some(box_a), Some(box_b)) = (Aabb::around(a.iter().copied()), Aabb::around(b.iter().copied())) else {
+        return false;
+    };
+    // Two edges can cross only where both boxes are: edges outside the other outline's box, and pairs
+    // whose own boxes are apart, skip the exact test (boxes grown by `tol`: a crossing at a shallow
+    // angle has boxes that barely overlap).
     for i in 0..na {
         let (a0, a1) = (a[i], a[(i + 1) % na]);
+        let edge_a = segment_box(a0, a1);
+        if !edge_a.overlaps(&box_b, -tol) {
+            continue;
+        }
         for j in 0..nb {
-            if segments_cross(a0, a1, b[j], b[(j + 1) % nb], tol) {
+            let (b0, b1) = (b[j], b[(j + 1) % nb]);
+            if edge_a.overlaps(&segment_box(b0, b1), -tol) && segments_cross(a0, a1, b0, b1, tol) {
                 return true;
             }
         }
     }
     // Only points inside the other polygon's box can lie in it: the box test spares most
     // point-in-polygon tests.
-    let deep_in = |pts: &[Point], poly: &[Point]| {
-        let Some(bb) = Aabb::around(poly.iter().copied()) else { return false };
+    let deep_in = |pts: &[Point], poly: &[Point], bb: &Aabb| {
         let n = pts.len();
         (0..n).any(|i| {
             let mid = pts[i].lerp(pts[(i + 1) % n], 0.5);
@@ -220,7 +230,12 @@ pub fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
                 || (bb.contains(mid) && contains_deeply_raw(poly, mid, tol))
         })
     };
-    deep_in(a, b) || deep_in(b, a)
+    deep_in(a, b, &box_b) || deep_in(b, a, &box_a)
+}
+
+/// The box of a segment.
+fn segment_box(p: Point, q: Point) -> Aabb {
+    Aabb { min: Point::new(p.x.min(q.x), p.y.min(q.y)), max: Point::new(p.x.max(q.x), p.y.max(q.y)) }
 }
 
 fn contains_deeply_raw(poly: &[Point], p: Point, tol: f64) -> bool {

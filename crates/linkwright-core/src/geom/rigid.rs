@@ -28,7 +28,11 @@ impl Rigid {
     }
     /// The frame whose origin is `origin` and whose x axis points along `x_axis` (need not be unit).
     pub fn from_frame(origin: Point, x_axis: Vec2) -> Self {
-        Rigid::new(x_axis.angle(), origin.to_vec2())
+        let length = x_axis.norm();
+        if !(length > 0.0 && length.is_finite()) {
+            return Rigid::new(x_axis.angle(), origin.to_vec2());
+        }
+        Rigid { angle: x_axis.angle(), cos: x_axis.x / length, sin: x_axis.y / length, translation: origin.to_vec2() }
     }
     /// Back to `[x, y, angle_deg]`.
     pub fn to_pose(&self) -> [f64; 3] {
@@ -51,11 +55,17 @@ impl Rigid {
         Point::ORIGIN + self.rotate(p.to_vec2()) + self.translation
     }
     pub fn inverse(&self) -> Rigid {
-        Rigid::new(-self.angle, -self.unrotate(self.translation))
+        Rigid { angle: -self.angle, cos: self.cos, sin: -self.sin, translation: -self.unrotate(self.translation) }
     }
-    /// `self` followed by `next`.
+    /// `self` followed by `next`. The rotations compose as products of their cosines and sines (no
+    /// trigonometric call: composing is the kinematic sweep's most frequent operation).
     pub fn then(&self, next: &Rigid) -> Rigid {
-        Rigid::new(self.angle + next.angle, next.rotate(self.translation) + next.translation)
+        Rigid {
+            angle: self.angle + next.angle,
+            cos: self.cos * next.cos - self.sin * next.sin,
+            sin: self.sin * next.cos + self.cos * next.sin,
+            translation: next.rotate(self.translation) + next.translation,
+        }
     }
     /// The transform that takes `self`'s output frame to `other`'s: `self.inverse().then(other)`.
     /// With poses of one body, `pose_1.to(&pose_i)` moves world points carried by the body from pose 1

@@ -82,8 +82,18 @@ pub fn circle_line_branch(c: Point, origin: Point, direction: Vec2, p: Point) ->
 /// How far the angle between `u` and `v` is from 0° and 180°, radians in [0, π/2]: the margin of a
 /// transmission angle.
 pub fn transmission_margin(u: Vec2, v: Vec2) -> f64 {
-    let angle = u.cross(v).abs().atan2(u.dot(v));
-    angle.min(std::f64::consts::PI - angle)
+    transmission_sine(u, v).asin()
+}
+
+/// The sine of the angle between `u` and `v`, which is the sine of its transmission margin: it orders
+/// margins as they do (the margin lies in [0, π/2]) without an inverse trigonometric function per step.
+pub fn transmission_sine(u: Vec2, v: Vec2) -> f64 {
+    let norms = (u.norm_sq() * v.norm_sq()).sqrt();
+    if norms > 0.0 {
+        (u.cross(v).abs() / norms).min(1.0)
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! Compiling a mechanism into an ordered list of dyad steps, and solving it at a crank angle.
 
 use super::dyad::{
-    circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_margin, Branch, DyadError,
+    circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_sine, Branch, DyadError,
 };
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, PartKind};
@@ -146,10 +146,15 @@ impl Plan {
 
     /// Places every joint with the crank at `theta` (radians). `out` must hold `joint_count` points.
     pub fn solve(&self, theta: f64, out: &mut [Point]) -> Result<(), (usize, DyadError)> {
+        self.solve_towards(Vec2::from_angle(theta), out)
+    }
+
+    /// [`Plan::solve`] with the crank along the unit vector `crank` (its angle's cosine and sine).
+    pub fn solve_towards(&self, crank: Vec2, out: &mut [Point]) -> Result<(), (usize, DyadError)> {
         for &(j, p) in &self.fixed {
             out[j] = p;
         }
-        out[self.tip] = out[self.pivot] + Vec2::from_angle(theta) * self.crank_radius;
+        out[self.tip] = out[self.pivot] + crank * self.crank_radius;
         for (i, step) in self.steps.iter().enumerate() {
             match *step {
                 Step::Dyad { joint, a, ra, b, rb, branch } => {
@@ -170,14 +175,19 @@ impl Plan {
     /// The smallest transmission-angle margin (radians from 0 and π) over every dyad of a solved
     /// configuration. For a slider dyad the angle is between the rod and the normal of the guide.
     pub fn min_transmission(&self, pos: &[Point]) -> f64 {
-        let mut m = std::f64::consts::FRAC_PI_2;
+        self.min_transmission_sine(pos).asin()
+    }
+
+    /// The sine of [`Plan::min_transmission`] (cheaper, and ordered alike).
+    pub fn min_transmission_sine(&self, pos: &[Point]) -> f64 {
+        let mut m: f64 = 1.0;
         for step in &self.steps {
             match *step {
                 Step::Dyad { joint, a, b, .. } => {
-                    m = m.min(transmission_margin(pos[a] - pos[joint], pos[b] - pos[joint]))
+                    m = m.min(transmission_sine(pos[a] - pos[joint], pos[b] - pos[joint]))
                 }
                 Step::Slider { joint, centre, direction, .. } => {
-                    m = m.min(transmission_margin(pos[centre] - pos[joint], direction.perp()))
+                    m = m.min(transmission_sine(pos[centre] - pos[joint], direction.perp()))
                 }
                 Step::Attach { .. } => {}
             }

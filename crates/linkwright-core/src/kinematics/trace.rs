@@ -2,7 +2,7 @@
 
 use super::plan::Plan;
 use super::DyadError;
-use crate::geom::{Point, Rigid};
+use crate::geom::{Point, Rigid, Vec2};
 use crate::mechanism::Mechanism;
 
 /// Why a sweep stopped.
@@ -21,8 +21,8 @@ pub struct Trace {
     pub thetas: Vec<f64>,
     /// `thetas.len() × joint_count` positions, one row per angle.
     pub positions: Vec<Point>,
-    /// The smallest transmission margin (radians) of each row.
-    pub margins: Vec<f64>,
+    /// The sine of the smallest transmission margin of each row (see [`Plan::min_transmission_sine`]).
+    pub margin_sines: Vec<f64>,
     pub joint_count: usize,
 }
 
@@ -37,8 +37,14 @@ impl Trace {
     pub fn sweep(&mut self, plan: &Plan, from: f64, to: f64, max_step: f64) -> Result<(), SweepError> {
         self.clear(plan.joint_count());
         let steps = (((to - from).abs() / max_step).ceil() as usize).max(1);
+        // The crank's direction turns by one fixed rotation per step; it is recomputed from its angle
+        // every few steps so rounding cannot build up.
+        let turn = Rigid::new((to - from) / steps as f64, Vec2::ZERO);
+        let mut crank = Vec2::ZERO;
         for s in 0..=steps {
-            self.push(plan, from + (to - from) * (s as f64 / steps as f64))?;
+            let theta = from + (to - from) * (s as f64 / steps as f64);
+            crank = if s % 32 == 0 { Vec2::from_angle(theta) } else { turn.rotate(crank) };
+            self.push_towards(plan, theta, crank)?;
         }
         Ok(())
     }
@@ -48,28 +54,34 @@ impl Trace {
         self.joint_count = joint_count;
         self.thetas.clear();
         self.positions.clear();
-        self.margins.clear();
+        self.margin_sines.clear();
     }
 
     /// Solves the plan at `theta` and appends the configuration; on failure the trace is unchanged.
     pub fn push(&mut self, plan: &Plan, theta: f64) -> Result<(), SweepError> {
+        self.push_towards(plan, theta, Vec2::from_angle(theta))
+    }
+
+    /// [`Trace::push`] with the crank's unit direction at `theta` already known.
+    fn push_towards(&mut self, plan: &Plan, theta: f64, crank: Vec2) -> Result<(), SweepError> {
         let n = self.joint_count;
         let start = self.positions.len();
         self.positions.resize(start + n, Point::ORIGIN);
-        if let Err((step, cause)) = plan.solve(theta, &mut self.positions[start..]) {
+        if let Err((step, cause)) = plan.solve_towards(crank, &mut self.positions[start..]) {
             self.positions.truncate(start);
             return Err(SweepError { theta_deg: theta.to_degrees(), step, cause });
         }
-        self.margins.push(plan.min_transmission(&self.positions[start..]));
+        self.margin_sines.push(plan.min_transmission_sine(&self.positions[start..]));
         self.thetas.push(theta);
         Ok(())
     }
 
-    /// Appends row `s` of `other` (same mechanism).
-    pub fn push_row_of(&mut self, other: &Trace, s: usize) {
-        self.positions.extend_from_slice(other.row(s));
-        self.margins.push(other.margins[s]);
-        self.thetas.push(other.thetas[s]);
+    /// Appends rows `rows` of `other` (same mechanism).
+    pub fn extend_rows_of(&mut self, other: &Trace, rows: std::ops::Range<usize>) {
+        let n = self.joint_count;
+        self.positions.extend_from_slice(&other.positions[rows.start * n..rows.end * n]);
+        self.margin_sines.extend_from_slice(&other.margin_sines[rows.clone()]);
+        self.thetas.extend_from_slice(&other.thetas[rows]);
     }
 
     pub fn len(&self) -> usize {
@@ -84,7 +96,7 @@ impl Trace {
     }
     /// The smallest transmission margin along the whole trace, radians.
     pub fn min_transmission(&self) -> f64 {
-        self.margins.iter().copied().fold(std::f64::consts::FRAC_PI_2, f64::min)
+        self.margin_sines.iter().copied().fold(1.0, f64::min).asin()
     }
 }
 

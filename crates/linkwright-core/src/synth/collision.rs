@@ -21,20 +21,79 @@ const ARC_MARGIN: f64 = 1.5;
 /// Deepest bisection of one 1° interval (a quarter of a degree).
 const MAX_DEPTH: u32 = 2;
 
+/// One mover against one obstacle.
+#[derive(Clone, Copy, Debug)]
+enum Pair {
+    /// Link segment `link` against avoid region `avoid`.
+    LinkAvoid { link: usize, avoid: usize },
+    /// Moving body `body` against fixed body `fixed`.
+    BodyFixed { body: usize, fixed: usize },
+    /// Moving body `body` against moving body `other` (`other < body`).
+    BodyBody { body: usize, other: usize },
+}
+
 /// Checks the whole travel of `candidate`.
+///
+/// Each pair keeps a slack: its boundary distance at the last exact test plus the contact tolerance,
+/// minus how far the mover has moved relative to the obstacle since (a bound on every point's path).
+/// While the slack is positive the pair cannot have met, so its rows and intervals need no test; when
+/// it runs out, the slack restarts from the distance at the new row, and only when that distance is
+/// smaller than the last step's motion are the interval proven or bisected as above and the row
+/// tested exactly. Far from obstacles this skips most of the work; in sliding contact
+/// it tests every row and interval.
 pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scratch) -> Result<(), Reject> {
     let frames = BodyFrames::new(&candidate.mechanism, &ctx.first_poses);
     let sweep = Sweep { ctx, frames: &frames, plan: &candidate.plan };
     let trace = &candidate.trace;
+    let pairs = pairs(ctx);
     let mut previous = sweep.place(trace.row(0));
-    sweep.test(&previous)?;
+    let mut slack = Vec::with_capacity(pairs.len());
+    for &pair in &pairs {
+        sweep.test(pair, &previous)?;
+        slack.push(sweep.distance(pair, &previous) + ctx.contact_tolerance);
+    }
+    let mut body_motion = Vec::new();
+    let mut current = sweep.place(trace.row(0));
     for r in 1..trace.len() {
-        let current = sweep.place(trace.row(r));
-        sweep.test(&current)?;
-        sweep.interval(trace.thetas[r - 1], &previous, trace.thetas[r], &current, 0)?;
-        previous = current;
+        sweep.place_into(trace.row(r), &mut current);
+        body_motion.clear();
+        body_motion.extend(previous.bodies.iter().zip(&current.bodies).map(|(p, q)| largest_motion(p, q)));
+        for (&pair, slack) in pairs.iter().zip(slack.iter_mut()) {
+            let moved = match pair {
+                Pair::LinkAvoid { link, .. } => largest_motion(&previous.links[link], &current.links[link]),
+                Pair::BodyFixed { body, .. } => body_motion[body],
+                Pair::BodyBody { body, other } => sweep.relative_motion(body, other, &previous, &current),
+            };
+            let reach = ARC_MARGIN * moved;
+            *slack -= reach;
+            if *slack > 0.0 {
+                continue;
+            }
+            let clearance = sweep.distance(pair, &current) + ctx.contact_tolerance;
+            // Free at the previous row and no closer to it here than its motion: free in between and here.
+            if clearance <= reach {
+                sweep.interval(pair, trace.thetas[r - 1], &previous, trace.thetas[r], &current, 0)?;
+                sweep.test(pair, &current)?;
+            }
+            *slack = clearance;
+        }
+        std::mem::swap(&mut previous, &mut current);
     }
     Ok(())
+}
+
+/// Every pair the sweep watches, links first (their verdict, an avoid region, is reported first).
+fn pairs(ctx: &Context) -> Vec<Pair> {
+    let problem = ctx.problem;
+    let mut pairs = Vec::new();
+    for link in 0..ctx.link_segments.len() {
+        pairs.extend((0..problem.avoid.len()).map(|avoid| Pair::LinkAvoid { link, avoid }));
+    }
+    for body in 0..problem.bodies.len() {
+        pairs.extend((0..problem.fixed.len()).map(|fixed| Pair::BodyFixed { body, fixed }));
+        pairs.extend((0..body).map(|other| Pair::BodyBody { body, other }));
+    }
+    pairs
 }
 
 /// Every mover placed in one configuration: body outlines, then link segments.
@@ -53,50 +112,71 @@ struct Sweep<'s, 'p> {
 
 impl Sweep<'_, '_> {
     fn place(&self, row: &[Point]) -> Placed {
-        let problem = self.ctx.problem;
-        let poses: Vec<Rigid> = (0..problem.bodies.len()).map(|b| self.frames.pose(b, row)).collect();
-        let bodies: Vec<Vec<Point>> = problem
-            .bodies
-            .iter()
-            .zip(&poses)
-            .map(|(body, pose)| body.outline.vertices().iter().map(|&p| pose.apply(p)).collect())
-            .collect();
-        let body_boxes =
-            bodies.iter().map(|o| Aabb::around(o.iter().copied()).expect("outlines have vertices")).collect();
-        let links = self.ctx.link_segments.iter().map(|&(a, b)| [row[a], row[b]]).collect();
-        Placed { poses, bodies, body_boxes, links }
+        let mut placed = Placed { poses: Vec::new(), bodies: Vec::new(), body_boxes: Vec::new(), links: Vec::new() };
+        self.place_into(row, &mut placed);
+        placed
     }
 
-    /// Exact penetration tests of one configuration.
-    fn test(&self, at: &Placed) -> Result<(), Reject> {
-        let ctx = self.ctx;
-        let tol = ctx.contact_tolerance;
-        for link in &at.links {
-            let bb = Aabb::around(link.iter().copied()).expect("two points");
-            for (avoid, avoid_box) in ctx.problem.avoid.iter().zip(&ctx.avoid_boxes) {
-                if bb.overlaps(avoid_box, tol) && penetrates_unchecked(link, avoid.vertices(), tol) {
-                    return Err(Reject::AvoidRegion);
-                }
+    /// [`Sweep::place`] into reused buffers.
+    fn place_into(&self, row: &[Point], out: &mut Placed) {
+        let problem = self.ctx.problem;
+        out.poses.clear();
+        out.poses.extend((0..problem.bodies.len()).map(|b| self.frames.pose(b, row)));
+        out.bodies.resize_with(problem.bodies.len(), Vec::new);
+        out.body_boxes.clear();
+        for ((body, pose), outline) in problem.bodies.iter().zip(&out.poses).zip(&mut out.bodies) {
+            outline.clear();
+            outline.extend(body.outline.vertices().iter().map(|&p| pose.apply(p)));
+            out.body_boxes.push(Aabb::around(outline.iter().copied()).expect("outlines have vertices"));
+        }
+        out.links.clear();
+        out.links.extend(self.ctx.link_segments.iter().map(|&(a, b)| [row[a], row[b]]));
+    }
+
+    /// The mover's and the obstacle's outlines and boxes in configuration `at`, and the verdict when
+    /// they meet.
+    fn shapes<'a>(&'a self, pair: Pair, at: &'a Placed) -> (&'a [Point], Aabb, &'a [Point], Aabb, Reject) {
+        let problem = self.ctx.problem;
+        match pair {
+            Pair::LinkAvoid { link, avoid } => {
+                let segment = &at.links[link];
+                let bb = Aabb::around(segment.iter().copied()).expect("two points");
+                (segment, bb, problem.avoid[avoid].vertices(), self.ctx.avoid_boxes[avoid], Reject::AvoidRegion)
+            }
+            Pair::BodyFixed { body, fixed } => (
+                &at.bodies[body],
+                at.body_boxes[body],
+                problem.fixed[fixed].vertices(),
+                self.ctx.fixed_boxes[fixed],
+                Reject::Collision,
+            ),
+            Pair::BodyBody { body, other } => {
+                (&at.bodies[body], at.body_boxes[body], &at.bodies[other], at.body_boxes[other], Reject::Collision)
             }
         }
-        for (b, (outline, bb)) in at.bodies.iter().zip(&at.body_boxes).enumerate() {
-            for (fixed, fixed_box) in ctx.problem.fixed.iter().zip(&ctx.fixed_boxes) {
-                if bb.overlaps(fixed_box, tol) && penetrates_unchecked(outline, fixed.vertices(), tol) {
-                    return Err(Reject::Collision);
-                }
-            }
-            for c in 0..b {
-                if bb.overlaps(&at.body_boxes[c], tol) && penetrates_unchecked(outline, &at.bodies[c], tol) {
-                    return Err(Reject::Collision);
-                }
-            }
+    }
+
+    /// Exact penetration test of one pair in one configuration.
+    fn test(&self, pair: Pair, at: &Placed) -> Result<(), Reject> {
+        let tol = self.ctx.contact_tolerance;
+        let (mover, mover_box, obstacle, obstacle_box, verdict) = self.shapes(pair, at);
+        if mover_box.overlaps(&obstacle_box, tol) && penetrates_unchecked(mover, obstacle, tol) {
+            return Err(verdict);
         }
         Ok(())
     }
 
-    /// Proves the open interval between two tested configurations free, bisecting where it cannot.
-    fn interval(&self, ta: f64, a: &Placed, tb: f64, b: &Placed, depth: u32) -> Result<(), Reject> {
-        if depth >= MAX_DEPTH || self.proven_free(a, b) {
+    /// The distance between the pair's boundaries in a configuration where they do not penetrate
+    /// (0 when they touch or overlap within the contact tolerance).
+    fn distance(&self, pair: Pair, at: &Placed) -> f64 {
+        let (mover, _, obstacle, _, _) = self.shapes(pair, at);
+        boundary_distance(mover, obstacle)
+    }
+
+    /// Proves the pair apart over the open interval between two tested configurations, bisecting
+    /// where it cannot.
+    fn interval(&self, pair: Pair, ta: f64, a: &Placed, tb: f64, b: &Placed, depth: u32) -> Result<(), Reject> {
+        if depth >= MAX_DEPTH || self.proven_free(pair, a, b) {
             return Ok(());
         }
         let tm = 0.5 * (ta + tb);
@@ -105,67 +185,42 @@ impl Sweep<'_, '_> {
         // dead point intervenes; failing to assemble here means the linkage locks up.
         self.plan.solve(tm, &mut row).map_err(|_| Reject::Assembly)?;
         let m = self.place(&row);
-        self.test(&m)?;
-        self.interval(ta, a, tm, &m, depth + 1)?;
-        self.interval(tm, &m, tb, b, depth + 1)
+        self.test(pair, &m)?;
+        self.interval(pair, ta, a, tm, &m, depth + 1)?;
+        self.interval(pair, tm, &m, tb, b, depth + 1)
     }
 
-    /// True when no mover can reach deeper than the contact tolerance into an obstacle between
-    /// configurations `a` and `b`.
-    fn proven_free(&self, a: &Placed, b: &Placed) -> bool {
-        let ctx = self.ctx;
-        let tol = ctx.contact_tolerance;
-        let fine = tol;
-        let body_motion: Vec<f64> = a.bodies.iter().zip(&b.bodies).map(|(p, q)| largest_motion(p, q)).collect();
-        for (k, &moved) in body_motion.iter().enumerate() {
-            if moved <= fine {
-                continue;
+    /// True when the pair's mover cannot reach deeper than the contact tolerance into its obstacle
+    /// between configurations `a` and `b`: its clearance at either end exceeds how far it moves.
+    fn proven_free(&self, pair: Pair, a: &Placed, b: &Placed) -> bool {
+        let tol = self.ctx.contact_tolerance;
+        // How far the mover moves relative to the obstacle, and how far both wander from the boxes
+        // around their two placements.
+        let (moved, wander) = match pair {
+            Pair::LinkAvoid { link, .. } => {
+                let moved = largest_motion(&a.links[link], &b.links[link]);
+                (moved, moved)
             }
-            let swept = a.body_boxes[k].union(&b.body_boxes[k]);
-            for (fixed, fixed_box) in ctx.problem.fixed.iter().zip(&ctx.fixed_boxes) {
-                let reach = ARC_MARGIN * moved;
-                if box_gap(&swept, fixed_box) > reach {
-                    continue;
-                }
-                let need = reach - tol;
-                if !clear_of(&a.bodies[k], fixed.vertices(), need) && !clear_of(&b.bodies[k], fixed.vertices(), need) {
-                    return false;
-                }
+            Pair::BodyFixed { body, .. } => {
+                let moved = largest_motion(&a.bodies[body], &b.bodies[body]);
+                (moved, moved)
             }
-            for (c, &other_moved) in body_motion.iter().enumerate().take(k) {
-                let other = a.body_boxes[c].union(&b.body_boxes[c]);
-                if box_gap(&swept, &other) > ARC_MARGIN * (moved + other_moved) {
-                    continue;
-                }
-                // Bodies that move together are judged by how they move relative to each other.
-                let reach = ARC_MARGIN * self.relative_motion(k, c, a, b).max(0.0);
-                if reach <= fine {
-                    continue;
-                }
-                let need = reach - tol;
-                if !clear_of(&a.bodies[k], &a.bodies[c], need) && !clear_of(&b.bodies[k], &b.bodies[c], need) {
-                    return false;
-                }
-            }
+            Pair::BodyBody { body, other } => (
+                self.relative_motion(body, other, a, b).max(0.0),
+                largest_motion(&a.bodies[body], &b.bodies[body]) + largest_motion(&a.bodies[other], &b.bodies[other]),
+            ),
+        };
+        if moved <= tol {
+            return true;
         }
-        for (la, lb) in a.links.iter().zip(&b.links) {
-            let moved = largest_motion(la, lb);
-            if moved <= fine {
-                continue;
-            }
-            let reach = ARC_MARGIN * moved;
-            let swept = Aabb::around(la.iter().chain(lb).copied()).expect("four points");
-            for (avoid, avoid_box) in ctx.problem.avoid.iter().zip(&ctx.avoid_boxes) {
-                if box_gap(&swept, avoid_box) > reach {
-                    continue;
-                }
-                let need = reach - tol;
-                if !clear_of(la, avoid.vertices(), need) && !clear_of(lb, avoid.vertices(), need) {
-                    return false;
-                }
-            }
+        let (mover_a, box_a, obstacle_a, obstacle_box_a, _) = self.shapes(pair, a);
+        let (mover_b, box_b, obstacle_b, obstacle_box_b, _) = self.shapes(pair, b);
+        if box_gap(&box_a.union(&box_b), &obstacle_box_a.union(&obstacle_box_b)) > ARC_MARGIN * wander {
+            return true;
         }
-        true
+        let reach = ARC_MARGIN * moved;
+        let need = reach - tol;
+        clear_of(mover_a, obstacle_a, need) || clear_of(mover_b, obstacle_b, need)
     }
 }
 
@@ -195,18 +250,48 @@ fn box_gap(a: &Aabb, b: &Aabb) -> f64 {
     Vec2::new(dx, dy).norm()
 }
 
-/// True when the boundaries of two outlines that do not cross (a two-point outline is a segment) are
-/// at least `gap` apart. The nearest pair of boundary points always includes a vertex of one of them;
-/// the test stops at the first pair closer than `gap`.
+/// The least distance between the boundaries of two outlines (a two-point outline is a segment): the
+/// nearest pair of boundary points always includes a vertex of one of them.
+fn boundary_distance(a: &[Point], b: &[Point]) -> f64 {
+    nearest_sq(a, b, f64::INFINITY, false).sqrt()
+}
+
+/// True when the boundaries of two outlines that do not cross are at least `gap` apart.
 fn clear_of(a: &[Point], b: &[Point], gap: f64) -> bool {
-    if gap <= 0.0 {
-        return true;
-    }
-    let gap_sq = gap * gap;
-    let one_way = |p: &[Point], q: &[Point]| {
+    gap <= 0.0 || nearest_sq(a, b, gap * gap, true) >= gap * gap
+}
+
+/// The least squared distance between a vertex of one outline and an edge of the other, when it is
+/// below `limit_sq` (otherwise a value at least `limit_sq`); with `first`, any value below `limit_sq`
+/// once one is found. Edges whose box is farther from the other outline's box than the best distance
+/// so far are skipped.
+fn nearest_sq(a: &[Point], b: &[Point], limit_sq: f64, first: bool) -> f64 {
+    let mut best = limit_sq;
+    for (p, q) in [(a, b), (b, a)] {
+        let Some(box_p) = Aabb::around(p.iter().copied()) else { continue };
         let n = q.len();
         let edges = if n == 2 { 1 } else { n };
-        p.iter().all(|&v| (0..edges).all(|i| point_segment_distance_sq(v, q[i], q[(i + 1) % n]) >= gap_sq))
-    };
-    one_way(a, b) && one_way(b, a)
+        for i in 0..edges {
+            let (q0, q1) = (q[i], q[(i + 1) % n]);
+            let edge = Aabb {
+                min: Point::new(q0.x.min(q1.x), q0.y.min(q1.y)),
+                max: Point::new(q0.x.max(q1.x), q0.y.max(q1.y)),
+            };
+            let gap = box_gap(&box_p, &edge);
+            if gap * gap >= best {
+                continue;
+            }
+            for &v in p {
+                let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
+                let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
+                if dx * dx + dy * dy < best {
+                    best = best.min(point_segment_distance_sq(v, q0, q1));
+                }
+            }
+            if first && best < limit_sq {
+                return best;
+            }
+        }
+    }
+    best
 }

@@ -242,10 +242,11 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
         while grid < coarse.len() && dir * (coarse.thetas[grid] - theta) <= 1e-12 {
             grid += 1;
         }
+        let first = grid;
         while grid < coarse.len() && dir * (next - coarse.thetas[grid]) > 1e-12 {
-            trace.push_row_of(coarse, grid);
             grid += 1;
         }
+        trace.extend_rows_of(coarse, first..grid);
     }
     if trace.min_transmission() < ctx.min_transmission {
         return Err(Reject::Transmission);

@@ -2,6 +2,7 @@
 //! collisions, refining with a particle filter, and the pipeline that ties them together.
 
 mod collision;
+mod construct;
 mod context;
 mod evaluate;
 mod pfo;

@@ -404,9 +404,12 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
     }
     let mut counts: Vec<(Reject, usize)> =
         stats.rejected.iter().copied().filter(|&(r, _)| r != Reject::Outclassed).collect();
-    counts.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
+    // Designs refused only because they cannot be printed came closest: say so first.
+    counts.sort_by_key(|&(r, n)| (r != Reject::Unprintable, std::cmp::Reverse(n)));
     let advice = |r: Reject| match r {
-        Reject::JointsTooClose => "joints fell too close together to build: widen the linkage_region".to_string(),
+        Reject::JointsTooClose => "joints fell too close together to build (two pins need room): widen the \
+                                   linkage_region, draw the object larger, or print with narrower links and pins"
+            .to_string(),
         Reject::Order => "linkages visited the poses out of order: check the order of the poses, or add an \
                           intermediate pose that shows the way"
             .to_string(),
@@ -427,9 +430,10 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
         Reject::Collision => "moving bodies hit a fixed body or each other on the way: give them more \
                               clearance, or add intermediate poses that steer around the obstacle"
             .to_string(),
-        Reject::Unprintable => "linkages could not be printed with these print settings: no room for the \
-                                connectors, or no order of the links in depth avoids every collision; widen the \
-                                linkage_region, allow links on both faces, or choose narrower links"
+        Reject::Unprintable => "valid linkages could not be printed with these print settings (no room for \
+                                the connectors, or no order of the links in depth avoids every collision): widen \
+                                the linkage_region, allow links on both faces, choose narrower links, or design \
+                                without the print check (--no-print-check)"
             .to_string(),
         Reject::Outclassed => unreachable!("filtered out above"),
     };

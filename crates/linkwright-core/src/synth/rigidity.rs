@@ -292,6 +292,20 @@ impl RigidityModel {
     /// The energy never increases from the start. With non-finite inputs `x` is left unchanged and the
     /// fit reports infinite energy and deviation.
     pub fn fit(&self, x: &mut [f64], motions: &[Vec<Rigid>], scale: f64, ws: &mut FitWorkspace) -> Fit {
+        self.fit_where(x, motions, scale, ws, |_| true)
+    }
+
+    /// [`RigidityModel::fit`] on the blocks that hold a joint for which `polish` is true (indexed like
+    /// the joints); the other blocks are kept as they are (a constructed exact solution, say) and only
+    /// enter the reported energy and deviation.
+    pub fn fit_where(
+        &self,
+        x: &mut [f64],
+        motions: &[Vec<Rigid>],
+        scale: f64,
+        ws: &mut FitWorkspace,
+        polish: impl Fn(usize) -> bool,
+    ) -> Fit {
         assert_eq!(x.len(), self.dim(), "x has the wrong length");
         let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
         let poses = self.poses(motions);
@@ -308,9 +322,13 @@ impl RigidityModel {
         let (mut energy, mut iterations) = (0.0, 0);
         if poses >= 2 {
             for block in &self.blocks {
-                let (e, it) = self.fit_block(block, x, motions, s, ws);
-                energy += e;
-                iterations = iterations.max(it);
+                if block.vars.iter().any(|&v| v < 2 * self.carriers.len() && polish(v / 2)) {
+                    let (e, it) = self.fit_block(block, x, motions, s, ws);
+                    energy += e;
+                    iterations = iterations.max(it);
+                } else {
+                    self.for_each_row::<false>(&block.pairs, block.slider, x, motions, |row| energy += row.r * row.r);
+                }
             }
         }
         self.report(x, motions, s, energy, iterations)

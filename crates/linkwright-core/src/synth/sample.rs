@@ -1,6 +1,8 @@
-//! Candidate sampling (paper §4.1–4.3): perturb the intermediate poses, draw every joint in the
-//! linkage region, and pull the joints onto a rigid linkage by minimising E_rigid.
+//! Candidate sampling (paper §4.1–4.3): perturb the intermediate poses, draw joints in the linkage
+//! region and solve the others in closed form where the poses allow it ([`super::construct`]), and
+//! pull the rest onto a rigid linkage by minimising E_rigid.
 
+use super::construct::{ConstructScratch, Constructor, Region};
 use super::context::Context;
 use super::random::{normal, rng, Stream};
 use super::rigidity::FitWorkspace;
@@ -20,6 +22,9 @@ pub struct Sampler<'c, 'p> {
     ctx: &'c Context<'p>,
     region_box: Aabb,
     family: u64,
+    constructor: Constructor,
+    /// Each body's first pose, inverted: perturbed motions start from it.
+    first_inverse: Vec<Rigid>,
 }
 
 /// Buffers one worker reuses across samples.
@@ -28,7 +33,12 @@ pub struct SampleScratch {
     motions: Vec<Vec<Rigid>>,
     x: Vec<f64>,
     fit: FitWorkspace,
+    /// Which joints the fit must still polish after the construction.
+    polish: Vec<bool>,
+    construct: ConstructScratch,
+    /// Each body's outline and its box at the pose being perturbed, once placed.
     outlines: Vec<Vec<Point>>,
+    boxes: Vec<Aabb>,
 }
 
 impl SampleScratch {
@@ -40,14 +50,22 @@ impl SampleScratch {
 
 impl<'c, 'p> Sampler<'c, 'p> {
     pub fn new(ctx: &'c Context<'p>, family: u64) -> Self {
-        Sampler { region_box: ctx.problem.region.aabb(), ctx, family }
+        Sampler {
+            region_box: ctx.problem.region.aabb(),
+            ctx,
+            family,
+            constructor: Constructor::new(&ctx.topology),
+            first_inverse: ctx.problem.bodies.iter().map(|b| b.poses[0].inverse()).collect(),
+        }
     }
 
     /// Sample `index` under `seed`: a mechanism whose links are rigid over perturbed poses, or `None`
     /// when the fit does not reach a rigid linkage.
     ///
-    /// With `near`, the joints start from that parameter vector (a previous design's, see
-    /// [`x_from_mechanism`]) jittered by [`WARM_JITTER`]·d instead of uniformly in the region.
+    /// Without `near`, joints are drawn uniformly in the region and the others solved in closed form
+    /// where the poses allow it, the rest fitted from the constructed start. With `near`, every joint
+    /// starts from that parameter vector (a previous design's, see [`x_from_mechanism`]) jittered by
+    /// [`WARM_JITTER`]·d and the whole linkage is fitted.
     pub fn sample(
         &self,
         seed: u64,
@@ -59,25 +77,24 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
         self.perturbed_motions(&mut rng, scratch);
         let n = ctx.topology.joint_count();
-        scratch.x.clear();
-        match near {
+        let SampleScratch { motions, x, fit, polish, construct, .. } = scratch;
+        x.clear();
+        let fit = match near {
             Some(start) => {
-                scratch.x.extend_from_slice(start);
-                for v in &mut scratch.x[..2 * n] {
+                x.extend_from_slice(start);
+                for v in &mut x[..2 * n] {
                     *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
                 }
+                ctx.rigidity.fit(x, motions, ctx.body_size, fit)
             }
             None => {
-                for _ in 0..n {
-                    let p = self.point_in_region(&mut rng);
-                    scratch.x.extend([p.x, p.y]);
-                }
-                if ctx.rigidity.dim() > 2 * n {
-                    scratch.x.push(rng.random_range(0.0..std::f64::consts::PI));
-                }
+                x.resize(ctx.rigidity.dim(), 0.0);
+                let mut draw = |rng: &mut Xoshiro256PlusPlus| self.point_in_region(rng);
+                let mut region = Region { draw: &mut draw, bounds: self.region_box };
+                self.constructor.construct(x, motions, &mut rng, &mut region, polish, construct);
+                ctx.rigidity.fit_where(x, motions, ctx.body_size, fit, |j| polish[j])
             }
-        }
-        let fit = ctx.rigidity.fit(&mut scratch.x, &scratch.motions, ctx.body_size, &mut scratch.fit);
+        };
         if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation() {
             return None;
         }
@@ -90,46 +107,56 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let settings = &problem.settings;
         let poses = problem.pose_count;
         let bodies = problem.bodies.len();
-        let mut placed: Vec<Rigid> = Vec::with_capacity(bodies);
         scratch.motions.resize_with(bodies, Vec::new);
         scratch.outlines.resize_with(bodies, Vec::new);
+        scratch.boxes.resize(bodies, self.region_box);
         for m in &mut scratch.motions {
             m.clear();
         }
         for i in 0..poses {
-            placed.clear();
+            let perturbed = i > 0 && i + 1 < poses && !self.ctx.exact;
             for (b, body) in problem.bodies.iter().enumerate() {
+                if !perturbed {
+                    scratch.motions[b].push(self.ctx.motions[b][i]);
+                    continue;
+                }
                 let input = body.poses[i];
                 let mut pose = input;
-                if i > 0 && i + 1 < poses && !self.ctx.exact {
-                    for _ in 0..PERTURB_TRIES {
-                        let shift = Vec2::new(normal(rng), normal(rng)) * (settings.pose_tolerance * body.size);
-                        let turn = normal(rng) * settings.angle_tolerance_deg.to_radians();
-                        let trial = Rigid::new(input.angle() + turn, input.translation() + shift);
-                        if self.free_at(b, &trial, &placed, scratch) {
-                            pose = trial;
-                            break;
-                        }
+                let mut free = false;
+                for _ in 0..PERTURB_TRIES {
+                    let shift = Vec2::new(normal(rng), normal(rng)) * (settings.pose_tolerance * body.size);
+                    let turn = normal(rng) * settings.angle_tolerance_deg.to_radians();
+                    let trial = Rigid::new(input.angle() + turn, input.translation() + shift);
+                    if self.free_at(b, &trial, scratch) {
+                        (pose, free) = (trial, true);
+                        break;
                     }
                 }
-                placed.push(pose);
-                scratch.motions[b].push(body.poses[0].to(&pose));
+                if !free && b + 1 < bodies {
+                    // The bodies after this one are tested against its outline at the input pose.
+                    self.place(b, &pose, scratch);
+                }
+                // `first.to(pose)`, with the inverse computed once.
+                scratch.motions[b].push(self.first_inverse[b].then(&pose));
             }
         }
     }
 
-    /// True when body `b` at `pose` penetrates neither a fixed body nor an already placed body.
-    fn free_at(&self, b: usize, pose: &Rigid, placed: &[Rigid], scratch: &mut SampleScratch) -> bool {
+    /// Places body `b`'s outline and box at `pose` in `scratch`.
+    fn place(&self, b: usize, pose: &Rigid, scratch: &mut SampleScratch) {
+        let outline = &mut scratch.outlines[b];
+        outline.clear();
+        outline.extend(self.ctx.problem.bodies[b].outline.vertices().iter().map(|&p| pose.apply(p)));
+        scratch.boxes[b] = Aabb::around(outline.iter().copied()).expect("outline has vertices");
+    }
+
+    /// True when body `b` at `pose` penetrates neither a fixed body nor a body placed before it at
+    /// this pose (bodies `0..b`, whose outlines `scratch` holds). Leaves `b`'s outline in `scratch`.
+    fn free_at(&self, b: usize, pose: &Rigid, scratch: &mut SampleScratch) -> bool {
         let problem = self.ctx.problem;
         let tol = self.ctx.contact_tolerance;
-        let place = |k: usize, pose: &Rigid, out: &mut Vec<Point>| {
-            out.clear();
-            out.extend(problem.bodies[k].outline.vertices().iter().map(|&p| pose.apply(p)));
-        };
-        let (head, tail) = scratch.outlines.split_at_mut(b);
-        let outline = &mut tail[0];
-        place(b, pose, outline);
-        let bb = Aabb::around(outline.iter().copied()).expect("outline has vertices");
+        self.place(b, pose, scratch);
+        let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
         let hits_fixed = problem
             .fixed
             .iter()
@@ -138,10 +165,9 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if hits_fixed {
             return false;
         }
-        placed.iter().enumerate().all(|(k, other)| {
-            place(k, other, &mut head[k]);
-            !penetrates_unchecked(outline, &head[k], tol)
-        })
+        // Boxes that do not overlap at all cannot hold a crossing or a point deep inside the other.
+        (0..b)
+            .all(|k| !(bb.overlaps(&scratch.boxes[k], 0.0) && penetrates_unchecked(outline, &scratch.outlines[k], tol)))
     }
 
     /// A uniform point of the linkage region (of its bounding box if the region is too thin to hit).
@@ -175,5 +201,86 @@ pub fn x_from_mechanism(m: &Mechanism, out: &mut Vec<f64>) {
     }
     if let Some(line) = m.slider {
         out.push(line.direction.angle());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanism::MechanismType;
+    use crate::scene::{Problem, Scene};
+    use crate::synth::{check_collisions, evaluate, Scratch};
+
+    fn example(name: &str) -> Problem {
+        let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
+        Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
+    }
+
+    /// Constructive sampling against the fit from uniform starts: fitted, kinematically valid and
+    /// collision-free samples, and the best costs. `cargo test --release -p linkwright-core
+    /// sampling_statistics -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn sampling_statistics() {
+        let samples = 20000;
+        for (name, ty) in [
+            ("k1_sofa_bed", MechanismType::SliderCrank),
+            ("k1_car_roof", MechanismType::Chain),
+            ("k1_bulldozer", MechanismType::SliderCrank),
+            ("k1_table", MechanismType::Chain),
+            ("k1_garbage_truck", MechanismType::Chain),
+            ("k2_wall_bed", MechanismType::Chain),
+            ("k2_wall_chair", MechanismType::Chain),
+            ("k2_folding_roof2", MechanismType::Chain),
+            ("k3_power_shovel", MechanismType::Chain),
+            ("k3_folding_roof", MechanismType::Chain),
+        ] {
+            let problem = example(name);
+            let ctx = Context::new(&problem, ty);
+            let sampler = Sampler::new(&ctx, 0);
+            for constructive in [false, true] {
+                let (mut fitted, mut candidates, mut costs, mut inside) = (0, 0, Vec::new(), 0usize);
+                let mut scratch = SampleScratch::default();
+                let mut eval = Scratch::default();
+                for i in 0..samples {
+                    let m = if constructive {
+                        sampler.sample(1, i, None, &mut scratch)
+                    } else {
+                        let mut rng = rng(1, Stream::Sample { family: 0 }, i);
+                        sampler.perturbed_motions(&mut rng, &mut scratch);
+                        let n = ctx.topology.joint_count();
+                        scratch.x.clear();
+                        for _ in 0..n {
+                            let p = sampler.point_in_region(&mut rng);
+                            scratch.x.extend([p.x, p.y]);
+                        }
+                        if ctx.rigidity.dim() > 2 * n {
+                            scratch.x.push(rng.random_range(0.0..std::f64::consts::PI));
+                        }
+                        let fit = ctx.rigidity.fit(&mut scratch.x, &scratch.motions, ctx.body_size, &mut scratch.fit);
+                        (fit.max_relative_deviation <= ctx.accepted_deviation())
+                            .then(|| mechanism_from_x(&ctx, &scratch.x))
+                    };
+                    let Some(m) = m else { continue };
+                    fitted += 1;
+                    inside += m.joints.iter().filter(|&&p| problem.region.contains(p)).count();
+                    if let Ok(c) = evaluate(&ctx, m, Some(scratch.motions()), f64::INFINITY, &mut eval) {
+                        candidates += 1;
+                        if check_collisions(&ctx, &c, &mut eval).is_ok() {
+                            costs.push(c.cost);
+                        }
+                    }
+                }
+                costs.sort_by(f64::total_cmp);
+                let best: Vec<String> = costs.iter().take(5).map(|c| format!("{c:.2}")).collect();
+                println!(
+                    "{name:17} {:12} fitted {fitted:6} joints in region {:5.1}% candidates {candidates:5} valid {:4} best {}",
+                    if constructive { "constructive" } else { "uniform+LM" },
+                    100.0 * inside as f64 / (fitted.max(1) * ctx.topology.joint_count()) as f64,
+                    costs.len(),
+                    best.join(" ")
+                );
+            }
+        }
     }
 }

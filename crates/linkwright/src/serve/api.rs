@@ -2,8 +2,9 @@
 //! path-aware errors and validated before any work starts; heavy work runs on the job table's pool.
 
 use super::assets::{example_summaries, example_text, ExampleSummary};
+use super::bundles::{Bundles, Limits as BundleLimits};
 use super::error::{issue_json, ApiError};
-use super::jobs::{JobObserver, Jobs, StopOnDrop, StopReason};
+use super::jobs::{JobObserver, Jobs, Kind, StopOnDrop, StopReason};
 use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, PathRejection};
 use axum::extract::{ConnectInfo, FromRequestParts, Path, State};
@@ -34,6 +35,8 @@ pub const MAX_BODY: usize = 2 * 1024 * 1024;
 #[derive(Clone)]
 pub struct AppState {
     pub jobs: Arc<Jobs>,
+    /// Fabrications kept for download.
+    pub bundles: Arc<Bundles>,
     pub examples: Arc<Vec<ExampleSummary>>,
     /// The server listens on this computer only, so requests must name it as their host.
     pub loopback_only: bool,
@@ -41,7 +44,12 @@ pub struct AppState {
 
 impl AppState {
     pub fn new(jobs: Jobs, loopback_only: bool) -> AppState {
-        AppState { jobs: Arc::new(jobs), examples: Arc::new(example_summaries()), loopback_only }
+        AppState {
+            jobs: Arc::new(jobs),
+            bundles: Arc::new(Bundles::new(BundleLimits::default())),
+            examples: Arc::new(example_summaries()),
+            loopback_only,
+        }
     }
 }
 
@@ -93,7 +101,7 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
 }
 
 /// The request body as text; a body over [`MAX_BODY`] is a 413.
-fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
+pub(super) fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
     let bytes = body.map_err(|r| match r.status() {
         StatusCode::PAYLOAD_TOO_LARGE => ApiError::new(
             StatusCode::PAYLOAD_TOO_LARGE,
@@ -105,19 +113,15 @@ fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
 }
 
 /// Parses and validates a scene; `prefix` is the request field it sits in (empty for a bare scene).
-fn problem_of(text: &str, prefix: &str) -> Result<Problem, ApiError> {
-    scene_and_problem(text, prefix).map(|(_, problem)| problem)
-}
-
-fn scene_and_problem(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
+fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
     let scene = Scene::from_json(text).map_err(|e| ApiError::parse("the scene", prefix, &e))?;
     let problem = Problem::new(&scene).map_err(|issues| ApiError::invalid_scene(prefix, &issues))?;
     Ok((scene, problem))
 }
 
-/// The check that designs print with the default print settings, when the scene's units are known.
-fn printable_in(scene: &Scene, problem: &Problem) -> Option<FeasibilityCheck> {
-    millimetres_per_unit(&scene.units).map(|mm| FeasibilityCheck::new(problem, &PrintSettings::default(), mm))
+/// The check that designs print with `settings`, when the scene's units are known.
+fn printable_in(scene: &Scene, problem: &Problem, settings: &PrintSettings) -> Option<FeasibilityCheck> {
+    millimetres_per_unit(&scene.units).map(|mm| FeasibilityCheck::new(problem, settings, mm))
 }
 
 /// What a design request carries: the scene, and the mechanisms of an earlier design to start from.
@@ -128,19 +132,22 @@ struct DesignInput {
 }
 
 impl DesignInput {
-    /// A bare `scene/1` document, or `{"scene": scene/1, "from": design/1}` for a warm start from an
-    /// earlier design of a similar scene (its mechanism and alternatives).
+    /// A bare `scene/1` document, or `{"scene": scene/1, "from": design/1, "print_settings": {...}}`:
+    /// `from` (optional) warm-starts from an earlier design of a similar scene (its mechanism and
+    /// alternatives); `print_settings` (optional, as `POST /api/fabricate` takes them) are what the
+    /// designs must be printable with (default: the default print settings).
     fn parse(text: &str) -> Result<DesignInput, ApiError> {
         let value: Value = serde_json::from_str(text)
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
         let Some(scene) = wrapped else {
-            let (scene, problem) = scene_and_problem(text, "")?;
-            let printable = printable_in(&scene, &problem);
+            let (scene, problem) = scene_of(text, "")?;
+            let printable = printable_in(&scene, &problem, &PrintSettings::default());
             return Ok(DesignInput { problem, previous: Vec::new(), printable });
         };
-        let (scene, problem) = scene_and_problem(&scene.to_string(), "scene")?;
-        let printable = printable_in(&scene, &problem);
+        let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
+        let settings = super::fabricate::print_settings(value.get("print_settings"), "print_settings")?;
+        let printable = printable_in(&scene, &problem, &settings);
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
@@ -162,14 +169,16 @@ impl DesignInput {
 }
 
 /// A request that carries a scene and a design, with options.
-struct Compound {
-    problem: Problem,
-    design: DesignFile,
-    fields: Map<String, Value>,
+pub(super) struct Compound {
+    pub problem: Problem,
+    /// The scene's `units` (the problem has none).
+    pub units: String,
+    pub design: DesignFile,
+    pub fields: Map<String, Value>,
 }
 
 impl Compound {
-    fn parse(text: &str) -> Result<Compound, ApiError> {
+    pub fn parse(text: &str) -> Result<Compound, ApiError> {
         let value: Value = serde_json::from_str(text)
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let Value::Object(fields) = value else {
@@ -180,7 +189,7 @@ impl Compound {
                 ApiError::bad_request(format!("the body has no \"{name}\"")).with_issue(name, "is required")
             })
         };
-        let problem = problem_of(&member("scene")?.to_string(), "scene")?;
+        let (scene, problem) = scene_of(&member("scene")?.to_string(), "scene")?;
         let design = DesignFile::from_json(&member("design")?.to_string())
             .map_err(|e| ApiError::parse("the design", "design", &e))?;
         if design.linkwright != DESIGN_FORMAT {
@@ -189,11 +198,11 @@ impl Compound {
                 ApiError::bad_request(format!("design.linkwright: {message}")).with_issue("design.linkwright", message)
             );
         }
-        Ok(Compound { problem, design, fields })
+        Ok(Compound { problem, units: scene.units, design, fields })
     }
 
     /// `alternative`: absent or null for the design itself, an index into its alternatives otherwise.
-    fn which(&self) -> Result<Which, ApiError> {
+    pub fn which(&self) -> Result<Which, ApiError> {
         match self.fields.get("alternative") {
             None | Some(Value::Null) => Ok(Which::Best),
             Some(v) => v.as_u64().and_then(|i| usize::try_from(i).ok()).map(Which::Alternative).ok_or_else(|| {
@@ -223,18 +232,19 @@ impl Compound {
 }
 
 /// Runs blocking work off the async threads; a panic becomes a 500, never a dropped connection.
-async fn blocking<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> Result<T, ApiError> {
+pub(super) async fn blocking<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> Result<T, ApiError> {
     tokio::task::spawn_blocking(work).await.map_err(|_| {
         ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, "internal error: the computation failed; please report it")
     })
 }
 
-/// The answer to a job that was stopped before it finished.
-fn stopped(reason: Option<StopReason>) -> ApiError {
+/// The answer to a `what` job (design, fabrication) that was stopped before it finished.
+pub(super) fn stopped(what: &str, reason: Option<StopReason>) -> ApiError {
     match reason {
-        Some(StopReason::Superseded) => {
-            ApiError::new(StatusCode::CONFLICT, "cancelled: a newer design request from the same client replaced it")
-        }
+        Some(StopReason::Superseded) => ApiError::new(
+            StatusCode::CONFLICT,
+            format!("cancelled: a newer {what} request from the same client replaced it"),
+        ),
         _ => ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
     }
 }
@@ -247,11 +257,11 @@ pub async fn design(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<DesignFile>, ApiError> {
     let input = DesignInput::parse(&body_text(body)?)?;
-    let ticket = state.jobs.admit(&client)?;
+    let ticket = state.jobs.admit(Kind::Design, &client)?;
     // Lives as long as this request: a client that hangs up drops it, and the job stops.
     let guard = StopOnDrop(ticket.flag.clone());
     let flag = ticket.flag.clone();
-    let running = ticket.start().await.ok_or_else(|| stopped(flag.reason()))?;
+    let running = ticket.start().await.ok_or_else(|| stopped("design", flag.reason()))?;
     let pool = state.jobs.pool.clone();
     let job_flag = flag.clone();
     let result = blocking(move || {
@@ -262,7 +272,7 @@ pub async fn design(
     })
     .await?;
     drop(guard);
-    result.map(Json).map_err(|_| stopped(flag.reason()))
+    result.map(Json).map_err(|_| stopped("design", flag.reason()))
 }
 
 /// What the design stream says, in order: accepted, maybe queued, started, progress..., then one of
@@ -305,7 +315,7 @@ pub async fn design_stream(
     let input = DesignInput::parse(&body_text(body)?)?;
     let warnings: Vec<Value> =
         input.problem.warnings.iter().filter_map(|w| serde_json::to_value(issue_json("", w)).ok()).collect();
-    let ticket = state.jobs.admit(&client)?;
+    let ticket = state.jobs.admit(Kind::Design, &client)?;
     let flag = ticket.flag.clone();
     let (tx, rx) = mpsc::channel::<Note>(64);
     let pool = state.jobs.pool.clone();

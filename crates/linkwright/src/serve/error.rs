@@ -77,7 +77,8 @@ pub fn issue_json(prefix: &str, i: &Issue) -> IssueJson {
     IssueJson { field: join_field(prefix, &i.field), message: i.message.clone(), severity: i.severity }
 }
 
-fn join_field(prefix: &str, path: &str) -> String {
+/// `path` placed under the request field `prefix` (`scene` + `moving_bodies[0]`, `alternatives` + `[2]`).
+pub fn join_field(prefix: &str, path: &str) -> String {
     match (prefix.is_empty(), path.is_empty() || path == "." || path == "?") {
         (true, true) => ".".to_string(),
         (true, false) => path.to_string(),

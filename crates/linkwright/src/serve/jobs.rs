@@ -1,6 +1,6 @@
-//! Heavy jobs (syntheses) are bounded: a few run at once on one shared thread pool, a short queue
-//! waits, anything beyond is refused; each client has at most one job (a new one replaces the old);
-//! and a job stops at its next check when its client goes away.
+//! Heavy jobs (designs and fabrications) are bounded: a few run at once on one shared thread pool, a
+//! short queue waits, anything beyond is refused; each client has at most one job of a kind (a new one
+//! replaces the old); and a job stops at its next check when its client goes away.
 
 use super::error::ApiError;
 use axum::http::StatusCode;
@@ -62,6 +62,13 @@ impl Drop for StopOnDrop {
     }
 }
 
+/// What a job does. A client has at most one job of each kind: a fabrication does not stop its design.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    Design,
+    Fabrication,
+}
+
 /// Limits of the job table.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
@@ -88,7 +95,7 @@ pub struct Jobs {
     limits: Limits,
     slots: Arc<Semaphore>,
     waiting: Arc<AtomicUsize>,
-    clients: Mutex<HashMap<String, ClientSlot>>,
+    clients: Mutex<HashMap<(Kind, String), ClientSlot>>,
     /// Every job's flag, so a shutdown can stop them all.
     all: Mutex<Vec<std::sync::Weak<StopFlag>>>,
     pub pool: Arc<rayon::ThreadPool>,
@@ -140,14 +147,14 @@ impl Jobs {
         self.waiting.load(Ordering::SeqCst)
     }
 
-    /// Admits a job of `client`: stops the client's earlier job (it is superseded) and refuses with
-    /// 503 when the queue is full.
-    pub fn admit(&self, client: &str) -> Result<Ticket, ApiError> {
+    /// Admits a `kind` job of `client`: stops the client's earlier job of that kind (it is superseded)
+    /// and refuses with 503 when the queue is full.
+    pub fn admit(&self, kind: Kind, client: &str) -> Result<Ticket, ApiError> {
         let busy = || {
             ApiError::new(
                 StatusCode::SERVICE_UNAVAILABLE,
                 format!(
-                    "the server is busy ({} designs running, {} waiting); try again in a moment",
+                    "the server is busy ({} jobs running, {} waiting); try again in a moment",
                     self.running(),
                     self.waiting()
                 ),
@@ -164,7 +171,7 @@ impl Jobs {
         // Forget clients whose jobs are all over (nobody else holds their lock).
         clients.retain(|_, slot| Arc::strong_count(&slot.lock) > 1);
         let slot = clients
-            .entry(client.to_string())
+            .entry((kind, client.to_string()))
             .or_insert_with(|| ClientSlot { lock: Arc::default(), latest: Arc::new(StopFlag::default()) });
         slot.latest.stop(StopReason::Superseded);
         slot.latest = flag.clone();
@@ -247,25 +254,27 @@ mod tests {
     #[tokio::test]
     async fn a_new_job_supersedes_the_same_clients_old_one() {
         let jobs = jobs(2, 4);
-        let first = jobs.admit("a").unwrap();
+        let first = jobs.admit(Kind::Design, "a").unwrap();
         let first_flag = first.flag.clone();
         let running = first.start().await.unwrap();
-        let second = jobs.admit("a").unwrap();
+        let second = jobs.admit(Kind::Design, "a").unwrap();
         assert_eq!(first_flag.reason(), Some(StopReason::Superseded));
         assert!(!second.can_start_now(), "the old job still holds the client's slot");
         drop(running);
         assert!(second.can_start_now());
-        let other = jobs.admit("b").unwrap();
+        let other = jobs.admit(Kind::Design, "b").unwrap();
         assert_eq!(second.flag.reason(), None, "another client's job leaves it alone");
-        drop(other);
+        let fabrication = jobs.admit(Kind::Fabrication, "a").unwrap();
+        assert_eq!(second.flag.reason(), None, "so does the same client's job of another kind");
+        drop((other, fabrication));
     }
 
     #[tokio::test]
     async fn a_full_queue_refuses_with_503() {
         let jobs = jobs(1, 2);
-        let a = jobs.admit("a").unwrap();
-        let b = jobs.admit("b").unwrap();
-        let refused = jobs.admit("c").err().unwrap();
+        let a = jobs.admit(Kind::Design, "a").unwrap();
+        let b = jobs.admit(Kind::Design, "b").unwrap();
+        let refused = jobs.admit(Kind::Design, "c").err().unwrap();
         assert_eq!(refused.status, StatusCode::SERVICE_UNAVAILABLE);
         assert_eq!(refused.retry_after, Some(2));
         assert_eq!(jobs.waiting(), 2);
@@ -279,8 +288,8 @@ mod tests {
     #[tokio::test]
     async fn a_waiting_job_that_is_stopped_leaves_the_line_at_once() {
         let jobs = jobs(1, 4);
-        let running = jobs.admit("a").unwrap().start().await.unwrap();
-        let waiting = jobs.admit("b").unwrap();
+        let running = jobs.admit(Kind::Design, "a").unwrap().start().await.unwrap();
+        let waiting = jobs.admit(Kind::Design, "b").unwrap();
         let flag = waiting.flag.clone();
         let waited = tokio::spawn(waiting.start());
         tokio::task::yield_now().await;

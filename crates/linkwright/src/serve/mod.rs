@@ -4,8 +4,11 @@
 
 mod api;
 mod assets;
+mod bundles;
 mod error;
+mod fabricate;
 mod jobs;
+mod preview;
 
 use crate::Failure;
 use axum::extract::{DefaultBodyLimit, Request, State};
@@ -33,10 +36,10 @@ pub struct ServeArgs {
     /// Open the app in the default browser.
     #[arg(long)]
     open: bool,
-    /// Worker threads for designs (default: all cores). Results do not depend on it.
+    /// Worker threads for designs and fabrications (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
-    /// Designs that run at once; more wait in a short queue.
+    /// Designs and fabrications that run at once; more wait in a short queue.
     #[arg(long, default_value_t = Limits::default().running)]
     jobs: usize,
 }
@@ -52,6 +55,9 @@ pub fn router(state: AppState) -> Router {
         .route("/api/check", post(api::check))
         .route("/api/simulate", post(api::simulate))
         .route("/api/render", post(api::render))
+        .route("/api/fabricate", post(fabricate::fabricate))
+        .route("/api/fabricate/settings", get(fabricate::default_settings))
+        .route("/api/fabricate/{id}/{*path}", get(fabricate::download))
         .method_not_allowed_fallback(method_not_allowed)
         .fallback(fallback)
         .layer(DefaultBodyLimit::max(api::MAX_BODY))

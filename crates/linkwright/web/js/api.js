@@ -56,6 +56,10 @@ export const simulate = (scene, design, alternative = null, steps = 240) =>
   request('POST', '/api/simulate', { scene, design, alternative, steps });
 export const render = (scene, design, kind, alternative = null) =>
   request('POST', '/api/render', { scene, design, kind, alternative }, { as: 'blob' });
+/** Printable parts of a design: the report, the files to download and the 3D preview. */
+export const fabricate = (scene, design, settings, alternative = null, signal = undefined) =>
+  request('POST', '/api/fabricate', { scene, design, settings, alternative }, { signal });
+export const printDefaults = () => request('GET', '/api/fabricate/settings');
 
 /**
  * Runs a design with live progress: `on(event, data)` is called for every server-sent event

@@ -1,6 +1,7 @@
 // The app: wires the store, the canvas, the tools, the panels, the results and the files together.
 
 import { Canvas } from './canvas.js';
+import { Fabricator } from './fabricate.js';
 import * as F from './files.js';
 import { renderObjectTab, renderSettingsTab } from './panels.js';
 import { geometryKey, Results } from './result.js';
@@ -24,6 +25,9 @@ const results = new Results(store, canvas, {
   player: $('player'), play: $('btn-play'), scrub: $('scrub'), readout: $('crank-readout'), speed: $('speed'),
   paths: $('opt-paths'), edit: $('btn-edit'), show: $('btn-show'), live: $('opt-live'),
 }, F.saveBlob);
+results.fab = new Fabricator(store, results, {
+  view: $('view3d'), canvas: $('view3d-canvas'), legend: $('view3d-legend'), toggle: $('btn-3d'),
+});
 
 const tools = new Tools(root, store, canvas, view, {
   redraw: () => canvas.render(),

@@ -3,6 +3,7 @@
 
 import * as api from './api.js';
 import { bodyColour } from './canvas.js';
+import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
 import { errorPlot, loopList, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
@@ -39,6 +40,7 @@ export class Results {
     this.speed = 1;
     this.last = null;
     this.plot = null;
+    this.fab = null; // the Fabricator, which adds its part to the Result tab and follows the animation
     els.design.addEventListener('click', () => this.run());
     els.cancel.addEventListener('click', () => this.cancel());
     els.play.addEventListener('click', () => this.setPlaying(!this.playing));
@@ -96,6 +98,7 @@ export class Results {
     this.els.player.hidden = !show;
     this.els.show.hidden = show || !this.fresh() || !this.result?.analysis;
     if (!show) this.setPlaying(false);
+    this.fab?.sync(show);
     // While a design runs, its progress bar and Cancel take the Design button's place.
     this.els.design.hidden = !!this.controller;
   }
@@ -150,6 +153,8 @@ export class Results {
     this.els.readout.textContent = `crank ${frame.crank_deg.toFixed(1)}°`;
     this.canvas.root.dataset.crank = frame.crank_deg.toFixed(3);
     this.plot?.moveCursor(frame.crank_deg);
+    const frames = this.result.analysis.frames, first = frames[0].crank_deg, last = frames[n - 1].crank_deg;
+    this.fab?.frame(last === first ? 0 : (frame.crank_deg - first) / (last - first));
   }
 
   /** The Design button: streams progress, then shows the design. */
@@ -162,7 +167,8 @@ export class Results {
     this.progress({ fraction: 0, text: 'Starting…' });
     this.sync();
     try {
-      const design = await api.designStream(scene, (name, data) => this.onEvent(name, data), this.controller.signal);
+      const request = { scene, print_settings: savedPrintSettings() };
+      const design = await api.designStream(request, (name, data) => this.onEvent(name, data), this.controller.signal);
       if (design) {
         this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: this.warnings };
         await this.select(null);
@@ -226,7 +232,7 @@ export class Results {
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
     try {
-      const design = await api.designStream({ scene, from: this.lastGood() }, () => {});
+      const design = await api.designStream({ scene, from: this.lastGood(), print_settings: savedPrintSettings() }, () => {});
       if (design?.status === 'ok') {
         this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: [] };
         await this.select(null, { keep: true });
@@ -383,6 +389,7 @@ export class Results {
       html('button', { text: 'Animation SVG', title: 'open it in a browser to watch the motion', onclick: () => this.download('animation') }),
       html('button', { text: 'Design sheet SVG', onclick: () => this.download('design') }),
     ]));
+    this.fab?.render(host);
     if (r.analysis) {
       const a = r.analysis;
       this.plot = transmissionPlot(a);

@@ -1,0 +1,225 @@
+//! `POST /api/fabricate` and its downloads: printable parts for a design, made as a bounded heavy job.
+//! The files stay in memory (see [`super::bundles`]); the answer lists them with the report and what
+//! the 3D preview needs.
+
+use super::api::{blocking, body_text, stopped, AppState, Client, Compound};
+use super::bundles::{media_type, Stored, ZIP_NAME};
+use super::error::{join_field, ApiError};
+use super::jobs::{Kind, StopOnDrop};
+use super::preview::{preview, Preview};
+use axum::body::Bytes;
+use axum::extract::rejection::{BytesRejection, PathRejection};
+use axum::extract::{Path, State};
+use axum::http::{header, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use linkwright_core::analysis::Which;
+use linkwright_core::design::DesignFile;
+use linkwright_core::fab::bundle::bundle;
+use linkwright_core::fab::report::Report;
+use linkwright_core::fab::{fabricate_design_or_alternative, sanitize, FabError, PrintSettings};
+use linkwright_core::scene::Problem;
+use serde::Serialize;
+use serde_json::Value;
+
+/// What a fabrication request asks for, checked.
+struct Request {
+    problem: Problem,
+    units: String,
+    /// The design to fabricate: the request's design, or a view of the alternative it names.
+    design: DesignFile,
+    /// What [`Answer::used`] adds to the number of the design that was fabricated: 0 for the design
+    /// itself, `i + 1` when the request names `alternatives[i]`.
+    offset: usize,
+    settings: PrintSettings,
+}
+
+impl Request {
+    /// `{scene, design, settings?, alternative?}`.
+    fn parse(text: &str) -> Result<Request, ApiError> {
+        let compound = Compound::parse(text)?;
+        let settings = print_settings(compound.fields.get("settings"), "settings")?;
+        let which = compound.which()?;
+        let Compound { problem, units, mut design, .. } = compound;
+        if design.mechanism.is_none() {
+            let message = "the design has no linkage to fabricate (it found no solution): design one first";
+            return Err(ApiError::unprocessable(message).with_issue("design.mechanism", message));
+        }
+        let (offset, design) = match which {
+            Which::Best => (0, design),
+            Which::Alternative(i) if i < design.alternatives.len() => {
+                let alternative = design.alternatives.swap_remove(i);
+                let view = DesignFile {
+                    mechanism: Some(alternative.mechanism),
+                    motion: Some(alternative.motion),
+                    metrics: Some(alternative.metrics),
+                    alternatives: Vec::new(),
+                    ..design
+                };
+                (i + 1, view)
+            }
+            Which::Alternative(i) => {
+                let message = format!("the design has {} alternatives; there is no [{i}]", design.alternatives.len());
+                return Err(
+                    ApiError::unprocessable(format!("alternative: {message}")).with_issue("alternative", message)
+                );
+            }
+        };
+        Ok(Request { problem, units, design, offset, settings })
+    }
+
+    /// Fabricates and bundles the design (or its first alternative that can be fabricated).
+    fn make(&self) -> Result<Made, ApiError> {
+        let (which, fab) = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
+            .map_err(cannot)?;
+        let bundle = bundle(&fab).map_err(cannot)?;
+        let preview = preview(&fab);
+        let mut scene = sanitize(&self.problem.name);
+        if scene.is_empty() {
+            scene = "linkwright".into();
+        }
+        let stored = Stored::new(scene, bundle.files).map_err(|e| {
+            ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("internal error: {e}; please report it"))
+        })?;
+        Ok(Made { used: self.offset + which, report: bundle.report, preview, stored })
+    }
+}
+
+/// The print settings in request field `name`: absent or null for the defaults, otherwise an object
+/// whose missing fields keep their defaults. Every problem is named by its field.
+pub(super) fn print_settings(value: Option<&Value>, name: &str) -> Result<PrintSettings, ApiError> {
+    let Some(value) = value.filter(|v| !v.is_null()) else { return Ok(PrintSettings::default()) };
+    if !value.is_object() {
+        let message = "must be an object of print settings in millimetres (GET /api/fabricate/settings lists them)";
+        return Err(ApiError::bad_request(format!("{name} {message}")).with_issue(name, message));
+    }
+    let settings = PrintSettings::from_json(&value.to_string()).map_err(|e| {
+        let field = join_field(name, &e.field);
+        // The position is in the text re-serialised here, not in anything the client sent.
+        let message = e.message.split(" at line ").next().unwrap_or_default();
+        ApiError::bad_request(format!("print settings: {field}: {message}")).with_issue(field, message)
+    })?;
+    let issues = settings.validate();
+    let Some(first) = issues.first() else { return Ok(settings) };
+    let field = |path: &str| join_field(name, path);
+    let error = match issues.len() {
+        1 => format!("print settings: {}: {}", field(&first.field), first.message),
+        n => format!("print settings have {n} problems; the first: {}: {}", field(&first.field), first.message),
+    };
+    Err(issues.iter().fold(ApiError::bad_request(error), |e, i| e.with_issue(field(&i.field), &i.message)))
+}
+
+/// A design that cannot be fabricated: the library's message says what to change.
+fn cannot(e: FabError) -> ApiError {
+    let (status, field) = match e {
+        FabError::Settings(_) => (StatusCode::BAD_REQUEST, "settings"),
+        FabError::Units(_) => (StatusCode::UNPROCESSABLE_ENTITY, "scene.units"),
+        _ => (StatusCode::UNPROCESSABLE_ENTITY, "design"),
+    };
+    ApiError::new(status, format!("cannot fabricate this design: {e}")).with_issue(field, e.to_string())
+}
+
+/// A finished fabrication, before it is stored.
+struct Made {
+    used: usize,
+    report: Report,
+    preview: Preview,
+    stored: Stored,
+}
+
+/// The answer of `POST /api/fabricate`.
+#[derive(Serialize)]
+pub struct Answer {
+    /// Names the stored files: `GET /api/fabricate/{id}/{name}`.
+    id: String,
+    /// Which design was fabricated: 0 the design itself, k its `alternatives[k - 1]`.
+    used: usize,
+    /// True when every fabrication check passed (`report.checks`).
+    checks_ok: bool,
+    /// The `fabrication.json` document.
+    report: Report,
+    files: Vec<FileEntry>,
+    /// All the files in one zip.
+    zip: FileEntry,
+    preview: Preview,
+}
+
+/// One downloadable file.
+#[derive(Serialize)]
+struct FileEntry {
+    /// The path in the bundle (`parts/crank.stl`).
+    name: String,
+    media_type: &'static str,
+    bytes: usize,
+    url: String,
+}
+
+/// `POST /api/fabricate`: `{scene, design, settings?, alternative?}` in; the report, the files to
+/// download and the 3D preview out.
+pub async fn fabricate(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<Answer>, ApiError> {
+    let request = Request::parse(&body_text(body)?)?;
+    let ticket = state.jobs.admit(Kind::Fabrication, &client)?;
+    // A client that hangs up while the job waits in line frees its place at once. A running
+    // fabrication cannot be stopped midway (the library has no cancellation hook); it finishes and its
+    // answer is dropped.
+    let guard = StopOnDrop(ticket.flag.clone());
+    let flag = ticket.flag.clone();
+    let running = ticket.start().await.ok_or_else(|| stopped("fabrication", flag.reason()))?;
+    let pool = state.jobs.pool.clone();
+    let made = blocking(move || {
+        let _running = running;
+        pool.install(|| request.make())
+    })
+    .await??;
+    drop(guard);
+    let Made { used, report, preview, stored } = made;
+    let (id, stored) = state.bundles.insert(stored);
+    let entry = |name: &str, bytes: &Bytes| FileEntry {
+        name: name.to_string(),
+        media_type: media_type(name),
+        bytes: bytes.len(),
+        url: format!("/api/fabricate/{id}/{name}"),
+    };
+    Ok(Json(Answer {
+        files: stored.files.iter().map(|(name, bytes)| entry(name, bytes)).collect(),
+        zip: entry(ZIP_NAME, &stored.zip),
+        checks_ok: report.checks.ok(),
+        id,
+        used,
+        report,
+        preview,
+    }))
+}
+
+/// `GET /api/fabricate/{id}/{path}`: one file of a kept fabrication (or `fabrication.zip`), as a
+/// download.
+pub async fn download(
+    State(state): State<AppState>,
+    at: Result<Path<(String, String)>, PathRejection>,
+) -> Result<Response, ApiError> {
+    let Path((id, path)) = at.map_err(|e| ApiError::bad_request(e.body_text()))?;
+    let stored = state.bundles.get(&id).ok_or_else(|| {
+        ApiError::not_found(format!(
+            "no fabrication \"{id}\" is kept (the server keeps the latest {}); fabricate again",
+            state.bundles.limits().count
+        ))
+    })?;
+    let (name, bytes) =
+        stored.file(&path).ok_or_else(|| ApiError::not_found(format!("fabrication {id} has no file \"{path}\"")))?;
+    let headers = [
+        (header::CONTENT_TYPE, media_type(&path).to_string()),
+        (header::CONTENT_DISPOSITION, format!("attachment; filename=\"{name}\"")),
+        // A kept file never changes under its id.
+        (header::CACHE_CONTROL, "private, max-age=3600, immutable".to_string()),
+    ];
+    Ok((headers, bytes).into_response())
+}
+
+/// `GET /api/fabricate/settings`: the default print settings, millimetres.
+pub async fn default_settings() -> Json<PrintSettings> {
+    Json(PrintSettings::default())
+}

@@ -1,0 +1,365 @@
+// Making the parts: print settings, the Fabricate action (a job on the server), the summary, the
+// downloads, the assembly steps, and the 3D preview of the printed parts moving with the linkage.
+
+import * as api from './api.js';
+import { partColour, partKind, Preview3D, ROLE_COLOURS } from './preview3d.js';
+import { html } from './svg.js';
+
+const SAVED = 'linkwright.print.v1';
+
+/** The print settings the panel offers, as [path in the settings, label, help]; the others keep
+ * their defaults (GET /api/fabricate/settings). Millimetres. */
+const FIELDS = [
+  ['link_width', 'Link width', 'how wide the printed links are'],
+  ['link_thickness', 'Link thickness', 'how thick each link is'],
+  ['pin_radius', 'Pin radius', 'the pins the parts turn on'],
+  ['radial_clearance', 'Pin clearance', 'play between a pin and its hole: more if pins come out too tight'],
+  ['axial_gap', 'Layer gap', 'play between stacked parts'],
+  ['bed.width', 'Bed width', 'the usable size of your printer’s bed'],
+  ['bed.depth', 'Bed depth', null],
+];
+const FACES = [['auto', 'Automatic'], ['one', 'Front face only'], ['both', 'Both faces']];
+const BUSY_TEXT = 'Making the parts: placing pins and connectors, stacking the layers so nothing rubs, building the solids…';
+
+/** The downloads by what they are for: [heading, which file names]. */
+const FILE_GROUPS = [
+  ['Parts to print (STL)', (name) => name.endsWith('.stl')],
+  ['Print beds (3MF)', (name) => name.endsWith('.3mf')],
+  ['Laser cutting', (name) => name.startsWith('profiles.')],
+  ['Instructions', (name) => name === 'assembly.svg' || name === 'fabrication.json'],
+];
+
+/** What a file other than a part is for. */
+function purpose(name) {
+  if (name === 'assembly.3mf') return 'every part, assembled';
+  if (name.endsWith('.3mf')) return 'the parts laid out on one bed';
+  if (name.startsWith('profiles.')) return 'outlines with holes';
+  if (name === 'assembly.svg') return 'the layers and the order to assemble';
+  return name === 'fabrication.json' ? 'parts, sizes and checks' : '';
+}
+
+const valueAt = (obj, path) => path.split('.').reduce((o, k) => o?.[k], obj);
+
+function setAt(obj, path, value) {
+  const keys = path.split('.');
+  const last = keys.pop();
+  let o = obj;
+  for (const k of keys) o = o[k] ??= {};
+  o[last] = value;
+}
+
+const kilobytes = (n) => (n < 1e6 ? `${Math.max(1, Math.round(n / 1000))} kB` : `${(n / 1e6).toFixed(1)} MB`);
+const plural = (n, one, many = `${one}s`) => `${n} ${n === 1 ? one : many}`;
+
+/** What went wrong, in plain words: a bad print setting by its label in the panel, anything else as
+ * the server says it (the server's messages already say what to change). */
+function problems(e) {
+  const settings = (e.issues || []).filter((i) => i.field.startsWith('settings'));
+  if (!settings.length) return [e.message];
+  return settings.map((i) => {
+    const path = i.field.replace(/^settings\.?/, '');
+    const named = FIELDS.find(([p]) => p === path)?.[1] || (path === 'faces' ? 'Links on' : null);
+    const label = named || (path ? path.replace(/[_.]/g, ' ').replace(/^./, (c) => c.toUpperCase()) : 'Print settings');
+    return `${label}: ${i.message}`;
+  });
+}
+
+/** The print settings a saved form asks for: the defaults, changed by the fields filled in. */
+function settingsOf(print) {
+  const out = { faces: print.faces };
+  for (const [path, value] of Object.entries(print.values)) {
+    if (FIELDS.some(([p]) => p === path) && Number.isFinite(value)) setAt(out, path, value);
+  }
+  return out;
+}
+
+/** The print settings last saved in the panel: designs are asked to be printable with them. */
+export function savedPrintSettings() {
+  return settingsOf(loadSaved());
+}
+
+function loadSaved() {
+  try {
+    const saved = JSON.parse(localStorage.getItem(SAVED) || 'null');
+    if (saved && typeof saved.values === 'object') return { values: saved.values, faces: saved.faces || 'auto' };
+  } catch {
+    // Unavailable storage: start from the defaults.
+  }
+  return { values: {}, faces: 'auto' };
+}
+
+export class Fabricator {
+  /**
+   * `els`: the stage's 3D view (`view`, its `canvas`, `legend`) and the player's 3D toggle (`toggle`).
+   * `results` is the Results object whose design is fabricated.
+   */
+  constructor(store, results, els) {
+    this.store = store;
+    this.results = results;
+    this.els = els;
+    this.print = loadSaved();
+    this.defaults = null; // the server's print settings, for the fields' placeholders
+    this.loadingDefaults = false;
+    this.job = null; // {controller, started, timer}
+    this.made = null; // {design, which, answer}
+    this.error = null; // {design, which, problems: [plain text], fields: [the fields named]}
+    this.settingsOpen = false;
+    this.show3d = false;
+    this.shown = false;
+    this.t = 0;
+    this.preview = null;
+    els.toggle.addEventListener('click', () => this.setShow3d(!this.show3d));
+  }
+
+  /** True when `x` (the parts made, an error) belongs to the design shown. */
+  isFor(x) {
+    const r = this.results.result;
+    return !!x && !!r && x.design === r.design && x.which === r.which;
+  }
+
+  /** The settings to send: the defaults, changed by the fields filled in. */
+  settings() {
+    return settingsOf(this.print);
+  }
+
+  saveSettings() {
+    try {
+      localStorage.setItem(SAVED, JSON.stringify(this.print));
+    } catch {
+      // Private mode: the settings last until the page is closed.
+    }
+  }
+
+  async run() {
+    const r = this.results.result;
+    if (this.job || !r?.design) return;
+    const target = { design: r.design, which: r.which };
+    this.job = { controller: new AbortController(), started: performance.now() };
+    this.job.timer = setInterval(() => this.tick(), 500);
+    this.error = null;
+    this.made = null;
+    this.store.changed('result');
+    try {
+      const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, this.job.controller.signal);
+      this.made = { ...target, answer };
+      const report = answer.report;
+      this.show(answer.preview);
+      const turn = this.preview.available ? '; drag the 3D view to turn it' : '';
+      this.store.hint(`Parts made: ${plural(report.totals.parts, 'part')} on ${plural(report.plates.length, 'print bed')}. `
+        + `Download them in the Result tab${turn}.`);
+    } catch (e) {
+      if (e.name === 'AbortError') {
+        this.store.hint('Making the parts was cancelled.');
+      } else {
+        this.error = { ...target, problems: problems(e), fields: (e.issues || []).map((i) => i.field) };
+        this.settingsOpen ||= (e.issues || []).some((i) => i.field.startsWith('settings'));
+        this.store.hint(`Cannot make the parts: ${this.error.problems[0]}`);
+      }
+    } finally {
+      clearInterval(this.job.timer);
+      this.job = null;
+      this.store.changed('result');
+    }
+  }
+
+  cancel() {
+    this.job?.controller.abort();
+  }
+
+  /** Updates the seconds shown while the job runs. */
+  tick() {
+    const out = document.getElementById('fab-elapsed');
+    if (out && this.job) out.textContent = `${Math.round((performance.now() - this.job.started) / 1000)} s`;
+  }
+
+  /** Loads the 3D preview and shows it in place of the drawing (when the browser can draw it). */
+  show(preview) {
+    if (!this.preview) {
+      this.preview = new Preview3D(this.els.canvas);
+      this.preview.onLost = () => this.setShow3d(false);
+    }
+    if (!this.preview.available) return;
+    const kinds = new Set(preview.parts.map(partKind));
+    this.els.legend.replaceChildren(...Object.entries(ROLE_COLOURS).filter(([kind]) => kinds.has(kind))
+      .map(([, [colour, label]]) => html('span', {}, [html('i', { style: `background:${colour}` }), label])));
+    this.preview.load(preview);
+    this.preview.setFraction(this.t);
+    this.setShow3d(true);
+  }
+
+  setShow3d(on) {
+    this.show3d = on;
+    this.results.sync();
+  }
+
+  /** Keeps the 3D view and its toggle in step with the result shown (called on every change). */
+  sync(resultShown) {
+    const can = resultShown && this.isFor(this.made) && !!this.preview?.available;
+    const shown = can && this.show3d;
+    this.els.toggle.hidden = !can;
+    this.els.toggle.setAttribute('aria-pressed', String(shown));
+    this.els.view.hidden = !shown;
+    if (shown && !this.shown) this.preview.request();
+    this.shown = shown;
+  }
+
+  /** The animation moved to fraction `t` of the motion. */
+  frame(t) {
+    this.t = t;
+    if (this.shown) this.preview.setFraction(t);
+  }
+
+  /** The fabrication part of the Result tab. */
+  render(host) {
+    if (!this.defaults && !this.loadingDefaults) {
+      this.loadingDefaults = true;
+      api.printDefaults().then((d) => { this.defaults = d; this.store.changed('result'); }).catch(() => {});
+    }
+    host.append(html('h3', { id: 'fab-heading', text: 'Make it: 3D-printable parts' }));
+    host.append(html('p', { class: 'note', text: 'Parts for a desktop 3D printer that snap together on pins, without screws or glue.' }));
+    const error = this.isFor(this.error) ? this.error : null;
+    host.append(this.settingsForm(error));
+    if (this.job) {
+      host.append(html('div', { class: 'busy', role: 'status' }, [
+        html('div', { class: 'bar indeterminate' }, [html('div')]),
+        html('p', {}, [BUSY_TEXT, ' ', html('span', { id: 'fab-elapsed', text: '0 s' })]),
+        html('button', { id: 'btn-fab-cancel', text: 'Cancel', onclick: () => this.cancel() }),
+      ]));
+    } else {
+      const again = this.isFor(this.made);
+      host.append(html('div', { class: 'inline' }, [
+        html('button', {
+          id: 'btn-fabricate', class: 'primary', text: again ? 'Make the parts again' : '⚙ Make the parts',
+          title: 'Build printable parts for this linkage with the print settings above',
+          onclick: () => this.run(),
+        }),
+      ]));
+    }
+    if (error) {
+      host.append(html('div', { class: 'callout error' }, [
+        html('b', { text: 'Cannot make the parts' }),
+        ...error.problems.map((text) => html('p', { text })),
+      ]));
+    }
+    if (this.isFor(this.made) && !this.job) {
+      if (this.preview && !this.preview.available) {
+        host.append(html('p', { class: 'callout warn', text: 'This browser cannot show the parts in 3D (WebGL 2 is off or missing). '
+          + 'The files are complete: open assembly.3mf in a slicer or a 3D viewer to see them assembled.' }));
+      }
+      host.append(...this.summary(this.made.answer));
+    }
+  }
+
+  /** The print settings, folded away until wanted; empty fields keep their defaults. */
+  settingsForm(error) {
+    const bad = new Set(error?.fields || []);
+    const fields = FIELDS.map(([path, label, help]) => {
+      const value = this.print.values[path];
+      const invalid = bad.has(`settings.${path}`) || (path === 'bed.width' && bad.has('settings.bed'));
+      const input = html('input', {
+        type: 'number', step: 'any', min: 0, 'data-key': `print-${path}`, 'aria-label': `${label} (mm)`,
+        value: value === undefined ? '' : String(value),
+        placeholder: this.defaults ? String(valueAt(this.defaults, path)) : '',
+        class: invalid ? 'invalid' : null, 'aria-invalid': invalid ? 'true' : null,
+        onchange: (e) => {
+          const v = Number(e.target.value);
+          if (e.target.value === '' || !Number.isFinite(v)) delete this.print.values[path];
+          else this.print.values[path] = v;
+          this.saveSettings();
+        },
+      });
+      return html('div', { class: 'field' }, [html('label', { text: label }), input, html('span', { class: 'unit', text: 'mm' }),
+        help ? html('small', { text: help }) : null]);
+    });
+    const faces = html('select', {
+      'data-key': 'print-faces', 'aria-label': 'Faces',
+      class: bad.has('settings.faces') ? 'invalid' : null,
+      onchange: (e) => { this.print.faces = e.target.value; this.saveSettings(); },
+    }, FACES.map(([v, t]) => html('option', { value: v, text: t, selected: this.print.faces === v })));
+    const details = html('details', { class: 'print-settings', open: this.settingsOpen }, [
+      html('summary', { text: 'Print settings' }),
+      ...fields,
+      html('div', { class: 'field' }, [html('label', { text: 'Links on' }), faces,
+        html('small', { text: 'which faces of the bodies may carry links: automatic uses the front, and both when the links would collide' })]),
+      html('button', {
+        class: 'small', text: 'Reset to defaults',
+        onclick: () => { this.print = { values: {}, faces: 'auto' }; this.saveSettings(); this.store.changed('result'); },
+      }),
+    ]);
+    details.addEventListener('toggle', () => { this.settingsOpen = details.open; });
+    return details;
+  }
+
+  /** What was made: warnings, the numbers, the downloads and how to put it together. */
+  summary(answer) {
+    const report = answer.report;
+    const out = [];
+    const warn = (title, text, ...more) =>
+      out.push(html('div', { class: 'callout warn' }, [html('b', { text: title }), html('p', { text }), ...more]));
+    if (answer.used > 0 && this.made.which !== answer.used - 1) {
+      warn(`These are the parts of alternative ${answer.used}`,
+        'The linkage shown cannot be printed with these settings (its parts would collide or not fit), so its first alternative that can is used.',
+        html('button', {
+          text: `Show alternative ${answer.used}`,
+          onclick: () => {
+            this.made.which = answer.used - 1;
+            this.results.select(answer.used - 1);
+          },
+        }));
+    }
+    if (report.oversized.length) {
+      warn('Too large for the bed', `${report.oversized.join(', ')} ${report.oversized.length === 1 ? 'does' : 'do'} not fit on the bed in any direction: use a larger printer, or draw the object smaller.`);
+    }
+    if (!answer.checks_ok) {
+      const c = report.checks;
+      warn('Some checks failed', [...c.meshes, ...c.intersections, ...c.seats, ...c.ordering].join('; '));
+    }
+    const count = (role) => report.parts.filter((p) => p.role === role).length;
+    const kinds = [
+      [count('link') + count('guide'), 'link'], [count('connector'), 'connector'],
+      [count('body'), 'moving body', 'moving bodies'], [count('ground'), 'fixed piece'],
+    ].filter(([n]) => n > 0).map(([n, one, many]) => plural(n, one, many)).join(', ');
+    const s = report.settings;
+    out.push(html('table', { class: 'metrics fab-summary' }, [
+      ['Parts', `${report.totals.parts} (${kinds})`],
+      ['Layers of links', report.layers.back ? `${report.layers.count} (front ${report.layers.front}, back ${report.layers.back})` : String(report.layers.count)],
+      ['Print beds', `${report.plates.length} of ${s.bed.width} × ${s.bed.depth} mm`],
+      ['Print volume', `${(report.totals.volume_mm3 / 1000).toFixed(1)} cm³`],
+      ['Mass (estimate)', `${report.totals.mass_g.toFixed(0)} g at ${Math.round(s.fill_fraction * 100)}% fill`],
+    ].map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
+    out.push(...this.downloads(answer));
+    out.push(html('h3', { text: 'Putting it together' }));
+    out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: step }))));
+    return out;
+  }
+
+  /** The zip of everything, then every file by what it is for. */
+  downloads(answer) {
+    const out = [
+      html('h3', { text: 'Downloads' }),
+      html('div', { class: 'inline' }, [this.link(answer.zip, `⬇ Everything (.zip, ${kilobytes(answer.zip.bytes)})`, 'button primary')]),
+    ];
+    const parts = new Map(answer.report.parts.map((p) => [p.file, p]));
+    const meshes = new Map(answer.preview.parts.map((p) => [p.name, p]));
+    const describe = (file) => {
+      const p = parts.get(file.name);
+      if (!p) return html('small', { text: purpose(file.name) });
+      const size = p.size_mm.map((v) => v.toFixed(0)).join(' × ');
+      return html('small', {}, [html('i', { class: 'swatch', style: `background:${partColour(meshes.get(p.name) || p)}` }),
+        ` ${p.role}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
+    };
+    for (const [title, test] of FILE_GROUPS) {
+      const files = answer.files.filter((f) => test(f.name));
+      if (files.length) out.push(html('h4', { text: title }), html('ul', { class: 'files' }, files.map((f) => html('li', {}, [this.link(f), describe(f)]))));
+    }
+    return out;
+  }
+
+  /** A download link for a file of the answer. */
+  link(file, text = file.name.split('/').pop(), cls = 'file') {
+    return html('a', {
+      class: cls, href: file.url, download: file.name.split('/').pop(), 'data-file': file.name, text,
+      title: `${file.name} · ${kilobytes(file.bytes)}`,
+    });
+  }
+}
