@@ -94,7 +94,7 @@ fn fabricate_names_bad_print_settings_and_exits_2() {
 fn fabricate_says_which_parts_are_larger_than_the_bed_and_what_to_change() {
     let dir = workdir("small-bed");
     let design = design_and_fabricate(&dir).join("design.json");
-    let run = fabricate_with_settings(&dir, &design, r#"{"bed": {"width": 60, "depth": 60, "margin": 5}}"#);
+    let run = fabricate_with_settings(&dir, &design, r#"{"bed": {"width": 45, "depth": 45, "margin": 2}}"#);
     assert!(run.status.success(), "{}", text(&run.stderr));
     let summary = text(&run.stdout);
     assert!(summary.contains("warning:") && summary.contains("mm square") && summary.contains("scale"), "{summary}");
@@ -104,7 +104,7 @@ fn fabricate_says_which_parts_are_larger_than_the_bed_and_what_to_change() {
     assert!(!oversized.is_empty(), "{report}");
     for o in oversized {
         assert!(summary.contains(o["name"].as_str().unwrap()), "{summary}");
-        assert!(o["square_bed_mm"].as_f64().unwrap() > 60.0, "{o}");
+        assert!(o["square_bed_mm"].as_f64().unwrap() > 45.0, "{o}");
         assert!(o["max_scale"].as_f64().unwrap() < 1.0, "{o}");
     }
 }

@@ -431,9 +431,10 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
                               clearance, or add intermediate poses that steer around the obstacle"
             .to_string(),
         Reject::Unprintable => "valid linkages could not be printed with these print settings (no room for \
-                                the connectors, or no order of the links in depth avoids every collision): widen \
-                                the linkage_region, allow links on both faces, choose narrower links, or design \
-                                without the print check (--no-print-check)"
+                                the connectors, links larger than the print bed, or no order of the links in \
+                                depth avoids every collision): move the linkage_region closer to the bodies, use \
+                                a larger bed or narrower links in the print settings, allow links on both faces, \
+                                or design without the print check (--no-print-check)"
             .to_string(),
         Reject::Outclassed => unreachable!("filtered out above"),
     };

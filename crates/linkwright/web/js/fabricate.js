@@ -308,7 +308,10 @@ export class Fabricator {
         }));
     }
     if (report.oversized.length) {
-      warn('Too large for the bed', `${report.oversized.join(', ')} ${report.oversized.length === 1 ? 'does' : 'do'} not fit on the bed in any direction: use a larger printer, or draw the object smaller.`);
+      const names = report.oversized.map((o) => `${o.name} (${o.footprint_mm.map((v) => v.toFixed(0)).join(' × ')} mm)`);
+      const side = Math.max(...report.oversized.map((o) => o.square_bed_mm));
+      const scale = Math.min(...report.oversized.map((o) => o.max_scale));
+      warn('Too large for the bed', `${names.join(', ')} ${names.length === 1 ? 'does' : 'do'} not fit on the bed in any direction: print on a bed of at least ${side.toFixed(0)} mm square (Bed width and depth above), or draw the object smaller (at most ${scale.toFixed(2)} of its size).`);
     }
     if (!answer.checks_ok) {
       const c = report.checks;
