@@ -5,10 +5,11 @@
 //! checked by conservative advancement: a mover (a body outline or a link segment) cannot reach deeper
 //! than the contact tolerance into an obstacle in between when its clearance at either end, plus that
 //! tolerance, exceeds how far any of its points moves relative to the obstacle over the interval (the
-//! farthest-moving point of a rigid motion is a vertex; a margin covers the arc). Otherwise the
-//! interval is bisected, at most down to 1/4° (four times finer than the engine's crank step and
-//! twice as fine as `verify`'s re-simulation), so a body sliding along another costs a bounded number
-//! of tests. Bounding boxes first, exact polygon
+//! farthest-moving point of a rigid motion is a vertex; a margin covers the arc), or when its
+//! clearances at both ends together do, less twice the tolerance (a point that dips in must come back
+//! out). Otherwise the interval is bisected, at most down to 1/16° (sixteen times finer than the
+//! engine's crank step, eight times finer than `verify`'s re-simulation), so a body sliding along
+//! another costs a bounded number of tests. Bounding boxes first, exact polygon
 //! tests only where boxes come near; the sweep stops at the first collision.
 
 use super::context::Context;
@@ -18,8 +19,9 @@ use crate::kinematics::{BodyFrames, Plan};
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
-/// Deepest bisection of one 1° interval (a quarter of a degree).
-const MAX_DEPTH: u32 = 2;
+/// Deepest bisection of one 1° interval (a sixteenth of a degree). At a quarter, a sharp corner of a
+/// fixed body could still poke through an edge sliding past it between two tests (the handle scene).
+const MAX_DEPTH: u32 = 4;
 
 /// One mover against one obstacle.
 #[derive(Clone, Copy, Debug)]
@@ -218,9 +220,13 @@ impl Sweep<'_, '_> {
         if box_gap(&box_a.union(&box_b), &obstacle_box_a.union(&obstacle_box_b)) > ARC_MARGIN * wander {
             return true;
         }
-        let reach = ARC_MARGIN * moved;
-        let need = reach - tol;
-        clear_of(mover_a, obstacle_a, need) || clear_of(mover_b, obstacle_b, need)
+        // A point that dips deeper than the tolerance in between covers its clearance at one end, twice
+        // that depth, and its clearance at the other: the interval is free when the two clearances
+        // together are at least the reach less twice the tolerance (one end alone often is).
+        let need = ARC_MARGIN * moved - 2.0 * tol;
+        clear_of(mover_a, obstacle_a, need)
+            || clear_of(mover_b, obstacle_b, need)
+            || boundary_distance(mover_a, obstacle_a) + boundary_distance(mover_b, obstacle_b) >= need
     }
 }
 
