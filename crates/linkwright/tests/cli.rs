@@ -1,25 +1,14 @@
 //! The CLI as a person or a script uses it: design, check, simulate, exit codes and outputs.
 
 mod common;
-use common::{example, linkwright, text, workdir};
+use common::{design_truck, example, linkwright, text, workdir};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// Designs the garbage truck with a small budget into `dir`, returning the design file's path.
 fn design_garbage_truck(dir: &Path, threads: &str) -> PathBuf {
     let out = dir.join(format!("threads{threads}"));
-    let run = linkwright(&[
-        "design",
-        &example("k1_garbage_truck"),
-        "-o",
-        out.to_str().unwrap(),
-        "--samples",
-        "3000",
-        "--seed",
-        "5",
-        "--threads",
-        threads,
-    ]);
+    let run = design_truck(&out, &["--seed", "5", "--threads", threads]);
     assert!(run.status.success(), "stderr: {}", text(&run.stderr));
     let summary = text(&run.stdout);
     assert!(summary.starts_with("garbage truck: "), "{summary}");

@@ -2,7 +2,7 @@
 //! settings named, and the assembled 3MF opened by an independent reader (Python's trimesh).
 
 mod common;
-use common::{example, linkwright, text, workdir};
+use common::{design_truck, example, linkwright, text, workdir};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -10,15 +10,7 @@ use std::process::{Command, Output};
 /// Designs and fabricates the garbage truck with a small budget; returns the design folder.
 fn design_and_fabricate(dir: &Path) -> PathBuf {
     let out = dir.join("truck");
-    let run = linkwright(&[
-        "design",
-        &example("k1_garbage_truck"),
-        "-o",
-        out.to_str().unwrap(),
-        "--samples",
-        "3000",
-        "--fabricate",
-    ]);
+    let run = design_truck(&out, &["--fabricate"]);
     assert!(run.status.success(), "{}{}", text(&run.stdout), text(&run.stderr));
     assert!(text(&run.stdout).contains("parts on"), "{}", text(&run.stdout));
     out

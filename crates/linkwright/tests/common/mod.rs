@@ -82,3 +82,12 @@ pub fn quick_garbage_truck(samples: u64, seed: u64) -> serde_json::Value {
     scene["settings"] = serde_json::json!({"samples": samples, "seed": seed});
     scene
 }
+
+/// Runs `linkwright design` on the bundled garbage truck with a small budget (3,000 samples) into
+/// `out`, with `extra` arguments.
+pub fn design_truck(out: &std::path::Path, extra: &[&str]) -> Output {
+    let (scene, out) = (example("k1_garbage_truck"), out.to_str().expect("a UTF-8 path").to_string());
+    let mut args = vec!["design", scene.as_str(), "-o", out.as_str(), "--samples", "3000"];
+    args.extend_from_slice(extra);
+    linkwright(&args)
+}
