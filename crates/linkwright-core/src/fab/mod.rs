@@ -7,8 +7,8 @@
 //!   fixed body), what carries each; [`posts`]: where their posts stand (inside the body, on the middle
 //!   line of a thin one, or on a pad fused to the side of one too thin);
 //! - [`depth`]: collisions recorded along the motion and the depth ordering solved by a constraint
-//!   solver (§7.2, eq. 16–19), minimising layers; [`ordering_feasible`] is the fast check the
-//!   synthesis can run per candidate;
+//!   solver (§7.2, eq. 16–19), minimising layers; [`FeasibilityCheck`] is the fast check the
+//!   synthesis runs on its candidates;
 //! - [`solid`], [`parts`]: closed meshes of every part (§7.3, eq. 20);
 //! - [`export`]: binary STL, 3MF, SVG and DXF profiles; [`plates`]: parts spread on print beds (and
 //!   what a part too large for the bed would need); [`split`]: bodies too large cut by dovetails;
@@ -405,13 +405,6 @@ impl FeasibilityCheck {
         }
         Err(first.unwrap_or(FabError::NoOrdering))
     }
-}
-
-/// [`FeasibilityCheck::check`] with the default print settings in a millimetre scene, building the
-/// scene's shapes each call (a union of the fixed bodies, tens of microseconds): prefer a
-/// [`FeasibilityCheck`] kept for the whole synthesis.
-pub fn ordering_feasible(problem: &Problem, mechanism: &Mechanism, trace: &Trace) -> bool {
-    FeasibilityCheck::new(problem, &PrintSettings::default(), 1.0).check(mechanism, trace)
 }
 
 /// The world position of a point carried by `carrier` in the configuration of trace row `r`.
