@@ -30,6 +30,9 @@ pub struct Context<'a> {
     pub carriers: Vec<Option<usize>>,
     /// The joints carried by moving bodies (J_M of paper eq. 10–11).
     pub moving_joints: Vec<usize>,
+    /// `(moving, fixed)`: a body-carried joint and a fixed joint that a link holds at a fixed distance,
+    /// so the moving joint stays on a circle around the fixed one in every configuration.
+    pub tethers: Vec<(usize, usize)>,
     /// Every pair of joints held at a fixed distance by a link.
     pub link_pairs: Vec<(usize, usize)>,
     /// Every pair of joints on one part (links, bodies, ground), which must stay apart.
@@ -82,11 +85,23 @@ impl<'a> Context<'a> {
                 }
             }
         }
+        let fixed = topology.fixed_joints();
+        let tethers = topology
+            .parts
+            .iter()
+            .filter(|part| part.kind == PartKind::Link)
+            .flat_map(|part| {
+                let anchors = part.joints.iter().copied().filter(|g| fixed.contains(g));
+                anchors
+                    .flat_map(|g| part.joints.iter().copied().filter(|&j| carriers[j].is_some()).map(move |j| (j, g)))
+            })
+            .collect();
         let body_size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
         Context {
             problem,
             carriers,
             moving_joints,
+            tethers,
             link_pairs: topology.link_pairs(),
             part_pairs,
             link_segments,
