@@ -50,38 +50,70 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
     let pairs = pairs(ctx);
     let mut previous = sweep.place(trace.row(0));
     let mut slack = Vec::with_capacity(pairs.len());
+    // Each pair's boundary distance at the previous row, when it was computed there.
+    let mut distance_before: Vec<Option<f64>> = Vec::with_capacity(pairs.len());
     for &pair in &pairs {
         sweep.test(pair, &previous)?;
-        slack.push(sweep.distance(pair, &previous) + ctx.contact_tolerance);
+        let distance = sweep.distance(pair, &previous);
+        slack.push(distance + ctx.contact_tolerance);
+        distance_before.push(Some(distance));
     }
     let mut body_motion = Vec::new();
     let mut current = sweep.place(trace.row(0));
+    let mut midpoints: Vec<Midpoint> = (0..MAX_DEPTH).map(|_| Midpoint::new(&sweep, trace.row(0))).collect();
     for r in 1..trace.len() {
         sweep.place_into(trace.row(r), &mut current);
         body_motion.clear();
         body_motion.extend(previous.bodies.iter().zip(&current.bodies).map(|(p, q)| largest_motion(p, q)));
-        for (&pair, slack) in pairs.iter().zip(slack.iter_mut()) {
+        for (k, &pair) in pairs.iter().enumerate() {
             let moved = match pair {
                 Pair::LinkAvoid { link, .. } => largest_motion(&previous.links[link], &current.links[link]),
                 Pair::BodyFixed { body, .. } => body_motion[body],
                 Pair::BodyBody { body, other } => sweep.relative_motion(body, other, &previous, &current),
             };
             let reach = ARC_MARGIN * moved;
-            *slack -= reach;
-            if *slack > 0.0 {
+            slack[k] -= reach;
+            if slack[k] > 0.0 {
+                distance_before[k] = None;
                 continue;
             }
-            let clearance = sweep.distance(pair, &current) + ctx.contact_tolerance;
+            let distance = sweep.distance(pair, &current);
+            let clearance = distance + ctx.contact_tolerance;
             // Free at the previous row and no closer to it here than its motion: free in between and here.
             if clearance <= reach {
-                sweep.interval(pair, trace.thetas[r - 1], &previous, trace.thetas[r], &current, 0)?;
+                let before = distance_before[k].unwrap_or_else(|| sweep.distance(pair, &previous));
+                let a = End { theta: trace.thetas[r - 1], at: &previous, distance: before };
+                let b = End { theta: trace.thetas[r], at: &current, distance };
+                sweep.interval(pair, a, b, &mut midpoints)?;
                 sweep.test(pair, &current)?;
             }
-            *slack = clearance;
+            slack[k] = clearance;
+            distance_before[k] = Some(distance);
         }
         std::mem::swap(&mut previous, &mut current);
     }
     Ok(())
+}
+
+/// One end of an interval the sweep must prove free: a tested configuration and the pair's boundary
+/// distance there.
+#[derive(Clone, Copy)]
+struct End<'a> {
+    theta: f64,
+    at: &'a Placed,
+    distance: f64,
+}
+
+/// Reused buffers for one level of bisection.
+struct Midpoint {
+    row: Vec<Point>,
+    placed: Placed,
+}
+
+impl Midpoint {
+    fn new(sweep: &Sweep, row: &[Point]) -> Midpoint {
+        Midpoint { row: row.to_vec(), placed: sweep.place(row) }
+    }
 }
 
 /// Every pair the sweep watches, links first (their verdict, an avoid region, is reported first).
@@ -176,57 +208,58 @@ impl Sweep<'_, '_> {
     }
 
     /// Proves the pair apart over the open interval between two tested configurations, bisecting
-    /// where it cannot.
-    fn interval(&self, pair: Pair, ta: f64, a: &Placed, tb: f64, b: &Placed, depth: u32) -> Result<(), Reject> {
-        if depth >= MAX_DEPTH || self.proven_free(pair, a, b) {
+    /// where it cannot; `midpoints` holds one buffer per level of bisection still allowed.
+    fn interval(&self, pair: Pair, a: End, b: End, midpoints: &mut [Midpoint]) -> Result<(), Reject> {
+        let Some((mid, deeper)) = midpoints.split_first_mut() else { return Ok(()) };
+        if self.proven_free(pair, a, b) {
             return Ok(());
         }
-        let tm = 0.5 * (ta + tb);
-        let mut row = vec![Point::ORIGIN; self.plan.joint_count()];
+        let theta = 0.5 * (a.theta + b.theta);
         // Between two assembled configurations whose transmission margins are above the bound, no
         // dead point intervenes; failing to assemble here means the linkage locks up.
-        self.plan.solve(tm, &mut row).map_err(|_| Reject::Assembly)?;
-        let m = self.place(&row);
-        self.test(pair, &m)?;
-        self.interval(pair, ta, a, tm, &m, depth + 1)?;
-        self.interval(pair, tm, &m, tb, b, depth + 1)
+        self.plan.solve(theta, &mut mid.row).map_err(|_| Reject::Assembly)?;
+        self.place_into(&mid.row, &mut mid.placed);
+        self.test(pair, &mid.placed)?;
+        if deeper.is_empty() {
+            return Ok(());
+        }
+        let m = End { theta, at: &mid.placed, distance: self.distance(pair, &mid.placed) };
+        self.interval(pair, a, m, deeper)?;
+        self.interval(pair, m, b, deeper)
     }
 
     /// True when the pair's mover cannot reach deeper than the contact tolerance into its obstacle
-    /// between configurations `a` and `b`: its clearance at either end exceeds how far it moves.
-    fn proven_free(&self, pair: Pair, a: &Placed, b: &Placed) -> bool {
+    /// between the two ends: a point that dips deeper than the tolerance in between covers its
+    /// clearance at one end, twice that depth, and its clearance at the other, so the interval is free
+    /// when the two clearances together are at least the reach less twice the tolerance.
+    fn proven_free(&self, pair: Pair, a: End, b: End) -> bool {
         let tol = self.ctx.contact_tolerance;
         // How far the mover moves relative to the obstacle, and how far both wander from the boxes
         // around their two placements.
         let (moved, wander) = match pair {
             Pair::LinkAvoid { link, .. } => {
-                let moved = largest_motion(&a.links[link], &b.links[link]);
+                let moved = largest_motion(&a.at.links[link], &b.at.links[link]);
                 (moved, moved)
             }
             Pair::BodyFixed { body, .. } => {
-                let moved = largest_motion(&a.bodies[body], &b.bodies[body]);
+                let moved = largest_motion(&a.at.bodies[body], &b.at.bodies[body]);
                 (moved, moved)
             }
             Pair::BodyBody { body, other } => (
-                self.relative_motion(body, other, a, b).max(0.0),
-                largest_motion(&a.bodies[body], &b.bodies[body]) + largest_motion(&a.bodies[other], &b.bodies[other]),
+                self.relative_motion(body, other, a.at, b.at).max(0.0),
+                largest_motion(&a.at.bodies[body], &b.at.bodies[body])
+                    + largest_motion(&a.at.bodies[other], &b.at.bodies[other]),
             ),
         };
         if moved <= tol {
             return true;
         }
-        let (mover_a, box_a, obstacle_a, obstacle_box_a, _) = self.shapes(pair, a);
-        let (mover_b, box_b, obstacle_b, obstacle_box_b, _) = self.shapes(pair, b);
+        let (_, box_a, _, obstacle_box_a, _) = self.shapes(pair, a.at);
+        let (_, box_b, _, obstacle_box_b, _) = self.shapes(pair, b.at);
         if box_gap(&box_a.union(&box_b), &obstacle_box_a.union(&obstacle_box_b)) > ARC_MARGIN * wander {
             return true;
         }
-        // A point that dips deeper than the tolerance in between covers its clearance at one end, twice
-        // that depth, and its clearance at the other: the interval is free when the two clearances
-        // together are at least the reach less twice the tolerance (one end alone often is).
-        let need = ARC_MARGIN * moved - 2.0 * tol;
-        clear_of(mover_a, obstacle_a, need)
-            || clear_of(mover_b, obstacle_b, need)
-            || boundary_distance(mover_a, obstacle_a) + boundary_distance(mover_b, obstacle_b) >= need
+        a.distance + b.distance >= ARC_MARGIN * moved - 2.0 * tol
     }
 }
 
@@ -257,22 +290,11 @@ fn box_gap(a: &Aabb, b: &Aabb) -> f64 {
 }
 
 /// The least distance between the boundaries of two outlines (a two-point outline is a segment): the
-/// nearest pair of boundary points always includes a vertex of one of them.
+/// nearest pair of boundary points always includes a vertex of one of them, so it is the least
+/// distance between a vertex of one outline and an edge of the other. Edges whose box is farther from
+/// the other outline's box than the best distance so far are skipped.
 fn boundary_distance(a: &[Point], b: &[Point]) -> f64 {
-    nearest_sq(a, b, f64::INFINITY, false).sqrt()
-}
-
-/// True when the boundaries of two outlines that do not cross are at least `gap` apart.
-fn clear_of(a: &[Point], b: &[Point], gap: f64) -> bool {
-    gap <= 0.0 || nearest_sq(a, b, gap * gap, true) >= gap * gap
-}
-
-/// The least squared distance between a vertex of one outline and an edge of the other, when it is
-/// below `limit_sq` (otherwise a value at least `limit_sq`); with `first`, any value below `limit_sq`
-/// once one is found. Edges whose box is farther from the other outline's box than the best distance
-/// so far are skipped.
-fn nearest_sq(a: &[Point], b: &[Point], limit_sq: f64, first: bool) -> f64 {
-    let mut best = limit_sq;
+    let mut best = f64::INFINITY;
     for (p, q) in [(a, b), (b, a)] {
         let Some(box_p) = Aabb::around(p.iter().copied()) else { continue };
         let n = q.len();
@@ -294,10 +316,7 @@ fn nearest_sq(a: &[Point], b: &[Point], limit_sq: f64, first: bool) -> f64 {
                     best = best.min(point_segment_distance_sq(v, q0, q1));
                 }
             }
-            if first && best < limit_sq {
-                return best;
-            }
         }
     }
-    best
+    best.sqrt()
 }
