@@ -172,6 +172,67 @@ impl Plan {
         Ok(())
     }
 
+    /// For a plan with a single dyad after the crank (a four-bar or a slider-crank), in closed form:
+    /// whether it assembles at every crank angle from `from` to `to` (radians), and if so the least
+    /// [`Plan::min_transmission_sine`] along the way. `None` for other plans.
+    ///
+    /// The dyad's one varying quantity is a sinusoid of the crank angle: the squared distance between
+    /// its two centres for a circle-circle dyad, the distance of its centre from the guide for a
+    /// slider. Assembly and transmission only get worse as it moves away from its middle value, so its
+    /// extremes over the travel (at the ends or where the sinusoid peaks) decide both exactly, between
+    /// the 1° rows a sweep would test too.
+    pub fn closed_form_travel(&self, from: f64, to: f64) -> Option<Result<f64, DyadError>> {
+        let mut dyads = self.steps.iter().filter(|s| !matches!(s, Step::Attach { .. }));
+        let (Some(dyad), None) = (dyads.next(), dyads.next()) else { return None };
+        let pivot = self.fixed.iter().find(|&&(j, _)| j == self.pivot)?.1;
+        // A joint the dyad reads: the crank tip (pivot + R·(cos θ, sin θ)) or a fixed joint.
+        let fixed_at = |j: usize| self.fixed.iter().find(|&&(f, _)| f == j).map(|&(_, p)| p);
+        let (lo, hi) = (from.min(to), from.max(to));
+        match *dyad {
+            Step::Dyad { a, ra, b, rb, .. } => {
+                // s(θ) = |a − b|² = |w + R·u(θ)|², with w from the fixed end to the pivot (or constant).
+                let (w, radius) = match (a == self.tip, b == self.tip) {
+                    (true, false) => (pivot - fixed_at(b)?, self.crank_radius),
+                    (false, true) => (pivot - fixed_at(a)?, self.crank_radius),
+                    (false, false) => (fixed_at(a)? - fixed_at(b)?, 0.0),
+                    (true, true) => return None,
+                };
+                let mean = w.norm_sq() + radius * radius;
+                let (s_min, s_max) = sinusoid_range(mean, 2.0 * radius * w.norm(), w.angle(), lo, hi);
+                if s_min <= 1e-300 {
+                    return Some(Err(DyadError::CoincidentCentres));
+                }
+                if s_min < (ra - rb) * (ra - rb) || s_max > (ra + rb) * (ra + rb) {
+                    return Some(Err(DyadError::CirclesApart));
+                }
+                // Law of cosines at the joint: cos μ = (ra² + rb² − s) / (2·ra·rb), monotone in s.
+                let sine = |s: f64| {
+                    let cos = ((ra * ra + rb * rb - s) / (2.0 * ra * rb)).clamp(-1.0, 1.0);
+                    (1.0 - cos * cos).sqrt()
+                };
+                Some(Ok(sine(s_min).min(sine(s_max))))
+            }
+            Step::Slider { centre, r, origin, direction, .. } => {
+                // h(θ) = direction × (centre − origin): the centre's signed distance from the guide.
+                let (offset, radius) = if centre == self.tip {
+                    (direction.cross(pivot - origin), self.crank_radius)
+                } else {
+                    (direction.cross(fixed_at(centre)? - origin), 0.0)
+                };
+                // direction × u(θ) = sin(θ − ψ) = cos(θ − ψ − π/2).
+                let phase = direction.angle() + std::f64::consts::FRAC_PI_2;
+                let (h_min, h_max) = sinusoid_range(offset, radius, phase, lo, hi);
+                let h = h_min.abs().max(h_max.abs());
+                if h > r {
+                    return Some(Err(DyadError::LineOutOfReach));
+                }
+                // The rod's angle from the guide's normal has sine √(r² − h²) / r.
+                Some(Ok((r * r - h * h).max(0.0).sqrt() / r))
+            }
+            Step::Attach { .. } => None,
+        }
+    }
+
     /// The smallest transmission-angle margin (radians from 0 and π) over every dyad of a solved
     /// configuration. For a slider dyad the angle is between the rod and the normal of the guide.
     pub fn min_transmission(&self, pos: &[Point]) -> f64 {
@@ -220,4 +281,31 @@ impl Plan {
             })
             .collect()
     }
+}
+
+/// The least and greatest of `mean + amplitude·cos(θ − phase)` for θ in `[lo, hi]`: at the ends, or at a
+/// peak or trough inside.
+fn sinusoid_range(mean: f64, amplitude: f64, phase: f64, lo: f64, hi: f64) -> (f64, f64) {
+    let value = |theta: f64| mean + amplitude * (theta - phase).cos();
+    if !(hi - lo < 2.0 * std::f64::consts::TAU) {
+        // A travel this long (or not a number) passes every value.
+        return (mean - amplitude.abs(), mean + amplitude.abs());
+    }
+    let (a, b) = (value(lo), value(hi));
+    let (mut min, mut max) = (a.min(b), a.max(b));
+    // Peaks at phase + 2kπ, troughs at phase + (2k + 1)π.
+    let mut k = ((lo - phase) / std::f64::consts::PI).ceil();
+    loop {
+        let theta = phase + k * std::f64::consts::PI;
+        if theta >= hi {
+            break;
+        }
+        if theta > lo {
+            let extreme = if k.rem_euclid(2.0) == 0.0 { mean + amplitude } else { mean - amplitude };
+            min = min.min(extreme);
+            max = max.max(extreme);
+        }
+        k += 1.0;
+    }
+    (min, max)
 }

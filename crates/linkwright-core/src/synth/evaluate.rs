@@ -170,6 +170,19 @@ pub fn evaluate(
 
     let mut first_failure = None;
     for (_, angles) in &travels {
+        // A four-bar or slider-crank is judged on assembly and transmission in closed form first, so
+        // travels that lock up or transmit poorly are never simulated.
+        match plan.closed_form_travel(angles[0], angles[poses - 1]) {
+            Some(Err(_)) => {
+                first_failure.get_or_insert(Reject::Assembly);
+                continue;
+            }
+            Some(Ok(sine)) if sine < ctx.min_transmission.sin() => {
+                first_failure.get_or_insert(Reject::Transmission);
+                continue;
+            }
+            _ => {}
+        }
         match travel(ctx, &plan, angles, scratch) {
             Ok((trace, pose_rows)) => {
                 let (accuracy, smoothness) = simulated_terms(ctx, &trace, &pose_rows, &scratch.targets);
