@@ -287,7 +287,7 @@ impl Plan {
 /// peak or trough inside.
 fn sinusoid_range(mean: f64, amplitude: f64, phase: f64, lo: f64, hi: f64) -> (f64, f64) {
     let value = |theta: f64| mean + amplitude * (theta - phase).cos();
-    if !(hi - lo < 2.0 * std::f64::consts::TAU) {
+    if (hi - lo).is_nan() || hi - lo >= 2.0 * std::f64::consts::TAU {
         // A travel this long (or not a number) passes every value.
         return (mean - amplitude.abs(), mean + amplitude.abs());
     }
