@@ -320,7 +320,7 @@ fn describe(c: &crate::synth::Candidate) -> (MechanismJson, Motion, Metrics) {
         location: c.soft.location,
         size: c.soft.size,
         cost: c.cost,
-        min_transmission_deg: c.trace.min_transmission().to_degrees(),
+        min_transmission_deg: c.trace.min_transmission(&c.plan).to_degrees(),
     };
     (mechanism, motion, metrics)
 }

@@ -88,7 +88,7 @@ pub fn verify(problem: &Problem, design: &DesignFile) -> Vec<Violation> {
             return out;
         }
     }
-    let min_transmission = trace.min_transmission().to_degrees();
+    let min_transmission = trace.min_transmission(&plan).to_degrees();
     if min_transmission < problem.settings.min_transmission_deg - 1e-9 {
         fail(
             "transmission",

@@ -21,8 +21,6 @@ pub struct Trace {
     pub thetas: Vec<f64>,
     /// `thetas.len() × joint_count` positions, one row per angle.
     pub positions: Vec<Point>,
-    /// The sine of the smallest transmission margin of each row (see [`Plan::min_transmission_sine`]).
-    pub margin_sines: Vec<f64>,
     pub joint_count: usize,
 }
 
@@ -54,7 +52,6 @@ impl Trace {
         self.joint_count = joint_count;
         self.thetas.clear();
         self.positions.clear();
-        self.margin_sines.clear();
     }
 
     /// Solves the plan at `theta` and appends the configuration; on failure the trace is unchanged.
@@ -71,7 +68,6 @@ impl Trace {
             self.positions.truncate(start);
             return Err(SweepError { theta_deg: theta.to_degrees(), step, cause });
         }
-        self.margin_sines.push(plan.min_transmission_sine(&self.positions[start..]));
         self.thetas.push(theta);
         Ok(())
     }
@@ -80,7 +76,6 @@ impl Trace {
     pub fn extend_rows_of(&mut self, other: &Trace, rows: std::ops::Range<usize>) {
         let n = self.joint_count;
         self.positions.extend_from_slice(&other.positions[rows.start * n..rows.end * n]);
-        self.margin_sines.extend_from_slice(&other.margin_sines[rows.clone()]);
         self.thetas.extend_from_slice(&other.thetas[rows]);
     }
 
@@ -94,9 +89,11 @@ impl Trace {
     pub fn row(&self, s: usize) -> &[Point] {
         &self.positions[s * self.joint_count..(s + 1) * self.joint_count]
     }
-    /// The smallest transmission margin along the whole trace, radians.
-    pub fn min_transmission(&self) -> f64 {
-        self.margin_sines.iter().copied().fold(1.0, f64::min).asin()
+    /// The smallest transmission margin of `plan` (this trace's mechanism) along the whole trace,
+    /// radians. Computed on demand: the engine judges most travels without it (see
+    /// [`Plan::closed_form_travel`]).
+    pub fn min_transmission(&self, plan: &Plan) -> f64 {
+        (0..self.len()).map(|r| plan.min_transmission_sine(self.row(r))).fold(1.0, f64::min).asin()
     }
 }
 

@@ -246,6 +246,8 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
 
     // The travel: every grid row strictly between consecutive poses, and one exact row per pose.
     let mut trace = Trace::new(n);
+    trace.thetas.reserve(coarse.len() + poses);
+    trace.positions.reserve((coarse.len() + poses) * n);
     let mut pose_rows = Vec::with_capacity(poses);
     let mut grid = 0;
     for (i, &theta) in thetas.iter().enumerate() {
@@ -261,7 +263,13 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
         }
         trace.extend_rows_of(coarse, first..grid);
     }
-    if trace.min_transmission() < ctx.min_transmission {
+    // A four-bar or slider-crank has its transmission in closed form, over exactly this travel.
+    let least_sine = match plan.closed_form_travel(thetas[0], thetas[poses - 1]) {
+        Some(Ok(sine)) => sine,
+        Some(Err(_)) => return Err(Reject::Assembly),
+        None => (0..trace.len()).map(|r| plan.min_transmission_sine(trace.row(r))).fold(1.0, f64::min),
+    };
+    if least_sine < ctx.min_transmission.sin() {
         return Err(Reject::Transmission);
     }
     Ok((trace, pose_rows))
