@@ -30,7 +30,7 @@ pub enum CompileError {
 }
 
 /// A compiled mechanism: fixed joints, the crank, and the dyad steps in solving order.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
     joint_count: usize,
     fixed: Vec<(usize, Point)>,
@@ -131,6 +131,60 @@ impl Plan {
             }
         }
         Ok(Plan { joint_count: n, fixed, pivot, tip, crank_radius, steps })
+    }
+
+    /// This plan's solving order for another mechanism of the same topology: the order depends on the
+    /// topology alone, so only lengths, part frames and branches are read again (much cheaper than
+    /// [`Plan::compile`], which searches for the order).
+    pub fn redimension(&self, mechanism: &Mechanism) -> Result<Plan, CompileError> {
+        let pos = &mechanism.joints;
+        let name = |j: usize| mechanism.topology.joint_names[j].clone();
+        let apart = |a: usize, b: usize| {
+            if pos[a].distance(pos[b]) > 0.0 {
+                Ok(())
+            } else {
+                Err(CompileError::Coincident(name(a), name(b)))
+            }
+        };
+        let crank_radius = pos[self.pivot].distance(pos[self.tip]);
+        if crank_radius <= 0.0 {
+            return Err(CompileError::ZeroCrank);
+        }
+        let mut steps = Vec::with_capacity(self.steps.len());
+        for step in &self.steps {
+            steps.push(match *step {
+                Step::Dyad { joint, a, b, .. } => {
+                    apart(a, b)?;
+                    Step::Dyad {
+                        joint,
+                        a,
+                        ra: pos[a].distance(pos[joint]),
+                        b,
+                        rb: pos[b].distance(pos[joint]),
+                        branch: circle_circle_branch(pos[a], pos[b], pos[joint]),
+                    }
+                }
+                Step::Slider { joint, centre, .. } => {
+                    let line = mechanism.slider.ok_or_else(|| CompileError::NotDyadic(name(joint)))?;
+                    Step::Slider {
+                        joint,
+                        centre,
+                        r: pos[centre].distance(pos[joint]),
+                        origin: line.point,
+                        direction: line.direction,
+                        branch: circle_line_branch(pos[centre], line.point, line.direction, pos[joint]),
+                    }
+                }
+                Step::Attach { joint, a, b, .. } => {
+                    apart(a, b)?;
+                    let e = (pos[b] - pos[a]).normalized();
+                    let v = pos[joint] - pos[a];
+                    Step::Attach { joint, a, b, along: v.dot(e), across: e.cross(v) }
+                }
+            });
+        }
+        let fixed = self.fixed.iter().map(|&(j, _)| (j, pos[j])).collect();
+        Ok(Plan { joint_count: self.joint_count, fixed, pivot: self.pivot, tip: self.tip, crank_radius, steps })
     }
 
     pub fn joint_count(&self) -> usize {
@@ -308,4 +362,33 @@ fn sinusoid_range(mean: f64, amplitude: f64, phase: f64, lo: f64, hi: f64) -> (f
         k += 1.0;
     }
     (min, max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanism::{SliderLine, Topology};
+    use proptest::prelude::*;
+    use std::sync::Arc;
+
+    fn mechanism(topology: &Arc<Topology>, coords: &[f64], slider_angle: f64) -> Mechanism {
+        let joints: Vec<Point> =
+            coords.chunks(2).take(topology.joint_count()).map(|c| Point::new(c[0], c[1])).collect();
+        let slider =
+            topology.slider_joint.map(|j| SliderLine { point: joints[j], direction: Vec2::from_angle(slider_angle) });
+        Mechanism { topology: topology.clone(), joints, slider }
+    }
+
+    proptest! {
+        /// Redimensioning a plan compiled for one mechanism gives exactly the plan compiled afresh for
+        /// another of the same topology.
+        #[test]
+        fn redimension_equals_compile(k in 0usize..4, first in prop::collection::vec(-5.0..5.0f64, 20),
+                                      second in prop::collection::vec(-5.0..5.0f64, 20), angle in -3.2..3.2f64) {
+            let topology = Arc::new(if k == 0 { Topology::slider_crank() } else { Topology::chain(k) });
+            let template = Plan::compile(&mechanism(&topology, &first, 0.3)).expect("random joints are distinct");
+            let other = mechanism(&topology, &second, angle);
+            prop_assert_eq!(template.redimension(&other), Plan::compile(&other));
+        }
+    }
 }

@@ -9,8 +9,9 @@
 use super::context::{Context, CRANK_STEP, END_SEARCH};
 use crate::geom::Point;
 use crate::kinematics::{Branch, Plan, Trace};
-use crate::mechanism::Mechanism;
+use crate::mechanism::{Mechanism, Topology};
 use std::f64::consts::TAU;
+use std::sync::Arc;
 
 /// Why a candidate is rejected, cheapest check first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -92,6 +93,8 @@ pub struct Scratch {
     row: Vec<Point>,
     branches: Vec<Branch>,
     pub(crate) fit: super::rigidity::FitWorkspace,
+    /// The last plan compiled, and its topology: later mechanisms of that topology only redimension it.
+    template: Option<(Arc<Topology>, Plan)>,
 }
 
 /// The kinematic checks and the soft costs of one mechanism.
@@ -114,7 +117,14 @@ pub fn evaluate(
     if ctx.part_pairs.iter().any(|&(a, b)| joints[a].distance(joints[b]) < ctx.min_spacing) {
         return Err(Reject::JointsTooClose);
     }
-    let plan = Plan::compile(&mechanism).map_err(|_| Reject::JointsTooClose)?;
+    let plan = match &scratch.template {
+        Some((topology, template)) if Arc::ptr_eq(topology, &mechanism.topology) => template.redimension(&mechanism),
+        _ => Plan::compile(&mechanism),
+    }
+    .map_err(|_| Reject::JointsTooClose)?;
+    if scratch.template.as_ref().is_none_or(|(topology, _)| !Arc::ptr_eq(topology, &mechanism.topology)) {
+        scratch.template = Some((mechanism.topology.clone(), plan.clone()));
+    }
 
     // Where every joint should be at every pose: at the input poses, and in the sample's own fit.
     scratch.targets.clear();
