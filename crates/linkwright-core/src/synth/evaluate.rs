@@ -119,12 +119,11 @@ pub fn evaluate(
     }
     let plan = match &scratch.template {
         Some((topology, template)) if Arc::ptr_eq(topology, &mechanism.topology) => template.redimension(&mechanism),
-        _ => Plan::compile(&mechanism),
+        _ => Plan::compile(&mechanism).inspect(|plan| {
+            scratch.template = Some((mechanism.topology.clone(), plan.clone()));
+        }),
     }
     .map_err(|_| Reject::JointsTooClose)?;
-    if scratch.template.as_ref().is_none_or(|(topology, _)| !Arc::ptr_eq(topology, &mechanism.topology)) {
-        scratch.template = Some((mechanism.topology.clone(), plan.clone()));
-    }
 
     // Where every joint should be at every pose: at the input poses, and in the sample's own fit.
     scratch.targets.clear();
