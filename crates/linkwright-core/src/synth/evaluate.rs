@@ -408,13 +408,8 @@ mod tests {
     use super::*;
     use crate::geom::testing::assert_close;
     use crate::mechanism::MechanismType;
-    use crate::scene::{Problem, Scene};
     use crate::synth::sample::{SampleScratch, Sampler};
-
-    fn example(name: &str) -> Problem {
-        let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
-        Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
-    }
+    use crate::synth::testing::example;
 
     /// The bound that lets the sampler skip simulations is a true lower bound: no simulated candidate
     /// costs less than its static terms plus the floor under its simulated ones, and the floor is not

@@ -19,3 +19,15 @@ pub use pipeline::{
     families, synthesize, synthesize_with, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent, Stage,
     Start, WARM_SAMPLES,
 };
+
+/// Fixtures shared by the synthesis unit tests.
+#[cfg(test)]
+pub(crate) mod testing {
+    use crate::scene::{Problem, Scene};
+
+    /// A bundled example scene, as a problem.
+    pub fn example(name: &str) -> Problem {
+        let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
+        Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
+    }
+}

@@ -208,13 +208,8 @@ pub fn x_from_mechanism(m: &Mechanism, out: &mut Vec<f64>) {
 mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
-    use crate::scene::{Problem, Scene};
+    use crate::synth::testing::example;
     use crate::synth::{check_collisions, evaluate, Scratch};
-
-    fn example(name: &str) -> Problem {
-        let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
-        Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
-    }
 
     /// Constructive sampling against the fit from uniform starts: fitted, kinematically valid and
     /// collision-free samples, and the best costs. `cargo test --release -p linkwright-core
