@@ -276,7 +276,7 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
     let least_sine = match plan.closed_form_travel(thetas[0], thetas[poses - 1]) {
         Some(Ok(sine)) => sine,
         Some(Err(_)) => return Err(Reject::Assembly),
-        None => (0..trace.len()).map(|r| plan.min_transmission_sine(trace.row(r))).fold(1.0, f64::min),
+        None => trace.min_transmission_sine(plan),
     };
     if least_sine < ctx.min_transmission.sin() {
         return Err(Reject::Transmission);
