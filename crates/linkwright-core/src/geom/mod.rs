@@ -3,11 +3,13 @@
 //! Conventions: y points up, angles are radians counter-clockwise inside the library (degrees only in
 //! files), `Point - Point = Vec2` and there is no `Point + Point`.
 
+mod obstacle;
 mod polygon;
 mod rigid;
 mod vector;
 
-pub use polygon::{penetrates_unchecked, Aabb, Polygon, PolygonError};
+pub use obstacle::Obstacle;
+pub use polygon::{outline_distance, penetrates_unchecked, Aabb, Polygon, PolygonError};
 pub use rigid::Rigid;
 pub use vector::{orientation, Orientation, Point, Vec2};
 

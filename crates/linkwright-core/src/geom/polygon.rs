@@ -1,6 +1,6 @@
 //! Simple polygons: area, bounds, containment, distances and overlap.
 
-use super::{point_segment_distance, segments_cross, Point, Rigid};
+use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Point, Rigid, Vec2};
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,6 +50,12 @@ impl Aabb {
     }
     pub fn contains(&self, p: Point) -> bool {
         p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
+    }
+    /// The distance between the two boxes (0 when they overlap).
+    pub fn gap(&self, o: &Aabb) -> f64 {
+        let dx = (o.min.x - self.max.x).max(self.min.x - o.max.x).max(0.0);
+        let dy = (o.min.y - self.max.y).max(self.min.y - o.max.y).max(0.0);
+        Vec2::new(dx, dy).norm()
     }
 }
 
@@ -233,12 +239,41 @@ pub fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
     deep_in(a, b, &box_b) || deep_in(b, a, &box_a)
 }
 
+/// The least distance between the boundaries of two outlines (a two-point outline is a segment): the
+/// nearest pair of boundary points always includes a vertex of one of them, so it is the least
+/// distance between a vertex of one outline and an edge of the other. Edges whose box is farther from
+/// the other outline's box than the best distance so far are skipped.
+pub fn outline_distance(a: &[Point], b: &[Point]) -> f64 {
+    let mut best = f64::INFINITY;
+    for (p, q) in [(a, b), (b, a)] {
+        let Some(box_p) = Aabb::around(p.iter().copied()) else { continue };
+        let n = q.len();
+        let edges = if n == 2 { 1 } else { n };
+        for i in 0..edges {
+            let (q0, q1) = (q[i], q[(i + 1) % n]);
+            let edge = segment_box(q0, q1);
+            let gap = box_p.gap(&edge);
+            if gap * gap >= best {
+                continue;
+            }
+            for &v in p {
+                let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
+                let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
+                if dx * dx + dy * dy < best {
+                    best = best.min(point_segment_distance_sq(v, q0, q1));
+                }
+            }
+        }
+    }
+    best.sqrt()
+}
+
 /// The box of a segment.
-fn segment_box(p: Point, q: Point) -> Aabb {
+pub(super) fn segment_box(p: Point, q: Point) -> Aabb {
     Aabb { min: Point::new(p.x.min(q.x), p.y.min(q.y)), max: Point::new(p.x.max(q.x), p.y.max(q.y)) }
 }
 
-fn contains_deeply_raw(poly: &[Point], p: Point, tol: f64) -> bool {
+pub(super) fn contains_deeply_raw(poly: &[Point], p: Point, tol: f64) -> bool {
     contains_raw(poly, p) && boundary_distance_raw(poly, p) > tol
 }
 
@@ -247,15 +282,18 @@ pub(crate) fn contains_raw(poly: &[Point], p: Point) -> bool {
     let n = poly.len();
     let mut inside = false;
     for i in 0..n {
-        let (a, b) = (poly[i], poly[(i + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) {
-            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-            if p.x < x {
-                inside = !inside;
-            }
+        if crosses_ray(poly[i], poly[(i + 1) % n], p) {
+            inside = !inside;
         }
     }
     inside
+}
+
+/// Whether the even-odd test counts edge `a`–`b` for `p`: the edge spans p's height (half-open, so a
+/// vertex at that height counts once) and crosses it right of `p`. One expression for every caller,
+/// so that their answers agree to the last bit.
+pub(super) fn crosses_ray(a: Point, b: Point, p: Point) -> bool {
+    (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x)
 }
 
 fn boundary_distance_raw(poly: &[Point], p: Point) -> f64 {

@@ -14,7 +14,7 @@
 
 use super::context::Context;
 use super::evaluate::{Candidate, Reject, Scratch};
-use crate::geom::{penetrates_unchecked, point_segment_distance_sq, Aabb, Point, Rigid, Vec2};
+use crate::geom::{outline_distance, penetrates_unchecked, Aabb, Obstacle, Point, Rigid};
 use crate::kinematics::{BodyFrames, Plan};
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
@@ -138,6 +138,34 @@ struct Placed {
     links: Vec<[Point; 2]>,
 }
 
+/// What a mover must not penetrate: a fixed obstacle, prepared once, or another moving body's outline
+/// and box in the same configuration.
+enum Other<'a> {
+    Fixed(&'a Obstacle),
+    Moving(&'a [Point], Aabb),
+}
+
+impl Other<'_> {
+    fn bounds(&self) -> Aabb {
+        match self {
+            Other::Fixed(obstacle) => obstacle.bounds(),
+            Other::Moving(_, bb) => *bb,
+        }
+    }
+    fn penetrated_by(&self, mover: &[Point], tol: f64) -> bool {
+        match self {
+            Other::Fixed(obstacle) => obstacle.penetrated_by(mover),
+            Other::Moving(outline, _) => penetrates_unchecked(mover, outline, tol),
+        }
+    }
+    fn distance(&self, mover: &[Point]) -> f64 {
+        match self {
+            Other::Fixed(obstacle) => obstacle.boundary_distance(mover),
+            Other::Moving(outline, _) => outline_distance(mover, outline),
+        }
+    }
+}
+
 struct Sweep<'s, 'p> {
     ctx: &'s Context<'p>,
     frames: &'s BodyFrames,
@@ -167,34 +195,35 @@ impl Sweep<'_, '_> {
         out.links.extend(self.ctx.link_segments.iter().map(|&(a, b)| [row[a], row[b]]));
     }
 
-    /// The mover's and the obstacle's outlines and boxes in configuration `at`, and the verdict when
-    /// they meet.
-    fn shapes<'a>(&'a self, pair: Pair, at: &'a Placed) -> (&'a [Point], Aabb, &'a [Point], Aabb, Reject) {
-        let problem = self.ctx.problem;
+    /// The mover's outline and box in configuration `at`, what it must not penetrate, and the verdict
+    /// when it does.
+    fn shapes<'a>(&'a self, pair: Pair, at: &'a Placed) -> (&'a [Point], Aabb, Other<'a>, Reject) {
         match pair {
             Pair::LinkAvoid { link, avoid } => {
                 let segment = &at.links[link];
                 let bb = Aabb::around(segment.iter().copied()).expect("two points");
-                (segment, bb, problem.avoid[avoid].vertices(), self.ctx.avoid_boxes[avoid], Reject::AvoidRegion)
+                (segment, bb, Other::Fixed(&self.ctx.avoid_obstacles[avoid]), Reject::AvoidRegion)
             }
             Pair::BodyFixed { body, fixed } => (
                 &at.bodies[body],
                 at.body_boxes[body],
-                problem.fixed[fixed].vertices(),
-                self.ctx.fixed_boxes[fixed],
+                Other::Fixed(&self.ctx.fixed_obstacles[fixed]),
                 Reject::Collision,
             ),
-            Pair::BodyBody { body, other } => {
-                (&at.bodies[body], at.body_boxes[body], &at.bodies[other], at.body_boxes[other], Reject::Collision)
-            }
+            Pair::BodyBody { body, other } => (
+                &at.bodies[body],
+                at.body_boxes[body],
+                Other::Moving(&at.bodies[other], at.body_boxes[other]),
+                Reject::Collision,
+            ),
         }
     }
 
     /// Exact penetration test of one pair in one configuration.
     fn test(&self, pair: Pair, at: &Placed) -> Result<(), Reject> {
         let tol = self.ctx.contact_tolerance;
-        let (mover, mover_box, obstacle, obstacle_box, verdict) = self.shapes(pair, at);
-        if mover_box.overlaps(&obstacle_box, tol) && penetrates_unchecked(mover, obstacle, tol) {
+        let (mover, mover_box, other, verdict) = self.shapes(pair, at);
+        if mover_box.overlaps(&other.bounds(), tol) && other.penetrated_by(mover, tol) {
             return Err(verdict);
         }
         Ok(())
@@ -203,8 +232,8 @@ impl Sweep<'_, '_> {
     /// The distance between the pair's boundaries in a configuration where they do not penetrate
     /// (0 when they touch or overlap within the contact tolerance).
     fn distance(&self, pair: Pair, at: &Placed) -> f64 {
-        let (mover, _, obstacle, _, _) = self.shapes(pair, at);
-        boundary_distance(mover, obstacle)
+        let (mover, _, other, _) = self.shapes(pair, at);
+        other.distance(mover)
     }
 
     /// Proves the pair apart over the open interval between two tested configurations, bisecting
@@ -254,9 +283,9 @@ impl Sweep<'_, '_> {
         if moved <= tol {
             return true;
         }
-        let (_, box_a, _, obstacle_box_a, _) = self.shapes(pair, a.at);
-        let (_, box_b, _, obstacle_box_b, _) = self.shapes(pair, b.at);
-        if box_gap(&box_a.union(&box_b), &obstacle_box_a.union(&obstacle_box_b)) > ARC_MARGIN * wander {
+        let (_, box_a, other_a, _) = self.shapes(pair, a.at);
+        let (_, box_b, other_b, _) = self.shapes(pair, b.at);
+        if box_a.union(&box_b).gap(&other_a.bounds().union(&other_b.bounds())) > ARC_MARGIN * wander {
             return true;
         }
         a.distance + b.distance >= ARC_MARGIN * moved - 2.0 * tol
@@ -280,43 +309,4 @@ impl Sweep<'_, '_> {
 /// The farthest any vertex moved between two placements of one outline.
 fn largest_motion(a: &[Point], b: &[Point]) -> f64 {
     a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f64::max)
-}
-
-/// The gap between two boxes (0 when they overlap).
-fn box_gap(a: &Aabb, b: &Aabb) -> f64 {
-    let dx = (b.min.x - a.max.x).max(a.min.x - b.max.x).max(0.0);
-    let dy = (b.min.y - a.max.y).max(a.min.y - b.max.y).max(0.0);
-    Vec2::new(dx, dy).norm()
-}
-
-/// The least distance between the boundaries of two outlines (a two-point outline is a segment): the
-/// nearest pair of boundary points always includes a vertex of one of them, so it is the least
-/// distance between a vertex of one outline and an edge of the other. Edges whose box is farther from
-/// the other outline's box than the best distance so far are skipped.
-fn boundary_distance(a: &[Point], b: &[Point]) -> f64 {
-    let mut best = f64::INFINITY;
-    for (p, q) in [(a, b), (b, a)] {
-        let Some(box_p) = Aabb::around(p.iter().copied()) else { continue };
-        let n = q.len();
-        let edges = if n == 2 { 1 } else { n };
-        for i in 0..edges {
-            let (q0, q1) = (q[i], q[(i + 1) % n]);
-            let edge = Aabb {
-                min: Point::new(q0.x.min(q1.x), q0.y.min(q1.y)),
-                max: Point::new(q0.x.max(q1.x), q0.y.max(q1.y)),
-            };
-            let gap = box_gap(&box_p, &edge);
-            if gap * gap >= best {
-                continue;
-            }
-            for &v in p {
-                let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
-                let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
-                if dx * dx + dy * dy < best {
-                    best = best.min(point_segment_distance_sq(v, q0, q1));
-                }
-            }
-        }
-    }
-    best.sqrt()
 }

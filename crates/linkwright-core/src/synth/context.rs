@@ -1,7 +1,7 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
 use super::rigidity::RigidityModel;
-use crate::geom::{Aabb, Point, Rigid};
+use crate::geom::{Obstacle, Point, Polygon, Rigid};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
 use std::sync::Arc;
@@ -48,8 +48,9 @@ pub struct Context<'a> {
     pub min_transmission: f64,
     /// Penetration below this depth is contact, not collision (a length).
     pub contact_tolerance: f64,
-    pub fixed_boxes: Vec<Aabb>,
-    pub avoid_boxes: Vec<Aabb>,
+    /// The fixed bodies and the avoid regions, prepared for the tests of moving outlines against them.
+    pub fixed_obstacles: Vec<Obstacle>,
+    pub avoid_obstacles: Vec<Obstacle>,
     /// The rigidity energy of this topology (paper eq. 3–5).
     pub rigidity: RigidityModel,
     /// `pose_tolerance` is 0: every pose must be hit exactly, so no pose is perturbed, only exact fits
@@ -97,6 +98,10 @@ impl<'a> Context<'a> {
             })
             .collect();
         let body_size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+        let contact_tolerance = problem.contact_tolerance();
+        let obstacles = |polygons: &[Polygon]| -> Vec<Obstacle> {
+            polygons.iter().map(|p| Obstacle::new(p.vertices(), contact_tolerance)).collect()
+        };
         Context {
             problem,
             carriers,
@@ -114,9 +119,9 @@ impl<'a> Context<'a> {
             body_size,
             min_spacing: MIN_JOINT_SPACING * body_size,
             min_transmission: problem.settings.min_transmission_deg.to_radians(),
-            contact_tolerance: problem.contact_tolerance(),
-            fixed_boxes: problem.fixed.iter().map(|p| p.aabb()).collect(),
-            avoid_boxes: problem.avoid.iter().map(|p| p.aabb()).collect(),
+            contact_tolerance,
+            fixed_obstacles: obstacles(&problem.fixed),
+            avoid_obstacles: obstacles(&problem.avoid),
             rigidity: RigidityModel::new(&topology),
             exact: problem.settings.pose_tolerance == 0.0,
             topology,

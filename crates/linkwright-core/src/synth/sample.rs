@@ -153,15 +153,11 @@ impl<'c, 'p> Sampler<'c, 'p> {
     /// True when body `b` at `pose` penetrates neither a fixed body nor a body placed before it at
     /// this pose (bodies `0..b`, whose outlines `scratch` holds). Leaves `b`'s outline in `scratch`.
     fn free_at(&self, b: usize, pose: &Rigid, scratch: &mut SampleScratch) -> bool {
-        let problem = self.ctx.problem;
         let tol = self.ctx.contact_tolerance;
         self.place(b, pose, scratch);
         let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
-        let hits_fixed = problem
-            .fixed
-            .iter()
-            .zip(&self.ctx.fixed_boxes)
-            .any(|(f, fb)| bb.overlaps(fb, tol) && penetrates_unchecked(outline, f.vertices(), tol));
+        let hits_fixed =
+            self.ctx.fixed_obstacles.iter().any(|f| bb.overlaps(&f.bounds(), tol) && f.penetrated_by(outline));
         if hits_fixed {
             return false;
         }
