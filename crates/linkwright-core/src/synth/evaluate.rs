@@ -237,9 +237,15 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
     scratch.row.resize(n, Point::ORIGIN);
     let mut thetas = vec![start];
     for i in 1..poses {
-        let best = (0..coarse.len())
-            .min_by(|&a, &b| error(coarse.row(a), i).total_cmp(&error(coarse.row(b), i)))
-            .expect("a sweep has rows");
+        // The first row of least error, each row's error computed once.
+        let mut best = (0, error(coarse.row(0), i));
+        for r in 1..coarse.len() {
+            let e = error(coarse.row(r), i);
+            if e.total_cmp(&best.1).is_lt() {
+                best = (r, e);
+            }
+        }
+        let best = best.0;
         let lo = coarse.thetas[best.saturating_sub(1)];
         let hi = coarse.thetas[(best + 1).min(coarse.len() - 1)];
         let row = &mut scratch.row;
