@@ -41,8 +41,8 @@ impl Default for FilterOptions {
     }
 }
 
-/// Relative weight below which a proposal is never worth checking for collisions (it would be drawn
-/// with a probability under one in a million against the best particle).
+/// Relative weight below which a proposal is not worth simulating (it would be drawn with a probability
+/// under one in a million against the best particle).
 const NEGLIGIBLE_WEIGHT: f64 = 1e-6;
 
 /// Runs the filter from the valid candidates `initial` (non-empty). Returns every valid candidate it
@@ -59,17 +59,17 @@ pub fn refine(
     let max_cost = initial.iter().map(|c| c.cost).fold(f64::MIN_POSITIVE, f64::max);
     let weight = |c: &Candidate| (-options.lambda * c.cost / max_cost).exp();
     let mut resample_rng = rng(seed, Stream::Resample { family }, 0);
-    let mut particles = resample(initial, options.particles, &weight, &mut resample_rng);
+    let mut particles = Pool::new(ctx, initial, initial.len()).resample(options.particles, &weight, &mut resample_rng);
     let mut produced = Vec::new();
     for iteration in 0..options.iterations {
         let t = if options.iterations > 1 { iteration as f64 / (options.iterations - 1) as f64 } else { 0.0 };
         let sigma = options.sigma_start * (options.sigma_end / options.sigma_start).powf(t);
         let slider_sigma = options.slider_sigma * (options.sigma_end / options.sigma_start).powf(t);
         // A proposal whose weight would be below NEGLIGIBLE_WEIGHT of the best particle's can never be
-        // drawn: it is dropped before the collision sweep, the costliest check.
+        // drawn: it is not simulated past that bound.
         let best = particles.iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);
         let hopeless = best - NEGLIGIBLE_WEIGHT.ln() * max_cost / options.lambda;
-        let fresh: Vec<Candidate> = particles
+        let proposals: Vec<Candidate> = particles
             .par_iter()
             .enumerate()
             .map_init(Scratch::default, |scratch, (k, particle)| {
@@ -91,18 +91,16 @@ pub fn refine(
                     }
                 }
                 let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, hopeless, scratch).ok()?;
-                if candidate.cost > hopeless {
-                    return None;
-                }
-                check_collisions(ctx, &candidate, scratch).ok()?;
-                Some(candidate)
+                (candidate.cost <= hopeless).then_some(candidate)
             })
             .flatten()
             .collect();
-        let pool: Vec<Candidate> = particles.into_iter().chain(fresh.iter().cloned()).collect();
-        produced.extend(fresh);
-        particles = resample(&pool, options.particles, &weight, &mut resample_rng);
-        let best = pool.iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);
+        let kept = particles.len();
+        let candidates: Vec<Candidate> = particles.into_iter().chain(proposals).collect();
+        let mut pool = Pool::new(ctx, &candidates, kept);
+        particles = pool.resample(options.particles, &weight, &mut resample_rng);
+        produced.extend(pool.valid_proposals());
+        let best = particles[0].cost;
         if !on_iteration(iteration + 1, best) {
             break;
         }
@@ -110,34 +108,170 @@ pub fn refine(
     produced
 }
 
-/// Draws `count` candidates with replacement, each with probability proportional to its weight; the
-/// best candidate is always kept so the filter never loses ground.
-fn resample(
-    pool: &[Candidate],
-    count: usize,
-    weight: &impl Fn(&Candidate) -> f64,
-    r: &mut rand_xoshiro::Xoshiro256PlusPlus,
-) -> Vec<Candidate> {
-    let weights: Vec<f64> = pool.iter().map(weight).collect();
-    let total: f64 = weights.iter().sum();
-    let best = (0..pool.len()).min_by(|&a, &b| pool[a].cost.total_cmp(&pool[b].cost)).expect("a non-empty pool");
-    let mut out = vec![pool[best].clone()];
-    while out.len() < count {
-        let pick = if total > 0.0 && total.is_finite() {
-            let mut u = r.random_range(0.0..total);
-            let mut chosen = pool.len() - 1;
-            for (i, w) in weights.iter().enumerate() {
-                if u < *w {
-                    chosen = i;
-                    break;
-                }
-                u -= w;
-            }
-            chosen
-        } else {
-            r.random_range(0..pool.len())
-        };
-        out.push(pool[pick].clone());
+/// The particles and the proposals of one iteration. A proposal passed every check but the collision
+/// sweep, the costliest, which it meets only when the resampling draws it: a proposal that collides is
+/// then removed and the draw repeated. Each draw therefore picks among the valid candidates with
+/// probability proportional to weight, as if all had been swept, while most proposals, which are too
+/// costly to be drawn, are never swept.
+struct Pool<'a, 'p> {
+    ctx: &'a Context<'p>,
+    /// The particles (valid), then the proposals.
+    candidates: &'a [Candidate],
+    /// Per candidate: valid, colliding, or not swept yet.
+    valid: Vec<Option<bool>>,
+    /// Per candidate: the resampling asked whether it is valid. Unlike `valid`, this does not depend
+    /// on how many candidates were swept ahead, so neither does anything read from it.
+    asked: Vec<bool>,
+    first_proposal: usize,
+}
+
+impl<'a, 'p> Pool<'a, 'p> {
+    /// `candidates`: the first `particles` are valid, the rest proposals not swept yet.
+    fn new(ctx: &'a Context<'p>, candidates: &'a [Candidate], particles: usize) -> Self {
+        let mut valid = vec![Some(true); particles];
+        valid.resize(candidates.len(), None);
+        Pool { ctx, candidates, valid, asked: vec![false; candidates.len()], first_proposal: particles }
     }
-    out
+
+    /// Whether candidate `i` is valid. When it has not been swept, it is swept together with the
+    /// unswept candidates most likely to be drawn next (by `weights`), one per worker thread: which
+    /// ones are swept ahead changes no result, only how much work the threads share.
+    fn is_valid(&mut self, i: usize, weights: &[f64]) -> bool {
+        self.asked[i] = true;
+        if let Some(valid) = self.valid[i] {
+            return valid;
+        }
+        let mut ahead: Vec<usize> = (0..self.candidates.len()).filter(|&k| k != i && self.valid[k].is_none()).collect();
+        ahead.sort_by(|&a, &b| weights[b].total_cmp(&weights[a]).then(a.cmp(&b)));
+        ahead.truncate(rayon::current_num_threads().saturating_sub(1));
+        ahead.push(i);
+        let (ctx, candidates) = (self.ctx, self.candidates);
+        let swept: Vec<bool> = ahead
+            .par_iter()
+            .map_init(Scratch::default, |scratch, &k| check_collisions(ctx, &candidates[k], scratch).is_ok())
+            .collect();
+        for (&k, valid) in ahead.iter().zip(swept) {
+            self.valid[k] = Some(valid);
+        }
+        self.valid[i] == Some(true)
+    }
+
+    /// Draws `count` valid candidates with replacement, each with probability proportional to its
+    /// weight; the best valid candidate is always kept so the filter never loses ground.
+    fn resample(
+        &mut self,
+        count: usize,
+        weight: &impl Fn(&Candidate) -> f64,
+        r: &mut rand_xoshiro::Xoshiro256PlusPlus,
+    ) -> Vec<Candidate> {
+        let mut weights: Vec<f64> = self.candidates.iter().map(weight).collect();
+        let mut by_cost: Vec<usize> = (0..self.candidates.len()).collect();
+        by_cost.sort_by(|&a, &b| self.candidates[a].cost.total_cmp(&self.candidates[b].cost));
+        // The particles are valid, so the search ends at the latest at the best of them.
+        let best = by_cost.into_iter().find(|&i| self.is_valid(i, &weights)).expect("the particles are valid");
+        let mut out = vec![self.candidates[best].clone()];
+        while out.len() < count {
+            let total: f64 = weights.iter().sum();
+            let pick = if total > 0.0 && total.is_finite() {
+                let mut u = r.random_range(0.0..total);
+                // Rounding can carry `u` past the last weight: the last candidate that can be drawn.
+                let mut chosen = weights.iter().rposition(|&w| w > 0.0).expect("a positive total");
+                for (i, w) in weights.iter().enumerate() {
+                    if u < *w {
+                        chosen = i;
+                        break;
+                    }
+                    u -= w;
+                }
+                chosen
+            } else {
+                let drawable: Vec<usize> =
+                    (0..weights.len()).filter(|&i| !(self.asked[i] && self.valid[i] == Some(false))).collect();
+                drawable[r.random_range(0..drawable.len())]
+            };
+            if self.is_valid(pick, &weights) {
+                out.push(self.candidates[pick].clone());
+            } else {
+                weights[pick] = 0.0;
+            }
+        }
+        out
+    }
+
+    /// The proposals the resampling found valid.
+    fn valid_proposals(&self) -> impl Iterator<Item = Candidate> + '_ {
+        let asked = (self.first_proposal..self.candidates.len()).filter(|&i| self.asked[i]);
+        asked.filter(|&i| self.valid[i] == Some(true)).map(|i| self.candidates[i].clone())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanism::MechanismType;
+    use crate::synth::sample::{SampleScratch, Sampler};
+    use crate::synth::testing::example;
+
+    /// Defect-free candidates of the sofa bed, the valid ones first: (candidates, how many are valid).
+    fn sofa_candidates(ctx: &Context) -> (Vec<Candidate>, usize) {
+        let sampler = Sampler::new(ctx, 0);
+        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
+        let (mut valid, mut colliding) = (Vec::new(), Vec::new());
+        for i in 0..20_000 {
+            let Some(m) = sampler.sample(3, i, None, &mut sample_scratch) else { continue };
+            let Ok(c) = evaluate(ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else { continue };
+            match check_collisions(ctx, &c, &mut scratch) {
+                Ok(()) if valid.len() < 12 => valid.push(c),
+                Err(_) if colliding.len() < 12 => colliding.push(c),
+                _ => {}
+            }
+            if valid.len() == 12 && colliding.len() == 12 {
+                break;
+            }
+        }
+        assert!(valid.len() == 12 && colliding.len() == 12, "{} valid, {} colliding", valid.len(), colliding.len());
+        let count = valid.len();
+        (valid.into_iter().chain(colliding).collect(), count)
+    }
+
+    /// The lazy resampling draws only valid candidates, keeps the cheapest valid one first, draws each
+    /// valid candidate as often as its weight says (as if every proposal had been swept), and never
+    /// sweeps proposals too light to be drawn.
+    #[test]
+    fn resampling_draws_valid_candidates_by_weight() {
+        let problem = example("k1_sofa_bed");
+        let ctx = Context::new(&problem, MechanismType::SliderCrank);
+        let (mut candidates, valid) = sofa_candidates(&ctx);
+        // Two valid particles; the proposals are the other valid candidates and the colliding ones, so
+        // that the cheapest proposals may collide.
+        let particles = 2;
+        let cheapest_valid = candidates[..valid].iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);
+        candidates[particles..].sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        let is_valid = |c: &Candidate| check_collisions(&ctx, c, &mut Scratch::default()).is_ok();
+
+        // Equal weights: each valid candidate drawn about equally often, no colliding one ever.
+        let mut pool = Pool::new(&ctx, &candidates, particles);
+        let mut r = rng(1, Stream::Resample { family: 0 }, 0);
+        let drawn = pool.resample(24_000, &|_: &Candidate| 1.0, &mut r);
+        assert_eq!(drawn[0].cost, cheapest_valid);
+        assert!(drawn.iter().all(is_valid));
+        for c in &candidates[..] {
+            let times = drawn.iter().filter(|d| d.cost == c.cost).count();
+            if is_valid(c) {
+                assert!((1_600..2_400).contains(&times), "a valid candidate drawn {times} times of 24,000");
+            } else {
+                assert_eq!(times, 0);
+            }
+        }
+
+        // Steep weights: the heaviest proposals are swept, the lightest never are.
+        let lightest = candidates.iter().map(|c| c.cost).fold(0.0, f64::max);
+        let steep = |c: &Candidate| (-200.0 * c.cost / lightest).exp();
+        let mut pool = Pool::new(&ctx, &candidates, particles);
+        let drawn = pool.resample(100, &steep, &mut r);
+        assert!(drawn.iter().all(is_valid));
+        assert!(pool.valid.iter().any(Option::is_none), "every proposal was swept");
+        let swept_valid: Vec<Candidate> = pool.valid_proposals().collect();
+        assert!(swept_valid.iter().all(is_valid));
+    }
 }
