@@ -249,19 +249,20 @@ mod tests {
         candidates[particles..].sort_by(|a, b| a.cost.total_cmp(&b.cost));
         let is_valid = |c: &Candidate| check_collisions(&ctx, c, &mut Scratch::default()).is_ok();
 
-        // Equal weights: each valid candidate drawn about equally often, no colliding one ever.
+        // Weights proportional to cost (any positive weights will do): each valid candidate drawn in
+        // proportion to its weight among the valid ones, no colliding one ever.
+        let by_cost = |c: &Candidate| c.cost;
         let mut pool = Pool::new(&ctx, &candidates, particles);
         let mut r = rng(1, Stream::Resample { family: 0 }, 0);
-        let drawn = pool.resample(24_000, &|_: &Candidate| 1.0, &mut r);
+        let draws = 24_000;
+        let drawn = pool.resample(draws + 1, &by_cost, &mut r);
         assert_eq!(drawn[0].cost, cheapest_valid);
         assert!(drawn.iter().all(is_valid));
-        for c in &candidates[..] {
-            let times = drawn.iter().filter(|d| d.cost == c.cost).count();
-            if is_valid(c) {
-                assert!((1_600..2_400).contains(&times), "a valid candidate drawn {times} times of 24,000");
-            } else {
-                assert_eq!(times, 0);
-            }
+        let valid_weight: f64 = candidates.iter().filter(|c| is_valid(c)).map(by_cost).sum();
+        for c in &candidates {
+            let times = drawn[1..].iter().filter(|d| d.cost == c.cost).count() as f64;
+            let expected = if is_valid(c) { draws as f64 * c.cost / valid_weight } else { 0.0 };
+            assert!((times - expected).abs() <= 0.15 * expected, "drawn {times} times, expected {expected:.0}");
         }
 
         // Steep weights: the heaviest proposals are swept, the lightest never are.
