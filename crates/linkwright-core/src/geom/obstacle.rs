@@ -17,7 +17,7 @@
 //! Exactness rests on margins, a slack of 1e-9 of the obstacle's coordinates, far above the rounding of
 //! these computations: a list holds every edge within its reach, and a little more.
 
-use super::polygon::{contains_deeply_raw, contains_raw, crosses_ray, segment_box};
+use super::polygon::{closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
 use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Aabb, Point, Vec2};
 use std::ops::Range;
 
@@ -191,7 +191,7 @@ impl Obstacle {
             self.vertices_to_edge(mover[i], mover[(i + 1) % n], &mut best);
         }
         // Beyond the lists' reach (then every vertex is), the mover's vertices against all the edges.
-        if best > sq(self.listed_within) {
+        if best > self.listed_within * self.listed_within {
             for &v in mover {
                 self.vertex_to_edges(v, obstacle_edges, &mut best);
             }
@@ -281,7 +281,7 @@ impl Obstacle {
     /// `a0`–`a1`, among the vertices nearer than the best so far to the segment's box.
     fn vertices_to_edge(&self, a0: Point, a1: Point, best: &mut f64) {
         let edge_a = segment_box(a0, a1);
-        if gap_sq(&edge_a, &self.bounds) >= *best {
+        if edge_a.gap_sq(&self.bounds) >= *best {
             return;
         }
         let r = Vec2::new(1.0, 1.0) * (best.sqrt() + self.grid.slack);
@@ -298,38 +298,17 @@ impl Obstacle {
     /// chains nearer than the best so far.
     fn vertex_to_edges(&self, v: Point, count: usize, best: &mut f64) {
         let point = Aabb { min: v, max: v };
-        if gap_sq(&point, &self.bounds) >= *best {
+        if point.gap_sq(&self.bounds) >= *best {
             return;
         }
         for (chain_box, chain) in &self.chains {
-            if gap_sq(&point, chain_box) < *best {
+            if point.gap_sq(chain_box) < *best {
                 for j in chain.start..chain.end.min(count) {
                     closer(best, v, self.edges[j], &self.edge_boxes[j]);
                 }
             }
         }
     }
-}
-
-/// Lowers `best` (squared) to the distance between `v` and the edge `e0`–`e1` whose box is `edge`,
-/// unless the box is already as far, as [`outline_distance`](super::outline_distance) does.
-fn closer(best: &mut f64, v: Point, (e0, e1): (Point, Point), edge: &Aabb) {
-    let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
-    let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
-    if dx * dx + dy * dy < *best {
-        *best = best.min(point_segment_distance_sq(v, e0, e1));
-    }
-}
-
-/// The squared distance between two boxes (0 when they overlap).
-fn gap_sq(a: &Aabb, b: &Aabb) -> f64 {
-    let dx = (b.min.x - a.max.x).max(a.min.x - b.max.x).max(0.0);
-    let dy = (b.min.y - a.max.y).max(a.min.y - b.max.y).max(0.0);
-    dx * dx + dy * dy
-}
-
-fn sq(x: f64) -> f64 {
-    x * x
 }
 
 /// A uniform grid of square cells, row after row.

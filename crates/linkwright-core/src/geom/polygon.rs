@@ -1,6 +1,6 @@
 //! Simple polygons: area, bounds, containment, distances and overlap.
 
-use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Point, Rigid, Vec2};
+use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Point, Rigid};
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,9 +53,13 @@ impl Aabb {
     }
     /// The distance between the two boxes (0 when they overlap).
     pub fn gap(&self, o: &Aabb) -> f64 {
+        self.gap_sq(o).sqrt()
+    }
+    /// The squared [`Aabb::gap`].
+    pub fn gap_sq(&self, o: &Aabb) -> f64 {
         let dx = (o.min.x - self.max.x).max(self.min.x - o.max.x).max(0.0);
         let dy = (o.min.y - self.max.y).max(self.min.y - o.max.y).max(0.0);
-        Vec2::new(dx, dy).norm()
+        dx * dx + dy * dy
     }
 }
 
@@ -257,15 +261,22 @@ pub fn outline_distance(a: &[Point], b: &[Point]) -> f64 {
                 continue;
             }
             for &v in p {
-                let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
-                let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
-                if dx * dx + dy * dy < best {
-                    best = best.min(point_segment_distance_sq(v, q0, q1));
-                }
+                closer(&mut best, v, (q0, q1), &edge);
             }
         }
     }
     best.sqrt()
+}
+
+/// Lowers `best` (squared) to the distance between `v` and the edge `e0`–`e1` whose box is `edge`,
+/// unless the box is already as far. One expression for the brute force and the obstacle index, so
+/// that their distances agree.
+pub(super) fn closer(best: &mut f64, v: Point, (e0, e1): (Point, Point), edge: &Aabb) {
+    let dx = (edge.min.x - v.x).max(v.x - edge.max.x).max(0.0);
+    let dy = (edge.min.y - v.y).max(v.y - edge.max.y).max(0.0);
+    if dx * dx + dy * dy < *best {
+        *best = best.min(point_segment_distance_sq(v, e0, e1));
+    }
 }
 
 /// The box of a segment.
