@@ -97,7 +97,8 @@ pub struct Scratch {
     template: Option<(Arc<Topology>, Plan)>,
 }
 
-/// The kinematic checks and the soft costs of one mechanism.
+/// The kinematic checks and the soft costs of one mechanism; [`Reject::Outclassed`] when its cost is
+/// bounded from below by more than `cost_bound` before any simulation.
 ///
 /// `fitted` holds the (perturbed) motions a sample was fitted to: the cheap branch and order checks
 /// read the sample's own configurations there, as the paper does, because a near-singular dyad may
@@ -111,19 +112,61 @@ pub fn evaluate(
     cost_bound: f64,
     scratch: &mut Scratch,
 ) -> Result<Candidate, Reject> {
+    let (plan, screening) = screen(ctx, &mechanism, fitted, scratch)?;
+    if screening.floor > cost_bound {
+        return Err(Reject::Outclassed);
+    }
+    simulate(ctx, mechanism, plan, screening, scratch)
+}
+
+/// What the checks before any simulation found of a mechanism that passed them.
+struct Screening {
+    /// The crank's nominal angle at each pose, for each direction it may turn (shortest travel
+    /// first), one pose count after another.
+    travels: Vec<f64>,
+    location: f64,
+    size: f64,
+    /// A floor under the cost [`evaluate`] would give.
+    floor: f64,
+}
+
+/// A floor under the cost [`evaluate`] would give `mechanism`, from the checks that need no
+/// simulation, or the reject one of those checks gives (`evaluate` gives the same reject).
+pub fn cost_floor(
+    ctx: &Context,
+    mechanism: &Mechanism,
+    fitted: Option<&[Vec<crate::geom::Rigid>]>,
+    scratch: &mut Scratch,
+) -> Result<f64, Reject> {
+    screen(ctx, mechanism, fitted, scratch).map(|(_, screening)| screening.floor)
+}
+
+/// The mechanism's kinematic plan: the last one compiled for its topology, redimensioned.
+fn plan_of(mechanism: &Mechanism, scratch: &mut Scratch) -> Result<Plan, Reject> {
+    match &scratch.template {
+        Some((topology, template)) if Arc::ptr_eq(topology, &mechanism.topology) => template.redimension(mechanism),
+        _ => Plan::compile(mechanism).inspect(|plan| {
+            scratch.template = Some((mechanism.topology.clone(), plan.clone()));
+        }),
+    }
+    .map_err(|_| Reject::JointsTooClose)
+}
+
+/// Spacing, branch and order checks, then the terms that need no simulation and a floor under the
+/// cost. Leaves the input-pose targets in `scratch.targets`.
+fn screen(
+    ctx: &Context,
+    mechanism: &Mechanism,
+    fitted: Option<&[Vec<crate::geom::Rigid>]>,
+    scratch: &mut Scratch,
+) -> Result<(Plan, Screening), Reject> {
     let n = ctx.topology.joint_count();
     let poses = ctx.problem.pose_count;
     let joints = &mechanism.joints;
     if ctx.part_pairs.iter().any(|&(a, b)| joints[a].distance(joints[b]) < ctx.min_spacing) {
         return Err(Reject::JointsTooClose);
     }
-    let plan = match &scratch.template {
-        Some((topology, template)) if Arc::ptr_eq(topology, &mechanism.topology) => template.redimension(&mechanism),
-        _ => Plan::compile(&mechanism).inspect(|plan| {
-            scratch.template = Some((mechanism.topology.clone(), plan.clone()));
-        }),
-    }
-    .map_err(|_| Reject::JointsTooClose)?;
+    let plan = plan_of(mechanism, scratch)?;
 
     // Where every joint should be at every pose: at the input poses, and in the sample's own fit.
     scratch.targets.clear();
@@ -169,16 +212,29 @@ pub fn evaluate(
         return Err(Reject::Order);
     }
     travels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let travels = travels.into_iter().flat_map(|(_, angles)| angles).collect();
 
     // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
-    let (location, size) = static_terms(ctx, &mechanism);
+    let (location, size) = static_terms(ctx, mechanism);
     let w = &ctx.problem.weights;
-    if w.location * location + w.size * size + simulated_floor(ctx, &mechanism, &scratch.targets) > cost_bound {
-        return Err(Reject::Outclassed);
-    }
+    let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, &scratch.targets);
+    Ok((plan, Screening { travels, location, size, floor }))
+}
 
+/// Simulates a screened mechanism's travels, shortest first, and returns the first that passes every
+/// kinematic check, with its costs.
+fn simulate(
+    ctx: &Context,
+    mechanism: Mechanism,
+    plan: Plan,
+    screening: Screening,
+    scratch: &mut Scratch,
+) -> Result<Candidate, Reject> {
+    let Screening { travels, location, size, .. } = screening;
+    let poses = ctx.problem.pose_count;
+    let w = &ctx.problem.weights;
     let mut first_failure = None;
-    for (_, angles) in &travels {
+    for angles in travels.chunks_exact(poses) {
         // A four-bar or slider-crank is judged on assembly and transmission in closed form first, so
         // travels that lock up or transmit poorly are never simulated.
         match plan.closed_form_travel(angles[0], angles[poses - 1]) {
