@@ -411,6 +411,7 @@ fn screen_samples(
 ///
 /// Each sample is drawn again rather than kept from the screening: keeping every screened mechanism
 /// cost more (sofa bed +30 ms) than redrawing the few simulated.
+#[allow(clippy::too_many_arguments)]
 fn simulate_cheapest(
     ctx: &Context,
     floors: &[(f64, usize)],
