@@ -121,9 +121,11 @@ pub fn evaluate(
 
 /// What the checks before any simulation found of a mechanism that passed them.
 struct Screening {
-    /// The crank's nominal angle at each pose, for each direction it may turn (shortest travel
-    /// first), one pose count after another.
+    /// The crank's nominal angle at each pose, for each direction it may turn that the closed form
+    /// does not rule out (shortest travel first), one pose count after another.
     travels: Vec<f64>,
+    /// Why the first direction ruled out was, if one was.
+    first_failure: Option<Reject>,
     location: f64,
     size: f64,
     /// A floor under the cost [`evaluate`] would give.
@@ -152,8 +154,8 @@ fn plan_of(mechanism: &Mechanism, scratch: &mut Scratch) -> Result<Plan, Reject>
     .map_err(|_| Reject::JointsTooClose)
 }
 
-/// Spacing, branch and order checks, then the terms that need no simulation and a floor under the
-/// cost. Leaves the input-pose targets in `scratch.targets`.
+/// Spacing, branch, order, and closed-form assembly and transmission checks, then the terms that need
+/// no simulation and a floor under the cost. Leaves the input-pose targets in `scratch.targets`.
 fn screen(
     ctx: &Context,
     mechanism: &Mechanism,
@@ -212,13 +214,31 @@ fn screen(
         return Err(Reject::Order);
     }
     travels.sort_by(|a, b| a.0.total_cmp(&b.0));
+
+    // A four-bar or slider-crank is judged on assembly and transmission in closed form, so travels
+    // that lock up or transmit poorly are never simulated.
+    let mut first_failure = None;
+    travels.retain(|(_, angles)| match plan.closed_form_travel(angles[0], angles[poses - 1]) {
+        Some(Err(_)) => {
+            first_failure.get_or_insert(Reject::Assembly);
+            false
+        }
+        Some(Ok(sine)) if sine < ctx.min_transmission.sin() => {
+            first_failure.get_or_insert(Reject::Transmission);
+            false
+        }
+        _ => true,
+    });
+    if travels.is_empty() {
+        return Err(first_failure.unwrap_or(Reject::Assembly));
+    }
     let travels = travels.into_iter().flat_map(|(_, angles)| angles).collect();
 
     // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
     let (location, size) = static_terms(ctx, mechanism);
     let w = &ctx.problem.weights;
     let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, &scratch.targets);
-    Ok((plan, Screening { travels, location, size, floor }))
+    Ok((plan, Screening { travels, first_failure, location, size, floor }))
 }
 
 /// Simulates a screened mechanism's travels, shortest first, and returns the first that passes every
@@ -230,24 +250,10 @@ fn simulate(
     screening: Screening,
     scratch: &mut Scratch,
 ) -> Result<Candidate, Reject> {
-    let Screening { travels, location, size, .. } = screening;
+    let Screening { travels, mut first_failure, location, size, .. } = screening;
     let poses = ctx.problem.pose_count;
     let w = &ctx.problem.weights;
-    let mut first_failure = None;
     for angles in travels.chunks_exact(poses) {
-        // A four-bar or slider-crank is judged on assembly and transmission in closed form first, so
-        // travels that lock up or transmit poorly are never simulated.
-        match plan.closed_form_travel(angles[0], angles[poses - 1]) {
-            Some(Err(_)) => {
-                first_failure.get_or_insert(Reject::Assembly);
-                continue;
-            }
-            Some(Ok(sine)) if sine < ctx.min_transmission.sin() => {
-                first_failure.get_or_insert(Reject::Transmission);
-                continue;
-            }
-            _ => {}
-        }
         match travel(ctx, &plan, angles, scratch) {
             Ok((trace, pose_rows)) => {
                 let (accuracy, smoothness) = simulated_terms(ctx, &trace, &pose_rows, &scratch.targets);
