@@ -133,27 +133,25 @@ impl<'a, 'p> Pool<'a, 'p> {
         Pool { ctx, candidates, valid, asked: vec![false; candidates.len()], first_proposal: particles }
     }
 
-    /// Whether candidate `i` is valid. When it has not been swept, it is swept together with the
-    /// unswept candidates most likely to be drawn next (by `weights`), one per worker thread: which
-    /// ones are swept ahead changes no result, only how much work the threads share.
-    fn is_valid(&mut self, i: usize, weights: &[f64]) -> bool {
+    /// Whether candidate `i` is valid, swept now if [`Pool::sweep_predicted`] did not sweep it.
+    fn is_valid(&mut self, i: usize) -> bool {
         self.asked[i] = true;
-        if let Some(valid) = self.valid[i] {
-            return valid;
+        if self.valid[i].is_none() {
+            self.sweep(&[i]);
         }
-        let mut ahead: Vec<usize> = (0..self.candidates.len()).filter(|&k| k != i && self.valid[k].is_none()).collect();
-        ahead.sort_by(|&a, &b| weights[b].total_cmp(&weights[a]).then(a.cmp(&b)));
-        ahead.truncate(rayon::current_num_threads().saturating_sub(1));
-        ahead.push(i);
+        self.valid[i] == Some(true)
+    }
+
+    /// Sweeps candidates `which` in parallel.
+    fn sweep(&mut self, which: &[usize]) {
         let (ctx, candidates) = (self.ctx, self.candidates);
-        let swept: Vec<bool> = ahead
+        let swept: Vec<bool> = which
             .par_iter()
             .map_init(Scratch::default, |scratch, &k| check_collisions(ctx, &candidates[k], scratch).is_ok())
             .collect();
-        for (&k, valid) in ahead.iter().zip(swept) {
+        for (&k, valid) in which.iter().zip(swept) {
             self.valid[k] = Some(valid);
         }
-        self.valid[i] == Some(true)
     }
 
     /// Draws `count` valid candidates with replacement, each with probability proportional to its
@@ -167,29 +165,20 @@ impl<'a, 'p> Pool<'a, 'p> {
         let mut weights: Vec<f64> = self.candidates.iter().map(weight).collect();
         let mut by_cost: Vec<usize> = (0..self.candidates.len()).collect();
         by_cost.sort_by(|&a, &b| self.candidates[a].cost.total_cmp(&self.candidates[b].cost));
+        self.sweep_predicted(&by_cost, &weights, count, r);
         // The particles are valid, so the search ends at the latest at the best of them.
-        let best = by_cost.into_iter().find(|&i| self.is_valid(i, &weights)).expect("the particles are valid");
+        let best = by_cost.into_iter().find(|&i| self.is_valid(i)).expect("the particles are valid");
         let mut out = vec![self.candidates[best].clone()];
         while out.len() < count {
             let total: f64 = weights.iter().sum();
             let pick = if total > 0.0 && total.is_finite() {
-                let mut u = r.random_range(0.0..total);
-                // Rounding can carry `u` past the last weight: the last candidate that can be drawn.
-                let mut chosen = weights.iter().rposition(|&w| w > 0.0).expect("a positive total");
-                for (i, w) in weights.iter().enumerate() {
-                    if u < *w {
-                        chosen = i;
-                        break;
-                    }
-                    u -= w;
-                }
-                chosen
+                draw(&weights, r.random_range(0.0..total))
             } else {
                 let drawable: Vec<usize> =
                     (0..weights.len()).filter(|&i| !(self.asked[i] && self.valid[i] == Some(false))).collect();
                 drawable[r.random_range(0..drawable.len())]
             };
-            if self.is_valid(pick, &weights) {
+            if self.is_valid(pick) {
                 out.push(self.candidates[pick].clone());
             } else {
                 weights[pick] = 0.0;
@@ -198,11 +187,69 @@ impl<'a, 'p> Pool<'a, 'p> {
         out
     }
 
+    /// Sweeps ahead, in parallel batches, the candidates [`Pool::resample`] will ask about: its search
+    /// for the best valid candidate and its draws (with a copy of its generator `r`) are replayed with
+    /// each unswept candidate taken as valid, the candidates that took are swept together, and the
+    /// replay is repeated on what they turned out to be until it meets no unswept candidate. Asked one
+    /// by one, each sweep would be shared with only one candidate swept ahead. Which candidates are
+    /// swept ahead changes no result.
+    fn sweep_predicted(
+        &mut self,
+        by_cost: &[usize],
+        weights: &[f64],
+        count: usize,
+        r: &rand_xoshiro::Xoshiro256PlusPlus,
+    ) {
+        loop {
+            let mut unswept = Vec::new();
+            if let Some(&k) = by_cost.iter().find(|&&k| self.valid[k] != Some(false)) {
+                if self.valid[k].is_none() {
+                    unswept.push(k);
+                }
+            }
+            let (mut r, mut weights) = (r.clone(), weights.to_vec());
+            let mut drawn = 1;
+            while drawn < count {
+                let total: f64 = weights.iter().sum();
+                if !(total > 0.0 && total.is_finite()) {
+                    break;
+                }
+                let pick = draw(&weights, r.random_range(0.0..total));
+                match self.valid[pick] {
+                    Some(false) => weights[pick] = 0.0,
+                    Some(true) => drawn += 1,
+                    None => {
+                        unswept.push(pick);
+                        drawn += 1;
+                    }
+                }
+            }
+            unswept.sort_unstable();
+            unswept.dedup();
+            if unswept.is_empty() {
+                return;
+            }
+            self.sweep(&unswept);
+        }
+    }
+
     /// The proposals the resampling found valid.
     fn valid_proposals(&self) -> impl Iterator<Item = Candidate> + '_ {
         let asked = (self.first_proposal..self.candidates.len()).filter(|&i| self.asked[i]);
         asked.filter(|&i| self.valid[i] == Some(true)).map(|i| self.candidates[i].clone())
     }
+}
+
+/// The candidate a uniform `u` in `[0, Σ weights)` draws: the first whose cumulative weight exceeds
+/// `u` (rounding can carry `u` past the last weight: then the last candidate that can be drawn).
+fn draw(weights: &[f64], mut u: f64) -> usize {
+    for (i, w) in weights.iter().enumerate() {
+        if u < *w {
+            return i;
+        }
+        u -= w;
+    }
+    weights.iter().rposition(|&w| w > 0.0).unwrap_or(weights.len() - 1)
 }
 
 #[cfg(test)]
