@@ -137,6 +137,14 @@ impl Plan {
     /// topology alone, so only lengths, part frames and branches are read again (much cheaper than
     /// [`Plan::compile`], which searches for the order).
     pub fn redimension(&self, mechanism: &Mechanism) -> Result<Plan, CompileError> {
+        let mut plan = Plan { fixed: Vec::new(), steps: Vec::new(), ..*self };
+        self.redimension_into(mechanism, &mut plan)?;
+        Ok(plan)
+    }
+
+    /// [`Plan::redimension`] into `out`, reusing its buffers (the sampler redimensions one plan per
+    /// sample). On an error `out` is left partly written.
+    pub fn redimension_into(&self, mechanism: &Mechanism, out: &mut Plan) -> Result<(), CompileError> {
         let pos = &mechanism.joints;
         let name = |j: usize| mechanism.topology.joint_names[j].clone();
         let apart = |a: usize, b: usize| {
@@ -150,9 +158,9 @@ impl Plan {
         if crank_radius <= 0.0 {
             return Err(CompileError::ZeroCrank);
         }
-        let mut steps = Vec::with_capacity(self.steps.len());
+        out.steps.clear();
         for step in &self.steps {
-            steps.push(match *step {
+            out.steps.push(match *step {
                 Step::Dyad { joint, a, b, .. } => {
                     apart(a, b)?;
                     Step::Dyad {
@@ -183,8 +191,11 @@ impl Plan {
                 }
             });
         }
-        let fixed = self.fixed.iter().map(|&(j, _)| (j, pos[j])).collect();
-        Ok(Plan { joint_count: self.joint_count, fixed, pivot: self.pivot, tip: self.tip, crank_radius, steps })
+        out.fixed.clear();
+        out.fixed.extend(self.fixed.iter().map(|&(j, _)| (j, pos[j])));
+        (out.joint_count, out.pivot, out.tip, out.crank_radius) =
+            (self.joint_count, self.pivot, self.tip, crank_radius);
+        Ok(())
     }
 
     pub fn joint_count(&self) -> usize {
@@ -327,13 +338,15 @@ impl Plan {
 
     /// The plan's own branches, in the order of [`Plan::branches_of`].
     pub fn branches(&self) -> Vec<Branch> {
-        self.steps
-            .iter()
-            .filter_map(|s| match *s {
-                Step::Dyad { branch, .. } | Step::Slider { branch, .. } => Some(branch),
-                Step::Attach { .. } => None,
-            })
-            .collect()
+        self.own_branches().collect()
+    }
+
+    /// [`Plan::branches`] without collecting them.
+    pub fn own_branches(&self) -> impl Iterator<Item = Branch> + '_ {
+        self.steps.iter().filter_map(|s| match *s {
+            Step::Dyad { branch, .. } | Step::Slider { branch, .. } => Some(branch),
+            Step::Attach { .. } => None,
+        })
     }
 }
 

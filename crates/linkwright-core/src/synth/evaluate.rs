@@ -95,6 +95,10 @@ pub struct Scratch {
     pub(crate) fit: super::rigidity::FitWorkspace,
     /// The last plan compiled, and its topology: later mechanisms of that topology only redimension it.
     template: Option<(Arc<Topology>, Plan)>,
+    /// The plan of the mechanism being screened.
+    plan: Option<Plan>,
+    /// The crank's direction at each pose.
+    nominal: Vec<f64>,
 }
 
 /// The kinematic checks and the soft costs of one mechanism; [`Reject::Outclassed`] when its cost is
@@ -112,10 +116,11 @@ pub fn evaluate(
     cost_bound: f64,
     scratch: &mut Scratch,
 ) -> Result<Candidate, Reject> {
-    let (plan, screening) = screen(ctx, &mechanism, fitted, scratch)?;
+    let screening = screen(ctx, &mechanism, fitted, scratch)?;
     if screening.floor > cost_bound {
         return Err(Reject::Outclassed);
     }
+    let plan = scratch.plan.clone().expect("screening dimensions the plan");
     simulate(ctx, mechanism, plan, screening, scratch)
 }
 
@@ -140,105 +145,126 @@ pub fn cost_floor(
     fitted: Option<&[Vec<crate::geom::Rigid>]>,
     scratch: &mut Scratch,
 ) -> Result<f64, Reject> {
-    screen(ctx, mechanism, fitted, scratch).map(|(_, screening)| screening.floor)
+    screen(ctx, mechanism, fitted, scratch).map(|screening| screening.floor)
 }
 
-/// The mechanism's kinematic plan: the last one compiled for its topology, redimensioned.
-fn plan_of(mechanism: &Mechanism, scratch: &mut Scratch) -> Result<Plan, Reject> {
-    match &scratch.template {
-        Some((topology, template)) if Arc::ptr_eq(topology, &mechanism.topology) => template.redimension(mechanism),
-        _ => Plan::compile(mechanism).inspect(|plan| {
+/// Puts the mechanism's kinematic plan in `scratch.plan`: the last one compiled for its topology,
+/// redimensioned.
+fn dimension_plan(mechanism: &Mechanism, scratch: &mut Scratch) -> Result<(), Reject> {
+    let dimensioned = match (&scratch.template, &mut scratch.plan) {
+        (Some((topology, template)), Some(plan)) if Arc::ptr_eq(topology, &mechanism.topology) => {
+            template.redimension_into(mechanism, plan)
+        }
+        _ => Plan::compile(mechanism).map(|plan| {
             scratch.template = Some((mechanism.topology.clone(), plan.clone()));
+            scratch.plan = Some(plan);
         }),
-    }
-    .map_err(|_| Reject::JointsTooClose)
+    };
+    dimensioned.map_err(|_| Reject::JointsTooClose)
 }
 
 /// Spacing, branch, order, and closed-form assembly and transmission checks, then the terms that need
-/// no simulation and a floor under the cost. Leaves the input-pose targets in `scratch.targets`.
+/// no simulation and a floor under the cost. Leaves the plan in `scratch.plan` and the input-pose
+/// targets in `scratch.targets`.
 fn screen(
     ctx: &Context,
     mechanism: &Mechanism,
     fitted: Option<&[Vec<crate::geom::Rigid>]>,
     scratch: &mut Scratch,
-) -> Result<(Plan, Screening), Reject> {
+) -> Result<Screening, Reject> {
     let n = ctx.topology.joint_count();
     let poses = ctx.problem.pose_count;
     let joints = &mechanism.joints;
     if ctx.part_pairs.iter().any(|&(a, b)| joints[a].distance(joints[b]) < ctx.min_spacing) {
         return Err(Reject::JointsTooClose);
     }
-    let plan = plan_of(mechanism, scratch)?;
+    dimension_plan(mechanism, scratch)?;
+    let Scratch { plan, targets, fitted_targets, branches, nominal, .. } = scratch;
+    let plan = plan.as_ref().expect("just dimensioned");
 
     // Where every joint should be at every pose: at the input poses, and in the sample's own fit.
-    scratch.targets.clear();
-    scratch.fitted_targets.clear();
+    targets.clear();
+    fitted_targets.clear();
     for i in 0..poses {
-        scratch.targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
-        scratch.fitted_targets.extend((0..n).map(|j| match (fitted, ctx.carriers[j]) {
+        targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
+        fitted_targets.extend((0..n).map(|j| match (fitted, ctx.carriers[j]) {
             (Some(motions), Some(b)) => motions[b][i].apply(joints[j]),
             _ => ctx.target(j, joints[j], i),
         }));
     }
-    let targets = &scratch.fitted_targets;
-    let target_row = |i: usize| &targets[i * n..(i + 1) * n];
+    let target_row = |i: usize| &fitted_targets[i * n..(i + 1) * n];
 
     // Branch and circuit (§5.2–5.3): every dyad must be on its first-pose branch at every pose.
-    let own = plan.branches();
     for i in 1..poses {
-        plan.branches_of(target_row(i), &mut scratch.branches);
-        if scratch.branches != own {
+        plan.branches_of(target_row(i), branches);
+        if !branches.iter().copied().eq(plan.own_branches()) {
             return Err(Reject::Branch);
         }
     }
 
     // Order (§5.1), nominally: the crank's direction at each pose must advance one way by less than a turn.
     let (pivot, tip) = (ctx.topology.driver_pivot, ctx.topology.driver_tip);
-    let nominal: Vec<f64> = (0..poses).map(|i| (target_row(i)[tip] - target_row(i)[pivot]).angle()).collect();
-    let mut travels: Vec<(f64, Vec<f64>)> = [1.0, -1.0]
-        .into_iter()
-        .filter_map(|dir: f64| {
-            let mut angles = vec![nominal[0]];
-            for w in nominal.windows(2) {
-                let step = (dir * (w[1] - w[0])).rem_euclid(TAU);
-                if step <= 0.0 {
-                    return None;
-                }
-                angles.push(angles.last().copied().unwrap_or_default() + dir * step);
+    nominal.clear();
+    nominal.extend((0..poses).map(|i| (target_row(i)[tip] - target_row(i)[pivot]).angle()));
+    // For each direction the crank may turn, its angle at each pose, one direction after the other.
+    let mut travels = Vec::with_capacity(2 * poses);
+    let mut totals = [0.0; 2];
+    let mut count = 0;
+    for dir in [1.0, -1.0] {
+        let start = travels.len();
+        travels.push(nominal[0]);
+        for w in nominal.windows(2) {
+            let step = (dir * (w[1] - w[0])).rem_euclid(TAU);
+            if step <= 0.0 {
+                break;
             }
-            let total = (angles[poses - 1] - angles[0]).abs();
-            (total < TAU).then_some((total, angles))
-        })
-        .collect();
-    if travels.is_empty() {
+            travels.push(travels[travels.len() - 1] + dir * step);
+        }
+        let total = (travels[travels.len() - 1] - travels[start]).abs();
+        if travels.len() - start == poses && total < TAU {
+            totals[count] = total;
+            count += 1;
+        } else {
+            travels.truncate(start);
+        }
+    }
+    if count == 0 {
         return Err(Reject::Order);
     }
-    travels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The shorter travel first (on a tie, turning positively).
+    if count == 2 && totals[1] < totals[0] {
+        travels.rotate_left(poses);
+    }
 
     // A four-bar or slider-crank is judged on assembly and transmission in closed form, so travels
     // that lock up or transmit poorly are never simulated.
     let mut first_failure = None;
-    travels.retain(|(_, angles)| match plan.closed_form_travel(angles[0], angles[poses - 1]) {
-        Some(Err(_)) => {
-            first_failure.get_or_insert(Reject::Assembly);
-            false
+    let mut kept = 0;
+    for k in 0..count {
+        let angles = k * poses..(k + 1) * poses;
+        match plan.closed_form_travel(travels[angles.start], travels[angles.end - 1]) {
+            Some(Err(_)) => {
+                first_failure.get_or_insert(Reject::Assembly);
+            }
+            Some(Ok(sine)) if sine < ctx.min_transmission.sin() => {
+                first_failure.get_or_insert(Reject::Transmission);
+            }
+            _ => {
+                travels.copy_within(angles, kept * poses);
+                kept += 1;
+            }
         }
-        Some(Ok(sine)) if sine < ctx.min_transmission.sin() => {
-            first_failure.get_or_insert(Reject::Transmission);
-            false
-        }
-        _ => true,
-    });
-    if travels.is_empty() {
+    }
+    if kept == 0 {
         return Err(first_failure.unwrap_or(Reject::Assembly));
     }
-    let travels = travels.into_iter().flat_map(|(_, angles)| angles).collect();
+    travels.truncate(kept * poses);
 
     // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
     let (location, size) = static_terms(ctx, mechanism);
     let w = &ctx.problem.weights;
-    let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, &scratch.targets);
-    Ok((plan, Screening { travels, first_failure, location, size, floor }))
+    let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, targets);
+    Ok(Screening { travels, first_failure, location, size, floor })
 }
 
 /// Simulates a screened mechanism's travels, shortest first, and returns the first that passes every
