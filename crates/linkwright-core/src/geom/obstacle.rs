@@ -18,7 +18,7 @@
 //! these computations: a list holds every edge within its reach, and a little more.
 
 use super::polygon::{closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
-use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Aabb, Point, Vec2};
+use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Aabb, Point, Rigid, Vec2};
 use std::ops::Range;
 
 /// Cells along the longer side of an obstacle's box.
@@ -166,7 +166,21 @@ impl Obstacle {
     /// vertices, tol)`, exactly.
     pub fn penetrated_by(&self, mover: &[Point]) -> bool {
         let Some(mover_box) = Aabb::around(mover.iter().copied()) else { return false };
-        self.edges_cross(mover) || self.mover_points_inside(mover) || self.probes_inside(mover, &mover_box)
+        self.edges_cross(mover) || self.mover_points_inside(mover) || self.probes_inside(mover, &mover_box, |_| None)
+    }
+
+    /// [`Obstacle::penetrated_by`] for a mover whose vertices `mover` are those of `shape` (an outline
+    /// prepared in its own frame, with the same tolerance) placed by `pose`: the same answer. Whether a
+    /// point of this obstacle lies deep inside the mover is read from `shape`'s grid, the point taken
+    /// into the mover's frame, wherever the grid decides it; only points near the mover's boundary
+    /// are tested against its edges. The grid's margins, far above the rounding of that change of
+    /// frame, keep the answers those of the brute force.
+    pub fn penetrated_by_shape(&self, mover: &[Point], shape: &Obstacle, pose: &Rigid) -> bool {
+        let Some(mover_box) = Aabb::around(mover.iter().copied()) else { return false };
+        let to_shape = pose.inverse();
+        self.edges_cross(mover)
+            || self.mover_points_inside(mover)
+            || self.probes_inside(mover, &mover_box, |p| shape.decided_deep(to_shape.apply(p)))
     }
 
     /// The least distance between the boundaries of `mover` (an outline, or a segment when it has two
@@ -230,20 +244,32 @@ impl Obstacle {
         (0..n).any(|i| self.deeply_contains(mover[i]) || self.deeply_contains(mover[i].lerp(mover[(i + 1) % n], 0.5)))
     }
 
-    /// A vertex or edge midpoint of the obstacle, in the mover's box, deep inside the mover (a few
-    /// points against a small outline: brute force).
-    fn probes_inside(&self, mover: &[Point], mover_box: &Aabb) -> bool {
+    /// A vertex or edge midpoint of the obstacle, in the mover's box, deep inside the mover: as
+    /// `decided` says when it says, else tested against the mover's edges (a few points against a
+    /// small outline: brute force).
+    fn probes_inside(&self, mover: &[Point], mover_box: &Aabb, decided: impl Fn(Point) -> Option<bool>) -> bool {
         let meets = |b: &Aabb| {
             b.min.x <= mover_box.max.x
                 && mover_box.min.x <= b.max.x
                 && b.min.y <= mover_box.max.y
                 && mover_box.min.y <= b.max.y
         };
-        let deep = |p: Point| mover_box.contains(p) && contains_deeply_raw(mover, p, self.tol);
+        let deep =
+            |p: Point| mover_box.contains(p) && decided(p).unwrap_or_else(|| contains_deeply_raw(mover, p, self.tol));
         self.chains
             .iter()
             .filter(|(chain_box, _)| meets(chain_box))
             .any(|(_, chain)| chain.clone().any(|j| deep(self.vertices[j]) || deep(self.midpoints[j])))
+    }
+
+    /// Whether `p` lies inside, farther than the tolerance from the boundary, when its cell of the grid
+    /// decides it for every point near it (within the slack); `None` near the boundary.
+    fn decided_deep(&self, p: Point) -> Option<bool> {
+        match self.regions[self.grid.cell_of(p)] {
+            Region::Inside => Some(true),
+            Region::Outside => Some(false),
+            Region::Boundary => None,
+        }
     }
 
     /// Whether `p` lies inside, farther than the tolerance from the boundary, as the brute force's box
@@ -537,6 +563,47 @@ mod tests {
         }
     }
 
+    proptest! {
+        /// A mover given as an outline prepared in its own frame and a pose: the outline's grid tells
+        /// which of the obstacle's points lie deep inside the mover as the brute force does. Outlines
+        /// from a fifth of the obstacle's size to three times it (covering it whole), placed anywhere
+        /// about it (or beyond, to their size) or with a vertex on or a few tolerances off an edge.
+        #[test]
+        fn placed_shapes_agree_with_the_brute_force(seed in any::<u64>(), n in 3..40usize, notch in any::<bool>(),
+                                                    scale in -3.0..3.0f64, far in any::<bool>(), tol_kind in 0..4usize) {
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let size = 10f64.powf(scale);
+            let center = if far { Point::new(1e4, -3e4) } else { Point::ORIGIN };
+            let vertices = if notch { notched(center, size) } else { star(&mut rng, n, center, size, true) };
+            let tol = [0.0, 1e-6, 1e-3, 0.05][tol_kind] * size;
+            let obstacle = Obstacle::new(&vertices, tol);
+            let bb = obstacle.bounds();
+            let mut verdicts = 0;
+            for k in 0..64 {
+                let (m, radius, concave) = (rng.random_range(3..12), size * rng.random_range(0.2..3.0), rng.random_bool(0.5));
+                let local = star(&mut rng, m, Point::ORIGIN, radius, concave);
+                let shape = Obstacle::new(&local, tol);
+                // Where the shape's origin goes, or its first vertex on or near an edge.
+                let (anchor, target) = if k % 2 == 0 {
+                    let reach = Vec2::new(radius, radius);
+                    let (lo, hi) = (bb.min - reach, bb.max + reach);
+                    (Point::ORIGIN, Point::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y)))
+                } else {
+                    let (a, b) = obstacle.edges[rng.random_range(0..obstacle.edges.len())];
+                    let offset = [0.0, 0.5, 1.0, 2.0, -0.5, -1.0, -2.0][rng.random_range(0..7)] * tol;
+                    (local[0], a.lerp(b, rng.random_range(0.0..1.0)) + (b - a).perp().normalized() * offset)
+                };
+                let angle = rng.random_range(0.0..std::f64::consts::TAU);
+                let pose = Rigid::new(angle, target - Rigid::new(angle, Vec2::ZERO).apply(anchor));
+                let placed: Vec<Point> = local.iter().map(|&p| pose.apply(p)).collect();
+                let brute = penetrates_unchecked(&placed, &vertices, tol);
+                prop_assert_eq!(obstacle.penetrated_by_shape(&placed, &shape, &pose), brute, "{:?} placed by {:?}", local, pose);
+                verdicts += brute as usize;
+            }
+            prop_assert!(verdicts > 0 && verdicts < 64, "{} of 64 penetrate", verdicts);
+        }
+    }
+
     #[test]
     fn degenerate_obstacles_agree_with_the_brute_force() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
@@ -567,6 +634,8 @@ mod tests {
             let tol = problem.contact_tolerance();
             let mut rng = Xoshiro256PlusPlus::seed_from_u64(scenes);
             let mut movers = Vec::new();
+            // Each body's placed outline and its pose, for the test with the body's own grid.
+            let mut placed: Vec<(Vec<Point>, Rigid)> = Vec::new();
             for body in &problem.bodies {
                 for pair in body.poses.windows(2) {
                     for k in 0..=40 {
@@ -579,6 +648,9 @@ mod tests {
                         let outline = body.outline.transformed(&pose);
                         movers.push(outline.vertices().iter().map(|&p| p + nudge).collect::<Vec<_>>());
                         movers.push(outline.vertices().to_vec());
+                        let nudged = Rigid::new(pose.angle(), pose.translation() + nudge);
+                        placed.push((body.outline.vertices().iter().map(|&p| nudged.apply(p)).collect(), nudged));
+                        placed.push((outline.vertices().to_vec(), pose));
                     }
                 }
             }
@@ -592,6 +664,18 @@ mod tests {
                 let obstacle = Obstacle::new(vertices, tol);
                 for mover in &movers {
                     assert_agrees(&obstacle, mover);
+                }
+                for (b, body) in problem.bodies.iter().enumerate() {
+                    let shape = Obstacle::new(body.outline.vertices(), tol);
+                    let per_body = placed.len() / problem.bodies.len();
+                    for (mover, pose) in &placed[b * per_body..(b + 1) * per_body] {
+                        let brute = penetrates_unchecked(mover, vertices, tol);
+                        assert_eq!(
+                            obstacle.penetrated_by_shape(mover, &shape, pose),
+                            brute,
+                            "{mover:?} placed by {pose:?}"
+                        );
+                    }
                 }
             }
             scenes += 1;

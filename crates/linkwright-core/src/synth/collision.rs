@@ -223,7 +223,16 @@ impl Sweep<'_, '_> {
     fn test(&self, pair: Pair, at: &Placed) -> Result<(), Reject> {
         let tol = self.ctx.contact_tolerance;
         let (mover, mover_box, other, verdict) = self.shapes(pair, at);
-        if mover_box.overlaps(&other.bounds(), tol) && other.penetrated_by(mover, tol) {
+        if !mover_box.overlaps(&other.bounds(), tol) {
+            return Ok(());
+        }
+        let penetrates = match (pair, other) {
+            (Pair::BodyFixed { body, .. }, Other::Fixed(obstacle)) => {
+                obstacle.penetrated_by_shape(mover, &self.ctx.body_shapes[body], &at.poses[body])
+            }
+            (_, other) => other.penetrated_by(mover, tol),
+        };
+        if penetrates {
             return Err(verdict);
         }
         Ok(())

@@ -51,6 +51,9 @@ pub struct Context<'a> {
     /// The fixed bodies and the avoid regions, prepared for the tests of moving outlines against them.
     pub fixed_obstacles: Vec<Obstacle>,
     pub avoid_obstacles: Vec<Obstacle>,
+    /// Each moving body's outline in its own frame, prepared the same way: its grid tells most points
+    /// deep inside the body or not at once (see [`Obstacle::penetrated_by_shape`]).
+    pub body_shapes: Vec<Obstacle>,
     /// The rigidity energy of this topology (paper eq. 3–5).
     pub rigidity: RigidityModel,
     /// `pose_tolerance` is 0: every pose must be hit exactly, so no pose is perturbed, only exact fits
@@ -122,6 +125,11 @@ impl<'a> Context<'a> {
             contact_tolerance,
             fixed_obstacles: obstacles(&problem.fixed),
             avoid_obstacles: obstacles(&problem.avoid),
+            body_shapes: problem
+                .bodies
+                .iter()
+                .map(|b| Obstacle::new(b.outline.vertices(), contact_tolerance))
+                .collect(),
             rigidity: RigidityModel::new(&topology),
             exact: problem.settings.pose_tolerance == 0.0,
             topology,

@@ -156,8 +156,12 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let tol = self.ctx.contact_tolerance;
         self.place(b, pose, scratch);
         let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
-        let hits_fixed =
-            self.ctx.fixed_obstacles.iter().any(|f| bb.overlaps(&f.bounds(), tol) && f.penetrated_by(outline));
+        let shape = &self.ctx.body_shapes[b];
+        let hits_fixed = self
+            .ctx
+            .fixed_obstacles
+            .iter()
+            .any(|f| bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, pose));
         if hits_fixed {
             return false;
         }
