@@ -418,9 +418,27 @@ fn project<const K: usize>(
     poses: usize,
     scale: f64,
 ) -> bool {
-    const ROWS: usize = 6;
+    // Arrays sized for the rows at hand: a binary link through three poses, the common case, has two,
+    // and zeroing and eliminating six spent a fifth of its construction. The arithmetic on the rows
+    // used is the same.
+    if pairs.len() * (poses - 1) <= 2 {
+        project_rows::<K, 2, 3>(points, carriers, pairs, motions, poses, scale)
+    } else {
+        project_rows::<K, 6, 7>(points, carriers, pairs, motions, poses, scale)
+    }
+}
+
+/// [`project`] with room for `ROWS` equations (`COLS` = `ROWS` + 1: the matrix and the right side).
+fn project_rows<const K: usize, const ROWS: usize, const COLS: usize>(
+    points: &mut [Point; K],
+    carriers: &[Option<usize>; K],
+    pairs: &[(usize, usize)],
+    motions: &[Vec<Rigid>],
+    poses: usize,
+    scale: f64,
+) -> bool {
     let rows = pairs.len() * (poses - 1);
-    assert!(rows <= ROWS && rows <= 2 * points.len());
+    assert!(rows <= ROWS && COLS == ROWS + 1 && rows <= 2 * points.len());
     let tol = 1e-13 * scale * scale;
     for _ in 0..12 {
         // Residuals and gradients (columns 2k, 2k+1 for point k).
@@ -450,7 +468,7 @@ fn project<const K: usize>(
             return true;
         }
         // (JJᵀ) y = r by Gaussian elimination with partial pivoting, then δ = −Jᵀy.
-        let mut a = [[0.0; ROWS + 1]; ROWS];
+        let mut a = [[0.0; COLS]; ROWS];
         for p in 0..rows {
             for q in 0..rows {
                 a[p][q] = (0..6).map(|k| jac[p][k] * jac[q][k]).sum();
