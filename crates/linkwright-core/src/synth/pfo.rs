@@ -191,8 +191,7 @@ impl<'a, 'p> Pool<'a, 'p> {
     /// for the best valid candidate and its draws (with a copy of its generator `r`) are replayed with
     /// each unswept candidate taken as valid, the candidates that took are swept together, and the
     /// replay is repeated on what they turned out to be until it meets no unswept candidate. Asked one
-    /// by one, each sweep would be shared with only one candidate swept ahead. Which candidates are
-    /// swept ahead changes no result.
+    /// by one, they would be swept one at a time. Which candidates are swept ahead changes no result.
     fn sweep_predicted(
         &mut self,
         by_cost: &[usize],
