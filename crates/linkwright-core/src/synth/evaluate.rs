@@ -129,7 +129,7 @@ struct Screening {
     /// The crank's nominal angle at each pose, for each direction it may turn that the closed form
     /// does not rule out (shortest travel first), one pose count after another.
     travels: Vec<f64>,
-    /// Why the first direction ruled out was, if one was.
+    /// The reject of the first direction the closed form ruled out, if any.
     first_failure: Option<Reject>,
     location: f64,
     size: f64,

@@ -16,8 +16,6 @@ use std::time::Instant;
 const CHUNK: usize = 2048;
 /// Samples simulated between two updates of the bar a sample's cost floor must pass.
 const SIMULATION_CHUNK: usize = 256;
-/// Draws sample i of a run (deterministic: the same sample every time).
-type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> Option<Mechanism> + Sync + 'a;
 /// The share of the sampling stage's progress that screening takes (the rest is simulation).
 const SCREENING_SHARE: f64 = 0.7;
 /// Defect-free candidates kept for the collision check, lowest cost first: a bound on memory (each
@@ -32,6 +30,9 @@ const COLLISION_CHUNK: usize = 128;
 pub const MAX_ALTERNATIVES: usize = 10;
 /// Two designs of one family are distinct when some joint differs by more than this fraction of d.
 const DISTINCT: f64 = 0.25;
+
+/// Draws sample i of a run (deterministic: the same sample every time).
+type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> Option<Mechanism> + Sync + 'a;
 
 /// The stage a run is in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -405,9 +406,9 @@ fn screen_samples(
 /// Samples are simulated lowest floor first, and the simulation stops at the first floor above the
 /// costliest kept candidate once the cap is reached: every later sample's cost is at least its
 /// floor, so none could enter. The result is the set a simulation of every sample would keep, but
-/// only the samples with a floor under the final bar are simulated (sofa bed: 2,656 of 81,198
-/// screened, where a pass in sample order simulated 10,072). Chunks change only how far past that
-/// bar the simulation runs, never the result, so threads never change it.
+/// only the samples with a floor under the final bar are simulated (sofa bed: 2,620, where a pass in
+/// sample order simulated 10,072). Chunks change only how far past that bar the simulation runs,
+/// never the result, so threads never change it.
 ///
 /// Each sample is drawn again rather than kept from the screening: keeping every screened mechanism
 /// cost more (sofa bed +30 ms) than redrawing the few simulated.
