@@ -9,6 +9,7 @@ use super::random::{normal, rng, Stream};
 use super::sample::{mechanism_from_x, x_from_mechanism};
 use rand::RngExt;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// The particle filter's constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,7 +70,7 @@ pub fn refine(
         // drawn: it is not simulated past that bound.
         let best = particles.iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);
         let hopeless = best - NEGLIGIBLE_WEIGHT.ln() * max_cost / options.lambda;
-        let proposals: Vec<Candidate> = particles
+        let proposals: Vec<Arc<Candidate>> = particles
             .par_iter()
             .enumerate()
             .map_init(Scratch::default, |scratch, (k, particle)| {
@@ -91,12 +92,12 @@ pub fn refine(
                     }
                 }
                 let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, hopeless, scratch).ok()?;
-                (candidate.cost <= hopeless).then_some(candidate)
+                (candidate.cost <= hopeless).then(|| Arc::new(candidate))
             })
             .flatten()
             .collect();
         let kept = particles.len();
-        let candidates: Vec<Candidate> = particles.into_iter().chain(proposals).collect();
+        let candidates: Vec<Arc<Candidate>> = particles.into_iter().chain(proposals).collect();
         let mut pool = Pool::new(ctx, &candidates, kept);
         particles = pool.resample(options.particles, &weight, &mut resample_rng);
         produced.extend(pool.valid_proposals());
@@ -113,10 +114,10 @@ pub fn refine(
 /// then removed and the draw repeated. Each draw therefore picks among the valid candidates with
 /// probability proportional to weight, as if all had been swept, while most proposals, which are too
 /// costly to be drawn, are never swept.
-struct Pool<'a, 'p> {
+struct Pool<'a, 'p, P> {
     ctx: &'a Context<'p>,
     /// The particles (valid), then the proposals.
-    candidates: &'a [Candidate],
+    candidates: &'a [P],
     /// Per candidate: valid, colliding, or not swept yet.
     valid: Vec<Option<bool>>,
     /// Per candidate: the resampling asked whether it is valid. Unlike `valid`, this does not depend
@@ -125,9 +126,9 @@ struct Pool<'a, 'p> {
     first_proposal: usize,
 }
 
-impl<'a, 'p> Pool<'a, 'p> {
+impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
     /// `candidates`: the first `particles` are valid, the rest proposals not swept yet.
-    fn new(ctx: &'a Context<'p>, candidates: &'a [Candidate], particles: usize) -> Self {
+    fn new(ctx: &'a Context<'p>, candidates: &'a [P], particles: usize) -> Self {
         let mut valid = vec![Some(true); particles];
         valid.resize(candidates.len(), None);
         Pool { ctx, candidates, valid, asked: vec![false; candidates.len()], first_proposal: particles }
@@ -147,7 +148,7 @@ impl<'a, 'p> Pool<'a, 'p> {
         let (ctx, candidates) = (self.ctx, self.candidates);
         let swept: Vec<bool> = which
             .par_iter()
-            .map_init(Scratch::default, |scratch, &k| check_collisions(ctx, &candidates[k], scratch).is_ok())
+            .map_init(Scratch::default, |scratch, &k| check_collisions(ctx, candidates[k].candidate(), scratch).is_ok())
             .collect();
         for (&k, valid) in which.iter().zip(swept) {
             self.valid[k] = Some(valid);
@@ -161,14 +162,15 @@ impl<'a, 'p> Pool<'a, 'p> {
         count: usize,
         weight: &impl Fn(&Candidate) -> f64,
         r: &mut rand_xoshiro::Xoshiro256PlusPlus,
-    ) -> Vec<Candidate> {
-        let mut weights: Vec<f64> = self.candidates.iter().map(weight).collect();
+    ) -> Vec<Arc<Candidate>> {
+        let cost = |k: usize| self.candidates[k].candidate().cost;
+        let mut weights: Vec<f64> = self.candidates.iter().map(|c| weight(c.candidate())).collect();
         let mut by_cost: Vec<usize> = (0..self.candidates.len()).collect();
-        by_cost.sort_by(|&a, &b| self.candidates[a].cost.total_cmp(&self.candidates[b].cost));
+        by_cost.sort_by(|&a, &b| cost(a).total_cmp(&cost(b)));
         self.sweep_predicted(&by_cost, &weights, count, r);
         // The particles are valid, so the search ends at the latest at the best of them.
         let best = by_cost.into_iter().find(|&i| self.is_valid(i)).expect("the particles are valid");
-        let mut out = vec![self.candidates[best].clone()];
+        let mut out = vec![self.candidates[best].share()];
         while out.len() < count {
             let total: f64 = weights.iter().sum();
             let pick = if total > 0.0 && total.is_finite() {
@@ -179,7 +181,7 @@ impl<'a, 'p> Pool<'a, 'p> {
                 drawable[r.random_range(0..drawable.len())]
             };
             if self.is_valid(pick) {
-                out.push(self.candidates[pick].clone());
+                out.push(self.candidates[pick].share());
             } else {
                 weights[pick] = 0.0;
             }
@@ -235,7 +237,33 @@ impl<'a, 'p> Pool<'a, 'p> {
     /// The proposals the resampling found valid.
     fn valid_proposals(&self) -> impl Iterator<Item = Candidate> + '_ {
         let asked = (self.first_proposal..self.candidates.len()).filter(|&i| self.asked[i]);
-        asked.filter(|&i| self.valid[i] == Some(true)).map(|i| self.candidates[i].clone())
+        asked.filter(|&i| self.valid[i] == Some(true)).map(|i| self.candidates[i].candidate().clone())
+    }
+}
+
+/// A candidate in a [`Pool`]: the filter's candidates are shared, so a particle drawn again is not
+/// copied (a candidate holds its whole travel); the first pool draws from the collision stage's.
+trait Particle: Sync {
+    fn candidate(&self) -> &Candidate;
+    /// The candidate as a particle of the next iteration.
+    fn share(&self) -> Arc<Candidate>;
+}
+
+impl Particle for Candidate {
+    fn candidate(&self) -> &Candidate {
+        self
+    }
+    fn share(&self) -> Arc<Candidate> {
+        Arc::new(self.clone())
+    }
+}
+
+impl Particle for Arc<Candidate> {
+    fn candidate(&self) -> &Candidate {
+        self
+    }
+    fn share(&self) -> Arc<Candidate> {
+        Arc::clone(self)
     }
 }
 
@@ -303,7 +331,7 @@ mod tests {
         let draws = 24_000;
         let drawn = pool.resample(draws + 1, &by_cost, &mut r);
         assert_eq!(drawn[0].cost, cheapest_valid);
-        assert!(drawn.iter().all(is_valid));
+        assert!(drawn.iter().all(|c| is_valid(c)));
         let valid_weight: f64 = candidates.iter().filter(|c| is_valid(c)).map(by_cost).sum();
         for c in &candidates {
             let times = drawn[1..].iter().filter(|d| d.cost == c.cost).count() as f64;
@@ -316,7 +344,7 @@ mod tests {
         let steep = |c: &Candidate| (-200.0 * c.cost / lightest).exp();
         let mut pool = Pool::new(&ctx, &candidates, particles);
         let drawn = pool.resample(100, &steep, &mut r);
-        assert!(drawn.iter().all(is_valid));
+        assert!(drawn.iter().all(|c| is_valid(c)));
         assert!(pool.valid.iter().any(Option::is_none), "every proposal was swept");
         let swept_valid: Vec<Candidate> = pool.valid_proposals().collect();
         assert!(swept_valid.iter().all(is_valid));
