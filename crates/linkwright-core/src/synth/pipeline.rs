@@ -423,13 +423,14 @@ fn simulate_cheapest(
     observer: &dyn Observer,
     report: &dyn Fn(f64),
 ) -> Result<Vec<Candidate>, Cancelled> {
-    let mut candidates: Vec<(Candidate, usize)> = Vec::new();
+    // Boxed, so that sorting after each chunk moves pointers, not whole candidates.
+    let mut candidates: Vec<(f64, usize, Box<Candidate>)> = Vec::new();
     let mut done = 0;
     while done < floors.len() {
         if observer.cancelled() {
             return Err(Cancelled);
         }
-        let bar = if candidates.len() >= cap { candidates[cap - 1].0.cost } else { f64::INFINITY };
+        let bar = if candidates.len() >= cap { candidates[cap - 1].0 } else { f64::INFINITY };
         // The floors ascend: everything from the first one above the bar on is outclassed.
         let end = done + floors[done..].partition_point(|&(floor, _)| floor <= bar).min(SIMULATION_CHUNK);
         if end == done {
@@ -450,18 +451,18 @@ fn simulate_cheapest(
             match r {
                 Ok(c) => {
                     stats.candidates += 1;
-                    candidates.push((c, i));
+                    candidates.push((c.cost, i, Box::new(c)));
                 }
                 Err(reject) => rejected[reject as usize] += 1,
             }
         }
-        candidates.sort_by(|a, b| a.0.cost.total_cmp(&b.0.cost).then(a.1.cmp(&b.1)));
+        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         candidates.truncate(cap);
         done = end;
         report(done as f64 / floors.len() as f64);
     }
     rejected[Reject::Outclassed as usize] += floors.len() - done;
-    Ok(candidates.into_iter().map(|(c, _)| c).collect())
+    Ok(candidates.into_iter().map(|(_, _, c)| *c).collect())
 }
 
 /// True when two designs differ: another family, or some joint moved by more than `min_shift`.
