@@ -77,6 +77,15 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
                 distance_before[k] = None;
                 continue;
             }
+            // The gap between the two boxes is a lower bound on the distance: when it alone covers the
+            // step, the pair is proven apart over it as the distance would prove, and the slack
+            // restarts from the gap (no distance needed).
+            let gap = sweep.box_gap(pair, &current) + ctx.contact_tolerance;
+            if gap > reach {
+                slack[k] = gap;
+                distance_before[k] = None;
+                continue;
+            }
             let distance = sweep.distance(pair, &current);
             let clearance = distance + ctx.contact_tolerance;
             // Free at the previous row and no closer to it here than its motion: free in between and here.
@@ -236,6 +245,12 @@ impl Sweep<'_, '_> {
             return Err(verdict);
         }
         Ok(())
+    }
+
+    /// The gap between the mover's box and the obstacle's in configuration `at`: at most the distance.
+    fn box_gap(&self, pair: Pair, at: &Placed) -> f64 {
+        let (_, mover_box, other, _) = self.shapes(pair, at);
+        mover_box.gap(&other.bounds())
     }
 
     /// The distance between the pair's boundaries in a configuration where they do not penetrate
