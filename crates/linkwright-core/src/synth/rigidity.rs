@@ -309,9 +309,7 @@ impl RigidityModel {
         assert_eq!(x.len(), self.dim(), "x has the wrong length");
         let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
         let poses = self.poses(motions);
-        let finite = x.iter().all(|v| v.is_finite())
-            && motions.iter().flatten().all(|m| m.angle().is_finite() && m.translation().is_finite());
-        if !finite {
+        if !self.finite(x, motions) {
             return Fit {
                 energy: f64::INFINITY,
                 max_relative_deviation: f64::INFINITY,
@@ -600,6 +598,33 @@ impl RigidityModel {
     }
 
     fn report(&self, x: &[f64], motions: &[Vec<Rigid>], s: f64, energy: f64, iterations: usize) -> Fit {
+        Fit {
+            energy,
+            max_relative_deviation: self.max_deviation(x, motions) / s,
+            min_relative_link_length: self.min_link_length(x) / s,
+            iterations,
+        }
+    }
+
+    /// [`Fit::max_relative_deviation`] of `x` as it stands (no fit), the only figure the sampler reads
+    /// of a linkage its construction made exact: infinite for non-finite inputs, as a fit reports.
+    pub fn relative_deviation(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> f64 {
+        let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        if !self.finite(x, motions) {
+            return f64::INFINITY;
+        }
+        self.max_deviation(x, motions) / s
+    }
+
+    /// Whether `x` and `motions` are finite (a fit leaves anything else unchanged).
+    fn finite(&self, x: &[f64], motions: &[Vec<Rigid>]) -> bool {
+        x.iter().all(|v| v.is_finite())
+            && motions.iter().flatten().all(|m| m.angle().is_finite() && m.translation().is_finite())
+    }
+
+    /// The largest change of a link's length, or of the slider joint's distance from its line, over
+    /// the poses (world units).
+    fn max_deviation(&self, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
         let poses = self.poses(motions);
         let mut dev = 0.0f64;
         for &(m, n) in &self.pairs {
@@ -616,12 +641,7 @@ impl RigidityModel {
                 dev = dev.max((self.place(q, x, motions, i).0 - q0).cross(u).abs());
             }
         }
-        Fit {
-            energy,
-            max_relative_deviation: dev / s,
-            min_relative_link_length: self.min_link_length(x) / s,
-            iterations,
-        }
+        dev
     }
 }
 
@@ -890,6 +910,26 @@ mod tests {
             assert!(fit.energy < 1e-16 * d.powi(4), "seed {seed}: {fit:?}");
             assert!(fit.max_relative_deviation < 1e-8, "seed {seed}: {fit:?}");
             assert!(fit.iterations < 30, "seed {seed}: {fit:?}");
+        }
+    }
+
+    /// The deviation alone is the one a fit that polishes nothing reports: zero for the true linkage,
+    /// the same figure for a perturbed one, infinite for non-finite joints.
+    #[test]
+    fn relative_deviation_is_the_fits_without_polishing() {
+        for k in [1, 2, 3] {
+            let (truth, motions) = moving_chain(k, 4, 0.2, k as u64);
+            let model = RigidityModel::new(&Topology::chain(k));
+            let d = 2.0;
+            assert!(model.relative_deviation(&truth, &motions, d) < 1e-12);
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(k as u64);
+            let mut x: Vec<f64> = truth.iter().map(|v| v + 0.05 * d * rng.random_range(-1.0..1.0)).collect();
+            let deviation = model.relative_deviation(&x, &motions, d);
+            let fit = model.fit_where(&mut x, &motions, d, &mut FitWorkspace::default(), |_| false);
+            assert!(deviation > 1e-4, "K {k}: the perturbed linkage is not rigid");
+            assert_eq!(deviation, fit.max_relative_deviation, "K {k}");
+            x[0] = f64::NAN;
+            assert_eq!(model.relative_deviation(&x, &motions, d), f64::INFINITY);
         }
     }
 

@@ -79,23 +79,28 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let n = ctx.topology.joint_count();
         let SampleScratch { motions, x, fit, polish, construct, .. } = scratch;
         x.clear();
-        let fit = match near {
+        let deviation = match near {
             Some(start) => {
                 x.extend_from_slice(start);
                 for v in &mut x[..2 * n] {
                     *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
                 }
-                ctx.rigidity.fit(x, motions, ctx.body_size, fit)
+                ctx.rigidity.fit(x, motions, ctx.body_size, fit).max_relative_deviation
             }
             None => {
                 x.resize(ctx.rigidity.dim(), 0.0);
                 let mut draw = |rng: &mut Xoshiro256PlusPlus| self.point_in_region(rng);
                 let mut region = Region { draw: &mut draw, bounds: self.region_box };
                 self.constructor.construct(x, motions, &mut rng, &mut region, polish, construct);
-                ctx.rigidity.fit_where(x, motions, ctx.body_size, fit, |j| polish[j])
+                // A construction that left nothing to polish needs only its deviation checked.
+                if polish.iter().any(|&p| p) {
+                    ctx.rigidity.fit_where(x, motions, ctx.body_size, fit, |j| polish[j]).max_relative_deviation
+                } else {
+                    ctx.rigidity.relative_deviation(x, motions, ctx.body_size)
+                }
             }
         };
-        if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation() {
+        if deviation.is_nan() || deviation > ctx.accepted_deviation() {
             return None;
         }
         Some(mechanism_from_x(ctx, &scratch.x))
