@@ -192,7 +192,8 @@ impl Constructor {
         let (da, db) = ((region.draw)(rng), (region.draw)(rng));
         if poses <= 3 {
             let mut points = [da, db];
-            if project(&mut points, &[ca, cb], &[(0, 1)], motions, poses, region.bounds.diagonal()) {
+            // One equation per pose after the first: at most two.
+            if project::<2, 2, 3>(&mut points, &[ca, cb], &[(0, 1)], motions, poses, region.bounds.diagonal()) {
                 return Built::joints(&points, false);
             }
             return Built::joints(&[da, db], true);
@@ -225,7 +226,9 @@ impl Constructor {
         let c = joints.map(|j| self.carriers[j]);
         if poses == 2 {
             let mut points = draws;
-            if project(&mut points, &c, &[(0, 1), (0, 2), (1, 2)], motions, poses, region.bounds.diagonal()) {
+            // Three pairs through two poses: three equations.
+            if project::<3, 3, 4>(&mut points, &c, &[(0, 1), (0, 2), (1, 2)], motions, poses, region.bounds.diagonal())
+            {
                 return Built::joints(&points, false);
             }
             return Built::joints(&draws, true);
@@ -410,26 +413,11 @@ fn nearest_on(lines: &[Line], near: Point) -> Option<Point> {
 /// `points`) by minimum-norm Gauss–Newton steps `δ = −Jᵀ(JJᵀ)⁻¹r`: for fewer equations than unknowns
 /// this converges, quadratically, to about the nearest point of the solution manifold. `scale` is a
 /// length of the scene. Returns false when it did not converge.
-fn project<const K: usize>(
-    points: &mut [Point; K],
-    carriers: &[Option<usize>; K],
-    pairs: &[(usize, usize)],
-    motions: &[Vec<Rigid>],
-    poses: usize,
-    scale: f64,
-) -> bool {
-    // Arrays sized for the rows at hand: a binary link through three poses, the common case, has two,
-    // and zeroing and eliminating six spent a fifth of its construction. The arithmetic on the rows
-    // used is the same.
-    if pairs.len() * (poses - 1) <= 2 {
-        project_rows::<K, 2, 3>(points, carriers, pairs, motions, poses, scale)
-    } else {
-        project_rows::<K, 6, 7>(points, carriers, pairs, motions, poses, scale)
-    }
-}
-
-/// [`project`] with room for `ROWS` equations (`COLS` = `ROWS` + 1: the matrix and the right side).
-fn project_rows<const K: usize, const ROWS: usize, const COLS: usize>(
+///
+/// The arrays have room for `ROWS` equations (`COLS` = `ROWS` + 1: the matrix and the right side),
+/// sized by each caller for its rows: a binary link through three poses has two, and zeroing and
+/// eliminating six spent a fifth of its construction.
+fn project<const K: usize, const ROWS: usize, const COLS: usize>(
     points: &mut [Point; K],
     carriers: &[Option<usize>; K],
     pairs: &[(usize, usize)],
