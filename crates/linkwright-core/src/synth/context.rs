@@ -102,9 +102,7 @@ impl<'a> Context<'a> {
             .collect();
         let body_size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
         let contact_tolerance = problem.contact_tolerance();
-        let obstacles = |polygons: &[Polygon]| -> Vec<Obstacle> {
-            polygons.iter().map(|p| Obstacle::new(p.vertices(), contact_tolerance)).collect()
-        };
+        let obstacle = |p: &Polygon| Obstacle::new(p.vertices(), contact_tolerance);
         Context {
             problem,
             carriers,
@@ -123,13 +121,9 @@ impl<'a> Context<'a> {
             min_spacing: MIN_JOINT_SPACING * body_size,
             min_transmission: problem.settings.min_transmission_deg.to_radians(),
             contact_tolerance,
-            fixed_obstacles: obstacles(&problem.fixed),
-            avoid_obstacles: obstacles(&problem.avoid),
-            body_shapes: problem
-                .bodies
-                .iter()
-                .map(|b| Obstacle::new(b.outline.vertices(), contact_tolerance))
-                .collect(),
+            fixed_obstacles: problem.fixed.iter().map(obstacle).collect(),
+            avoid_obstacles: problem.avoid.iter().map(obstacle).collect(),
+            body_shapes: problem.bodies.iter().map(|b| obstacle(&b.outline)).collect(),
             rigidity: RigidityModel::new(&topology),
             exact: problem.settings.pose_tolerance == 0.0,
             topology,

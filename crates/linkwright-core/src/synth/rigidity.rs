@@ -307,7 +307,7 @@ impl RigidityModel {
         polish: impl Fn(usize) -> bool,
     ) -> Fit {
         assert_eq!(x.len(), self.dim(), "x has the wrong length");
-        let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        let s = usable_scale(scale);
         let poses = self.poses(motions);
         if !self.finite(x, motions) {
             return Fit {
@@ -609,7 +609,7 @@ impl RigidityModel {
     /// [`Fit::max_relative_deviation`] of `x` as it stands (no fit), the only figure the sampler reads
     /// of a linkage its construction made exact: infinite for non-finite inputs, as a fit reports.
     pub fn relative_deviation(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> f64 {
-        let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        let s = usable_scale(scale);
         if !self.finite(x, motions) {
             return f64::INFINITY;
         }
@@ -642,6 +642,15 @@ impl RigidityModel {
             }
         }
         dev
+    }
+}
+
+/// The length fits are normalised by: `scale`, or 1 when it is not a positive finite number.
+fn usable_scale(scale: f64) -> f64 {
+    if scale.is_finite() && scale > 0.0 {
+        scale
+    } else {
+        1.0
     }
 }
 
