@@ -17,7 +17,7 @@
 //! Exactness rests on margins, a slack of 1e-9 of the obstacle's coordinates, far above the rounding of
 //! these computations: a list holds every edge within its reach, and a little more.
 
-use super::polygon::{closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
+use super::polygon::{boundary_distance_raw, closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
 use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Aabb, Point, Rigid, Vec2};
 use std::ops::Range;
 
@@ -181,6 +181,71 @@ impl Obstacle {
         self.edges_cross(mover)
             || self.mover_points_inside(mover)
             || self.probes_inside(mover, &mover_box, |p| shape.decided_deep(to_shape.apply(p)))
+    }
+
+    /// [`Obstacle::penetrated_by`]'s verdict for every placement of the outline `mover` (at least
+    /// three points) that a rigid motion reaches from this one without moving any point of `mover`
+    /// farther than `reach`, on the way too; `None` where it may differ between them.
+    ///
+    /// - `Some(false)` when the boundaries do not meet, are farther apart than `reach`, and neither
+    ///   outline holds the other: along any such motion the boundaries never meet, so no edge crosses
+    ///   and no point of either enters the other.
+    /// - `Some(true)` when a vertex or edge midpoint of one lies inside the other deeper than the
+    ///   tolerance plus `reach`: it stays deeper than the tolerance, on the same side.
+    ///
+    /// Both keep a margin of 1e-8 of the coordinates, far above the rounding of the placements and of
+    /// the brute force's expressions.
+    pub fn penetration_within(&self, mover: &[Point], reach: f64) -> Option<bool> {
+        let obstacle = &self.vertices[..];
+        if mover.len() < 3 || obstacle.len() < 3 || reach.is_nan() || reach < 0.0 {
+            return None;
+        }
+        let scale = obstacle.iter().chain(mover).fold(reach, |s, p| s.max(p.x.abs()).max(p.y.abs()));
+        let margin = 1e-8 * scale;
+        let deep = self.tol + reach + margin;
+        let mover_box = Aabb::around(mover.iter().copied())?;
+        // Boxes apart: so are the outlines, and their boundaries by at least the gap.
+        if mover_box.gap(&self.bounds) > reach + margin {
+            return Some(false);
+        }
+        // The vertex-to-edge distances are the boundaries' distance only where no edges meet.
+        if !self.edges_meet(mover) {
+            let distance = self.boundary_distance(mover);
+            if !distance.is_finite() {
+                return None;
+            }
+            if distance > reach + margin {
+                // Either the outlines are apart, or one holds the other whole.
+                let held = contains_raw(obstacle, mover[0]) || contains_raw(mover, obstacle[0]);
+                return if held { (distance > deep).then_some(true) } else { Some(false) };
+            }
+        }
+        // A point of one outline deeper than `deep` inside the other (in the other's box, then).
+        let deep_in = |points: &[Point], poly: &[Point], poly_box: &Aabb| {
+            let n = points.len();
+            (0..n).any(|i| {
+                [points[i], points[i].lerp(points[(i + 1) % n], 0.5)]
+                    .into_iter()
+                    .any(|q| poly_box.contains(q) && contains_raw(poly, q) && boundary_distance_raw(poly, q) > deep)
+            })
+        };
+        (deep_in(mover, obstacle, &self.bounds) || deep_in(obstacle, mover, &mover_box)).then_some(true)
+    }
+
+    /// Whether an edge of the outline `mover` and one of the obstacle's meet or nearly do: crossing,
+    /// touching, or on a common line (no tolerance; a pair that rounding could call apart counts).
+    fn edges_meet(&self, mover: &[Point]) -> bool {
+        let n = mover.len();
+        let side = |a: Point, b: Point, c: Point| (b - a).cross(c - a);
+        (0..n).any(|i| {
+            let (a0, a1) = (mover[i], mover[(i + 1) % n]);
+            let edge_a = segment_box(a0, a1);
+            self.edges.iter().zip(&self.edge_boxes).any(|(&(b0, b1), edge_b)| {
+                edge_a.overlaps(edge_b, -self.grid.slack)
+                    && side(a0, a1, b0) * side(a0, a1, b1) <= 0.0
+                    && side(b0, b1, a0) * side(b0, b1, a1) <= 0.0
+            })
+        })
     }
 
     /// The least distance between the boundaries of `mover` (an outline, or a segment when it has two
@@ -602,6 +667,61 @@ mod tests {
             }
             prop_assert!(verdicts > 0 && verdicts < 64, "{} of 64 penetrate", verdicts);
         }
+    }
+
+    proptest! {
+        /// A verdict for every placement within reach is the brute force's at placements as far as
+        /// the reach allows (every point moved by up to it), and both verdicts occur.
+        #[test]
+        fn verdicts_within_reach_hold_for_every_placement(seed in any::<u64>(), n in 3..30usize, notch in any::<bool>(),
+                                                           scale in -2.0..2.0f64, tol_kind in 0..3usize) {
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let size = 10f64.powf(scale);
+            let vertices = if notch { notched(Point::ORIGIN, size) } else { star(&mut rng, n, Point::ORIGIN, size, true) };
+            let tol = [0.0, 1e-3, 0.05][tol_kind] * size;
+            let obstacle = Obstacle::new(&vertices, tol);
+            let mut decided = [0usize; 2];
+            for _ in 0..48 {
+                let mover = mover(&mut rng, &obstacle);
+                if mover.len() < 3 {
+                    continue;
+                }
+                let reach = size * [0.0, 0.01, 0.1, 0.4][rng.random_range(0..4)];
+                let Some(verdict) = obstacle.penetration_within(&mover, reach) else { continue };
+                decided[verdict as usize] += 1;
+                // Rigid motions about a point of the mover, scaled so that the farthest point moves
+                // by the whole reach (or a part of it).
+                let pivot = mover[rng.random_range(0..mover.len())];
+                let arm = mover.iter().fold(0.0, |r: f64, &p| r.max(p.distance(pivot)));
+                for _ in 0..8 {
+                    let (turn, shift): (f64, Vec2) = (rng.random_range(-1.0..1.0), Vec2::from_angle(rng.random_range(0.0..7.0)));
+                    let budget = reach * [1.0, rng.random_range(0.0..1.0)][rng.random_range(0..2)];
+                    let share = rng.random_range(0.0..=1.0);
+                    let angle = if arm > 0.0 { turn.signum() * share * budget / arm } else { 0.0 };
+                    let shift = shift * ((1.0 - share) * budget);
+                    let motion = Rigid::new(angle, Vec2::ZERO);
+                    let moved: Vec<Point> = mover.iter().map(|&p| pivot + motion.rotate(p - pivot) + shift).collect();
+                    prop_assert_eq!(penetrates_unchecked(&moved, &vertices, tol), verdict, "{:?} moved to {:?}, reach {}", mover, moved, reach);
+                }
+            }
+            prop_assert!(decided[0] + decided[1] > 0, "no verdict");
+        }
+    }
+
+    /// Both verdicts within reach occur on the shapes of the property test.
+    #[test]
+    fn verdicts_within_reach_are_often_decided() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        let mut counts = [0usize; 3];
+        for _ in 0..1000 {
+            let vertices = star(&mut rng, 12, Point::ORIGIN, 1.0, true);
+            let obstacle = Obstacle::new(&vertices, 1e-3);
+            let mover = mover(&mut rng, &obstacle);
+            if mover.len() >= 3 {
+                counts[obstacle.penetration_within(&mover, 0.05).map_or(2, usize::from)] += 1;
+            }
+        }
+        assert!(counts[0] > 40 && counts[1] > 40, "clear, penetrated, undecided: {counts:?}");
     }
 
     #[test]

@@ -307,7 +307,8 @@ pub(super) fn crosses_ray(a: Point, b: Point, p: Point) -> bool {
     (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x)
 }
 
-fn boundary_distance_raw(poly: &[Point], p: Point) -> f64 {
+/// The distance from `p` to the boundary of `poly`.
+pub(super) fn boundary_distance_raw(poly: &[Point], p: Point) -> f64 {
     let n = poly.len();
     (0..n).map(|i| point_segment_distance(p, poly[i], poly[(i + 1) % n])).fold(f64::INFINITY, f64::min)
 }

@@ -4,6 +4,7 @@
 
 use super::construct::{ConstructScratch, Constructor, Region};
 use super::context::Context;
+use super::perturb::{PerturbationCells, Verdict};
 use super::random::{normal, rng, Stream};
 use super::rigidity::FitWorkspace;
 use crate::geom::{penetrates_unchecked, Aabb, Point, Rigid, Vec2};
@@ -25,6 +26,8 @@ pub struct Sampler<'c, 'p> {
     constructor: Constructor,
     /// Each body's first pose, inverted: perturbed motions start from it.
     first_inverse: Vec<Rigid>,
+    /// The fixed bodies' verdicts on perturbed poses, by cell of the perturbation.
+    cells: PerturbationCells,
 }
 
 /// Buffers one worker reuses across samples.
@@ -56,6 +59,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
             family,
             constructor: Constructor::new(&ctx.topology),
             first_inverse: ctx.problem.bodies.iter().map(|b| b.poses[0].inverse()).collect(),
+            cells: PerturbationCells::new(ctx),
         }
     }
 
@@ -132,7 +136,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
                     let shift = Vec2::new(normal(rng), normal(rng)) * (settings.pose_tolerance * body.size);
                     let turn = normal(rng) * settings.angle_tolerance_deg.to_radians();
                     let trial = Rigid::new(input.angle() + turn, input.translation() + shift);
-                    if self.free_at(b, &trial, scratch) {
+                    if self.free_at(b, i, (shift, turn), &trial, scratch) {
                         (pose, free) = (trial, true);
                         break;
                     }
@@ -155,18 +159,28 @@ impl<'c, 'p> Sampler<'c, 'p> {
         scratch.boxes[b] = Aabb::around(outline.iter().copied()).expect("outline has vertices");
     }
 
-    /// True when body `b` at `pose` penetrates neither a fixed body nor a body placed before it at
-    /// this pose (bodies `0..b`, whose outlines `scratch` holds). Leaves `b`'s outline in `scratch`.
-    fn free_at(&self, b: usize, pose: &Rigid, scratch: &mut SampleScratch) -> bool {
+    /// True when body `b` at `pose`, pose `i` perturbed by `(shift, turn)`, penetrates neither a fixed
+    /// body nor a body placed before it at this pose (bodies `0..b`, whose outlines `scratch` holds).
+    /// Leaves `b`'s outline in `scratch`.
+    fn free_at(
+        &self,
+        b: usize,
+        i: usize,
+        (shift, turn): (Vec2, f64),
+        pose: &Rigid,
+        scratch: &mut SampleScratch,
+    ) -> bool {
         let tol = self.ctx.contact_tolerance;
         self.place(b, pose, scratch);
         let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
         let shape = &self.ctx.body_shapes[b];
-        let hits_fixed = self
-            .ctx
-            .fixed_obstacles
-            .iter()
-            .any(|f| bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, pose));
+        let hits_fixed = self.ctx.fixed_obstacles.iter().enumerate().any(|(k, f)| {
+            match self.cells.verdict(self.ctx, b, i, shift, turn, k) {
+                Verdict::Clear => false,
+                Verdict::Penetrated => true,
+                Verdict::Undecided => bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, pose),
+            }
+        });
         if hits_fixed {
             return false;
         }
