@@ -182,25 +182,23 @@ fn screen(
     let Scratch { plan, targets, fitted_targets, branches, nominal, .. } = scratch;
     let plan = plan.as_ref().expect("just dimensioned");
 
-    // Where every joint should be at every pose: at the input poses, and in the sample's own fit.
-    targets.clear();
+    // Where every joint is at every pose in the sample's own fit, pose after pose, and branch and
+    // circuit (§5.2–5.3): every dyad must be on its first-pose branch at every pose. Most samples fail
+    // this at some pose; the input poses' targets wait until every check below passes.
     fitted_targets.clear();
     for i in 0..poses {
-        targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
         fitted_targets.extend((0..n).map(|j| match (fitted, ctx.carriers[j]) {
             (Some(motions), Some(b)) => motions[b][i].apply(joints[j]),
             _ => ctx.target(j, joints[j], i),
         }));
-    }
-    let target_row = |i: usize| &fitted_targets[i * n..(i + 1) * n];
-
-    // Branch and circuit (§5.2–5.3): every dyad must be on its first-pose branch at every pose.
-    for i in 1..poses {
-        plan.branches_of(target_row(i), branches);
-        if !branches.iter().copied().eq(plan.own_branches()) {
-            return Err(Reject::Branch);
+        if i > 0 {
+            plan.branches_of(&fitted_targets[i * n..], branches);
+            if !branches.iter().copied().eq(plan.own_branches()) {
+                return Err(Reject::Branch);
+            }
         }
     }
+    let target_row = |i: usize| &fitted_targets[i * n..(i + 1) * n];
 
     // Order (§5.1), nominally: the crank's direction at each pose must advance one way by less than a turn.
     let (pivot, tip) = (ctx.topology.driver_pivot, ctx.topology.driver_tip);
@@ -259,6 +257,12 @@ fn screen(
         return Err(first_failure.unwrap_or(Reject::Assembly));
     }
     travels.truncate(kept * poses);
+
+    // Where every joint should be at every pose, at the input poses.
+    targets.clear();
+    for i in 0..poses {
+        targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
+    }
 
     // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
     let (location, size) = static_terms(ctx, mechanism);
