@@ -131,4 +131,11 @@ impl BodyFrames {
     pub fn body_count(&self) -> usize {
         self.frames.len()
     }
+    /// Body `b`'s frame joints (the origin, then the joint its x axis points to) and its map from
+    /// body coordinates to that frame: [`BodyFrames::pose`] is that map, then the frame the two
+    /// joints span in a configuration.
+    pub fn frame(&self, b: usize) -> (usize, usize, &Rigid) {
+        let (a, c, body_to_frame) = &self.frames[b];
+        (*a, *c, body_to_frame)
+    }
 }
