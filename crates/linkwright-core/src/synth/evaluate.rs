@@ -99,6 +99,8 @@ pub struct Scratch {
     plan: Option<Plan>,
     /// The crank's direction at each pose.
     nominal: Vec<f64>,
+    /// The screened travels (see [`Screening`]), reused from mechanism to mechanism.
+    travels: Vec<f64>,
 }
 
 /// The kinematic checks and the soft costs of one mechanism; [`Reject::Outclassed`] when its cost is
@@ -124,11 +126,10 @@ pub fn evaluate(
     simulate(ctx, mechanism, plan, screening, scratch)
 }
 
-/// What the checks before any simulation found of a mechanism that passed them.
+/// What the checks before any simulation found of a mechanism that passed them, with the travels
+/// left in `Scratch::travels`: the crank's nominal angle at each pose, for each direction it may turn
+/// that the closed form does not rule out (shortest travel first), one pose count after another.
 struct Screening {
-    /// The crank's nominal angle at each pose, for each direction it may turn that the closed form
-    /// does not rule out (shortest travel first), one pose count after another.
-    travels: Vec<f64>,
     /// The reject of the first direction the closed form ruled out, if any.
     first_failure: Option<Reject>,
     location: f64,
@@ -179,7 +180,7 @@ fn screen(
         return Err(Reject::JointsTooClose);
     }
     dimension_plan(mechanism, scratch)?;
-    let Scratch { plan, targets, fitted_targets, branches, nominal, .. } = scratch;
+    let Scratch { plan, targets, fitted_targets, branches, nominal, travels, .. } = scratch;
     let plan = plan.as_ref().expect("just dimensioned");
 
     // Where every joint is at every pose in the sample's own fit, pose after pose, and branch and
@@ -205,7 +206,7 @@ fn screen(
     nominal.clear();
     nominal.extend((0..poses).map(|i| (target_row(i)[tip] - target_row(i)[pivot]).angle()));
     // For each direction the crank may turn, its angle at each pose, one direction after the other.
-    let mut travels = Vec::with_capacity(2 * poses);
+    travels.clear();
     let mut totals = [0.0; 2];
     let mut count = 0;
     for dir in [1.0, -1.0] {
@@ -268,7 +269,7 @@ fn screen(
     let (location, size) = static_terms(ctx, mechanism);
     let w = &ctx.problem.weights;
     let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, targets);
-    Ok(Screening { travels, first_failure, location, size, floor })
+    Ok(Screening { first_failure, location, size, floor })
 }
 
 /// Simulates a screened mechanism's travels, shortest first, and returns the first that passes every
@@ -280,9 +281,11 @@ fn simulate(
     screening: Screening,
     scratch: &mut Scratch,
 ) -> Result<Candidate, Reject> {
-    let Screening { travels, mut first_failure, location, size, .. } = screening;
+    let Screening { mut first_failure, location, size, .. } = screening;
     let poses = ctx.problem.pose_count;
     let w = &ctx.problem.weights;
+    // A copy: the simulation uses the scratch (one allocation against a whole simulation).
+    let travels = scratch.travels.clone();
     for angles in travels.chunks_exact(poses) {
         match travel(ctx, &plan, angles, scratch) {
             Ok((trace, pose_rows)) => {

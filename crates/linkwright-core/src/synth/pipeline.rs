@@ -32,7 +32,8 @@ pub const MAX_ALTERNATIVES: usize = 10;
 const DISTINCT: f64 = 0.25;
 
 /// Draws sample i of a run (deterministic: the same sample every time).
-type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> Option<Mechanism> + Sync + 'a;
+/// Draws sample `i` into the scratch ([`SampleScratch::mechanism`]); false when it did not fit.
+type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> bool + Sync + 'a;
 
 /// The stage a run is in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -294,7 +295,7 @@ fn run_family(
     let t = Instant::now();
     let draw = |i: usize, scratch: &mut SampleScratch| {
         let near = (!seeds.is_empty()).then(|| seeds[i % seeds.len()].as_slice());
-        sampler.sample(seed, i as u64, near, scratch)
+        sampler.draw(seed, i as u64, near, scratch)
     };
     let floors = screen_samples(ctx, total, &draw, stats, rejected, observer, &|x| {
         report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None)
@@ -381,8 +382,10 @@ fn screen_samples(
             .map_init(
                 || (SampleScratch::default(), Scratch::default()),
                 |(sample_scratch, scratch), i| {
-                    let mechanism = draw(i, sample_scratch)?;
-                    Some(cost_floor(ctx, &mechanism, Some(sample_scratch.motions()), scratch))
+                    if !draw(i, sample_scratch) {
+                        return None;
+                    }
+                    Some(cost_floor(ctx, sample_scratch.mechanism(), Some(sample_scratch.motions()), scratch))
                 },
             )
             .collect();
@@ -442,7 +445,10 @@ fn simulate_cheapest(
             .map_init(
                 || (SampleScratch::default(), Scratch::default()),
                 |(sample_scratch, scratch), &(_, i)| {
-                    let mechanism = draw(i, sample_scratch)?;
+                    if !draw(i, sample_scratch) {
+                        return None;
+                    }
+                    let mechanism = sample_scratch.mechanism().clone();
                     Some((evaluate(ctx, mechanism, Some(sample_scratch.motions()), bar, scratch), i))
                 },
             )
@@ -543,14 +549,14 @@ mod tests {
         let ctx = Context::new(&problem, MechanismType::SliderCrank);
         let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
         let seed = problem.settings.seed;
-        let draw = |i: usize, scratch: &mut SampleScratch| sampler.sample(seed, i as u64, None, scratch);
+        let draw = |i: usize, scratch: &mut SampleScratch| sampler.draw(seed, i as u64, None, scratch);
         let cap = 1000;
 
         // Every sample simulated, the cheapest `cap` kept (ties in sample order).
         let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
         let mut all: Vec<Candidate> = (0..problem.settings.samples)
             .filter_map(|i| {
-                let m = draw(i, &mut sample_scratch)?;
+                let m = sampler.sample(seed, i as u64, None, &mut sample_scratch)?;
                 evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
             })
             .collect();

@@ -42,12 +42,18 @@ pub struct SampleScratch {
     /// Each body's outline and its box at the pose being perturbed, once placed.
     outlines: Vec<Vec<Point>>,
     boxes: Vec<Aabb>,
+    /// The last sample drawn by [`Sampler::draw`], its buffers reused from sample to sample.
+    mechanism: Option<Mechanism>,
 }
 
 impl SampleScratch {
     /// The perturbed motions of the last sample: `motions()[b][i]` carries body b from pose 0 to pose i.
     pub fn motions(&self) -> &[Vec<Rigid>] {
         &self.motions
+    }
+    /// The last sample [`Sampler::draw`] accepted.
+    pub fn mechanism(&self) -> &Mechanism {
+        self.mechanism.as_ref().expect("a sample was drawn")
     }
 }
 
@@ -63,20 +69,15 @@ impl<'c, 'p> Sampler<'c, 'p> {
         }
     }
 
-    /// Sample `index` under `seed`: a mechanism whose links are rigid over perturbed poses, or `None`
-    /// when the fit does not reach a rigid linkage.
+    /// Draws sample `index` under `seed` into `scratch` ([`SampleScratch::mechanism`], its buffers
+    /// reused): a mechanism whose links are rigid over perturbed poses. False when the fit does not
+    /// reach a rigid linkage.
     ///
     /// Without `near`, joints are drawn uniformly in the region and the others solved in closed form
     /// where the poses allow it, the rest fitted from the constructed start. With `near`, every joint
     /// starts from that parameter vector (a previous design's, see [`x_from_mechanism`]) jittered by
     /// [`WARM_JITTER`]·d and the whole linkage is fitted.
-    pub fn sample(
-        &self,
-        seed: u64,
-        index: u64,
-        near: Option<&[f64]>,
-        scratch: &mut SampleScratch,
-    ) -> Option<Mechanism> {
+    pub fn draw(&self, seed: u64, index: u64, near: Option<&[f64]>, scratch: &mut SampleScratch) -> bool {
         let ctx = self.ctx;
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
         self.perturbed_motions(&mut rng, scratch);
@@ -105,9 +106,25 @@ impl<'c, 'p> Sampler<'c, 'p> {
             }
         };
         if deviation.is_nan() || deviation > ctx.accepted_deviation() {
-            return None;
+            return false;
         }
-        Some(mechanism_from_x(ctx, &scratch.x))
+        match &mut scratch.mechanism {
+            Some(m) => mechanism_into_x(ctx, &scratch.x, m),
+            none => *none = Some(mechanism_from_x(ctx, &scratch.x)),
+        }
+        true
+    }
+
+    /// [`Sampler::draw`], as an owned mechanism (`None` when the fit failed).
+    #[cfg(test)]
+    pub fn sample(
+        &self,
+        seed: u64,
+        index: u64,
+        near: Option<&[f64]>,
+        scratch: &mut SampleScratch,
+    ) -> Option<Mechanism> {
+        self.draw(seed, index, near, scratch).then(|| scratch.mechanism().clone())
     }
 
     /// `scratch.motions[b][i]`: the first pose to a perturbed pose i (the first and last are kept).
@@ -210,6 +227,15 @@ pub fn mechanism_from_x(ctx: &Context, x: &[f64]) -> Mechanism {
     let slider =
         ctx.topology.slider_joint.map(|j| SliderLine { point: joints[j], direction: Vec2::from_angle(x[2 * n]) });
     Mechanism { topology: ctx.topology.clone(), joints, slider }
+}
+
+/// [`mechanism_from_x`] into a mechanism of this context's topology, reusing its buffers.
+fn mechanism_into_x(ctx: &Context, x: &[f64], m: &mut Mechanism) {
+    let n = ctx.topology.joint_count();
+    m.joints.clear();
+    m.joints.extend((0..n).map(|j| Point::new(x[2 * j], x[2 * j + 1])));
+    m.slider =
+        ctx.topology.slider_joint.map(|j| SliderLine { point: m.joints[j], direction: Vec2::from_angle(x[2 * n]) });
 }
 
 /// The parameter vector of a mechanism (inverse of [`mechanism_from_x`]).
