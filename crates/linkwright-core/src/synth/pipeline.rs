@@ -26,6 +26,8 @@ const CANDIDATE_CAP: usize = 2000;
 const VALID_PER_PARTICLE: usize = 10;
 /// Candidates checked for collisions between two checks of the stopping rule.
 const COLLISION_CHUNK: usize = 128;
+/// At most this many chunks are swept in one parallel batch.
+const COLLISION_BATCH_CHUNKS: usize = 8;
 /// At most this many alternatives are reported.
 pub const MAX_ALTERNATIVES: usize = 10;
 /// Two designs of one family are distinct when some joint differs by more than this fraction of d.
@@ -313,12 +315,24 @@ fn run_family(
     let enough = per_particle * settings.particles.max(1);
     let mut valid = Vec::new();
     let mut queue = candidates.into_iter().peekable();
+    let mut swept = 0;
     while queue.peek().is_some() && valid.len() < enough {
         if observer.cancelled() {
             return Err(Cancelled);
         }
-        let chunk: Vec<Candidate> = queue.by_ref().take(COLLISION_CHUNK).collect();
-        let checked: Vec<Result<Candidate, Reject>> = chunk
+        // The candidates are checked chunk by chunk until enough are valid. Several chunks are swept
+        // in one parallel batch, as many as the valid rate so far says are still needed (fewer waits
+        // for a batch's last sweep); only the chunks the rule asks for are taken, so the batch's size
+        // changes no result.
+        let chunks = if swept == 0 {
+            1
+        } else {
+            let rate = (valid.len() as f64 / swept as f64).max(1.0 / COLLISION_CHUNK as f64);
+            (((enough - valid.len()) as f64 / (rate * COLLISION_CHUNK as f64)).ceil() as usize)
+                .clamp(1, COLLISION_BATCH_CHUNKS)
+        };
+        let batch: Vec<Candidate> = queue.by_ref().take(chunks * COLLISION_CHUNK).collect();
+        let mut checked = batch
             .into_par_iter()
             .map_init(Scratch::default, |scratch, c| {
                 check_collisions(ctx, &c, scratch)?;
@@ -327,11 +341,16 @@ fn run_family(
                     None => Ok(c),
                 }
             })
-            .collect();
-        for r in checked {
-            match r {
-                Ok(c) => valid.push(c),
-                Err(reject) => rejected[reject as usize] += 1,
+            .collect::<Vec<Result<Candidate, Reject>>>()
+            .into_iter()
+            .peekable();
+        while checked.peek().is_some() && valid.len() < enough {
+            for r in checked.by_ref().take(COLLISION_CHUNK) {
+                swept += 1;
+                match r {
+                    Ok(c) => valid.push(c),
+                    Err(reject) => rejected[reject as usize] += 1,
+                }
             }
         }
     }
