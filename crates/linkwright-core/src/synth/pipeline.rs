@@ -313,47 +313,7 @@ fn run_family(
     // of printable designs: that check costs milliseconds, and the particle filter stays near them.
     let per_particle = if warm || printable.is_some() { 1 } else { VALID_PER_PARTICLE };
     let enough = per_particle * settings.particles.max(1);
-    let mut valid = Vec::new();
-    let mut queue = candidates.into_iter().peekable();
-    let mut swept = 0;
-    while queue.peek().is_some() && valid.len() < enough {
-        if observer.cancelled() {
-            return Err(Cancelled);
-        }
-        // The candidates are checked chunk by chunk until enough are valid. Several chunks are swept
-        // in one parallel batch, as many as the valid rate so far says are still needed (fewer waits
-        // for a batch's last sweep); only the chunks the rule asks for are taken, so the batch's size
-        // changes no result.
-        let chunks = if swept == 0 {
-            1
-        } else {
-            let rate = (valid.len() as f64 / swept as f64).max(1.0 / COLLISION_CHUNK as f64);
-            (((enough - valid.len()) as f64 / (rate * COLLISION_CHUNK as f64)).ceil() as usize)
-                .clamp(1, COLLISION_BATCH_CHUNKS)
-        };
-        let batch: Vec<Candidate> = queue.by_ref().take(chunks * COLLISION_CHUNK).collect();
-        let mut checked = batch
-            .into_par_iter()
-            .map_init(Scratch::default, |scratch, c| {
-                check_collisions(ctx, &c, scratch)?;
-                match printable {
-                    Some(check) => mark_printable(check, c),
-                    None => Ok(c),
-                }
-            })
-            .collect::<Vec<Result<Candidate, Reject>>>()
-            .into_iter()
-            .peekable();
-        while checked.peek().is_some() && valid.len() < enough {
-            for r in checked.by_ref().take(COLLISION_CHUNK) {
-                swept += 1;
-                match r {
-                    Ok(c) => valid.push(c),
-                    Err(reject) => rejected[reject as usize] += 1,
-                }
-            }
-        }
-    }
+    let mut valid = check_in_order(ctx, candidates, enough, COLLISION_BATCH_CHUNKS, printable, rejected, observer)?;
     stats.valid += valid.len();
     stats.seconds_collision += t.elapsed().as_secs_f64();
     let best = valid.iter().map(|c| c.cost).reduce(f64::min);
@@ -490,6 +450,60 @@ fn simulate_cheapest(
     Ok(candidates.into_iter().map(|(_, _, c)| *c).collect())
 }
 
+/// The collision-free (and, with a `printable` check, printable) candidates among `candidates`, checked
+/// in order chunk by chunk until `enough` are valid.
+///
+/// Up to `batch_chunks` chunks are swept in one parallel batch, as many as the valid rate so far says
+/// are still needed (fewer waits for a batch's last sweep); only the chunks the rule asks for are
+/// taken, so the batch's size changes no result.
+fn check_in_order(
+    ctx: &Context,
+    candidates: Vec<Candidate>,
+    enough: usize,
+    batch_chunks: usize,
+    printable: Option<&FeasibilityCheck>,
+    rejected: &mut [usize; Reject::ALL.len()],
+    observer: &dyn Observer,
+) -> Result<Vec<Candidate>, Cancelled> {
+    let mut valid = Vec::new();
+    let mut queue = candidates.into_iter().peekable();
+    let mut swept = 0;
+    while queue.peek().is_some() && valid.len() < enough {
+        if observer.cancelled() {
+            return Err(Cancelled);
+        }
+        let chunks = if swept == 0 {
+            1
+        } else {
+            let rate = (valid.len() as f64 / swept as f64).max(1.0 / COLLISION_CHUNK as f64);
+            (((enough - valid.len()) as f64 / (rate * COLLISION_CHUNK as f64)).ceil() as usize).clamp(1, batch_chunks)
+        };
+        let batch: Vec<Candidate> = queue.by_ref().take(chunks * COLLISION_CHUNK).collect();
+        let mut checked = batch
+            .into_par_iter()
+            .map_init(Scratch::default, |scratch, c| {
+                check_collisions(ctx, &c, scratch)?;
+                match printable {
+                    Some(check) => mark_printable(check, c),
+                    None => Ok(c),
+                }
+            })
+            .collect::<Vec<Result<Candidate, Reject>>>()
+            .into_iter()
+            .peekable();
+        while checked.peek().is_some() && valid.len() < enough {
+            for r in checked.by_ref().take(COLLISION_CHUNK) {
+                swept += 1;
+                match r {
+                    Ok(c) => valid.push(c),
+                    Err(reject) => rejected[reject as usize] += 1,
+                }
+            }
+        }
+    }
+    Ok(valid)
+}
+
 /// True when two designs differ: another family, or some joint moved by more than `min_shift`.
 fn distinct(a: &Candidate, b: &Candidate, min_shift: f64) -> bool {
     let (ma, mb) = (&a.mechanism, &b.mechanism);
@@ -557,6 +571,43 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
 mod tests {
     use super::*;
     use crate::synth::testing::example;
+
+    /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
+    /// exactly the rejects, of checking one chunk at a time: where a first chunk poor in valid
+    /// candidates makes the batch reach far past where the stopping rule ends, and where every
+    /// candidate is checked.
+    #[test]
+    fn batched_collision_checks_keep_what_chunk_by_chunk_checks_keep() {
+        let mut problem = example("k1_sofa_bed");
+        problem.settings.samples = 6_000;
+        let ctx = Context::new(&problem, MechanismType::SliderCrank);
+        let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
+        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
+        let (mut valid, mut colliding): (Vec<Candidate>, Vec<Candidate>) = (0..problem.settings.samples as u64)
+            .filter_map(|i| {
+                let m = sampler.sample(problem.settings.seed, i, None, &mut sample_scratch)?;
+                evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
+            })
+            .partition(|c| check_collisions(&ctx, c, &mut Scratch::default()).is_ok());
+        assert!(valid.len() > 100 && colliding.len() > 2 * COLLISION_CHUNK, "{} valid", valid.len());
+        // A first chunk with one valid candidate, then the rest mixed.
+        let mut candidates: Vec<Candidate> = colliding.drain(..COLLISION_CHUNK - 1).collect();
+        candidates.push(valid.pop().unwrap());
+        candidates.extend(valid.into_iter().zip(colliding).flat_map(|(v, c)| [v, c]));
+        let key = |c: &Candidate| (c.cost.to_bits(), c.mechanism.joints.clone());
+        for enough in [40, 100, usize::MAX] {
+            let run = |batch_chunks| {
+                let mut rejected = [0; Reject::ALL.len()];
+                let valid =
+                    check_in_order(&ctx, candidates.clone(), enough, batch_chunks, None, &mut rejected, &Silent)
+                        .unwrap();
+                (valid.iter().map(key).collect::<Vec<_>>(), rejected)
+            };
+            let (one, many) = (run(1), run(8));
+            assert!(one.0.len() >= enough.min(100), "{} valid", one.0.len());
+            assert_eq!(one, many, "enough = {enough}");
+        }
+    }
 
     /// Simulating lowest floor first and stopping at the bar keeps exactly the candidates a simulation
     /// of every sample keeps, while simulating fewer. The cap is large enough that the stopping rule
