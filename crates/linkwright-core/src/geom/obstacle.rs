@@ -87,6 +87,7 @@ impl Obstacle {
         let grid = Grid {
             origin: bounds.min - Vec2::new(pad, pad),
             cell,
+            per_cell: 1.0 / cell,
             slack,
             cols: ((bounds.width() + 2.0 * pad) / cell) as usize + 1,
             rows: ((bounds.height() + 2.0 * pad) / cell) as usize + 1,
@@ -407,6 +408,9 @@ impl Obstacle {
 struct Grid {
     origin: Point,
     cell: f64,
+    /// `1 / cell`: a point's cell is found by multiplying (a division takes several times as long,
+    /// and the cells' margins hold either rounding).
+    per_cell: f64,
     /// A length far above the rounding of coordinates near the grid.
     slack: f64,
     cols: usize,
@@ -415,10 +419,10 @@ struct Grid {
 
 impl Grid {
     fn col(&self, x: f64) -> usize {
-        index((x - self.origin.x) / self.cell, self.cols)
+        index((x - self.origin.x) * self.per_cell, self.cols)
     }
     fn row(&self, y: f64) -> usize {
-        index((y - self.origin.y) / self.cell, self.rows)
+        index((y - self.origin.y) * self.per_cell, self.rows)
     }
     /// The cell of `p`, or the nearest border cell when `p` is beyond the grid.
     fn cell_of(&self, p: Point) -> usize {
