@@ -18,7 +18,7 @@
 //! these computations: a list holds every edge within its reach, and a little more.
 
 use super::polygon::{boundary_distance_raw, closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
-use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Aabb, Point, Rigid, Vec2};
+use super::{point_segment_distance, segments_cross, Aabb, Point, Rigid, Vec2};
 use std::ops::Range;
 
 /// Cells along the longer side of an obstacle's box.
@@ -38,6 +38,8 @@ pub struct Obstacle {
     /// Edge `i` runs from vertex `i` to the next; its box and its midpoint.
     edges: Vec<(Point, Point)>,
     edge_boxes: Vec<Aabb>,
+    /// Per edge, its direction and inverse squared length (0 for a point).
+    edge_steps: Vec<(Vec2, f64)>,
     midpoints: Vec<Point>,
     /// Chains of consecutive edges, and the box around each (and around their midpoints).
     chains: Vec<(Aabb, Range<usize>)>,
@@ -74,6 +76,13 @@ impl Obstacle {
         let edges: Vec<(Point, Point)> = (0..n).map(|i| (vertices[i], vertices[(i + 1) % n])).collect();
         let edge_boxes: Vec<Aabb> = edges.iter().map(|&(a, b)| segment_box(a, b)).collect();
         let midpoints: Vec<Point> = edges.iter().map(|&(a, b)| a.lerp(b, 0.5)).collect();
+        let edge_steps = edges
+            .iter()
+            .map(|&(a, b)| {
+                let ab = b - a;
+                (ab, if ab.norm_sq() > 0.0 { 1.0 / ab.norm_sq() } else { 0.0 })
+            })
+            .collect();
         let bounds = Aabb::around(vertices.iter().copied()).unwrap_or(Aabb { min: Point::ORIGIN, max: Point::ORIGIN });
         let size = bounds.width().max(bounds.height());
         let scale = [bounds.min.x, bounds.min.y, bounds.max.x, bounds.max.y].iter().fold(size, |s, c| s.max(c.abs()));
@@ -139,6 +148,7 @@ impl Obstacle {
             bounds,
             edges,
             edge_boxes,
+            edge_steps,
             midpoints,
             chains,
             by_x,
@@ -262,7 +272,7 @@ impl Obstacle {
         // within the lists' reach.
         for &v in mover {
             for &j in self.nearby.of(self.grid.cell_of(v)).iter().filter(|&&j| j < obstacle_edges) {
-                best = best.min(point_segment_distance_sq(v, self.edges[j].0, self.edges[j].1));
+                best = best.min(self.edge_distance_sq(j, v));
             }
         }
         // The obstacle's vertices against the mover's edges.
@@ -367,6 +377,15 @@ impl Obstacle {
                         .all(|&j| point_segment_distance(p, self.edges[j].0, self.edges[j].1) > self.tol)
             }
         }
+    }
+
+    /// The squared distance from `p` to edge `j`: [`point_segment_distance_sq`](super::point_segment_distance_sq) with the edge's
+    /// direction and inverse squared length kept (a multiplication where it divides; the distances
+    /// agree to rounding, as `boundary_distance` promises).
+    fn edge_distance_sq(&self, j: usize, p: Point) -> f64 {
+        let (a, (ab, inverse)) = (self.edges[j].0, self.edge_steps[j]);
+        let t = ((p - a).dot(ab) * inverse).clamp(0.0, 1.0);
+        (p - (a + ab * t)).norm_sq()
     }
 
     /// Lowers `best` (squared) to the distances between the obstacle's vertices and the segment
