@@ -339,8 +339,9 @@ impl Obstacle {
     }
 
     /// Whether `p` lies inside, farther than the tolerance from the boundary, when its cell of the grid
-    /// decides it for every point near it (within the slack); `None` near the boundary.
-    fn decided_deep(&self, p: Point) -> Option<bool> {
+    /// decides it for every point near it (within the slack); `None` near the boundary. With a
+    /// tolerance of 0, whether `p` lies inside, as the even-odd test answers, where the grid decides.
+    pub fn decided_deep(&self, p: Point) -> Option<bool> {
         match self.regions[self.grid.cell_of(p)] {
             Region::Inside => Some(true),
             Region::Outside => Some(false),

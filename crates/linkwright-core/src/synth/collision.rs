@@ -50,8 +50,7 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
     let sweep = Sweep { ctx, frames: &frames, plan: &candidate.plan };
     let trace = &candidate.trace;
     let pairs = pairs(ctx);
-    // Without pairs of moving bodies (whose relative motion needs both placed), a body's motion is
-    // bounded from its two frame joints, and a row is placed only when some pair's slack runs out.
+    // A pair of moving bodies needs both placed at every row for their relative motion.
     let placing_every_row = pairs.iter().any(|p| matches!(p, Pair::BodyBody { .. }));
     let reaches: Vec<BodyReach> = ctx
         .problem

@@ -165,8 +165,8 @@ fn dimension_plan(mechanism: &Mechanism, scratch: &mut Scratch) -> Result<(), Re
 }
 
 /// Spacing, branch, order, and closed-form assembly and transmission checks, then the terms that need
-/// no simulation and a floor under the cost. Leaves the plan in `scratch.plan` and the input-pose
-/// targets in `scratch.targets`.
+/// no simulation and a floor under the cost. Leaves the plan in `scratch.plan`, the travels in
+/// `scratch.travels` and the input-pose targets in `scratch.targets`.
 fn screen(
     ctx: &Context,
     mechanism: &Mechanism,

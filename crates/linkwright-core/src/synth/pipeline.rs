@@ -33,8 +33,8 @@ pub const MAX_ALTERNATIVES: usize = 10;
 /// Two designs of one family are distinct when some joint differs by more than this fraction of d.
 const DISTINCT: f64 = 0.25;
 
-/// Draws sample i of a run (deterministic: the same sample every time).
-/// Draws sample `i` into the scratch ([`SampleScratch::mechanism`]); false when it did not fit.
+/// Draws sample `i` of a run into the scratch ([`SampleScratch::mechanism`]), the same sample every
+/// time; false when it did not fit.
 type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> bool + Sync + 'a;
 
 /// The stage a run is in.
