@@ -572,6 +572,17 @@ mod tests {
     use super::*;
     use crate::synth::testing::example;
 
+    /// Every defect-free candidate among the first `samples` samples under `seed`, in sample order.
+    fn defect_free(ctx: &Context, sampler: &Sampler, seed: u64, samples: usize) -> Vec<Candidate> {
+        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
+        (0..samples as u64)
+            .filter_map(|i| {
+                let m = sampler.sample(seed, i, None, &mut sample_scratch)?;
+                evaluate(ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
+            })
+            .collect()
+    }
+
     /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
     /// exactly the rejects, of checking one chunk at a time: where a first chunk poor in valid
     /// candidates makes the batch reach far past where the stopping rule ends, and where every
@@ -582,13 +593,10 @@ mod tests {
         problem.settings.samples = 6_000;
         let ctx = Context::new(&problem, MechanismType::SliderCrank);
         let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
-        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
-        let (mut valid, mut colliding): (Vec<Candidate>, Vec<Candidate>) = (0..problem.settings.samples as u64)
-            .filter_map(|i| {
-                let m = sampler.sample(problem.settings.seed, i, None, &mut sample_scratch)?;
-                evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
-            })
-            .partition(|c| check_collisions(&ctx, c, &mut Scratch::default()).is_ok());
+        let (mut valid, mut colliding): (Vec<Candidate>, Vec<Candidate>) =
+            defect_free(&ctx, &sampler, problem.settings.seed, problem.settings.samples)
+                .into_iter()
+                .partition(|c| check_collisions(&ctx, c, &mut Scratch::default()).is_ok());
         assert!(valid.len() > 100 && colliding.len() > 2 * COLLISION_CHUNK, "{} valid", valid.len());
         // A first chunk with one valid candidate, then the rest mixed.
         let mut candidates: Vec<Candidate> = colliding.drain(..COLLISION_CHUNK - 1).collect();
@@ -623,13 +631,7 @@ mod tests {
         let cap = 1000;
 
         // Every sample simulated, the cheapest `cap` kept (ties in sample order).
-        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
-        let mut all: Vec<Candidate> = (0..problem.settings.samples)
-            .filter_map(|i| {
-                let m = sampler.sample(seed, i as u64, None, &mut sample_scratch)?;
-                evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
-            })
-            .collect();
+        let mut all = defect_free(&ctx, &sampler, seed, problem.settings.samples);
         all.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         all.truncate(cap);
 
