@@ -45,45 +45,46 @@ enum Pair {
 /// it tests every row and interval. Where no two moving bodies are paired, a body's motion over a step
 /// is bounded from its two frame joints ([`BodyReach`]), and rows are placed only where a slack runs
 /// out: about two rows in three are not (folding table, sofa bed).
-pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scratch) -> Result<(), Reject> {
+pub fn check_collisions(ctx: &Context, candidate: &Candidate, scratch: &mut Scratch) -> Result<(), Reject> {
     let frames = BodyFrames::new(&candidate.mechanism, &ctx.first_poses);
     let sweep = Sweep { ctx, frames: &frames, plan: &candidate.plan };
     let trace = &candidate.trace;
-    let pairs = pairs(ctx);
+    let SweepBuffers { pairs, reaches, frames_at, previous, current, slack, distance_before, body_motion, midpoints } =
+        &mut scratch.sweep;
+    fill_pairs(ctx, pairs);
     // A pair of moving bodies needs both placed at every row for their relative motion.
     let placing_every_row = pairs.iter().any(|p| matches!(p, Pair::BodyBody { .. }));
-    let reaches: Vec<BodyReach> = ctx
-        .problem
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(b, body)| BodyReach::new(&frames, b, body.outline.vertices()))
-        .collect();
-    let mut frames_at: Vec<Option<Frame>> = reaches.iter().map(|reach| reach.frame(trace.row(0))).collect();
-    let mut previous = sweep.place(trace.row(0));
+    reaches.clear();
+    reaches.extend(
+        ctx.problem.bodies.iter().enumerate().map(|(b, body)| BodyReach::new(&frames, b, body.outline.vertices())),
+    );
+    frames_at.clear();
+    frames_at.extend(reaches.iter().map(|reach| reach.frame(trace.row(0))));
+    sweep.place_into(trace.row(0), previous);
     // The row `previous` holds.
     let mut previous_row = 0;
-    let mut slack = Vec::with_capacity(pairs.len());
+    slack.clear();
     // Each pair's boundary distance at the previous row, when it was computed there.
-    let mut distance_before: Vec<Option<f64>> = Vec::with_capacity(pairs.len());
-    for &pair in &pairs {
-        sweep.test(pair, &previous)?;
-        let distance = sweep.distance(pair, &previous);
+    distance_before.clear();
+    for &pair in pairs.iter() {
+        sweep.test(pair, previous)?;
+        let distance = sweep.distance(pair, previous);
         slack.push(distance + ctx.contact_tolerance);
         distance_before.push(Some(distance));
     }
-    let mut body_motion = Vec::new();
-    let mut current = sweep.place(trace.row(0));
-    let mut midpoints: Vec<Midpoint> = (0..MAX_DEPTH).map(|_| Midpoint::new(&sweep, trace.row(0))).collect();
+    midpoints.resize_with(MAX_DEPTH as usize, Midpoint::default);
+    for mid in midpoints.iter_mut() {
+        mid.row.resize(trace.joint_count, Point::ORIGIN);
+    }
     for r in 1..trace.len() {
         let (row_before, row) = (trace.row(r - 1), trace.row(r));
         let mut placed = placing_every_row;
         body_motion.clear();
         if placing_every_row {
-            sweep.place_into(row, &mut current);
+            sweep.place_into(row, current);
             body_motion.extend(previous.bodies.iter().zip(&current.bodies).map(|(p, q)| largest_motion(p, q)));
         } else {
-            for (reach, at) in reaches.iter().zip(&mut frames_at) {
+            for (reach, at) in reaches.iter().zip(frames_at.iter_mut()) {
                 let next = reach.frame(row);
                 body_motion.push(reach.motion(*at, next));
                 *at = next;
@@ -96,7 +97,7 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
                     largest_motion(&[row_before[a], row_before[b]], &[row[a], row[b]])
                 }
                 Pair::BodyFixed { body, .. } => body_motion[body],
-                Pair::BodyBody { body, other } => sweep.relative_motion(body, other, &previous, &current),
+                Pair::BodyBody { body, other } => sweep.relative_motion(body, other, previous, current),
             };
             let reach = ARC_MARGIN * moved;
             slack[k] -= reach;
@@ -105,37 +106,37 @@ pub fn check_collisions(ctx: &Context, candidate: &Candidate, _scratch: &mut Scr
                 continue;
             }
             if !placed {
-                sweep.place_into(row, &mut current);
+                sweep.place_into(row, current);
                 placed = true;
             }
             // The gap between the two boxes is a lower bound on the distance: when it alone covers the
             // step, the pair is proven apart over it as the distance would prove, and the slack
             // restarts from the gap (no distance needed).
-            let gap = sweep.box_gap(pair, &current) + ctx.contact_tolerance;
+            let gap = sweep.box_gap(pair, current) + ctx.contact_tolerance;
             if gap > reach {
                 slack[k] = gap;
                 distance_before[k] = None;
                 continue;
             }
-            let distance = sweep.distance(pair, &current);
+            let distance = sweep.distance(pair, current);
             let clearance = distance + ctx.contact_tolerance;
             // Free at the previous row and no closer to it here than its motion: free in between and here.
             if clearance <= reach {
                 if previous_row != r - 1 {
-                    sweep.place_into(row_before, &mut previous);
+                    sweep.place_into(row_before, previous);
                     previous_row = r - 1;
                 }
-                let before = distance_before[k].unwrap_or_else(|| sweep.distance(pair, &previous));
-                let a = End { theta: trace.thetas[r - 1], at: &previous, distance: before };
-                let b = End { theta: trace.thetas[r], at: &current, distance };
-                sweep.interval(pair, a, b, &mut midpoints)?;
-                sweep.test(pair, &current)?;
+                let before = distance_before[k].unwrap_or_else(|| sweep.distance(pair, previous));
+                let a = End { theta: trace.thetas[r - 1], at: previous, distance: before };
+                let b = End { theta: trace.thetas[r], at: current, distance };
+                sweep.interval(pair, a, b, midpoints)?;
+                sweep.test(pair, current)?;
             }
             slack[k] = clearance;
             distance_before[k] = Some(distance);
         }
         if placed {
-            std::mem::swap(&mut previous, &mut current);
+            std::mem::swap(previous, current);
             previous_row = r;
         }
     }
@@ -150,6 +151,7 @@ type Frame = (Point, Vec2);
 /// without placing it: a point at `e` from the centre of the outline's bounding circle (in the
 /// frame) moves by the centre's displacement plus `(R(û′) − R(û))e`, whose length is `|û′ − û|·|e|`
 /// exactly. The bound is exact for a pure translation and for a turn about the centre.
+#[derive(Debug)]
 struct BodyReach {
     /// The frame joints: the origin, and the joint the x axis points to.
     joints: (usize, usize),
@@ -198,21 +200,36 @@ struct End<'a> {
 }
 
 /// Reused buffers for one level of bisection.
+#[derive(Debug, Default)]
 struct Midpoint {
     row: Vec<Point>,
     placed: Placed,
 }
 
-impl Midpoint {
-    fn new(sweep: &Sweep, row: &[Point]) -> Midpoint {
-        Midpoint { row: row.to_vec(), placed: sweep.place(row) }
-    }
+/// The sweep's buffers, reused from candidate to candidate (in [`Scratch`]).
+#[derive(Debug, Default)]
+pub(crate) struct SweepBuffers {
+    pairs: Vec<Pair>,
+    reaches: Vec<BodyReach>,
+    /// Each body's frame at the last row seen.
+    frames_at: Vec<Option<Frame>>,
+    /// The last row placed, and the row being placed.
+    previous: Placed,
+    current: Placed,
+    /// Per pair: its slack, and its boundary distance at the previous row when it was computed there.
+    slack: Vec<f64>,
+    distance_before: Vec<Option<f64>>,
+    /// Per body: how far it moved over the last step.
+    body_motion: Vec<f64>,
+    /// One per level of bisection.
+    midpoints: Vec<Midpoint>,
 }
 
-/// Every pair the sweep watches, links first (their verdict, an avoid region, is reported first).
-fn pairs(ctx: &Context) -> Vec<Pair> {
+/// Every pair the sweep watches into `pairs`, links first (their verdict, an avoid region, is
+/// reported first).
+fn fill_pairs(ctx: &Context, pairs: &mut Vec<Pair>) {
     let problem = ctx.problem;
-    let mut pairs = Vec::new();
+    pairs.clear();
     for link in 0..ctx.link_segments.len() {
         pairs.extend((0..problem.avoid.len()).map(|avoid| Pair::LinkAvoid { link, avoid }));
     }
@@ -220,10 +237,10 @@ fn pairs(ctx: &Context) -> Vec<Pair> {
         pairs.extend((0..problem.fixed.len()).map(|fixed| Pair::BodyFixed { body, fixed }));
         pairs.extend((0..body).map(|other| Pair::BodyBody { body, other }));
     }
-    pairs
 }
 
 /// Every mover placed in one configuration: body outlines, then link segments.
+#[derive(Debug, Default)]
 struct Placed {
     poses: Vec<Rigid>,
     bodies: Vec<Vec<Point>>,
@@ -266,8 +283,9 @@ struct Sweep<'s, 'p> {
 }
 
 impl Sweep<'_, '_> {
+    #[cfg(test)]
     fn place(&self, row: &[Point]) -> Placed {
-        let mut placed = Placed { poses: Vec::new(), bodies: Vec::new(), body_boxes: Vec::new(), links: Vec::new() };
+        let mut placed = Placed::default();
         self.place_into(row, &mut placed);
         placed
     }

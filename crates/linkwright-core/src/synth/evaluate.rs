@@ -101,6 +101,8 @@ pub struct Scratch {
     nominal: Vec<f64>,
     /// The screened travels (see [`Screening`]), reused from mechanism to mechanism.
     travels: Vec<f64>,
+    /// The collision sweep's buffers.
+    pub(crate) sweep: super::collision::SweepBuffers,
 }
 
 /// The kinematic checks and the soft costs of one mechanism; [`Reject::Outclassed`] when its cost is
