@@ -433,15 +433,20 @@ fn project_link(
         let d0 = m - n;
         // Residuals and gradients, columns (m.x, m.y, n.x, n.y).
         let mut r = [0.0; 2];
-        let mut jac = [[0.0; 4]; 2];
+        let mut d = [Vec2::ZERO; 2];
         for i in 1..poses {
-            let d = carried(motions, carriers[0], i, m) - carried(motions, carriers[1], i, n);
-            r[i - 1] = d.norm_sq() - d0.norm_sq();
-            let (gm, gn) = ((back(carriers[0], i, d) - d0) * 2.0, (back(carriers[1], i, d) - d0) * -2.0);
-            jac[i - 1] = [gm.x, gm.y, gn.x, gn.y];
+            d[i - 1] = carried(motions, carriers[0], i, m) - carried(motions, carriers[1], i, n);
+            r[i - 1] = d[i - 1].norm_sq() - d0.norm_sq();
         }
         if r[..rows].iter().all(|v| v.abs() <= tol) {
             return true;
+        }
+        // The gradients only when a step follows (the last of the ~6 passes needs none).
+        let mut jac = [[0.0; 4]; 2];
+        for i in 1..poses {
+            let d = d[i - 1];
+            let (gm, gn) = ((back(carriers[0], i, d) - d0) * 2.0, (back(carriers[1], i, d) - d0) * -2.0);
+            jac[i - 1] = [gm.x, gm.y, gn.x, gn.y];
         }
         let dot = |p: &[f64; 4], q: &[f64; 4]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3];
         let singular = |diag: f64| diag.abs().partial_cmp(&1e-300) != Some(std::cmp::Ordering::Greater);
