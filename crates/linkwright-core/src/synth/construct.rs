@@ -410,10 +410,11 @@ fn nearest_on(lines: &[Line], near: Point) -> Option<Point> {
 }
 
 /// [`project`] for one binary link through two or three poses (one or two equations), the
-/// construction of nearly every sample: the same steps in the same floating-point operations, so the
-/// same points to the last bit, without the general elimination's loops and the zero columns of the
-/// absent third point (5.9 steps per link on the folding table, where the construction with the
-/// general form took a quarter of the run's instructions; with this one, a sixth).
+/// construction of nearly every sample: the same steps to the same point, up to rounding, without the
+/// general elimination's loops and the zero columns of the absent third point (5.9 steps per link on
+/// the folding table, where the construction with the general form took a quarter of the run's
+/// instructions; with this one, a sixth). Its 2×2 system is solved by Cramer's rule: one division,
+/// where the elimination chains three that each wait for the last (5% of the table's time).
 fn project_link(
     points: &mut [Point; 2],
     carriers: [Option<usize>; 2],
@@ -449,32 +450,23 @@ fn project_link(
             jac[i - 1] = [gm.x, gm.y, gn.x, gn.y];
         }
         let dot = |p: &[f64; 4], q: &[f64; 4]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3];
-        let singular = |diag: f64| diag.abs().partial_cmp(&1e-300) != Some(std::cmp::Ordering::Greater);
-        // (JJᵀ) y = r, eliminated with partial pivoting as in `project` (which takes the later row on
-        // a tie), then δ = −Jᵀy.
+        // Also true for NaN.
+        let not_above = |v: f64, bound: f64| v.partial_cmp(&bound) != Some(std::cmp::Ordering::Greater);
+        // (JJᵀ) y = r by Cramer's rule (one division), then δ = −Jᵀy.
         let y = if rows == 1 {
             let diag = dot(&jac[0], &jac[0]);
-            if singular(diag) {
+            if not_above(diag, 1e-300) {
                 return false;
             }
             [r[0] / diag, 0.0]
         } else {
-            let (a01, a00, a11) = (dot(&jac[0], &jac[1]), dot(&jac[0], &jac[0]), dot(&jac[1], &jac[1]));
-            let mut a = [[a00, a01, r[0]], [a01, a11, r[1]]];
-            if a[1][0].abs().total_cmp(&a[0][0].abs()).is_ge() {
-                a.swap(0, 1);
-            }
-            let diag = a[0][0];
-            if singular(diag) {
+            let (a00, a01, a11) = (dot(&jac[0], &jac[0]), dot(&jac[0], &jac[1]), dot(&jac[1], &jac[1]));
+            let det = a00 * a11 - a01 * a01;
+            if not_above(det, 1e-300 * a00.max(a11)) {
                 return false;
             }
-            let f = a[1][0] / diag;
-            let (a11, a12) = (a[1][1] - f * a[0][1], a[1][2] - f * a[0][2]);
-            if singular(a11) {
-                return false;
-            }
-            let y1 = a12 / a11;
-            [(a[0][2] - a[0][1] * y1) / diag, y1]
+            let inverse = 1.0 / det;
+            [(r[0] * a11 - a01 * r[1]) * inverse, (a00 * r[1] - a01 * r[0]) * inverse]
         };
         for (k, point) in points.iter_mut().enumerate() {
             let step = Vec2::new(
@@ -583,12 +575,17 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
 
-    /// The binary link's projection is the general one's to the last bit (points and verdict), for
-    /// links to the ground and between bodies, through two and three poses, converging or not.
+    /// The binary link's projection converges where the general one does, to an exact solution, in 99%
+    /// of the cases the general one's point to 1e-9 of the scale (the two round differently, and
+    /// near-singular systems magnify that), for links to the ground and between bodies, through two
+    /// and three poses; both fail on broken motions, and on tolerances below rounding but where a
+    /// residual happens to round under it.
     #[test]
     fn link_projection_is_the_general_projection() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
         let (mut converged, mut failed) = (0, 0);
+        // Converged pairs, and those whose points agree to 1e-9 of the scale.
+        let (mut both, mut together) = (0, 0);
         for case in 0..4000 {
             let poses = 2 + case % 2;
             let scale = 10f64.powf(rng.random_range(-2.0..3.0));
@@ -616,9 +613,22 @@ mod tests {
             let (mut general, mut link) = (start, start);
             let expected = project::<2, 2, 3>(&mut general, &carriers, &[(0, 1)], &motions, poses, tolerance_scale);
             let verdict = project_link(&mut link, carriers, &motions, poses, tolerance_scale);
-            assert_eq!(verdict, expected, "case {case}");
-            for (g, l) in general.iter().zip(&link) {
-                assert_eq!((g.x.to_bits(), g.y.to_bits()), (l.x.to_bits(), l.y.to_bits()), "case {case}");
+            // Below rounding, a residual sometimes rounds under the tolerance in one and not the other.
+            assert!(verdict == expected || case % 3 == 0, "case {case}: {verdict} against {expected}");
+            if verdict {
+                let length_sq = |i: usize| {
+                    (carried(&motions, carriers[0], i, link[0]) - carried(&motions, carriers[1], i, link[1])).norm_sq()
+                };
+                let tol = 1e-13 * tolerance_scale * tolerance_scale;
+                assert!((1..poses).all(|i| (length_sq(i) - length_sq(0)).abs() <= tol), "case {case}");
+            }
+            if verdict && expected {
+                both += 1;
+                let apart = general.iter().zip(&link).map(|(g, l)| g.distance(*l)).fold(0.0, f64::max);
+                together += (apart <= 1e-9 * scale) as usize;
+            }
+            if case % 50 == 7 && carriers.contains(&Some(0)) {
+                assert!(!verdict && !expected, "case {case}: a broken motion converged");
             }
             if expected {
                 converged += 1;
@@ -626,6 +636,7 @@ mod tests {
                 failed += 1;
             }
         }
+        assert!(together * 100 >= 99 * both, "{together} of {both} converged pairs agree");
         // Both verdicts occur (a body's joint on itself never moves: no equation to satisfy).
         assert!(converged > 1000 && failed > 100, "{converged} converged, {failed} failed");
     }
