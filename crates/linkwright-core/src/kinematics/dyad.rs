@@ -33,20 +33,23 @@ pub enum DyadError {
 }
 
 /// The point at distance `ra` from `a` and `rb` from `b` on the given branch.
+///
+/// In units of `b − a`: the foot of the joint on the centres' line is `t·(b − a)` from `a`, and its
+/// offset across `k·(b − a)`, so one division and one square root give the point (the simulation's
+/// innermost step: lengths in units of `|b − a|` took two of each more).
 pub fn circle_circle(a: Point, ra: f64, b: Point, rb: f64, branch: Branch) -> Result<Point, DyadError> {
     let ab = b - a;
     let d_sq = ab.norm_sq();
     if d_sq <= 1e-300 {
         return Err(DyadError::CoincidentCentres);
     }
-    let d = d_sq.sqrt();
-    let along = (d_sq + ra * ra - rb * rb) / (2.0 * d);
-    let h_sq = ra * ra - along * along;
-    if h_sq < 0.0 || !h_sq.is_finite() {
+    let inverse = 1.0 / d_sq;
+    let t = 0.5 * (d_sq + ra * ra - rb * rb) * inverse;
+    let k_sq = ra * ra * inverse - t * t;
+    if k_sq < 0.0 || !k_sq.is_finite() {
         return Err(DyadError::CirclesApart);
     }
-    let e = ab / d;
-    Ok(a + e * along + e.perp() * (branch.sign() * h_sq.sqrt()))
+    Ok(a + ab * t + ab.perp() * (branch.sign() * k_sq.sqrt()))
 }
 
 /// Which branch `p` is on, relative to the centres `a`, `b` of a circle-circle dyad.

@@ -1103,7 +1103,9 @@ mod tests {
             let fit = model.fit(&mut x, &scaled, 2.0 * k, &mut FitWorkspace::default());
             let y: Vec<f64> = x.iter().map(|v| v / k).collect();
             let (iters, y_ref) = reference.get_or_insert((fit.iterations, y.clone()));
-            assert_eq!(fit.iterations, *iters);
+            // Scaling by 1e-3 is not exact in binary: a stopping test that lands near its threshold
+            // may take one step more or less.
+            assert!(fit.iterations.abs_diff(*iters) <= 1, "{} against {iters} iterations", fit.iterations);
             assert!(y.iter().zip(y_ref.iter()).all(|(a, b)| (a - b).abs() < 1e-9));
         }
     }
