@@ -65,6 +65,16 @@ pub struct Constructor {
 #[derive(Clone, Debug, Default)]
 pub struct ConstructScratch {
     lines: Vec<Line>,
+    /// The slider's direction, when the topology has one.
+    slider_direction: Option<Vec2>,
+}
+
+impl ConstructScratch {
+    /// The unit direction of the last construction's slider (`None` without a slider): its angle
+    /// is left out of the parameter vector, since only a fit reads it there.
+    pub fn slider_direction(&self) -> Option<Vec2> {
+        self.slider_direction
+    }
 }
 
 /// The points `y` with `normal · (y − point) = 0` (a line when `normal` is not zero).
@@ -120,10 +130,11 @@ impl Constructor {
         Constructor { pieces, carriers }
     }
 
-    /// Fills `x` (joints, then the slider angle) with a linkage through `motions` (`motions[b][i]`
-    /// carries body b from the first pose to pose i), drawing joints with `region`. Joints of blocks
-    /// that have no closed form for this many poses, or whose construction degenerated, are flagged
-    /// in `polish` (indexed by joint) and hold a start for the fit.
+    /// Fills `x`'s joints with a linkage through `motions` (`motions[b][i]` carries body b from the
+    /// first pose to pose i), drawing joints with `region`, and puts the slider's direction in
+    /// `scratch` ([`ConstructScratch::slider_direction`]; `x`'s slider angle is left as it was).
+    /// Joints of blocks that have no closed form for this many poses, or whose construction
+    /// degenerated, are flagged in `polish` (indexed by joint) and hold a start for the fit.
     pub fn construct(
         &self,
         x: &mut [f64],
@@ -134,6 +145,7 @@ impl Constructor {
         scratch: &mut ConstructScratch,
     ) {
         let poses = motions.first().map_or(1, Vec::len);
+        scratch.slider_direction = None;
         polish.clear();
         polish.resize(self.carriers.len(), false);
         let set = |x: &mut [f64], j: usize, p: Point| {
@@ -171,8 +183,8 @@ impl Constructor {
                 set(x, j, p);
                 polish[j] = built.polish;
             }
-            if let Some(phi) = built.phi {
-                x[2 * self.carriers.len()] = phi;
+            if built.direction.is_some() {
+                scratch.slider_direction = built.direction;
             }
         }
     }
@@ -250,7 +262,8 @@ impl Constructor {
 struct Built {
     points: [Point; 3],
     len: usize,
-    phi: Option<f64>,
+    /// The slider's unit direction, for the slider piece.
+    direction: Option<Vec2>,
     polish: bool,
 }
 
@@ -258,7 +271,7 @@ impl Built {
     fn joints(points: &[Point], polish: bool) -> Built {
         let mut all = [Point::ORIGIN; 3];
         all[..points.len()].copy_from_slice(points);
-        Built { points: all, len: points.len(), phi: None, polish }
+        Built { points: all, len: points.len(), direction: None, polish }
     }
 }
 
@@ -280,11 +293,22 @@ fn slider(
     } else {
         (drawn, true)
     };
-    // The direction of the longest travel from the first pose.
+    // The direction of the longest travel from the first pose, turned into the upper half-plane (an
+    // angle in [0, π)).
     let travel = (1..poses).map(|i| at(i, point) - point).max_by(|a, b| a.norm_sq().total_cmp(&b.norm_sq()));
-    let phi = travel.map_or(0.0, |v| v.angle().rem_euclid(std::f64::consts::PI));
+    let direction = match travel.map(|v| (v, v.norm())) {
+        Some((v, length)) if length > 0.0 => {
+            let unit = v / length;
+            if unit.y < 0.0 || (unit.y == 0.0 && unit.x < 0.0) {
+                -unit
+            } else {
+                unit
+            }
+        }
+        _ => Vec2::new(1.0, 0.0),
+    };
     let mut built = Built::joints(&[point], !exact);
-    built.phi = Some(phi);
+    built.direction = Some(direction);
     built
 }
 

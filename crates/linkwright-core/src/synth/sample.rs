@@ -87,6 +87,8 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let n = ctx.topology.joint_count();
         let SampleScratch { motions, x, fit, polish, construct, .. } = scratch;
         x.clear();
+        // The slider's direction when the construction leaves it final, else read from `x`.
+        let mut slider_direction = None;
         let deviation = match near {
             Some(start) => {
                 x.extend_from_slice(start);
@@ -101,8 +103,14 @@ impl<'c, 'p> Sampler<'c, 'p> {
                 let mut region = Region { draw: &mut draw, bounds: self.region_box };
                 self.constructor.construct(x, motions, &mut rng, &mut region, polish, construct);
                 if polish.iter().any(|&p| p) {
+                    if let Some(direction) = construct.slider_direction() {
+                        x[2 * n] = direction.angle();
+                    }
                     ctx.rigidity.fit_where(x, motions, ctx.body_size, fit, |j| polish[j]).max_relative_deviation
                 } else if x.iter().all(|v| v.is_finite()) {
+                    // Its angle would only be turned back into this direction (an `atan2` and a
+                    // `sin_cos` per sample).
+                    slider_direction = construct.slider_direction();
                     // A construction that left nothing to polish keeps every link's length to rounding
                     // (`constructions_left_unpolished_are_rigid`): measuring it, with `hypot` per link
                     // and pose, took 3% of the folding table's time.
@@ -115,10 +123,8 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if deviation.is_nan() || deviation > ctx.accepted_deviation() {
             return false;
         }
-        match &mut scratch.mechanism {
-            Some(m) => mechanism_into_x(ctx, &scratch.x, m),
-            none => *none = Some(mechanism_from_x(ctx, &scratch.x)),
-        }
+        let m = scratch.mechanism.get_or_insert_with(|| mechanism_from_x(ctx, &scratch.x));
+        mechanism_into_x(ctx, &scratch.x, slider_direction, m);
         true
     }
 
@@ -185,7 +191,8 @@ impl<'c, 'p> Sampler<'c, 'p> {
 
     /// True when body `b` at `pose`, pose `i` perturbed by `(shift, turn)`, penetrates neither a fixed
     /// body nor a body placed before it at this pose (bodies `0..b`, whose outlines `scratch` holds).
-    /// Leaves `b`'s outline in `scratch`.
+    /// Leaves `b`'s outline in `scratch` when there are other bodies (the last body of a scene with
+    /// one is placed only where a fixed body's cell leaves its verdict open).
     fn free_at(
         &self,
         b: usize,
@@ -195,19 +202,32 @@ impl<'c, 'p> Sampler<'c, 'p> {
         scratch: &mut SampleScratch,
     ) -> bool {
         let tol = self.ctx.contact_tolerance;
-        self.place(b, pose, scratch);
-        let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
+        let bodies = self.ctx.problem.bodies.len();
         let shape = &self.ctx.body_shapes[b];
-        let hits_fixed = self.ctx.fixed_obstacles.iter().enumerate().any(|(k, f)| {
+        let mut placed = false;
+        for (k, f) in self.ctx.fixed_obstacles.iter().enumerate() {
             match self.cells.verdict(self.ctx, b, i, shift, turn, k) {
-                Verdict::Clear => false,
-                Verdict::Penetrated => true,
-                Verdict::Undecided => bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, pose),
+                Verdict::Clear => {}
+                Verdict::Penetrated => return false,
+                Verdict::Undecided => {
+                    if !placed {
+                        self.place(b, pose, scratch);
+                        placed = true;
+                    }
+                    let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
+                    if bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, pose) {
+                        return false;
+                    }
+                }
             }
-        });
-        if hits_fixed {
-            return false;
         }
+        if bodies == 1 {
+            return true;
+        }
+        if !placed {
+            self.place(b, pose, scratch);
+        }
+        let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
         // Boxes that do not overlap at all cannot hold a crossing or a point deep inside the other.
         (0..b)
             .all(|k| !(bb.overlaps(&scratch.boxes[k], 0.0) && penetrates_unchecked(outline, &scratch.outlines[k], tol)))
@@ -236,13 +256,16 @@ pub fn mechanism_from_x(ctx: &Context, x: &[f64]) -> Mechanism {
     Mechanism { topology: ctx.topology.clone(), joints, slider }
 }
 
-/// [`mechanism_from_x`] into a mechanism of this context's topology, reusing its buffers.
-fn mechanism_into_x(ctx: &Context, x: &[f64], m: &mut Mechanism) {
+/// [`mechanism_from_x`] into a mechanism of this context's topology, reusing its buffers; the slider
+/// along `direction` when given (rather than `x`'s angle).
+fn mechanism_into_x(ctx: &Context, x: &[f64], direction: Option<Vec2>, m: &mut Mechanism) {
     let n = ctx.topology.joint_count();
     m.joints.clear();
     m.joints.extend((0..n).map(|j| Point::new(x[2 * j], x[2 * j + 1])));
-    m.slider =
-        ctx.topology.slider_joint.map(|j| SliderLine { point: m.joints[j], direction: Vec2::from_angle(x[2 * n]) });
+    m.slider = ctx
+        .topology
+        .slider_joint
+        .map(|j| SliderLine { point: m.joints[j], direction: direction.unwrap_or_else(|| Vec2::from_angle(x[2 * n])) });
 }
 
 /// The parameter vector of a mechanism (inverse of [`mechanism_from_x`]).
@@ -323,6 +346,9 @@ mod tests {
                     sampler.constructor.construct(x, motions, &mut rng, &mut region, polish, construct);
                     if polish.iter().any(|&p| p) {
                         continue;
+                    }
+                    if let Some(direction) = construct.slider_direction() {
+                        x[2 * ctx.topology.joint_count()] = direction.angle();
                     }
                     let deviation = ctx.rigidity.relative_deviation(x, motions, ctx.body_size);
                     assert!(deviation <= 1e-9, "{name}: deviation {deviation} of an unpolished construction");
