@@ -183,8 +183,8 @@ impl Constructor {
                 set(x, j, p);
                 polish[j] = built.polish;
             }
-            if built.direction.is_some() {
-                scratch.slider_direction = built.direction;
+            if let Some(direction) = built.direction {
+                scratch.slider_direction = Some(direction);
             }
         }
     }
@@ -456,7 +456,7 @@ fn project_link(
     for _ in 0..12 {
         let [m, n] = *points;
         let d0 = m - n;
-        // Residuals and gradients, columns (m.x, m.y, n.x, n.y).
+        // Residuals, and the link's vector at each pose.
         let mut r = [0.0; 2];
         let mut d = [Vec2::ZERO; 2];
         for i in 1..poses {
@@ -466,7 +466,8 @@ fn project_link(
         if r[..rows].iter().all(|v| v.abs() <= tol) {
             return true;
         }
-        // The gradients only when a step follows (the last of the ~6 passes needs none).
+        // The gradients, columns (m.x, m.y, n.x, n.y), only when a step follows (the last of the ~6
+        // passes needs none).
         let mut jac = [[0.0; 4]; 2];
         for i in 1..poses {
             let d = d[i - 1];

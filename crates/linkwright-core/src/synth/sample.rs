@@ -108,12 +108,12 @@ impl<'c, 'p> Sampler<'c, 'p> {
                     }
                     ctx.rigidity.fit_where(x, motions, ctx.body_size, fit, |j| polish[j]).max_relative_deviation
                 } else if x.iter().all(|v| v.is_finite()) {
-                    // Its angle would only be turned back into this direction (an `atan2` and a
-                    // `sin_cos` per sample).
-                    slider_direction = construct.slider_direction();
                     // A construction that left nothing to polish keeps every link's length to rounding
                     // (`constructions_left_unpolished_are_rigid`): measuring it, with `hypot` per link
-                    // and pose, took 3% of the folding table's time.
+                    // and pose, took 3% of the folding table's time. Its slider's direction goes to the
+                    // mechanism as it is: an angle would only be turned back into it (an `atan2` and a
+                    // `sin_cos` per sample).
+                    slider_direction = construct.slider_direction();
                     0.0
                 } else {
                     f64::INFINITY
