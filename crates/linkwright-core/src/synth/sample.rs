@@ -123,7 +123,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if deviation.is_nan() || deviation > ctx.accepted_deviation() {
             return false;
         }
-        let m = scratch.mechanism.get_or_insert_with(|| mechanism_from_x(ctx, &scratch.x));
+        let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));
         mechanism_into_x(ctx, &scratch.x, slider_direction, m);
         true
     }
@@ -249,15 +249,19 @@ impl<'c, 'p> Sampler<'c, 'p> {
 
 /// The mechanism of a parameter vector: joint coordinates, then the slider's angle if there is one.
 pub fn mechanism_from_x(ctx: &Context, x: &[f64]) -> Mechanism {
-    let n = ctx.topology.joint_count();
-    let joints: Vec<Point> = (0..n).map(|j| Point::new(x[2 * j], x[2 * j + 1])).collect();
-    let slider =
-        ctx.topology.slider_joint.map(|j| SliderLine { point: joints[j], direction: Vec2::from_angle(x[2 * n]) });
-    Mechanism { topology: ctx.topology.clone(), joints, slider }
+    let mut m = empty_mechanism(ctx);
+    mechanism_into_x(ctx, x, None, &mut m);
+    m
 }
 
-/// [`mechanism_from_x`] into a mechanism of this context's topology, reusing its buffers; the slider
-/// along `direction` when given (rather than `x`'s angle).
+/// A mechanism of this context's topology with no joints yet.
+fn empty_mechanism(ctx: &Context) -> Mechanism {
+    Mechanism { topology: ctx.topology.clone(), joints: Vec::new(), slider: None }
+}
+
+/// The mechanism of a parameter vector (see [`mechanism_from_x`]) into `m`, a mechanism of this
+/// context's topology, reusing its buffers; the slider along `direction` when given (rather than
+/// `x`'s angle).
 fn mechanism_into_x(ctx: &Context, x: &[f64], direction: Option<Vec2>, m: &mut Mechanism) {
     let n = ctx.topology.joint_count();
     m.joints.clear();
