@@ -20,9 +20,8 @@ use crate::kinematics::{BodyFrames, Plan, Trace};
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
-/// The rows tested before the sweep, in eighths of the travel. With these four the collision stage
-/// took 13 ms instead of 51 on car K=2 (one thread), 18 instead of 32 on the sofa bed and 9 instead of
-/// 15 on the folding table; the bulldozer's, whose linkages mostly do not collide, 30 instead of 28.
+/// The rows tested before the sweep, in eighths of the travel (chosen and measured in
+/// docs/performance.md, item 39: fewer or other rows caught fewer collisions, more did no better).
 const PROBES: [usize; 4] = [1, 3, 5, 7];
 /// Deepest bisection of one 1° interval (a sixteenth of a degree). At a quarter, a sharp corner of a
 /// fixed body could still poke through an edge sliding past it between two tests (the handle scene).
