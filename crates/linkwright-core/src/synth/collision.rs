@@ -471,9 +471,8 @@ fn largest_motion(a: &[Point], b: &[Point]) -> f64 {
 mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
-    use crate::synth::evaluate::evaluate;
-    use crate::synth::sample::{SampleScratch, Sampler};
-    use crate::synth::testing::example;
+    use crate::synth::sample::Sampler;
+    use crate::synth::testing::{defect_free, example};
 
     /// The probes find a collision only where the sweep finds one too, so the check's verdict is the
     /// sweep's, on the travels of sampled candidates of three scenes (one with two moving bodies);
@@ -490,13 +489,9 @@ mod tests {
             let problem = example(name);
             let ctx = Context::new(&problem, family);
             let sampler = Sampler::new(&ctx, 0);
-            let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
+            let mut scratch = Scratch::default();
             let mut candidates = 0;
-            for i in 0..200_000 {
-                let Some(m) = sampler.sample(7, i, None, &mut sample_scratch) else { continue };
-                let Ok(c) = evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else {
-                    continue;
-                };
+            for c in defect_free(&ctx, &sampler, 7, 0..200_000).take(300) {
                 let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
                 let sweep = Sweep { ctx: &ctx, frames: &frames, plan: &c.plan };
                 fill_pairs(&ctx, &mut scratch.sweep.pairs);
@@ -508,9 +503,6 @@ mod tests {
                 probed += by_probe as usize;
                 free += !by_sweep as usize;
                 candidates += 1;
-                if candidates == 300 {
-                    break;
-                }
             }
             assert_eq!(candidates, 300, "{name}");
         }
@@ -528,13 +520,8 @@ mod tests {
             let problem = example(name);
             let ctx = Context::new(&problem, family);
             let sampler = Sampler::new(&ctx, 0);
-            let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
             let mut candidates = 0;
-            for i in 0..20_000 {
-                let Some(m) = sampler.sample(5, i, None, &mut sample_scratch) else { continue };
-                let Ok(c) = evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else {
-                    continue;
-                };
+            for c in defect_free(&ctx, &sampler, 5, 0..20_000).take(20) {
                 let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
                 let sweep = Sweep { ctx: &ctx, frames: &frames, plan: &c.plan };
                 let body = &problem.bodies[0];
@@ -552,9 +539,6 @@ mod tests {
                     }
                 }
                 candidates += 1;
-                if candidates == 20 {
-                    break;
-                }
             }
             assert_eq!(candidates, 20, "{name}");
         }

@@ -24,11 +24,28 @@ pub use pipeline::{
 /// Fixtures shared by the synthesis unit tests.
 #[cfg(test)]
 pub(crate) mod testing {
+    use super::evaluate::{evaluate, Candidate, Scratch};
+    use super::sample::{SampleScratch, Sampler};
+    use super::Context;
     use crate::scene::{Problem, Scene};
 
     /// A bundled example scene, as a problem.
     pub fn example(name: &str) -> Problem {
         let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
         Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
+    }
+
+    /// The defect-free candidates among samples `samples` under `seed`, in sample order.
+    pub fn defect_free<'a>(
+        ctx: &'a Context,
+        sampler: &'a Sampler,
+        seed: u64,
+        samples: std::ops::Range<u64>,
+    ) -> impl Iterator<Item = Candidate> + 'a {
+        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
+        samples.filter_map(move |i| {
+            let m = sampler.sample(seed, i, None, &mut sample_scratch)?;
+            evaluate(ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
+        })
     }
 }

@@ -570,18 +570,7 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synth::testing::example;
-
-    /// Every defect-free candidate among the first `samples` samples under `seed`, in sample order.
-    fn defect_free(ctx: &Context, sampler: &Sampler, seed: u64, samples: usize) -> Vec<Candidate> {
-        let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
-        (0..samples as u64)
-            .filter_map(|i| {
-                let m = sampler.sample(seed, i, None, &mut sample_scratch)?;
-                evaluate(ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch).ok()
-            })
-            .collect()
-    }
+    use crate::synth::testing::{defect_free, example};
 
     /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
     /// exactly the rejects, of checking one chunk at a time: where a first chunk poor in valid
@@ -594,8 +583,7 @@ mod tests {
         let ctx = Context::new(&problem, MechanismType::SliderCrank);
         let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
         let (mut valid, mut colliding): (Vec<Candidate>, Vec<Candidate>) =
-            defect_free(&ctx, &sampler, problem.settings.seed, problem.settings.samples)
-                .into_iter()
+            defect_free(&ctx, &sampler, problem.settings.seed, 0..problem.settings.samples as u64)
                 .partition(|c| check_collisions(&ctx, c, &mut Scratch::default()).is_ok());
         assert!(valid.len() > 100 && colliding.len() > 2 * COLLISION_CHUNK, "{} valid", valid.len());
         // A first chunk with one valid candidate, then the rest mixed.
@@ -631,7 +619,7 @@ mod tests {
         let cap = 1000;
 
         // Every sample simulated, the cheapest `cap` kept (ties in sample order).
-        let mut all = defect_free(&ctx, &sampler, seed, problem.settings.samples);
+        let mut all: Vec<Candidate> = defect_free(&ctx, &sampler, seed, 0..problem.settings.samples as u64).collect();
         all.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         all.truncate(cap);
 
