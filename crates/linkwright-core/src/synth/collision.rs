@@ -17,6 +17,7 @@ use super::context::Context;
 use super::evaluate::{Candidate, Reject, Scratch};
 use crate::geom::{outline_distance, penetrates_unchecked, Aabb, Obstacle, Point, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::scene::Problem;
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
@@ -29,7 +30,7 @@ const MAX_DEPTH: u32 = 4;
 
 /// One mover against one obstacle.
 #[derive(Clone, Copy, Debug)]
-enum Pair {
+pub(crate) enum Pair {
     /// Link segment `link` against avoid region `avoid`.
     LinkAvoid { link: usize, avoid: usize },
     /// Moving body `body` against fixed body `fixed`.
@@ -49,10 +50,8 @@ enum Pair {
 pub fn check_collisions(ctx: &Context, candidate: &Candidate, scratch: &mut Scratch) -> Result<(), Reject> {
     let frames = BodyFrames::new(&candidate.mechanism, &ctx.first_poses);
     let sweep = Sweep { ctx, frames: &frames, plan: &candidate.plan };
-    let buffers = &mut scratch.sweep;
-    fill_pairs(ctx, &mut buffers.pairs);
-    probe(&sweep, &candidate.trace, buffers)?;
-    sweep_travel(&sweep, &candidate.trace, buffers)
+    probe(&sweep, &candidate.trace, &mut scratch.sweep)?;
+    sweep_travel(&sweep, &candidate.trace, &mut scratch.sweep)
 }
 
 /// Exact tests of every pair at the rows at [`PROBES`] of `trace`.
@@ -60,14 +59,14 @@ fn probe(sweep: &Sweep, trace: &Trace, buffers: &mut SweepBuffers) -> Result<(),
     let last = trace.len().saturating_sub(1);
     for eighths in PROBES {
         sweep.place_into(trace.row(eighths * last / 8), &mut buffers.current);
-        for &pair in &buffers.pairs {
+        for &pair in &sweep.ctx.collision_pairs {
             sweep.test(pair, &buffers.current)?;
         }
     }
     Ok(())
 }
 
-/// Sweeps the whole travel `trace` for the pairs in `buffers`.
+/// Sweeps the whole travel `trace`.
 ///
 /// Each pair keeps a slack: its boundary distance at the last exact test plus the contact tolerance,
 /// minus how far the mover has moved relative to the obstacle since (a bound on every point's path).
@@ -80,7 +79,8 @@ fn probe(sweep: &Sweep, trace: &Trace, buffers: &mut SweepBuffers) -> Result<(),
 /// out: about two rows in three are not (folding table, sofa bed).
 fn sweep_travel(sweep: &Sweep, trace: &Trace, buffers: &mut SweepBuffers) -> Result<(), Reject> {
     let ctx = sweep.ctx;
-    let SweepBuffers { pairs, reaches, frames_at, previous, current, slack, distance_before, body_motion, midpoints } =
+    let pairs = &ctx.collision_pairs;
+    let SweepBuffers { reaches, frames_at, previous, current, slack, distance_before, body_motion, midpoints } =
         buffers;
     // A pair of moving bodies needs both placed at every row for their relative motion.
     let placing_every_row = pairs.iter().any(|p| matches!(p, Pair::BodyBody { .. }));
@@ -239,7 +239,6 @@ struct Midpoint {
 /// The sweep's buffers, reused from candidate to candidate (in [`Scratch`]).
 #[derive(Debug, Default)]
 pub(crate) struct SweepBuffers {
-    pairs: Vec<Pair>,
     reaches: Vec<BodyReach>,
     /// Each body's frame at the last row seen.
     frames_at: Vec<Option<Frame>>,
@@ -255,18 +254,18 @@ pub(crate) struct SweepBuffers {
     midpoints: Vec<Midpoint>,
 }
 
-/// Every pair the sweep watches into `pairs`, links first (their verdict, an avoid region, is
-/// reported first).
-fn fill_pairs(ctx: &Context, pairs: &mut Vec<Pair>) {
-    let problem = ctx.problem;
-    pairs.clear();
-    for link in 0..ctx.link_segments.len() {
+/// Every pair the sweep watches, for a scene and `links` link segments (once per scene, in
+/// [`Context`]), links first (their verdict, an avoid region, is reported first).
+pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
+    let mut pairs = Vec::new();
+    for link in 0..links {
         pairs.extend((0..problem.avoid.len()).map(|avoid| Pair::LinkAvoid { link, avoid }));
     }
     for body in 0..problem.bodies.len() {
         pairs.extend((0..problem.fixed.len()).map(|fixed| Pair::BodyFixed { body, fixed }));
         pairs.extend((0..body).map(|other| Pair::BodyBody { body, other }));
     }
+    pairs
 }
 
 /// Every mover placed in one configuration: body outlines, then link segments.
@@ -494,7 +493,6 @@ mod tests {
             for c in defect_free(&ctx, &sampler, 7, 0..200_000).take(300) {
                 let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
                 let sweep = Sweep { ctx: &ctx, frames: &frames, plan: &c.plan };
-                fill_pairs(&ctx, &mut scratch.sweep.pairs);
                 let by_probe = probe(&sweep, &c.trace, &mut scratch.sweep).is_err();
                 let by_sweep = sweep_travel(&sweep, &c.trace, &mut scratch.sweep).is_err();
                 assert!(!by_probe || by_sweep, "{name}: a probe found a collision the sweep does not");

@@ -1,5 +1,6 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
+use super::collision::{watched_pairs, Pair};
 use super::rigidity::RigidityModel;
 use crate::geom::{Obstacle, Point, Polygon, Rigid};
 use crate::mechanism::{MechanismType, PartKind, Topology};
@@ -54,6 +55,8 @@ pub struct Context<'a> {
     /// Each moving body's outline in its own frame, prepared the same way: its grid tells most points
     /// deep inside the body or not at once (see [`Obstacle::penetrated_by_shape`]).
     pub body_shapes: Vec<Obstacle>,
+    /// Every mover–obstacle pair the collision sweep watches.
+    pub(crate) collision_pairs: Vec<Pair>,
     /// The rigidity energy of this topology (paper eq. 3–5).
     pub rigidity: RigidityModel,
     /// `pose_tolerance` is 0: every pose must be hit exactly, so no pose is perturbed, only exact fits
@@ -103,6 +106,7 @@ impl<'a> Context<'a> {
         let body_size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
         let contact_tolerance = problem.contact_tolerance();
         let obstacle = |p: &Polygon| Obstacle::new(p.vertices(), contact_tolerance);
+        let collision_pairs = watched_pairs(problem, link_segments.len());
         Context {
             problem,
             carriers,
@@ -124,6 +128,7 @@ impl<'a> Context<'a> {
             fixed_obstacles: problem.fixed.iter().map(obstacle).collect(),
             avoid_obstacles: problem.avoid.iter().map(obstacle).collect(),
             body_shapes: problem.bodies.iter().map(|b| obstacle(&b.outline)).collect(),
+            collision_pairs,
             rigidity: RigidityModel::new(&topology),
             exact: problem.settings.pose_tolerance == 0.0,
             topology,
