@@ -35,8 +35,9 @@ pub enum DyadError {
 /// The point at distance `ra` from `a` and `rb` from `b` on the given branch.
 ///
 /// In units of `b − a`: the foot of the joint on the centres' line is `t·(b − a)` from `a`, and its
-/// offset across `k·(b − a)`, so one division and one square root give the point (the simulation's
-/// innermost step: lengths in units of `|b − a|` took two of each more).
+/// offset across `k·(b − a)`, so one division and one square root give the point. This is the
+/// simulation's innermost step; computed with the distance `|b − a|` itself, it took three divisions
+/// and two square roots.
 pub fn circle_circle(a: Point, ra: f64, b: Point, rb: f64, branch: Branch) -> Result<Point, DyadError> {
     let ab = b - a;
     let d_sq = ab.norm_sq();
