@@ -18,6 +18,35 @@ pub enum Step {
     Attach { joint: usize, a: usize, b: usize, along: f64, across: f64 },
 }
 
+impl Step {
+    /// Places this step's joint in `row`, whose earlier joints are placed.
+    #[inline]
+    fn solve(&self, row: &mut [Point]) -> Result<(), DyadError> {
+        match *self {
+            Step::Dyad { joint, a, ra, b, rb, branch } => row[joint] = circle_circle(row[a], ra, row[b], rb, branch)?,
+            Step::Slider { joint, centre, r, origin, direction, branch } => {
+                row[joint] = circle_line(row[centre], r, origin, direction, branch)?
+            }
+            Step::Attach { joint, a, b, along, across } => {
+                let e = (row[b] - row[a]).normalized();
+                row[joint] = row[a] + e * along + e.perp() * across;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Applies `solve` to each row of `rows` (rows of `n` points) in order, up to the first that fails:
+/// that row's index and error.
+#[inline]
+fn first_failure(
+    rows: &mut [Point],
+    n: usize,
+    mut solve: impl FnMut(&mut [Point]) -> Result<(), DyadError>,
+) -> Option<(usize, DyadError)> {
+    rows.chunks_exact_mut(n).enumerate().find_map(|(r, row)| solve(row).err().map(|e| (r, e)))
+}
+
 /// Why a mechanism cannot be compiled into a plan.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum CompileError {
@@ -216,22 +245,52 @@ impl Plan {
 
     /// [`Plan::solve`] with the crank along the unit vector `crank` (its angle's cosine and sine).
     pub fn solve_towards(&self, crank: Vec2, out: &mut [Point]) -> Result<(), (usize, DyadError)> {
+        self.place_crank(crank, out);
+        for (i, step) in self.steps.iter().enumerate() {
+            step.solve(out).map_err(|e| (i, e))?;
+        }
+        Ok(())
+    }
+
+    /// Puts the fixed joints and the crank's tip (the crank along the unit vector `crank`) in `out`, a
+    /// row of `joint_count` points: what [`Plan::solve_rows`] starts from.
+    pub fn place_crank(&self, crank: Vec2, out: &mut [Point]) {
         for &(j, p) in &self.fixed {
             out[j] = p;
         }
         out[self.tip] = out[self.pivot] + crank * self.crank_radius;
+    }
+
+    /// Solves every row of `rows` (rows of `joint_count` points, each with its crank placed by
+    /// [`Plan::place_crank`]), step after step across all rows: the arithmetic of
+    /// [`Plan::solve_towards`], so the same points, without matching every step anew for every row:
+    /// the simulation's sweeps are most of its rows, and solving them so took 3–5% fewer instructions
+    /// over a whole synthesis of the folding table, sofa bed and bulldozer. On failure, the first row
+    /// that cannot assemble, in row order, with the step and the reason [`Plan::solve_towards`] gives;
+    /// the rows before it are solved.
+    pub fn solve_rows(&self, rows: &mut [Point]) -> Result<(), (usize, usize, DyadError)> {
+        let n = self.joint_count;
         for (i, step) in self.steps.iter().enumerate() {
-            match *step {
-                Step::Dyad { joint, a, ra, b, rb, branch } => {
-                    out[joint] = circle_circle(out[a], ra, out[b], rb, branch).map_err(|e| (i, e))?;
+            // Matched once per step, so that the loop over rows is a straight line.
+            let failed = match *step {
+                Step::Dyad { joint, a, ra, b, rb, branch } => first_failure(rows, n, |row| {
+                    row[joint] = circle_circle(row[a], ra, row[b], rb, branch)?;
+                    Ok(())
+                }),
+                Step::Slider { joint, centre, r, origin, direction, branch } => first_failure(rows, n, |row| {
+                    row[joint] = circle_line(row[centre], r, origin, direction, branch)?;
+                    Ok(())
+                }),
+                Step::Attach { .. } => first_failure(rows, n, |row| step.solve(row)),
+            };
+            if let Some((last, cause)) = failed {
+                // A row before this one may fail at a later step: those finish row by row, in order.
+                for (r, row) in rows.chunks_exact_mut(n).take(last).enumerate() {
+                    for (k, later) in self.steps.iter().enumerate().skip(i + 1) {
+                        later.solve(row).map_err(|e| (r, k, e))?;
+                    }
                 }
-                Step::Slider { joint, centre, r, origin, direction, branch } => {
-                    out[joint] = circle_line(out[centre], r, origin, direction, branch).map_err(|e| (i, e))?;
-                }
-                Step::Attach { joint, a, b, along, across } => {
-                    let e = (out[b] - out[a]).normalized();
-                    out[joint] = out[a] + e * along + e.perp() * across;
-                }
+                return Err((last, i, cause));
             }
         }
         Ok(())
@@ -402,6 +461,34 @@ mod tests {
             let template = Plan::compile(&mechanism(&topology, &first, 0.3)).expect("random joints are distinct");
             let other = mechanism(&topology, &second, angle);
             prop_assert_eq!(template.redimension(&other), Plan::compile(&other));
+        }
+
+        /// Solving rows step by step gives the points of solving them one by one, bit for bit, and
+        /// the first row (in order) that fails, at the step and for the reason the row gives, with the
+        /// rows before it solved. Random linkages fail at many rows and steps.
+        #[test]
+        fn rows_solve_as_one_by_one(k in 0usize..4, coords in prop::collection::vec(-5.0..5.0f64, 20),
+                                    angles in prop::collection::vec(-7.0..7.0f64, 1..40)) {
+            let topology = Arc::new(if k == 0 { Topology::slider_crank() } else { Topology::chain(k) });
+            let plan = Plan::compile(&mechanism(&topology, &coords, 0.7)).expect("random joints are distinct");
+            let n = plan.joint_count();
+            let mut rows = vec![Point::ORIGIN; angles.len() * n];
+            for (row, &theta) in rows.chunks_exact_mut(n).zip(&angles) {
+                plan.place_crank(Vec2::from_angle(theta), row);
+            }
+            let together = plan.solve_rows(&mut rows);
+            let mut one = vec![Point::ORIGIN; n];
+            let mut first_failure = None;
+            for (r, &theta) in angles.iter().enumerate() {
+                match plan.solve(theta, &mut one) {
+                    Ok(()) => prop_assert_eq!(&rows[r * n..(r + 1) * n], &one[..]),
+                    Err((step, cause)) => {
+                        first_failure = Some((r, step, cause));
+                        break;
+                    }
+                }
+            }
+            prop_assert_eq!(together, first_failure.map_or(Ok(()), Err));
         }
     }
 }

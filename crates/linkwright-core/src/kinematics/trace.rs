@@ -33,18 +33,26 @@ impl Trace {
     /// Sweeps the crank from `from` to `to` (radians) in equal steps of at most `max_step`, keeping the
     /// plan's branches. Reuses `self`'s buffers.
     pub fn sweep(&mut self, plan: &Plan, from: f64, to: f64, max_step: f64) -> Result<(), SweepError> {
-        self.clear(plan.joint_count());
+        let n = plan.joint_count();
+        self.clear(n);
         let steps = (((to - from).abs() / max_step).ceil() as usize).max(1);
+        self.positions.resize((steps + 1) * n, Point::ORIGIN);
         // The crank's direction turns by one fixed rotation per step; it is recomputed from its angle
         // every few steps so rounding cannot build up.
         let turn = Rigid::new((to - from) / steps as f64, Vec2::ZERO);
         let mut crank = Vec2::ZERO;
-        for s in 0..=steps {
+        for (s, row) in self.positions.chunks_exact_mut(n).enumerate() {
             let theta = from + (to - from) * (s as f64 / steps as f64);
             crank = if s % 32 == 0 { Vec2::from_angle(theta) } else { turn.rotate(crank) };
-            self.push_towards(plan, theta, crank)?;
+            plan.place_crank(crank, row);
+            self.thetas.push(theta);
         }
-        Ok(())
+        plan.solve_rows(&mut self.positions).map_err(|(row, step, cause)| {
+            let theta_deg = self.thetas[row].to_degrees();
+            self.thetas.truncate(row);
+            self.positions.truncate(row * n);
+            SweepError { theta_deg, step, cause }
+        })
     }
 
     /// Empties the trace, keeping its buffers.
@@ -56,15 +64,10 @@ impl Trace {
 
     /// Solves the plan at `theta` and appends the configuration; on failure the trace is unchanged.
     pub fn push(&mut self, plan: &Plan, theta: f64) -> Result<(), SweepError> {
-        self.push_towards(plan, theta, Vec2::from_angle(theta))
-    }
-
-    /// [`Trace::push`] with the crank's unit direction at `theta` already known.
-    fn push_towards(&mut self, plan: &Plan, theta: f64, crank: Vec2) -> Result<(), SweepError> {
         let n = self.joint_count;
         let start = self.positions.len();
         self.positions.resize(start + n, Point::ORIGIN);
-        if let Err((step, cause)) = plan.solve_towards(crank, &mut self.positions[start..]) {
+        if let Err((step, cause)) = plan.solve(theta, &mut self.positions[start..]) {
             self.positions.truncate(start);
             return Err(SweepError { theta_deg: theta.to_degrees(), step, cause });
         }
