@@ -18,7 +18,10 @@ use std::sync::atomic::{AtomicU8, Ordering};
 /// Cells per standard deviation of each perturbation axis.
 const CELLS_PER_SIGMA: f64 = 4.0;
 /// How many standard deviations the cells cover on each side; perturbations beyond are tested exactly.
-const SPAN_SIGMAS: f64 = 4.0;
+/// Out there (under 4% of the perturbations) most cells see a single sample, and deciding a cell costs
+/// more than the exact test it would save: covering 4σ took 0.4–1.9% more instructions on the folding
+/// table, sofa bed and bulldozer.
+const SPAN_SIGMAS: f64 = 2.5;
 
 /// A cell's verdict against one fixed body, as stored.
 const UNKNOWN: u8 = 0;
