@@ -59,6 +59,8 @@ pub struct Constructor {
     pieces: Vec<Piece>,
     /// The moving body carrying each joint, `None` for the ground.
     carriers: Vec<Option<usize>>,
+    /// How far a projected link's length may stray from pose to pose (a length).
+    tolerance: f64,
 }
 
 /// Reusable buffers of [`Constructor::construct`].
@@ -106,8 +108,9 @@ impl Region<'_> {
 }
 
 impl Constructor {
-    /// The constructions for `topology`: one per link, and one for the slider.
-    pub fn new(topology: &Topology) -> Self {
+    /// The constructions for `topology`: one per link, and one for the slider. A link is projected
+    /// until its length strays by at most `tolerance` from pose to pose.
+    pub fn new(topology: &Topology, tolerance: f64) -> Self {
         let mut carriers = vec![None; topology.joint_count()];
         for part in &topology.parts {
             if let PartKind::Body(b) = part.kind {
@@ -127,7 +130,7 @@ impl Constructor {
             })
             .collect();
         pieces.extend(topology.slider_joint.map(Piece::Slider));
-        Constructor { pieces, carriers }
+        Constructor { pieces, carriers, tolerance }
     }
 
     /// Fills `x`'s joints with a linkage through `motions` (`motions[b][i]` carries body b from the
@@ -205,7 +208,7 @@ impl Constructor {
         if poses <= 3 {
             let mut points = [da, db];
             // One equation per pose after the first: at most two.
-            if project_link(&mut points, [ca, cb], motions, poses, region.bounds.diagonal()) {
+            if project_link(&mut points, [ca, cb], motions, poses, self.tolerance) {
                 return Built::joints(&points, false);
             }
             return Built::joints(&[da, db], true);
@@ -239,8 +242,7 @@ impl Constructor {
         if poses == 2 {
             let mut points = draws;
             // Three pairs through two poses: three equations.
-            if project::<3, 3, 4>(&mut points, &c, &[(0, 1), (0, 2), (1, 2)], motions, poses, region.bounds.diagonal())
-            {
+            if project::<3, 3, 4>(&mut points, &c, &[(0, 1), (0, 2), (1, 2)], motions, poses, self.tolerance) {
                 return Built::joints(&points, false);
             }
             return Built::joints(&draws, true);
@@ -433,6 +435,14 @@ fn nearest_on(lines: &[Line], near: Point) -> Option<Point> {
     Some(origin + z)
 }
 
+/// Whether a link whose squared lengths at two poses differ by `residual` and sum to `sum_sq` keeps
+/// its length to `tolerance`: `r² ≤ tol²·(L₁² + L₀²)` implies `|L₁ − L₀| ≤ tol`, since
+/// `r = (L₁ − L₀)(L₁ + L₀)`, without a square root. False for NaN.
+#[inline]
+fn within(residual: f64, sum_sq: f64, tolerance: f64) -> bool {
+    residual * residual <= tolerance * tolerance * sum_sq
+}
+
 /// [`project`] for one binary link through two or three poses (one or two equations), the
 /// construction of nearly every sample: the same steps to the same point, up to rounding, without the
 /// general elimination's loops and the zero columns of the absent third point (5.9 steps per link on
@@ -444,11 +454,10 @@ fn project_link(
     carriers: [Option<usize>; 2],
     motions: &[Vec<Rigid>],
     poses: usize,
-    scale: f64,
+    tolerance: f64,
 ) -> bool {
     assert!((2..=3).contains(&poses));
     let rows = poses - 1;
-    let tol = 1e-13 * scale * scale;
     let back = |c: Option<usize>, i: usize, d: Vec2| match c {
         Some(b) => motions[b][i].unrotate(d),
         None => d,
@@ -459,11 +468,14 @@ fn project_link(
         // Residuals, and the link's vector at each pose.
         let mut r = [0.0; 2];
         let mut d = [Vec2::ZERO; 2];
+        let mut converged = true;
         for i in 1..poses {
             d[i - 1] = carried(motions, carriers[0], i, m) - carried(motions, carriers[1], i, n);
-            r[i - 1] = d[i - 1].norm_sq() - d0.norm_sq();
+            let (length_sq, first_sq) = (d[i - 1].norm_sq(), d0.norm_sq());
+            r[i - 1] = length_sq - first_sq;
+            converged &= within(r[i - 1], length_sq + first_sq, tolerance);
         }
-        if r[..rows].iter().all(|v| v.abs() <= tol) {
+        if converged {
             return true;
         }
         // The gradients, columns (m.x, m.y, n.x, n.y), only when a step follows (the last of the ~6
@@ -509,8 +521,8 @@ fn project_link(
 
 /// Moves `points` (carried by `carriers`) to a nearby exact solution of the link `pairs` (indices into
 /// `points`) by minimum-norm Gauss–Newton steps `δ = −Jᵀ(JJᵀ)⁻¹r`: for fewer equations than unknowns
-/// this converges, quadratically, to about the nearest point of the solution manifold. `scale` is a
-/// length of the scene. Returns false when it did not converge.
+/// this converges, quadratically, to about the nearest point of the solution manifold, and stops once
+/// every link keeps its length to `tolerance`. Returns false when it did not converge.
 ///
 /// The arrays have room for `ROWS` equations (`COLS` = `ROWS` + 1: the matrix and the right side),
 /// sized by each caller for its rows: a binary link through three poses has two, and zeroing and
@@ -521,16 +533,16 @@ fn project<const K: usize, const ROWS: usize, const COLS: usize>(
     pairs: &[(usize, usize)],
     motions: &[Vec<Rigid>],
     poses: usize,
-    scale: f64,
+    tolerance: f64,
 ) -> bool {
     let rows = pairs.len() * (poses - 1);
     assert!(rows <= ROWS && COLS == ROWS + 1 && rows <= 2 * points.len());
-    let tol = 1e-13 * scale * scale;
     for _ in 0..12 {
         // Residuals and gradients (columns 2k, 2k+1 for point k).
         let mut r = [0.0; ROWS];
         let mut jac = [[0.0; 6]; ROWS];
         let mut row = 0;
+        let mut converged = true;
         for &(m, n) in pairs {
             let d0 = points[m] - points[n];
             for i in 1..poses {
@@ -538,6 +550,7 @@ fn project<const K: usize, const ROWS: usize, const COLS: usize>(
                     (carried(motions, carriers[m], i, points[m]), carried(motions, carriers[n], i, points[n]));
                 let d = mi - ni;
                 r[row] = d.norm_sq() - d0.norm_sq();
+                converged &= within(r[row], d.norm_sq() + d0.norm_sq(), tolerance);
                 let back = |c: Option<usize>| match c {
                     Some(b) => motions[b][i].unrotate(d),
                     None => d,
@@ -550,7 +563,7 @@ fn project<const K: usize, const ROWS: usize, const COLS: usize>(
                 row += 1;
             }
         }
-        if r[..rows].iter().all(|v| v.abs() <= tol) {
+        if converged {
             return true;
         }
         // (JJᵀ) y = r by Gaussian elimination with partial pivoting, then δ = −Jᵀy.
@@ -632,20 +645,20 @@ mod tests {
                 Point::new(rng.random_range(-1.0..1.0) * scale, rng.random_range(-1.0..1.0) * scale)
             };
             let start = [draw(&mut rng), draw(&mut rng)];
-            // A tolerance below the rounding of the residuals (a scale far below the points') runs
-            // all twelve steps and fails.
-            let tolerance_scale = if case % 3 == 0 { scale * 1e-5 } else { scale };
+            // A tolerance below the rounding of the lengths runs all twelve steps and fails.
+            let tolerance = if case % 3 == 0 { scale * 1e-18 } else { scale * 1e-12 };
             let (mut general, mut link) = (start, start);
-            let expected = project::<2, 2, 3>(&mut general, &carriers, &[(0, 1)], &motions, poses, tolerance_scale);
-            let verdict = project_link(&mut link, carriers, &motions, poses, tolerance_scale);
+            let expected = project::<2, 2, 3>(&mut general, &carriers, &[(0, 1)], &motions, poses, tolerance);
+            let verdict = project_link(&mut link, carriers, &motions, poses, tolerance);
             // Below rounding, a residual sometimes rounds under the tolerance in one and not the other.
             assert!(verdict == expected || case % 3 == 0, "case {case}: {verdict} against {expected}");
             if verdict {
-                let length_sq = |i: usize| {
-                    (carried(&motions, carriers[0], i, link[0]) - carried(&motions, carriers[1], i, link[1])).norm_sq()
+                let length = |i: usize| {
+                    carried(&motions, carriers[0], i, link[0]).distance(carried(&motions, carriers[1], i, link[1]))
                 };
-                let tol = 1e-13 * tolerance_scale * tolerance_scale;
-                assert!((1..poses).all(|i| (length_sq(i) - length_sq(0)).abs() <= tol), "case {case}");
+                // The lengths themselves round a little.
+                let slack = 1e-15 * length(0);
+                assert!((1..poses).all(|i| (length(i) - length(0)).abs() <= tolerance + slack), "case {case}");
             }
             if verdict && expected {
                 both += 1;
