@@ -549,8 +549,9 @@ fn project<const K: usize, const ROWS: usize, const COLS: usize>(
                 let (mi, ni) =
                     (carried(motions, carriers[m], i, points[m]), carried(motions, carriers[n], i, points[n]));
                 let d = mi - ni;
-                r[row] = d.norm_sq() - d0.norm_sq();
-                converged &= within(r[row], d.norm_sq() + d0.norm_sq(), tolerance);
+                let (length_sq, first_sq) = (d.norm_sq(), d0.norm_sq());
+                r[row] = length_sq - first_sq;
+                converged &= within(r[row], length_sq + first_sq, tolerance);
                 let back = |c: Option<usize>| match c {
                     Some(b) => motions[b][i].unrotate(d),
                     None => d,

@@ -393,7 +393,8 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
 /// nearer, the error's differences are rounding). Asking 1e-10 cost 1.2–1.5% of a synthesis'
 /// instructions and changed one design in 216 (nine objects, 24 seeds). The error near a pose is
 /// smooth and unimodal between grid neighbours, so the parabolic steps converge in about a dozen
-/// evaluations where golden sections alone take fifty. Points where `f` is infinite (the linkage does not assemble) force golden steps.
+/// evaluations where golden sections alone take fifty. Points where `f` is infinite (the linkage does
+/// not assemble) force golden steps.
 fn minimise(a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
     // 1 − 1/φ: the golden section of an interval, from its nearer end.
     const GOLDEN: f64 = 0.381_966_011_250_105_1;

@@ -16,7 +16,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 pub const WARM_JITTER: f64 = 0.05;
 /// A construction left unpolished is accepted without measuring its deviation, so its links keep
 /// their lengths to this fraction of the deviation a sample may have. Projecting further, to rounding,
-/// took one more step in six (the folding table: 4% of its instructions).
+/// took one more step in six (the folding table: 2.6% of its instructions).
 const UNPOLISHED_DEVIATION: f64 = 1e-4;
 /// How often a perturbed pose that collides is drawn again before the input pose is used unperturbed.
 const PERTURB_TRIES: usize = 5;
