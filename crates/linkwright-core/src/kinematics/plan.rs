@@ -271,7 +271,8 @@ impl Plan {
     pub fn solve_rows(&self, rows: &mut [Point]) -> Result<(), (usize, usize, DyadError)> {
         let n = self.joint_count;
         for (i, step) in self.steps.iter().enumerate() {
-            // Matched once per step, so that the loop over rows is a straight line.
+            // Matched once per step, so that the loop over rows is a straight line: `step.solve` in
+            // the loop, matching per row, took 1.2–1.7% more of a synthesis' instructions.
             let failed = match *step {
                 Step::Dyad { joint, a, ra, b, rb, branch } => first_failure(rows, n, |row| {
                     row[joint] = circle_circle(row[a], ra, row[b], rb, branch)?;
