@@ -9,7 +9,7 @@ use super::random::{normal, rng, Stream};
 use super::sample::{mechanism_from_x, x_from_mechanism};
 use rand::RngExt;
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// The particle filter's constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,21 +138,10 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
     fn is_valid(&mut self, i: usize) -> bool {
         self.asked[i] = true;
         if self.valid[i].is_none() {
-            self.sweep(&[i]);
+            let valid = check_collisions(self.ctx, self.candidates[i].candidate(), &mut Scratch::default()).is_ok();
+            self.valid[i] = Some(valid);
         }
         self.valid[i] == Some(true)
-    }
-
-    /// Sweeps candidates `which` in parallel.
-    fn sweep(&mut self, which: &[usize]) {
-        let (ctx, candidates) = (self.ctx, self.candidates);
-        let swept: Vec<bool> = which
-            .par_iter()
-            .map_init(Scratch::default, |scratch, &k| check_collisions(ctx, candidates[k].candidate(), scratch).is_ok())
-            .collect();
-        for (&k, valid) in which.iter().zip(swept) {
-            self.valid[k] = Some(valid);
-        }
     }
 
     /// Draws `count` valid candidates with replacement, each with probability proportional to its
@@ -189,11 +178,13 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
         out
     }
 
-    /// Sweeps ahead, in parallel batches, the candidates [`Pool::resample`] will ask about: its search
-    /// for the best valid candidate and its draws (with a copy of its generator `r`) are replayed with
-    /// each unswept candidate taken as valid, the candidates that took are swept together, and the
-    /// replay is repeated on what they turned out to be until it meets no unswept candidate. Asked one
-    /// by one, they would be swept one at a time. Which candidates are swept ahead changes no result.
+    /// Sweeps ahead, in parallel, the candidates [`Pool::resample`] will ask about: its search for the
+    /// best valid candidate and its draws (with a copy of its generator `r`) are replayed with each
+    /// unswept candidate taken as valid, and the candidates that took are swept. Whenever one turns
+    /// out to collide, the replay is run again on what is known then, and the candidates it meets anew
+    /// are swept too, while the others still are: no thread waits for a batch to end (in batches, the
+    /// folding table's filter spent a quarter of its sweeping time waiting). When the last sweep ends,
+    /// the replay meets no unswept candidate. Which candidates are swept ahead changes no result.
     fn sweep_predicted(
         &mut self,
         by_cost: &[usize],
@@ -201,43 +192,117 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
         count: usize,
         r: &rand_xoshiro::Xoshiro256PlusPlus,
     ) {
-        loop {
-            let mut unswept = Vec::new();
-            if let Some(&k) = by_cost.iter().find(|&&k| self.valid[k] != Some(false)) {
-                if self.valid[k].is_none() {
-                    unswept.push(k);
-                }
-            }
-            let (mut r, mut weights) = (r.clone(), weights.to_vec());
-            let mut drawn = 1;
-            while drawn < count {
-                let total: f64 = weights.iter().sum();
-                if !(total > 0.0 && total.is_finite()) {
-                    break;
-                }
-                let pick = draw(&weights, r.random_range(0.0..total));
-                match self.valid[pick] {
-                    Some(false) => weights[pick] = 0.0,
-                    Some(true) => drawn += 1,
-                    None => {
-                        unswept.push(pick);
-                        drawn += 1;
-                    }
-                }
-            }
-            unswept.sort_unstable();
-            unswept.dedup();
-            if unswept.is_empty() {
-                return;
-            }
-            self.sweep(&unswept);
-        }
+        let ahead = Mutex::new(Ahead {
+            valid: std::mem::take(&mut self.valid),
+            queued: vec![false; self.candidates.len()],
+            pending: 0,
+            stale: false,
+            scratches: Vec::new(),
+        });
+        let sweeps =
+            Sweeps { ctx: self.ctx, candidates: self.candidates, replay: Replay { by_cost, weights, count, r } };
+        rayon::scope(|scope| sweeps.queue_unswept(scope, &ahead));
+        self.valid = ahead.into_inner().expect("no sweep panics").valid;
     }
 
     /// The proposals the resampling found valid.
     fn valid_proposals(&self) -> impl Iterator<Item = Candidate> + '_ {
         let asked = (self.first_proposal..self.candidates.len()).filter(|&i| self.asked[i]);
         asked.filter(|&i| self.valid[i] == Some(true)).map(|i| self.candidates[i].candidate().clone())
+    }
+}
+
+/// What [`Pool::sweep_predicted`]'s sweeps share: each candidate's verdict (`None` until swept),
+/// whether it was queued for a sweep, how many queued sweeps have not ended, whether a candidate
+/// was found colliding since the last replay, and the sweeps' buffers, reused.
+struct Ahead {
+    valid: Vec<Option<bool>>,
+    queued: Vec<bool>,
+    pending: usize,
+    stale: bool,
+    scratches: Vec<Scratch>,
+}
+
+/// The resampling's search and draws, replayed on what is known of the candidates.
+struct Replay<'a> {
+    by_cost: &'a [usize],
+    weights: &'a [f64],
+    count: usize,
+    r: &'a rand_xoshiro::Xoshiro256PlusPlus,
+}
+
+impl Replay<'_> {
+    /// The candidates the resampling would ask about, each unswept one taken as valid, that are neither
+    /// swept nor `queued`.
+    fn unswept(&self, valid: &[Option<bool>], queued: &[bool]) -> Vec<usize> {
+        let mut unswept = Vec::new();
+        let mut meet = |k: usize| {
+            if valid[k].is_none() && !queued[k] {
+                unswept.push(k);
+            }
+        };
+        if let Some(&k) = self.by_cost.iter().find(|&&k| valid[k] != Some(false)) {
+            meet(k);
+        }
+        let (mut r, mut weights) = (self.r.clone(), self.weights.to_vec());
+        let mut drawn = 1;
+        while drawn < self.count {
+            let total: f64 = weights.iter().sum();
+            if !(total > 0.0 && total.is_finite()) {
+                break;
+            }
+            let pick = draw(&weights, r.random_range(0.0..total));
+            if valid[pick] == Some(false) {
+                weights[pick] = 0.0;
+            } else {
+                meet(pick);
+                drawn += 1;
+            }
+        }
+        unswept.sort_unstable();
+        unswept.dedup();
+        unswept
+    }
+}
+
+/// The sweeps of [`Pool::sweep_predicted`].
+struct Sweeps<'a, 'p, P> {
+    ctx: &'a Context<'p>,
+    candidates: &'a [P],
+    replay: Replay<'a>,
+}
+
+impl<'a, P: Particle> Sweeps<'a, '_, P> {
+    /// Queues a sweep of every candidate the replay meets unswept and not queued yet.
+    fn queue_unswept<'s>(&'s self, scope: &rayon::Scope<'s>, ahead: &'s Mutex<Ahead>) {
+        let unswept = {
+            let mut ahead = ahead.lock().expect("no sweep panics");
+            let unswept = self.replay.unswept(&ahead.valid, &ahead.queued);
+            unswept.iter().for_each(|&k| ahead.queued[k] = true);
+            ahead.pending += unswept.len();
+            ahead.stale = false;
+            unswept
+        };
+        for k in unswept {
+            scope.spawn(move |scope| {
+                let mut scratch = ahead.lock().expect("no sweep panics").scratches.pop().unwrap_or_default();
+                let valid = check_collisions(self.ctx, self.candidates[k].candidate(), &mut scratch).is_ok();
+                let replay = {
+                    let mut ahead = ahead.lock().expect("no sweep panics");
+                    ahead.valid[k] = Some(valid);
+                    ahead.scratches.push(scratch);
+                    ahead.pending -= 1;
+                    // A valid candidate is what the replay took it for; a colliding one changes its
+                    // draws. The replay is run again when a thread would otherwise wait (with one
+                    // thread, when every queued sweep has ended: batch after batch).
+                    ahead.stale |= !valid;
+                    ahead.stale && ahead.pending < rayon::current_num_threads()
+                };
+                if replay {
+                    self.queue_unswept(scope, ahead);
+                }
+            });
+        }
     }
 }
 
