@@ -160,8 +160,9 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
         // The particles are valid, so the search ends at the latest at the best of them.
         let best = by_cost.into_iter().find(|&i| self.is_valid(i)).expect("the particles are valid");
         let mut out = vec![self.candidates[best].share()];
+        // Summed again only when a weight is zeroed (the same total: the same sum in the same order).
+        let mut total: f64 = weights.iter().sum();
         while out.len() < count {
-            let total: f64 = weights.iter().sum();
             let pick = if total > 0.0 && total.is_finite() {
                 draw(&weights, r.random_range(0.0..total))
             } else {
@@ -173,6 +174,7 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
                 out.push(self.candidates[pick].share());
             } else {
                 weights[pick] = 0.0;
+                total = weights.iter().sum();
             }
         }
         out
@@ -245,15 +247,17 @@ impl Replay<'_> {
             meet(k);
         }
         let (mut r, mut weights) = (self.r.clone(), self.weights.to_vec());
+        // As in the resampling, summed again only when a weight is zeroed.
+        let mut total: f64 = weights.iter().sum();
         let mut drawn = 1;
         while drawn < self.count {
-            let total: f64 = weights.iter().sum();
             if !(total > 0.0 && total.is_finite()) {
                 break;
             }
             let pick = draw(&weights, r.random_range(0.0..total));
             if valid[pick] == Some(false) {
                 weights[pick] = 0.0;
+                total = weights.iter().sum();
             } else {
                 meet(pick);
                 drawn += 1;
