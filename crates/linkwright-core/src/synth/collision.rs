@@ -568,7 +568,7 @@ mod tests {
                     let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
                     let sweep = Sweep { ctx: &ctx, frames: &frames, plan: &c.plan };
                     let thetas = &c.trace.thetas;
-                    let fine = std::iter::once(thetas[0]).chain(
+                    let mut fine = std::iter::once(thetas[0]).chain(
                         thetas
                             .windows(2)
                             .flat_map(|w| (1..=FINE).map(move |s| w[0] + (w[1] - w[0]) * s as f64 / FINE as f64)),
@@ -580,7 +580,7 @@ mod tests {
                             ctx.collision_pairs.iter().any(|&pair| sweep.test(pair, &placed).is_err())
                         }
                     };
-                    let exact = fine.into_iter().any(&mut collides);
+                    let exact = fine.any(&mut collides);
                     let swept = check_collisions(&ctx, &c, &mut scratch).is_err();
                     assert_eq!(swept, exact, "{name}, {family:?}: the sweep says {swept}, the exact tests {exact}");
                     compared += 1;

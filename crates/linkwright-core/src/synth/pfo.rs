@@ -276,7 +276,7 @@ struct Sweeps<'a, 'p, P> {
     replay: Replay<'a>,
 }
 
-impl<'a, P: Particle> Sweeps<'a, '_, P> {
+impl<P: Particle> Sweeps<'_, '_, P> {
     /// Queues a sweep of every candidate the replay meets unswept and not queued yet.
     fn queue_unswept<'s>(&'s self, scope: &rayon::Scope<'s>, ahead: &'s Mutex<Ahead>) {
         let unswept = {
