@@ -88,6 +88,9 @@ impl Candidate {
 #[derive(Debug, Default)]
 pub struct Scratch {
     coarse: Trace,
+    /// The configuration at each pose, and the sweep's rows between consecutive poses.
+    pose_positions: Vec<Point>,
+    between_poses: Vec<std::ops::Range<usize>>,
     targets: Vec<Point>,
     fitted_targets: Vec<Point>,
     row: Vec<Point>,
@@ -314,9 +317,13 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
     let poses = angles.len();
     let (start, end) = (angles[0], angles[poses - 1]);
     let dir = (end - start).signum();
-    let coarse = &mut scratch.coarse;
-    coarse.sweep(plan, start, end, CRANK_STEP).map_err(|_| Reject::Assembly)?;
     let extension = (END_SEARCH / CRANK_STEP).round() as usize;
+    let Scratch { coarse, targets, row, pose_positions, between_poses, .. } = scratch;
+    // The sweep becomes the candidate's trace (see below): room for the rows past the last pose and
+    // the pose rows, so neither reallocates it.
+    coarse.clear(n);
+    coarse.reserve_rows(Trace::sweep_rows(start, end, CRANK_STEP) + extension + poses);
+    coarse.sweep(plan, start, end, CRANK_STEP).map_err(|_| Reject::Assembly)?;
     let last_grid_step = (end - start).abs() / (coarse.len() - 1) as f64;
     for k in 1..=extension {
         if coarse.push(plan, end + dir * k as f64 * last_grid_step).is_err() {
@@ -325,13 +332,12 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
     }
 
     // The configuration closest to each pose, refined between grid neighbours.
-    let targets = &scratch.targets;
     let moving = &ctx.moving_joints;
     let error = |row: &[Point], i: usize| -> f64 {
         let t = &targets[i * n..(i + 1) * n];
         moving.iter().map(|&j| (row[j] - t[j]).norm_sq()).sum()
     };
-    scratch.row.resize(n, Point::ORIGIN);
+    row.resize(n, Point::ORIGIN);
     let mut thetas = vec![start];
     for i in 1..poses {
         // The first row of least error, each row's error computed once.
@@ -345,7 +351,6 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
         let best = best.0;
         let lo = coarse.thetas[best.saturating_sub(1)];
         let hi = coarse.thetas[(best + 1).min(coarse.len() - 1)];
-        let row = &mut scratch.row;
         let theta = minimise(lo, hi, |theta| match plan.solve(theta, row) {
             Ok(()) => error(row, i),
             Err(_) => f64::INFINITY,
@@ -356,35 +361,41 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
         thetas.push(theta);
     }
 
-    // The travel: every grid row strictly between consecutive poses, and one exact row per pose.
-    let mut trace = Trace::new(n);
-    trace.thetas.reserve(coarse.len() + poses);
-    trace.positions.reserve((coarse.len() + poses) * n);
-    let mut pose_rows = Vec::with_capacity(poses);
+    // The travel: one exact row per pose, and every grid row strictly between consecutive poses,
+    // rearranged in the sweep's own buffer, which the candidate then takes.
+    pose_positions.clear();
+    pose_positions.resize(poses * n, Point::ORIGIN);
+    for (&theta, row) in thetas.iter().zip(pose_positions.chunks_exact_mut(n)) {
+        plan.solve(theta, row).map_err(|_| Reject::Assembly)?;
+    }
+    between_poses.clear();
     let mut grid = 0;
-    for (i, &theta) in thetas.iter().enumerate() {
-        trace.push(plan, theta).map_err(|_| Reject::Assembly)?;
-        pose_rows.push(trace.len() - 1);
-        let Some(&next) = thetas.get(i + 1) else { break };
-        while grid < coarse.len() && dir * (coarse.thetas[grid] - theta) <= 1e-12 {
+    for w in thetas.windows(2) {
+        while grid < coarse.len() && dir * (coarse.thetas[grid] - w[0]) <= 1e-12 {
             grid += 1;
         }
         let first = grid;
-        while grid < coarse.len() && dir * (next - coarse.thetas[grid]) > 1e-12 {
+        while grid < coarse.len() && dir * (w[1] - coarse.thetas[grid]) > 1e-12 {
             grid += 1;
         }
-        trace.extend_rows_of(coarse, first..grid);
+        between_poses.push(first..grid);
     }
+    coarse.splice_rows(between_poses, &thetas, pose_positions);
     // A four-bar or slider-crank has its transmission in closed form, over exactly this travel.
     let least_sine = match plan.closed_form_travel(thetas[0], thetas[poses - 1]) {
         Some(Ok(sine)) => sine,
         Some(Err(_)) => return Err(Reject::Assembly),
-        None => trace.min_transmission_sine(plan),
+        None => coarse.min_transmission_sine(plan),
     };
     if least_sine < ctx.min_transmission.sin() {
         return Err(Reject::Transmission);
     }
-    Ok((trace, pose_rows))
+    let mut pose_rows = Vec::with_capacity(poses);
+    pose_rows.push(0);
+    for range in between_poses.iter() {
+        pose_rows.push(pose_rows[pose_rows.len() - 1] + range.len() + 1);
+    }
+    Ok((std::mem::replace(coarse, Trace::new(n)), pose_rows))
 }
 
 /// The minimiser of a function on `[a, b]` (either order) by Brent's method: parabolic steps through
