@@ -10,7 +10,7 @@ mod vector;
 
 pub use obstacle::Obstacle;
 pub use polygon::{outline_distance, penetrates_unchecked, Aabb, Polygon, PolygonError};
-pub use rigid::Rigid;
+pub use rigid::{Isometry, Rigid};
 pub use vector::{orientation, Orientation, Point, Vec2};
 
 /// Distance from `p` to the segment `a`–`b`.

@@ -18,7 +18,7 @@
 //! these computations: a list holds every edge within its reach, and a little more.
 
 use super::polygon::{boundary_distance_raw, closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
-use super::{point_segment_distance, segments_cross, Aabb, Point, Rigid, Vec2};
+use super::{point_segment_distance, segments_cross, Aabb, Isometry, Point, Vec2};
 use std::ops::Range;
 
 /// Cells along the longer side of an obstacle's box.
@@ -186,7 +186,7 @@ impl Obstacle {
     /// into the mover's frame, wherever the grid decides it; only points near the mover's boundary
     /// are tested against its edges. The grid's margins, far above the rounding of that change of
     /// frame, keep the answers those of the brute force.
-    pub fn penetrated_by_shape(&self, mover: &[Point], shape: &Obstacle, pose: &Rigid) -> bool {
+    pub fn penetrated_by_shape(&self, mover: &[Point], shape: &Obstacle, pose: &Isometry) -> bool {
         let Some(mover_box) = Aabb::around(mover.iter().copied()) else { return false };
         let to_shape = pose.inverse();
         self.edges_cross(mover)
@@ -686,7 +686,7 @@ mod tests {
                 let pose = Rigid::new(angle, target - Rigid::new(angle, Vec2::ZERO).apply(anchor));
                 let placed: Vec<Point> = local.iter().map(|&p| pose.apply(p)).collect();
                 let brute = penetrates_unchecked(&placed, &vertices, tol);
-                prop_assert_eq!(obstacle.penetrated_by_shape(&placed, &shape, &pose), brute, "{:?} placed by {:?}", local, pose);
+                prop_assert_eq!(obstacle.penetrated_by_shape(&placed, &shape, &pose.isometry()), brute, "{:?} placed by {:?}", local, pose);
                 verdicts += brute as usize;
             }
             prop_assert!(verdicts > 0 && verdicts < 64, "{} of 64 penetrate", verdicts);
@@ -815,7 +815,7 @@ mod tests {
                     for (mover, pose) in &placed[b * per_body..(b + 1) * per_body] {
                         let brute = penetrates_unchecked(mover, vertices, tol);
                         assert_eq!(
-                            obstacle.penetrated_by_shape(mover, &shape, pose),
+                            obstacle.penetrated_by_shape(mover, &shape, &pose.isometry()),
                             brute,
                             "{mover:?} placed by {pose:?}"
                         );

@@ -8,19 +8,29 @@ use super::{Point, Vec2};
 /// right with [`Rigid::then`]: `a.then(b)` applies `a` first.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rigid {
+    /// Unwrapped: composing adds angles.
     angle: f64,
+    isometry: Isometry,
+}
+
+/// A [`Rigid`] motion without its angle: the rotation's cosine and sine, and the translation. The
+/// collision sweep places outlines by it from two joints, where recovering the angle (an `atan2`)
+/// would be wasted. The same arithmetic as [`Rigid`]'s, so the same points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Isometry {
     cos: f64,
     sin: f64,
     translation: Vec2,
 }
 
 impl Rigid {
-    pub const IDENTITY: Rigid = Rigid { angle: 0.0, cos: 1.0, sin: 0.0, translation: Vec2::ZERO };
+    pub const IDENTITY: Rigid =
+        Rigid { angle: 0.0, isometry: Isometry { cos: 1.0, sin: 0.0, translation: Vec2::ZERO } };
 
     /// Rotation by `angle` radians about the origin, then translation.
     pub fn new(angle: f64, translation: Vec2) -> Self {
         let (sin, cos) = angle.sin_cos();
-        Rigid { angle, cos, sin, translation }
+        Rigid { angle, isometry: Isometry { cos, sin, translation } }
     }
     /// A pose as the scene writes it: `[x, y, angle_deg]`.
     pub fn from_pose(pose: [f64; 3]) -> Self {
@@ -28,21 +38,56 @@ impl Rigid {
     }
     /// The frame whose origin is `origin` and whose x axis points along `x_axis` (need not be unit).
     pub fn from_frame(origin: Point, x_axis: Vec2) -> Self {
-        let length = x_axis.norm();
-        if !(length > 0.0 && length.is_finite()) {
-            return Rigid::new(x_axis.angle(), origin.to_vec2());
-        }
-        Rigid { angle: x_axis.angle(), cos: x_axis.x / length, sin: x_axis.y / length, translation: origin.to_vec2() }
+        Rigid { angle: x_axis.angle(), isometry: Isometry::from_frame(origin, x_axis) }
     }
     /// Back to `[x, y, angle_deg]`.
     pub fn to_pose(&self) -> [f64; 3] {
-        [self.translation.x, self.translation.y, self.angle.to_degrees()]
+        let t = self.isometry.translation;
+        [t.x, t.y, self.angle.to_degrees()]
     }
     pub fn angle(&self) -> f64 {
         self.angle
     }
     pub fn translation(&self) -> Vec2 {
-        self.translation
+        self.isometry.translation
+    }
+    /// The motion without its angle.
+    pub fn isometry(&self) -> Isometry {
+        self.isometry
+    }
+    pub fn rotate(&self, v: Vec2) -> Vec2 {
+        self.isometry.rotate(v)
+    }
+    /// Rotation by the inverse angle.
+    pub fn unrotate(&self, v: Vec2) -> Vec2 {
+        self.isometry.unrotate(v)
+    }
+    pub fn apply(&self, p: Point) -> Point {
+        self.isometry.apply(p)
+    }
+    pub fn inverse(&self) -> Rigid {
+        Rigid { angle: -self.angle, isometry: self.isometry.inverse() }
+    }
+    /// `self` followed by `next`.
+    pub fn then(&self, next: &Rigid) -> Rigid {
+        Rigid { angle: self.angle + next.angle, isometry: self.isometry.then(&next.isometry) }
+    }
+    /// The transform that takes `self`'s output frame to `other`'s: `self.inverse().then(other)`.
+    /// With poses of one body, `pose_1.to(&pose_i)` moves world points carried by the body from pose 1
+    /// to pose i.
+    pub fn to(&self, other: &Rigid) -> Rigid {
+        self.inverse().then(other)
+    }
+}
+
+impl Isometry {
+    /// [`Rigid::from_frame`] without the angle.
+    pub fn from_frame(origin: Point, x_axis: Vec2) -> Self {
+        let length = x_axis.norm();
+        if !(length > 0.0 && length.is_finite()) {
+            return Rigid::new(x_axis.angle(), origin.to_vec2()).isometry;
+        }
+        Isometry { cos: x_axis.x / length, sin: x_axis.y / length, translation: origin.to_vec2() }
     }
     pub fn rotate(&self, v: Vec2) -> Vec2 {
         Vec2::new(self.cos * v.x - self.sin * v.y, self.sin * v.x + self.cos * v.y)
@@ -54,24 +99,17 @@ impl Rigid {
     pub fn apply(&self, p: Point) -> Point {
         Point::ORIGIN + self.rotate(p.to_vec2()) + self.translation
     }
-    pub fn inverse(&self) -> Rigid {
-        Rigid { angle: -self.angle, cos: self.cos, sin: -self.sin, translation: -self.unrotate(self.translation) }
+    pub fn inverse(&self) -> Isometry {
+        Isometry { cos: self.cos, sin: -self.sin, translation: -self.unrotate(self.translation) }
     }
     /// `self` followed by `next`. The rotations compose as products of their cosines and sines (no
     /// trigonometric call: composing is the kinematic sweep's most frequent operation).
-    pub fn then(&self, next: &Rigid) -> Rigid {
-        Rigid {
-            angle: self.angle + next.angle,
+    pub fn then(&self, next: &Isometry) -> Isometry {
+        Isometry {
             cos: self.cos * next.cos - self.sin * next.sin,
             sin: self.sin * next.cos + self.cos * next.sin,
             translation: next.rotate(self.translation) + next.translation,
         }
-    }
-    /// The transform that takes `self`'s output frame to `other`'s: `self.inverse().then(other)`.
-    /// With poses of one body, `pose_1.to(&pose_i)` moves world points carried by the body from pose 1
-    /// to pose i.
-    pub fn to(&self, other: &Rigid) -> Rigid {
-        self.inverse().then(other)
     }
 }
 

@@ -2,7 +2,7 @@
 
 use super::plan::Plan;
 use super::DyadError;
-use crate::geom::{Point, Rigid, Vec2};
+use crate::geom::{Isometry, Point, Rigid, Vec2};
 use crate::mechanism::Mechanism;
 
 /// Why a sweep stopped.
@@ -172,6 +172,11 @@ impl BodyFrames {
     pub fn pose(&self, b: usize, row: &[Point]) -> Rigid {
         let (a, c, body_to_frame) = &self.frames[b];
         body_to_frame.then(&Rigid::from_frame(row[*a], row[*c] - row[*a]))
+    }
+    /// [`BodyFrames::pose`] without the angle (see [`Isometry`]).
+    pub fn isometry(&self, b: usize, row: &[Point]) -> Isometry {
+        let (a, c, body_to_frame) = &self.frames[b];
+        body_to_frame.isometry().then(&Isometry::from_frame(row[*a], row[*c] - row[*a]))
     }
     pub fn body_count(&self) -> usize {
         self.frames.len()

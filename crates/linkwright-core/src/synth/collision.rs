@@ -15,7 +15,7 @@
 
 use super::context::Context;
 use super::evaluate::{Candidate, Reject, Scratch};
-use crate::geom::{outline_distance, penetrates_unchecked, Aabb, Obstacle, Point, Rigid, Vec2};
+use crate::geom::{outline_distance, penetrates_unchecked, Aabb, Isometry, Obstacle, Point, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::scene::Problem;
 
@@ -271,7 +271,7 @@ pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
 /// Every mover placed in one configuration: body outlines, then link segments.
 #[derive(Debug, Default)]
 struct Placed {
-    poses: Vec<Rigid>,
+    poses: Vec<Isometry>,
     bodies: Vec<Vec<Point>>,
     body_boxes: Vec<Aabb>,
     links: Vec<[Point; 2]>,
@@ -323,7 +323,7 @@ impl Sweep<'_, '_> {
     fn place_into(&self, row: &[Point], out: &mut Placed) {
         let problem = self.ctx.problem;
         out.poses.clear();
-        out.poses.extend((0..problem.bodies.len()).map(|b| self.frames.pose(b, row)));
+        out.poses.extend((0..problem.bodies.len()).map(|b| self.frames.isometry(b, row)));
         out.bodies.resize_with(problem.bodies.len(), Vec::new);
         out.body_boxes.clear();
         for ((body, pose), outline) in problem.bodies.iter().zip(&out.poses).zip(&mut out.bodies) {

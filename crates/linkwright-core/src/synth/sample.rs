@@ -223,7 +223,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
                         placed = true;
                     }
                     let (outline, bb) = (&scratch.outlines[b], &scratch.boxes[b]);
-                    if bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, pose) {
+                    if bb.overlaps(&f.bounds(), tol) && f.penetrated_by_shape(outline, shape, &pose.isometry()) {
                         return false;
                     }
                 }
