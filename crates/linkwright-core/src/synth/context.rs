@@ -1,7 +1,10 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
 use super::collision::{watched_pairs, Pair};
+use super::evaluate::Scratch;
 use super::rigidity::RigidityModel;
+use super::sample::SampleScratch;
+use super::scratch_pool::ScratchPool;
 use crate::geom::{Obstacle, Point, Polygon, Rigid};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
@@ -62,6 +65,9 @@ pub struct Context<'a> {
     /// `pose_tolerance` is 0: every pose must be hit exactly, so no pose is perturbed, only exact fits
     /// are accepted, and the particle filter's proposals are projected back onto exact linkages.
     pub exact: bool,
+    /// The workers' buffers, kept from task to task.
+    pub(crate) scratches: ScratchPool<Scratch>,
+    pub(crate) sample_scratches: ScratchPool<SampleScratch>,
 }
 
 impl<'a> Context<'a> {
@@ -132,6 +138,8 @@ impl<'a> Context<'a> {
             rigidity: RigidityModel::new(&topology),
             exact: problem.settings.pose_tolerance == 0.0,
             topology,
+            scratches: ScratchPool::default(),
+            sample_scratches: ScratchPool::default(),
         }
     }
 

@@ -11,6 +11,7 @@ mod pipeline;
 mod random;
 pub mod rigidity;
 mod sample;
+mod scratch_pool;
 
 pub use collision::check_collisions;
 pub use context::Context;

@@ -4,7 +4,7 @@
 
 use super::collision::check_collisions;
 use super::context::Context;
-use super::evaluate::{evaluate, Candidate, Scratch};
+use super::evaluate::{evaluate, Candidate};
 use super::random::{normal, rng, Stream};
 use super::sample::{mechanism_from_x, x_from_mechanism};
 use rand::RngExt;
@@ -73,27 +73,31 @@ pub fn refine(
         let proposals: Vec<Arc<Candidate>> = particles
             .par_iter()
             .enumerate()
-            .map_init(Scratch::default, |scratch, (k, particle)| {
-                let mut r = rng(seed, Stream::Perturb { family, iteration: iteration as u64 }, k as u64);
-                let mut x = Vec::new();
-                x_from_mechanism(&particle.mechanism, &mut x);
-                let n = 2 * ctx.topology.joint_count();
-                for v in &mut x[..n] {
-                    *v += normal(&mut r) * sigma * ctx.body_size;
-                }
-                for v in &mut x[n..] {
-                    *v += normal(&mut r) * slider_sigma;
-                }
-                if ctx.exact {
-                    // Project the proposal back onto linkages that hit the input poses exactly.
-                    let fit = ctx.rigidity.fit(&mut x, &ctx.motions, ctx.body_size, &mut scratch.fit);
-                    if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation() {
-                        return None;
+            .map_init(
+                || ctx.scratches.take(),
+                |scratch, (k, particle)| {
+                    let mut r = rng(seed, Stream::Perturb { family, iteration: iteration as u64 }, k as u64);
+                    let mut x = Vec::new();
+                    x_from_mechanism(&particle.mechanism, &mut x);
+                    let n = 2 * ctx.topology.joint_count();
+                    for v in &mut x[..n] {
+                        *v += normal(&mut r) * sigma * ctx.body_size;
                     }
-                }
-                let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, hopeless, scratch).ok()?;
-                (candidate.cost <= hopeless).then(|| Arc::new(candidate))
-            })
+                    for v in &mut x[n..] {
+                        *v += normal(&mut r) * slider_sigma;
+                    }
+                    if ctx.exact {
+                        // Project the proposal back onto linkages that hit the input poses exactly.
+                        let fit = ctx.rigidity.fit(&mut x, &ctx.motions, ctx.body_size, &mut scratch.fit);
+                        if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation()
+                        {
+                            return None;
+                        }
+                    }
+                    let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, hopeless, scratch).ok()?;
+                    (candidate.cost <= hopeless).then(|| Arc::new(candidate))
+                },
+            )
             .flatten()
             .collect();
         let kept = particles.len();
@@ -138,7 +142,8 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
     fn is_valid(&mut self, i: usize) -> bool {
         self.asked[i] = true;
         if self.valid[i].is_none() {
-            let valid = check_collisions(self.ctx, self.candidates[i].candidate(), &mut Scratch::default()).is_ok();
+            let valid =
+                check_collisions(self.ctx, self.candidates[i].candidate(), &mut self.ctx.scratches.take()).is_ok();
             self.valid[i] = Some(valid);
         }
         self.valid[i] == Some(true)
@@ -199,7 +204,6 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
             queued: vec![false; self.candidates.len()],
             pending: 0,
             stale: false,
-            scratches: Vec::new(),
         });
         let sweeps =
             Sweeps { ctx: self.ctx, candidates: self.candidates, replay: Replay { by_cost, weights, count, r } };
@@ -216,13 +220,12 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
 
 /// What [`Pool::sweep_predicted`]'s sweeps share: each candidate's verdict (`None` until swept),
 /// whether it was queued for a sweep, how many queued sweeps have not ended, whether a candidate
-/// was found colliding since the last replay, and the sweeps' buffers, reused.
+/// was found colliding since the last replay.
 struct Ahead {
     valid: Vec<Option<bool>>,
     queued: Vec<bool>,
     pending: usize,
     stale: bool,
-    scratches: Vec<Scratch>,
 }
 
 /// The resampling's search and draws, replayed on what is known of the candidates.
@@ -289,12 +292,11 @@ impl<P: Particle> Sweeps<'_, '_, P> {
         };
         for k in unswept {
             scope.spawn(move |scope| {
-                let mut scratch = ahead.lock().expect("no sweep panics").scratches.pop().unwrap_or_default();
-                let valid = check_collisions(self.ctx, self.candidates[k].candidate(), &mut scratch).is_ok();
+                let valid =
+                    check_collisions(self.ctx, self.candidates[k].candidate(), &mut self.ctx.scratches.take()).is_ok();
                 let replay = {
                     let mut ahead = ahead.lock().expect("no sweep panics");
                     ahead.valid[k] = Some(valid);
-                    ahead.scratches.push(scratch);
                     ahead.pending -= 1;
                     // A valid candidate is what the replay took it for; a colliding one changes its
                     // draws. The replay is run again when a thread would otherwise wait (with one
@@ -352,6 +354,7 @@ fn draw(weights: &[f64], mut u: f64) -> usize {
 mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
+    use crate::synth::evaluate::Scratch;
     use crate::synth::sample::{SampleScratch, Sampler};
     use crate::synth::testing::example;
 

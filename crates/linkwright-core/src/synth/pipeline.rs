@@ -3,7 +3,7 @@
 
 use super::collision::check_collisions;
 use super::context::Context;
-use super::evaluate::{cost_floor, evaluate, Candidate, Reject, Scratch};
+use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
 use super::sample::{x_from_mechanism, SampleScratch, Sampler};
 use crate::fab::FeasibilityCheck;
@@ -364,7 +364,7 @@ fn screen_samples(
         let results: Vec<Option<Result<f64, Reject>>> = (start..end)
             .into_par_iter()
             .map_init(
-                || (SampleScratch::default(), Scratch::default()),
+                || (ctx.sample_scratches.take(), ctx.scratches.take()),
                 |(sample_scratch, scratch), i| {
                     if !draw(i, sample_scratch) {
                         return None;
@@ -449,7 +449,7 @@ fn simulate_cheapest(
         let results: Vec<Option<(Result<Candidate, Reject>, usize)>> = floors[done..end]
             .par_iter()
             .map_init(
-                || (SampleScratch::default(), Scratch::default()),
+                || (ctx.sample_scratches.take(), ctx.scratches.take()),
                 |(sample_scratch, scratch), &(_, i)| {
                     if !draw(i, sample_scratch) {
                         return None;
@@ -508,13 +508,16 @@ fn check_in_order(
         let batch: Vec<Candidate> = queue.by_ref().take(chunks * COLLISION_CHUNK).collect();
         let mut checked = batch
             .into_par_iter()
-            .map_init(Scratch::default, |scratch, c| {
-                check_collisions(ctx, &c, scratch)?;
-                match printable {
-                    Some(check) => mark_printable(check, c),
-                    None => Ok(c),
-                }
-            })
+            .map_init(
+                || ctx.scratches.take(),
+                |scratch, c| {
+                    check_collisions(ctx, &c, scratch)?;
+                    match printable {
+                        Some(check) => mark_printable(check, c),
+                        None => Ok(c),
+                    }
+                },
+            )
             .collect::<Vec<Result<Candidate, Reject>>>()
             .into_iter()
             .peekable();
@@ -597,6 +600,7 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::synth::evaluate::Scratch;
     use crate::synth::testing::{defect_free, example};
 
     /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
