@@ -49,7 +49,8 @@ pub struct Context<'a> {
     /// The smallest moving body size d.
     pub body_size: f64,
     pub min_spacing: f64,
-    pub min_transmission: f64,
+    /// The sine of the least transmission angle allowed (margins are compared as sines).
+    pub min_transmission_sine: f64,
     /// Penetration below this depth is contact, not collision (a length).
     pub contact_tolerance: f64,
     /// The fixed bodies and the avoid regions, prepared for the tests of moving outlines against them.
@@ -129,7 +130,7 @@ impl<'a> Context<'a> {
             first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(),
             body_size,
             min_spacing: MIN_JOINT_SPACING * body_size,
-            min_transmission: problem.settings.min_transmission_deg.to_radians(),
+            min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
             contact_tolerance,
             fixed_obstacles: problem.fixed.iter().map(obstacle).collect(),
             avoid_obstacles: problem.avoid.iter().map(obstacle).collect(),

@@ -250,7 +250,7 @@ fn screen(
             Some(Err(_)) => {
                 first_failure.get_or_insert(Reject::Assembly);
             }
-            Some(Ok(sine)) if sine < ctx.min_transmission.sin() => {
+            Some(Ok(sine)) if sine < ctx.min_transmission_sine => {
                 first_failure.get_or_insert(Reject::Transmission);
             }
             _ => {
@@ -387,7 +387,7 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
         Some(Err(_)) => return Err(Reject::Assembly),
         None => coarse.min_transmission_sine(plan),
     };
-    if least_sine < ctx.min_transmission.sin() {
+    if least_sine < ctx.min_transmission_sine {
         return Err(Reject::Transmission);
     }
     let mut pose_rows = Vec::with_capacity(poses);
