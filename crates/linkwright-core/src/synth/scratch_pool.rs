@@ -77,10 +77,9 @@ mod tests {
             let b = pool.take();
             assert!(b.is_empty());
         }
-        let mut taken: Vec<Vec<u32>> = Vec::new();
         let (c, d) = (pool.take(), pool.take());
-        taken.extend([c.clone(), d.clone()]);
+        let mut taken = [c.clone(), d.clone()];
         taken.sort();
-        assert_eq!(taken, vec![vec![], vec![1, 2, 3]]);
+        assert_eq!(taken, [vec![], vec![1, 2, 3]]);
     }
 }
