@@ -2,7 +2,10 @@
 //! back into a [`Mechanism`] (so any design can be re-simulated from the file alone).
 
 use crate::geom::{Point, Vec2};
+use crate::kinematics::BodyFrames;
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
+use crate::scene::{PoseMiss, Problem};
+use crate::verify::{verify_travel, Travel, Violation};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -95,6 +98,13 @@ pub struct Metrics {
     pub size: f64,
     pub cost: f64,
     pub min_transmission_deg: f64,
+    /// `pose_errors[i][b]`: how far body b is from its input pose i in the configuration the design
+    /// offers for it (absent in files written before it was added).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pose_errors: Vec<Vec<PoseMiss>>,
+    /// The largest of each field of `pose_errors`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst_pose_error: Option<PoseMiss>,
 }
 
 /// Another valid design.
@@ -114,6 +124,9 @@ pub struct Stats {
     /// The seed the run used.
     #[serde(default)]
     pub seed: u64,
+    /// Designs the run dropped because its independent re-simulation (what `check` runs) rejected them.
+    #[serde(default)]
+    pub failed_check: usize,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -124,6 +137,9 @@ pub struct Seconds {
     /// Checking designs for printability (added to `design/1`; 0 when not asked).
     #[serde(default)]
     pub printability: f64,
+    /// Refining the kept designs to local optima, and checking them again.
+    #[serde(default)]
+    pub refinement: f64,
     pub total: f64,
 }
 
@@ -252,12 +268,41 @@ impl DesignFile {
 }
 
 impl DesignFile {
+    /// Every violated constraint of this design's best mechanism against `problem` (empty when it is
+    /// sound; a `no_solution` design has none): the file's own consistency, then an independent
+    /// re-simulation ([`crate::verify::verify_travel`]) and the reported accuracy against it.
+    pub fn violations(&self, problem: &Problem) -> Vec<Violation> {
+        let fail = |constraint, message: String| vec![Violation { constraint, message }];
+        if self.status == Status::NoSolution {
+            return Vec::new();
+        }
+        let (Some(mj), Some(motion), Some(metrics)) = (&self.mechanism, &self.motion, &self.metrics) else {
+            return fail("format", "status is ok but mechanism, motion or metrics is missing".into());
+        };
+        let mechanism = match mj.to_mechanism() {
+            Ok(m) => m,
+            Err(e) => return fail("format", e.to_string()),
+        };
+        let travel = Travel { start: motion.crank_start_deg, end: motion.crank_end_deg, poses: &motion.pose_crank_deg };
+        let (mut out, accuracy) = verify_travel(problem, &mechanism, travel);
+        if let Some(accuracy) = accuracy {
+            let scale = problem.scale * problem.scale;
+            if (accuracy - metrics.accuracy).abs() > 1e-9 * scale + 1e-6 * accuracy {
+                out.push(Violation {
+                    constraint: "accuracy",
+                    message: format!("metrics.accuracy is {} but eq. 10 gives {accuracy}", metrics.accuracy),
+                });
+            }
+        }
+        out
+    }
+
     /// The design file of a synthesis outcome.
-    pub fn from_outcome(problem: &crate::scene::Problem, outcome: &crate::synth::Outcome) -> DesignFile {
+    pub fn from_outcome(problem: &Problem, outcome: &crate::synth::Outcome) -> DesignFile {
         let s = &outcome.stats;
         let (mechanism, motion, metrics) = match &outcome.best {
             Some(c) => {
-                let (m, mo, me) = describe(c);
+                let (m, mo, me) = describe(problem, c);
                 (Some(m), Some(mo), Some(me))
             }
             None => (None, None, None),
@@ -274,7 +319,7 @@ impl DesignFile {
                 .alternatives
                 .iter()
                 .map(|c| {
-                    let (mechanism, motion, metrics) = describe(c);
+                    let (mechanism, motion, metrics) = describe(problem, c);
                     Alternative { mechanism, motion, metrics }
                 })
                 .collect(),
@@ -287,16 +332,18 @@ impl DesignFile {
                     collision: s.seconds_collision,
                     pfo: s.seconds_pfo,
                     printability: s.seconds_printability,
+                    refinement: s.seconds_refinement,
                     total: s.seconds_total,
                 },
                 seed: problem.settings.seed,
+                failed_check: s.failed_verification,
             },
         }
     }
 }
 
 /// The file's mechanism, motion and metrics of a candidate.
-fn describe(c: &crate::synth::Candidate) -> (MechanismJson, Motion, Metrics) {
+fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, Motion, Metrics) {
     let mut mechanism = MechanismJson::from_mechanism(&c.mechanism);
     if let (Some(line), Some(j)) = (c.mechanism.slider, c.mechanism.topology.slider_joint) {
         let along = (0..c.trace.len()).map(|r| (c.trace.row(r)[j] - line.point).dot(line.direction));
@@ -321,6 +368,23 @@ fn describe(c: &crate::synth::Candidate) -> (MechanismJson, Motion, Metrics) {
         size: c.soft.size,
         cost: c.cost,
         min_transmission_deg: c.trace.min_transmission(&c.plan).to_degrees(),
+        pose_errors: pose_errors(problem, c),
+        worst_pose_error: None,
     };
+    let metrics = Metrics { worst_pose_error: Some(PoseMiss::worst(metrics.pose_errors.iter().flatten())), ..metrics };
     (mechanism, motion, metrics)
+}
+
+/// How far each body is from each input pose in the configurations a candidate offers for them.
+fn pose_errors(problem: &Problem, c: &crate::synth::Candidate) -> Vec<Vec<PoseMiss>> {
+    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+    let frames = BodyFrames::new(&c.mechanism, &first_poses);
+    c.pose_rows
+        .iter()
+        .enumerate()
+        .map(|(i, &r)| {
+            let row = c.trace.row(r);
+            problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &frames.pose(b, row))).collect()
+        })
+        .collect()
 }

@@ -93,6 +93,18 @@ impl Topology {
         }
     }
 
+    /// The most poses through which this topology generally has exact solutions (paper §4.2): a
+    /// four-bar's dyads up to five poses (Burmester), a longer chain's ternary links up to three, the
+    /// slider-crank's slider joint up to four (a body point on a line in four positions: Ball's point).
+    /// With more poses, a linkage can only approximate the motion.
+    pub fn max_exact_poses(&self) -> usize {
+        match (self.mechanism_type, self.body_count) {
+            (MechanismType::SliderCrank, _) => 4,
+            (MechanismType::Chain, 1) => 5,
+            (MechanismType::Chain, _) => 3,
+        }
+    }
+
     /// The RRRP slider-crank for one moving body (paper §4.3).
     pub fn slider_crank() -> Topology {
         Topology {

@@ -7,7 +7,7 @@ use linkwright_core::kinematics::{BodyFrames, Plan, Trace};
 use linkwright_core::mechanism::{Mechanism, Topology};
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::{synthesize, Silent};
-use linkwright_core::verify::verify;
+
 use serde_json::json;
 use std::sync::Arc;
 
@@ -58,7 +58,7 @@ fn exact_poses_of_a_known_four_bar_are_hit_exactly() {
     let d = problem.bodies[0].size;
     let accuracy = design.metrics.as_ref().unwrap().accuracy;
     assert!(accuracy < 1e-8 * d * d, "accuracy {accuracy} (d = {d})");
-    assert_eq!(verify(&problem, &design), vec![]);
+    assert_eq!(design.violations(&problem), vec![]);
 }
 
 fn example(name: &str) -> Problem {
@@ -112,7 +112,7 @@ fn every_example_design_passes_an_independent_re_simulation() {
                 alternatives: vec![],
                 ..design.clone()
             })) {
-                assert_eq!(verify(&problem, &alternative), vec![], "{name}");
+                assert_eq!(alternative.violations(&problem), vec![], "{name}");
             }
         } else {
             assert!(design.reason.as_deref().is_some_and(|r| !r.is_empty()), "{name}: no_solution needs a reason");
@@ -179,7 +179,7 @@ fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
     assert_eq!(warm.stats.samples, WARM_SAMPLES, "no fallback to a cold start was needed");
     let design = DesignFile::from_outcome(&problem, &warm);
     assert_eq!(design.status, Status::Ok);
-    assert_eq!(verify(&problem, &design), vec![]);
+    assert_eq!(design.violations(&problem), vec![]);
 
     // Designs of another topology are ignored, and nothing valid falls back to a cold start.
     let mut slider_only = problem.clone();

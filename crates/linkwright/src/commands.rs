@@ -9,7 +9,7 @@ use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::synth::{synthesize_with, Observer, Options, Progress, Stage, Start};
-use linkwright_core::verify::verify;
+
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -137,7 +137,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     if args.json {
         println!("{json}");
     } else {
-        println!("{}", summary(&file, &out_dir));
+        println!("{}", summary(&file, &scene.units, &out_dir));
     }
     if args.fabricate {
         if outcome.best.is_some() {
@@ -166,16 +166,23 @@ fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::mechanism::Me
     Ok(mechanisms)
 }
 
-fn summary(file: &DesignFile, out_dir: &Path) -> String {
+fn summary(file: &DesignFile, units: &str, out_dir: &Path) -> String {
     let s = &file.stats;
     let counts = format!("{} valid of {} samples, {:.2} s, seed {}", s.valid, s.samples, s.seconds.total, s.seed);
     match (&file.status, &file.mechanism, &file.metrics) {
         (Status::Ok, Some(m), Some(x)) => format!(
-            "{}: {} with {} joints, cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}), \
-             min transmission {:.1}°; {counts} -> {}",
+            "{}: {} with {} joints, reaches every pose within {}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, \
+             location {:.3}, size {:.2}), min transmission {:.1}°; {counts} -> {}",
             file.scene,
             kind_name(m),
             m.joints.len(),
+            x.worst_pose_error.map_or("(not reported)".to_string(), |w| format!(
+                "{:.3} {} ({:.1}% of the body's size) and {:.2}°",
+                w.position,
+                units,
+                100.0 * w.position_rel_d,
+                w.angle_deg
+            )),
             x.cost,
             x.accuracy,
             x.smoothness,
@@ -211,7 +218,7 @@ fn kind_name(m: &linkwright_core::design::MechanismJson) -> String {
 pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
     let (_, problem) = read_problem(scene)?;
     let file = read_design(design)?;
-    let violations = verify(&problem, &file);
+    let violations = file.violations(&problem);
     if json {
         println!("{}", serde_json::to_string_pretty(&violations).expect("violations serialize"));
     } else if violations.is_empty() {

@@ -7,7 +7,7 @@ mod common;
 use common::{quick_garbage_truck, Server};
 use linkwright_core::design::{DesignFile, Status};
 use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::verify::verify;
+
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader, Read};
 use std::time::{Duration, Instant};
@@ -166,7 +166,7 @@ fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_a
     let file = DesignFile::from_json(&design.to_string()).expect("a design/1 file");
     assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
     let problem = Problem::new(&Scene::from_json(&scene.to_string()).unwrap()).unwrap();
-    assert_eq!(verify(&problem, &file), vec![]);
+    assert_eq!(file.violations(&problem), vec![]);
 
     // Same seed, same design.
     let (_, again) = post(&server, "/api/design", &scene);
@@ -179,7 +179,7 @@ fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_a
     let (status, warm) = post(&server, "/api/design", &json!({"scene": moved, "from": design}));
     assert_eq!((status, &warm["status"]), (200, &json!("ok")), "{warm}");
     let moved_problem = Problem::new(&Scene::from_json(&moved.to_string()).unwrap()).unwrap();
-    assert_eq!(verify(&moved_problem, &DesignFile::from_json(&warm.to_string()).unwrap()), vec![]);
+    assert_eq!(DesignFile::from_json(&warm.to_string()).unwrap().violations(&moved_problem), vec![]);
     let (status, body) = post(&server, "/api/design", &json!({"scene": moved, "from": {"linkwright": "design/1"}}));
     assert_error(status, &body, 400);
     assert!(body["issues"][0]["field"].as_str().unwrap().starts_with("from"), "{body}");

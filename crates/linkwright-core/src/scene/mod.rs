@@ -4,7 +4,7 @@
 mod problem;
 mod validate;
 
-pub use problem::{MovingBodyProblem, Problem, CONTACT_FRACTION};
+pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
 pub use validate::{validate, Issue, Severity};
 
 use crate::geom::Point;
@@ -77,17 +77,18 @@ pub enum MechanismChoice {
     SliderCrank,
 }
 
-/// Weights of the soft costs (paper eq. 14). Defaults are the paper's: 1, 1, 10, 1.
+/// Weights of the soft costs (paper eq. 14), each applied to its term in units of the body size d (the
+/// smallest moving body's), so a weight means the same whatever unit the scene is drawn in.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Weights {
-    /// Weight of E_acc, the mean squared joint error at the poses (length²). Default 1.
+    /// Weight of E_acc / d², the mean squared joint error at the poses. Default 1.
     pub accuracy: f64,
     /// Weight of E_smooth, the tortuosity of the joint paths (≥ 1, unitless). Default 1.
     pub smoothness: f64,
-    /// Weight of E_loc, the mean distance of joints from the linkage region (length). Default 10.
+    /// Weight of E_loc / d, the mean distance of joints from the linkage region. Default 10.
     pub location: f64,
-    /// Weight of E_size, the mean link length (length). Default 1.
+    /// Weight of E_size / d, the mean link length. Default 1.
     pub size: f64,
     #[serde(flatten)]
     pub extra: Map<String, Value>,
@@ -95,7 +96,7 @@ pub struct Weights {
 
 impl Default for Weights {
     fn default() -> Self {
-        Weights { accuracy: 1.0, smoothness: 1.0, location: 10.0, size: 1.0, extra: Map::new() }
+        Weights { accuracy: 1000.0, smoothness: 1.0, location: 10.0, size: 1.0, extra: Map::new() }
     }
 }
 

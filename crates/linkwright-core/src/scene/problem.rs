@@ -23,6 +23,39 @@ impl MovingBodyProblem {
     pub fn motion_from_first(&self, i: usize) -> Rigid {
         self.poses[0].to(&self.poses[i])
     }
+
+    /// How far `reached` (a `body_to_world`) is from input pose `i`.
+    pub fn miss(&self, i: usize, reached: &Rigid) -> PoseMiss {
+        let wanted = &self.poses[i];
+        let position =
+            self.outline.vertices().iter().map(|&v| reached.apply(v).distance(wanted.apply(v))).fold(0.0, f64::max);
+        let turn = (reached.angle() - wanted.angle()).rem_euclid(std::f64::consts::TAU);
+        let angle = turn.min(std::f64::consts::TAU - turn);
+        PoseMiss { position, position_rel_d: position / self.size, angle_deg: angle.to_degrees() }
+    }
+}
+
+/// How far a body is from one of its input poses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PoseMiss {
+    /// The largest distance between a vertex of the body's outline and where the input pose puts it,
+    /// a length (scene units).
+    pub position: f64,
+    /// `position` as a fraction of the body's size d.
+    pub position_rel_d: f64,
+    /// The rotation between the two, degrees in [0, 180].
+    pub angle_deg: f64,
+}
+
+impl PoseMiss {
+    /// The largest of each field over `misses` (zero when there are none).
+    pub fn worst<'a>(misses: impl IntoIterator<Item = &'a PoseMiss>) -> PoseMiss {
+        misses.into_iter().fold(PoseMiss::default(), |w, m| PoseMiss {
+            position: w.position.max(m.position),
+            position_rel_d: w.position_rel_d.max(m.position_rel_d),
+            angle_deg: w.angle_deg.max(m.angle_deg),
+        })
+    }
 }
 
 /// A validated scene in the engine's terms.

@@ -22,8 +22,50 @@ pub const END_SEARCH: f64 = 10.0 * std::f64::consts::PI / 180.0;
 /// A fit is accepted when no link length (nor the slider's line) deviates across the perturbed poses
 /// by more than this fraction of the body size d: scale-free, so any drawing unit works.
 pub const ACCEPT_DEVIATION: f64 = 0.05;
+/// The same bound when the motion has more poses than the linkage type can hit exactly
+/// ([`crate::mechanism::Topology::max_exact_poses`]): fits then end at a residual, and the linkage
+/// built from their first-pose joints is simulated and charged by E_acc (paper §4.2), so the gate only
+/// keeps out fits that are far from any linkage.
+pub const OVERDETERMINED_DEVIATION: f64 = 0.5;
+/// The first and last poses are where the object rests: a linkage is kept rigid through them to this
+/// fraction of d (its links' lengths at the last pose), which puts the body at the last pose to well
+/// under 0.5% of d.
+pub const END_DEVIATION: f64 = 1e-5;
 /// The same bound when every pose must be hit exactly (`pose_tolerance` 0).
 pub const EXACT_DEVIATION: f64 = 1e-8;
+
+/// The soft-cost weights (paper eq. 14) as factors of the raw terms: the scene's weights apply to the
+/// scale-free terms E_acc / d², E_smooth, E_loc / d and E_size / d, so a weight means the same at any
+/// drawing scale (d: the smallest moving body's size).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CostWeights {
+    /// Per unit of E_acc (length²).
+    pub accuracy: f64,
+    pub smoothness: f64,
+    /// Per unit of E_loc (length).
+    pub location: f64,
+    /// Per unit of E_size (length).
+    pub size: f64,
+}
+
+impl CostWeights {
+    pub fn new(weights: &crate::scene::Weights, body_size: f64) -> CostWeights {
+        CostWeights {
+            accuracy: weights.accuracy / (body_size * body_size),
+            smoothness: weights.smoothness,
+            location: weights.location / body_size,
+            size: weights.size / body_size,
+        }
+    }
+
+    /// The weighted sum of the soft terms (eq. 14, scale-free).
+    pub fn cost(&self, soft: &super::SoftTerms) -> f64 {
+        self.accuracy * soft.accuracy
+            + self.smoothness * soft.smoothness
+            + self.location * soft.location
+            + self.size * soft.size
+    }
+}
 
 /// Per-topology precomputation for one problem.
 #[derive(Debug)]
@@ -48,6 +90,8 @@ pub struct Context<'a> {
     pub first_poses: Vec<Rigid>,
     /// The smallest moving body size d.
     pub body_size: f64,
+    /// The scene's weights over the scale-free soft terms.
+    pub weights: CostWeights,
     pub min_spacing: f64,
     /// The sine of the least transmission angle allowed (margins are compared as sines).
     pub min_transmission_sine: f64,
@@ -63,9 +107,16 @@ pub struct Context<'a> {
     pub(crate) collision_pairs: Vec<Pair>,
     /// The rigidity energy of this topology (paper eq. 3–5).
     pub rigidity: RigidityModel,
-    /// `pose_tolerance` is 0: every pose must be hit exactly, so no pose is perturbed, only exact fits
-    /// are accepted, and the particle filter's proposals are projected back onto exact linkages.
+    /// `pose_tolerance` is 0: no pose is perturbed.
+    pub unperturbed: bool,
+    /// `pose_tolerance` is 0 and the linkage type can hit this many poses: only exact fits are
+    /// accepted, and the particle filter's proposals are projected back onto exact linkages.
     pub exact: bool,
+    /// The motion has more poses than the linkage type can hit exactly.
+    pub overdetermined: bool,
+    /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
+    /// kept rigid through ([`END_DEVIATION`]).
+    pub end_motions: Vec<Vec<Rigid>>,
     /// The workers' buffers, kept from task to task.
     pub(crate) scratches: ScratchPool<Scratch>,
     pub(crate) sample_scratches: ScratchPool<SampleScratch>,
@@ -114,6 +165,11 @@ impl<'a> Context<'a> {
         let contact_tolerance = problem.contact_tolerance();
         let obstacle = |p: &Polygon| Obstacle::new(p.vertices(), contact_tolerance);
         let collision_pairs = watched_pairs(problem, link_segments.len());
+        let motions: Vec<Vec<Rigid>> =
+            problem.bodies.iter().map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect()).collect();
+        let end_motions = motions.iter().map(|m| vec![m[0], m[m.len() - 1]]).collect();
+        let overdetermined = problem.pose_count > topology.max_exact_poses();
+        let unperturbed = problem.settings.pose_tolerance == 0.0;
         Context {
             problem,
             carriers,
@@ -122,13 +178,11 @@ impl<'a> Context<'a> {
             link_pairs: topology.link_pairs(),
             part_pairs,
             link_segments,
-            motions: problem
-                .bodies
-                .iter()
-                .map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect())
-                .collect(),
+            motions,
+            end_motions,
             first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(),
             body_size,
+            weights: CostWeights::new(&problem.weights, body_size),
             min_spacing: MIN_JOINT_SPACING * body_size,
             min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
             contact_tolerance,
@@ -137,7 +191,9 @@ impl<'a> Context<'a> {
             body_shapes: problem.bodies.iter().map(|b| obstacle(&b.outline)).collect(),
             collision_pairs,
             rigidity: RigidityModel::new(&topology),
-            exact: problem.settings.pose_tolerance == 0.0,
+            unperturbed,
+            exact: unperturbed && !overdetermined,
+            overdetermined,
             topology,
             scratches: ScratchPool::default(),
             sample_scratches: ScratchPool::default(),
@@ -148,9 +204,34 @@ impl<'a> Context<'a> {
     pub fn accepted_deviation(&self) -> f64 {
         if self.exact {
             EXACT_DEVIATION
+        } else if self.overdetermined {
+            OVERDETERMINED_DEVIATION
         } else {
             ACCEPT_DEVIATION
         }
+    }
+
+    /// Moves parameter vector `x` (a particle filter's proposal, say) to a nearby linkage this run may
+    /// keep: one that hits every input pose when the run is exact, else one that reaches the end poses
+    /// ([`Context::keep_end_poses`]). False when there is none nearby.
+    pub fn project(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
+        if self.exact {
+            let deviation = self.rigidity.fit(x, &self.motions, self.body_size, fit).max_relative_deviation;
+            deviation <= EXACT_DEVIATION
+        } else {
+            self.keep_end_poses(x, fit)
+        }
+    }
+
+    /// Moves parameter vector `x` to a nearby linkage that is rigid through the first and last input
+    /// poses ([`END_DEVIATION`]), so its body reaches the last pose; false when no such linkage is near.
+    /// Two poses leave a link one equation to meet, so from a start close to rigid the fit ends close by.
+    pub fn keep_end_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
+        if self.rigidity.relative_deviation(x, &self.end_motions, self.body_size) <= END_DEVIATION {
+            return true;
+        }
+        let deviation = self.rigidity.fit(x, &self.end_motions, self.body_size, fit).max_relative_deviation;
+        deviation <= END_DEVIATION
     }
 
     /// Where joint `j`, at `p` in the first pose, should be at pose `i` (it rides on its carrier).

@@ -272,7 +272,7 @@ fn screen(
 
     // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
     let (location, size) = static_terms(ctx, mechanism);
-    let w = &ctx.problem.weights;
+    let w = &ctx.weights;
     let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, targets);
     Ok(Screening { first_failure, location, size, floor })
 }
@@ -288,7 +288,6 @@ fn simulate(
 ) -> Result<Candidate, Reject> {
     let Screening { mut first_failure, location, size, .. } = screening;
     let poses = ctx.problem.pose_count;
-    let w = &ctx.problem.weights;
     // A copy: the simulation uses the scratch (one allocation against a whole simulation).
     let travels = scratch.travels.clone();
     for angles in travels.chunks_exact(poses) {
@@ -296,10 +295,7 @@ fn simulate(
             Ok((trace, pose_rows)) => {
                 let (accuracy, smoothness) = simulated_terms(ctx, &trace, &pose_rows, &scratch.targets);
                 let soft = SoftTerms { accuracy, smoothness, location, size };
-                let cost = w.accuracy * soft.accuracy
-                    + w.smoothness * soft.smoothness
-                    + w.location * soft.location
-                    + w.size * soft.size;
+                let cost = ctx.weights.cost(&soft);
                 return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
             }
             Err(r) => {
@@ -499,7 +495,7 @@ fn static_terms(ctx: &Context, mechanism: &Mechanism) -> (f64, f64) {
 /// then at least w_smooth plus one term β·e² − α·e per (pose, joint) (β from accuracy, α from the
 /// intervals next to the pose), each minimised over e at or beyond its locus distance.
 fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f64 {
-    let w = &ctx.problem.weights;
+    let w = &ctx.weights;
     let n = ctx.topology.joint_count();
     let poses = ctx.problem.pose_count;
     let moving = &ctx.moving_joints;
@@ -598,7 +594,7 @@ mod tests {
                 let Ok(c) = evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else {
                     continue;
                 };
-                let w = &problem.weights;
+                let w = &ctx.weights;
                 let floor = simulated_floor(&ctx, &c.mechanism, &scratch.targets);
                 let simulated = w.accuracy * c.soft.accuracy + w.smoothness * c.soft.smoothness;
                 assert!(floor <= simulated, "{name} sample {i}: floor {floor} above {simulated}");

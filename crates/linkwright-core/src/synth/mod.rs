@@ -9,6 +9,7 @@ mod perturb;
 mod pfo;
 mod pipeline;
 mod random;
+mod refine;
 pub mod rigidity;
 mod sample;
 mod scratch_pool;

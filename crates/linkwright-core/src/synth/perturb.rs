@@ -104,7 +104,7 @@ impl PerturbationCells {
             let reach = (0.5 * shift.width * std::f64::consts::SQRT_2 + 0.5 * turn.width * arm) * (1.0 + 1e-9);
             let cells = shift.count * shift.count * turn.count;
             for i in 0..poses {
-                let perturbed = i > 0 && i + 1 < poses && !ctx.exact && fixed > 0;
+                let perturbed = i > 0 && i + 1 < poses && !ctx.unperturbed && fixed > 0;
                 grids.push(perturbed.then(|| CellGrid {
                     input: body.poses[i],
                     axes: [shift, shift, turn],

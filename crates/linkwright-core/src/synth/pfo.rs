@@ -86,13 +86,8 @@ pub fn refine(
                     for v in &mut x[n..] {
                         *v += normal(&mut r) * slider_sigma;
                     }
-                    if ctx.exact {
-                        // Project the proposal back onto linkages that hit the input poses exactly.
-                        let fit = ctx.rigidity.fit(&mut x, &ctx.motions, ctx.body_size, &mut scratch.fit);
-                        if fit.max_relative_deviation.is_nan() || fit.max_relative_deviation > ctx.accepted_deviation()
-                        {
-                            return None;
-                        }
+                    if !ctx.project(&mut x, &mut scratch.fit) {
+                        return None;
                     }
                     let candidate = evaluate(ctx, mechanism_from_x(ctx, &x), None, hopeless, scratch).ok()?;
                     (candidate.cost <= hopeless).then(|| Arc::new(candidate))

@@ -5,10 +5,12 @@ use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
+use super::refine::{refine_design, RefineOptions};
 use super::sample::{x_from_mechanism, SampleScratch, Sampler};
 use crate::fab::FeasibilityCheck;
 use crate::mechanism::{Mechanism, MechanismType};
 use crate::scene::{MechanismChoice, Problem};
+use crate::verify::{verify_travel, Travel};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -98,6 +100,10 @@ pub struct RunStats {
     pub seconds_pfo: f64,
     /// Checking the kept designs for printability (when asked).
     pub seconds_printability: f64,
+    /// Refining the kept designs and verifying them again.
+    pub seconds_refinement: f64,
+    /// Designs dropped because the independent re-simulation rejected them.
+    pub failed_verification: usize,
     pub seconds_total: f64,
 }
 
@@ -162,11 +168,17 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let mut rejected = [0usize; Reject::ALL.len()];
     let mut valid: Vec<Candidate> = Vec::new();
     let mut best_cost: Option<f64> = None;
-    for (f, &family) in families.iter().enumerate() {
-        let mut ctx = Context::new(problem, family);
-        if let Some(check) = options.printable {
-            ctx.min_spacing = ctx.min_spacing.max(check.min_joint_spacing());
-        }
+    let contexts: Vec<Context> = families
+        .iter()
+        .map(|&family| {
+            let mut ctx = Context::new(problem, family);
+            if let Some(check) = options.printable {
+                ctx.min_spacing = ctx.min_spacing.max(check.min_joint_spacing());
+            }
+            ctx
+        })
+        .collect();
+    for (f, (&family, ctx)) in families.iter().zip(&contexts).enumerate() {
         let share = |x: f64| (f as f64 + x) / families.len() as f64;
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
@@ -186,10 +198,10 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         };
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(&ctx, family, &seeds, options.printable, &mut stats, &mut rejected, observer, &report)?;
+            found = run_family(ctx, family, &seeds, options.printable, &mut stats, &mut rejected, observer, &report)?;
         }
         if found.is_empty() {
-            found = run_family(&ctx, family, &[], options.printable, &mut stats, &mut rejected, observer, &report)?;
+            found = run_family(ctx, family, &[], options.printable, &mut stats, &mut rejected, observer, &report)?;
         }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
@@ -201,6 +213,9 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let t = Instant::now();
     let picked = pick_designs(problem, valid, options.printable, &mut rejected, observer)?;
     stats.seconds_printability = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let picked = finish_designs(problem, &contexts, picked, options.printable, &mut stats, observer)?;
+    stats.seconds_refinement = t.elapsed().as_secs_f64();
     stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
     stats.seconds_total = started.elapsed().as_secs_f64();
     let mut picked = picked.into_iter();
@@ -250,6 +265,54 @@ fn pick_designs(
         }
     }
     Ok(picked)
+}
+
+/// The picked designs refined to local optima of the cost ([`refine_design`]), each checked again:
+/// a refined design that cannot be printed gives way to its unrefined self, and a design the
+/// independent re-simulation ([`verify_travel`], what a design file's check runs) rejects is dropped
+/// and counted. Returned best first, each distinct from those before it.
+fn finish_designs(
+    problem: &Problem,
+    contexts: &[Context],
+    picked: Vec<Candidate>,
+    printable: Option<&FeasibilityCheck>,
+    stats: &mut RunStats,
+    observer: &dyn Observer,
+) -> Result<Vec<Candidate>, Cancelled> {
+    if observer.cancelled() {
+        return Err(Cancelled);
+    }
+    let context_of =
+        |c: &Candidate| contexts.iter().find(|ctx| ctx.topology.mechanism_type == c.mechanism.topology.mechanism_type);
+    let options = RefineOptions::default();
+    let finished: Vec<Option<Candidate>> = picked
+        .into_par_iter()
+        .map(|c| {
+            let ctx = context_of(&c).expect("every design comes from one of the run's families");
+            let mut refined = refine_design(ctx, &c, &options, &mut ctx.scratches.take());
+            if let Some(check) = printable {
+                if !refined.printable && !check.check(&refined.mechanism, &refined.trace) {
+                    refined = c;
+                } else {
+                    refined.printable = true;
+                }
+            }
+            let poses: Vec<f64> = refined.pose_thetas().map(f64::to_degrees).collect();
+            let travel = Travel { start: poses[0], end: poses[poses.len() - 1], poses: &poses };
+            verify_travel(problem, &refined.mechanism, travel).0.is_empty().then_some(refined)
+        })
+        .collect();
+    stats.failed_verification = finished.iter().filter(|c| c.is_none()).count();
+    let mut finished: Vec<Candidate> = finished.into_iter().flatten().collect();
+    finished.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let min_shift = DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+    let mut out: Vec<Candidate> = Vec::new();
+    for c in finished {
+        if out.iter().all(|p| distinct(p, &c, min_shift)) {
+            out.push(c);
+        }
+    }
+    Ok(out)
 }
 
 /// `c` marked printable, or why not (a candidate already found printable is not checked again).

@@ -3,7 +3,7 @@
 //! pull the rest onto a rigid linkage by minimising E_rigid.
 
 use super::construct::{ConstructScratch, Constructor, Region};
-use super::context::Context;
+use super::context::{Context, END_DEVIATION};
 use super::perturb::{PerturbationCells, Verdict};
 use super::random::{normal, rng, Stream};
 use super::rigidity::FitWorkspace;
@@ -131,6 +131,10 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if deviation.is_nan() || deviation > ctx.accepted_deviation() {
             return false;
         }
+        // A fit that balanced its residual over every pose is moved onto one through the end poses.
+        if deviation > END_DEVIATION && !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
+            return false;
+        }
         let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));
         mechanism_into_x(ctx, &scratch.x, slider_direction, m);
         true
@@ -161,7 +165,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
             m.clear();
         }
         for i in 0..poses {
-            let perturbed = i > 0 && i + 1 < poses && !self.ctx.exact;
+            let perturbed = i > 0 && i + 1 < poses && !self.ctx.unperturbed;
             for (b, body) in problem.bodies.iter().enumerate() {
                 if !perturbed {
                     scratch.motions[b].push(self.ctx.motions[b][i]);

@@ -20,7 +20,7 @@ use linkwright_core::mechanism::Mechanism;
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::{synthesize_with, Options, Progress, Start};
-use linkwright_core::verify::{verify, Violation};
+use linkwright_core::verify::Violation;
 use serde_json::{json, Map, Value};
 use std::convert::Infallible;
 use std::net::SocketAddr;
@@ -388,7 +388,7 @@ pub async fn check(body: Result<Bytes, BytesRejection>) -> Result<Json<Value>, A
     let request = Compound::parse(&body_text(body)?)?;
     let violations = match travel_violation(&request.design) {
         Some(v) => vec![v],
-        None => blocking(move || verify(&request.problem, &request.design)).await?,
+        None => blocking(move || request.design.violations(&request.problem)).await?,
     };
     Ok(Json(json!({"ok": violations.is_empty(), "violations": violations})))
 }

@@ -1,0 +1,138 @@
+//! The final refinement: each design the run returns is moved to a local optimum of the full weighted
+//! cost (eq. 14) with every hard constraint kept, so what is returned is not merely the best random
+//! draw of the particle filter.
+//!
+//! Levenberg–Marquardt over the joint coordinates (and the slider's angle). The cost is a sum of
+//! squares of residuals: one per pose, moving joint and axis for E_acc (the joint's miss, scaled), and
+//! the square roots of the other three terms, which are never negative. Their Jacobian is taken by
+//! forward differences: each residual comes from a simulation (the pose configurations are searched
+//! along the travel), so no closed form exists. Every point the optimiser looks at is first projected
+//! back onto linkages that reach the end poses ([`Context::project`]), and a step is taken only when
+//! the linkage there passes every kinematic check and the collision sweep and costs less: the result
+//! is never worse than the start, and is as valid.
+
+use super::collision::check_collisions;
+use super::context::Context;
+use super::evaluate::{evaluate, Candidate, Scratch};
+use super::sample::{mechanism_from_x, x_from_mechanism};
+use nalgebra::{DMatrix, DVector};
+
+/// The refinement's constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefineOptions {
+    /// Levenberg–Marquardt iterations (each one Jacobian).
+    pub iterations: usize,
+    /// Forward-difference step for joint coordinates, as a fraction of d.
+    pub step: f64,
+    /// Forward-difference step for the slider's angle, radians.
+    pub angle_step: f64,
+}
+
+impl Default for RefineOptions {
+    fn default() -> Self {
+        RefineOptions { iterations: 12, step: 1e-5, angle_step: 1e-5 }
+    }
+}
+
+/// Damped steps tried per Jacobian before the refinement gives up at this point.
+const TRIALS: usize = 6;
+/// The refinement stops once an iteration gains less than this fraction of the cost.
+const GAIN: f64 = 1e-5;
+
+/// The residuals whose squares sum to the candidate's cost: E_acc's misses, scaled, then the square
+/// roots of the weighted smoothness, location and size.
+fn residuals(ctx: &Context, c: &Candidate, out: &mut Vec<f64>) {
+    out.clear();
+    let w = &ctx.weights;
+    let poses = c.pose_rows.len();
+    let moving = &ctx.moving_joints;
+    let scale = (w.accuracy / (poses * moving.len()) as f64).sqrt();
+    for (i, &r) in c.pose_rows.iter().enumerate() {
+        let row = c.trace.row(r);
+        for &j in moving {
+            let miss = row[j] - ctx.target(j, c.mechanism.joints[j], i);
+            out.extend([scale * miss.x, scale * miss.y]);
+        }
+    }
+    out.push((w.smoothness * c.soft.smoothness).max(0.0).sqrt());
+    out.push((w.location * c.soft.location).max(0.0).sqrt());
+    out.push((w.size * c.soft.size).max(0.0).sqrt());
+}
+
+/// The linkage of parameter vector `x`, projected onto the end poses and judged on the kinematic
+/// checks (not the collision sweep), with `x` moved to the projection.
+fn judge(ctx: &Context, x: &mut [f64], scratch: &mut Scratch) -> Option<Candidate> {
+    if !ctx.project(x, &mut scratch.fit) {
+        return None;
+    }
+    evaluate(ctx, mechanism_from_x(ctx, x), None, f64::INFINITY, scratch).ok()
+}
+
+/// `start` refined to a nearby local optimum of the cost, every hard constraint kept; `start` itself
+/// when no step improves it. Deterministic: no randomness, and the same arithmetic on any thread.
+pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, scratch: &mut Scratch) -> Candidate {
+    let mut x = Vec::new();
+    x_from_mechanism(&start.mechanism, &mut x);
+    let joint_vars = 2 * ctx.topology.joint_count();
+    let mut best = start.clone();
+    let mut r = Vec::new();
+    residuals(ctx, &best, &mut r);
+    let mut lambda = 1e-3;
+    let mut trial_r = Vec::new();
+    for _ in 0..options.iterations {
+        // The Jacobian by forward differences; a column whose step breaks a check is taken backwards,
+        // and left zero when both directions do.
+        let m = r.len();
+        let mut jac = DMatrix::<f64>::zeros(m, x.len());
+        for k in 0..x.len() {
+            let h = if k < joint_vars { options.step * ctx.body_size } else { options.angle_step };
+            for signed in [h, -h] {
+                let mut probe = x.clone();
+                probe[k] += signed;
+                let Some(c) = judge(ctx, &mut probe, scratch) else { continue };
+                residuals(ctx, &c, &mut trial_r);
+                if trial_r.len() == m {
+                    for (row, (&a, &b)) in trial_r.iter().zip(&r).enumerate() {
+                        jac[(row, k)] = (a - b) / signed;
+                    }
+                    break;
+                }
+            }
+        }
+        let residual = DVector::from_column_slice(&r);
+        let jtj = jac.transpose() * &jac;
+        let gradient = jac.transpose() * residual;
+        let mut improved = false;
+        for _ in 0..TRIALS {
+            // Marquardt's scaling: damping along each unknown in proportion to its curvature.
+            let mut damped = jtj.clone();
+            for k in 0..x.len() {
+                damped[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
+            }
+            let Some(step) = damped.cholesky().map(|ch| ch.solve(&(-&gradient))) else {
+                lambda *= 4.0;
+                continue;
+            };
+            let mut trial_x: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
+            let accepted = judge(ctx, &mut trial_x, scratch)
+                .filter(|c| c.cost < best.cost && check_collisions(ctx, c, scratch).is_ok());
+            match accepted {
+                Some(c) => {
+                    let gain = best.cost - c.cost;
+                    improved = gain > GAIN * best.cost;
+                    x = trial_x;
+                    best = c;
+                    residuals(ctx, &best, &mut r);
+                    lambda = (lambda / 3.0).max(1e-9);
+                    break;
+                }
+                None => lambda *= 4.0,
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    best.printable = best.printable && best.mechanism.joints == start.mechanism.joints;
+    best
+}
