@@ -8,9 +8,9 @@ import { html } from './svg.js';
 
 /**
  * Within these a pose counts as reached. The synthesis perturbs the intermediate poses on purpose
- * (`pose_tolerance`, paper §4.1), so a design rarely hits one exactly; a miss under 1% of the body's
- * size and under 1° cannot be seen at the scale of the object and is well inside what a printed part's
- * play gives, while anything larger is a miss a person should be told about.
+ * (`pose_tolerance`, paper §4.1) and refines the joints afterwards, so a design rarely hits a pose
+ * exactly; a miss under 1% of the body's size and under 1° is too small to see at the scale of the
+ * object, while anything larger is a miss a person should be told about rather than a success.
  */
 export const REACHED = { positionRelD: 0.01, angleDeg: 1 };
 
