@@ -317,6 +317,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     click(page, "[data-tab=settings]").await?;
     click(page, "button[title='5000 samples']").await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.settings.samples").await?, 5000);
+    // Pose tolerance 0 asks for every pose to be hit exactly (three poses of a four-bar can be), so the
+    // Result tab must say that every pose is reached.
+    eval(page, "window.linkwright.store.edit('exact', (s) => { s.settings.pose_tolerance = 0; }) && true").await?;
     click(page, "#btn-design").await?;
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(40)).await?;
     let design = eval(page, "window.linkwright.store.result.design.status").await?;
@@ -330,6 +333,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert!(eval(page, "document.querySelectorAll('.layer-resultDynamic .joint').length").await?.as_u64() >= Some(3));
     until(page, "document.querySelector('#tab-result .verified') !== null", Duration::from_secs(10)).await?;
     assert!(eval(page, "document.querySelectorAll('#tab-result .plot').length").await?.as_u64() >= Some(2));
+    check_pose_errors(page, Some(true)).await?;
+    eval(page, "window.linkwright.store.edit('tolerance', (s) => { s.settings.pose_tolerance = 0.5; }) && true")
+        .await?;
 
     // Live redesign: dragging a pose designs again from the last design (a warm start).
     click(page, "#opt-live").await?;
@@ -416,6 +422,28 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
         eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
         tokio::time::sleep(Duration::from_millis(700)).await;
         screenshot(page, shots, "analysis.png").await?;
+        eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
+    }
+    check_pose_errors(page, None).await?;
+    // An alternative shows its own errors, then the best design again.
+    if eval(page, "document.querySelector(\"#tab-result .thumb[data-which='0']\") !== null").await? == Value::Bool(true)
+    {
+        click(page, "#tab-result .thumb[data-which='0']").await?;
+        until(
+            page,
+            "window.linkwright.store.result.which === 0 && window.linkwright.store.result.analysis !== null",
+            Duration::from_secs(10),
+        )
+        .await?;
+        check_pose_errors(page, None).await?;
+        click(page, "#tab-result .thumb[data-which='best']").await?;
+        until(
+            page,
+            "window.linkwright.store.result.which === null && window.linkwright.store.result.analysis !== null",
+            Duration::from_secs(10),
+        )
+        .await?;
+        check_pose_errors(page, None).await?;
     }
 
     // Make the parts: a summary, and every file offered for download.
@@ -458,6 +486,98 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     // Back to the drawing.
     click(page, "#btn-3d").await?;
     assert_eq!(eval(page, "document.getElementById('view3d').hidden").await?, Value::Bool(true));
+    Ok(())
+}
+
+/// A pose counts as reached when its largest corner miss is at most this share of the body's size d ...
+const REACHED_REL_D: f64 = 0.01;
+/// ... and its angle miss at most this many degrees (the app's own line).
+const REACHED_DEG: f64 = 1.0;
+
+/// The body size d: the shorter side of the outline's bounding box, in its own frame.
+fn body_size(polygon: &Value) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in polygon.as_array().into_iter().flatten() {
+        for (i, x) in floats(p).into_iter().enumerate().take(2) {
+            lo[i] = lo[i].min(x);
+            hi[i] = hi[i].max(x);
+        }
+    }
+    (hi[0] - lo[0]).min(hi[1] - lo[1])
+}
+
+/// The Result tab's verdict on the poses for the mechanism shown (`which`: null or an alternative's
+/// index), against errors worked out here from the server's own replay of that mechanism: the badge
+/// names the right case and the worst miss, the table has a row per pose and body, its worst row is
+/// the pose missed most, and a design file that states `metrics.pose_errors` agrees with the replay.
+/// `reached`: whether every pose must be reached, when that is known beforehand.
+async fn check_pose_errors(page: &Page, reached: Option<bool>) -> Result<()> {
+    until(page, "window.linkwright.store.result.verified !== null", Duration::from_secs(15)).await?;
+    settle(page).await?;
+    until(
+        page,
+        "document.querySelector('#tab-result .verified.ok, #tab-result .verified.warn') !== null",
+        Duration::from_secs(15),
+    )
+    .await?;
+    let shown = eval(
+        page,
+        "(async () => { const r = window.linkwright.store.result;            const body = {scene: r.scene, design: r.design, alternative: r.which};            const replay = await fetch('/api/simulate', {method: 'POST', body: JSON.stringify(body)}).then(a => a.json());            const rows = [...document.querySelectorAll('#tab-result table.pose-errors tbody tr')];            const worst = document.querySelector('#tab-result table.pose-errors tr.worst');            return {scene: r.scene, metrics: r.metrics, replay, rows: rows.length,              badge: document.querySelector('#tab-result .verified').textContent,              worst: worst && [Number(worst.dataset.pose), Number(worst.dataset.body),                Number(worst.children[worst.children.length - 3].textContent)]}; })()",
+    )
+    .await?;
+    let sizes: Vec<f64> = shown["scene"]["moving_bodies"]
+        .as_array()
+        .ok_or("no bodies")?
+        .iter()
+        .map(|b| body_size(&b["polygon"]))
+        .collect();
+    let poses = shown["replay"]["poses"].as_array().ok_or("the replay has no poses")?;
+    // (pose, body, distance, share of d, angle) for every pose and body.
+    let mut errors = Vec::new();
+    for (i, pose) in poses.iter().enumerate() {
+        for (k, b) in pose["bodies"].as_array().ok_or("no bodies")?.iter().enumerate() {
+            let position = b["max_vertex"].as_f64().ok_or("max_vertex")?;
+            let angle = b["angle_deg"].as_f64().ok_or("angle_deg")?.abs();
+            errors.push((i, k, position, position / sizes[k], angle));
+        }
+    }
+    assert_eq!(errors.len(), poses.len() * sizes.len());
+    assert_eq!(shown["rows"].as_u64(), Some(errors.len() as u64), "one row per pose and body");
+    if let Some(stated) = shown["metrics"]["pose_errors"].as_array() {
+        for &(i, k, position, rel, angle) in &errors {
+            let e = &stated[i][k];
+            let close = |a: Option<f64>, b: f64, what: &str| {
+                assert!(
+                    a.is_some_and(|a| (a - b).abs() <= 1e-6 * sizes[k].max(1.0)),
+                    "pose {i} body {k} {what}: {e} vs {b}"
+                )
+            };
+            close(e["position"].as_f64(), position, "position");
+            close(e["position_rel_d"].as_f64(), rel, "position_rel_d");
+            close(e["angle_deg"].as_f64().map(f64::abs), angle, "angle_deg");
+        }
+    }
+    let badge = shown["badge"].as_str().unwrap_or_default();
+    eprintln!("web_e2e: the badge says {badge:?}");
+    assert!(!badge.contains("every constraint holds"), "{badge}");
+    let severity = |e: &(usize, usize, f64, f64, f64)| (e.3 / REACHED_REL_D).max(e.4 / REACHED_DEG);
+    let worst = errors.iter().copied().max_by(|a, b| severity(a).total_cmp(&severity(b))).ok_or("no poses")?;
+    let all_reached = errors.iter().all(|e| e.3 <= REACHED_REL_D && e.4 <= REACHED_DEG);
+    if let Some(expected) = reached {
+        assert_eq!(all_reached, expected, "{errors:?}");
+    }
+    if all_reached {
+        assert!(badge.contains("reaches every pose within"), "every pose is reached: {badge}");
+    } else {
+        assert!(
+            badge.starts_with(&format!("Pose {} (", worst.0 + 1)) && badge.contains("is missed by"),
+            "{badge} {worst:?}"
+        );
+    }
+    let row = floats(&shown["worst"]);
+    assert_eq!(row.len(), 3, "a worst row is marked: {}", shown["worst"]);
+    assert_eq!((row[0] as usize, row[1] as usize), (worst.0, worst.1), "the worst row is the pose missed most");
+    assert!((row[2] - worst.2).abs() <= 0.05 + 1e-3 * worst.2, "its distance {} is {}", row[2], worst.2);
     Ok(())
 }
 
