@@ -10,7 +10,7 @@ use crate::design::{DesignError, DesignFile, MechanismJson, Motion};
 use crate::geom::{Point, Rigid};
 use crate::kinematics::{BodyFrames, CompileError, Plan, Step, SweepError, Trace};
 use crate::mechanism::{Mechanism, MechanismType, PartKind};
-use crate::scene::Problem;
+use crate::scene::{PoseMiss, Problem};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -368,6 +368,17 @@ fn transmission_angles(plan: &Plan, row: &[Point]) -> Vec<f64> {
         .collect()
 }
 
+/// How far each body is from each input pose (`[pose][body]`) in the configurations the replayed
+/// design offers for them, recomputed from its parts.
+pub fn pose_misses(problem: &Problem, replay: &Replay) -> Vec<Vec<PoseMiss>> {
+    replay
+        .pose_rows
+        .iter()
+        .enumerate()
+        .map(|(i, &r)| problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &replay.body_pose(b, r))).collect())
+        .collect()
+}
+
 /// The error at every input pose.
 fn pose_errors(problem: &Problem, replay: &Replay) -> Vec<PoseError> {
     let topo = &replay.mechanism.topology;
@@ -395,14 +406,10 @@ fn pose_errors(problem: &Problem, replay: &Replay) -> Vec<PoseError> {
                 .enumerate()
                 .map(|(b, body)| {
                     let reached = replay.body_pose(b, r);
-                    let wanted = body.poses[i];
-                    let max_vertex = body
-                        .outline
-                        .vertices()
-                        .iter()
-                        .map(|&v| reached.apply(v).distance(wanted.apply(v)))
-                        .fold(0.0, f64::max);
-                    BodyError { max_vertex, angle_deg: wrap(reached.angle() - wanted.angle()).to_degrees() }
+                    BodyError {
+                        max_vertex: body.miss(i, &reached).position,
+                        angle_deg: wrap(reached.angle() - body.poses[i].angle()).to_degrees(),
+                    }
                 })
                 .collect();
             PoseError {

@@ -85,20 +85,34 @@ fn the_same_seed_gives_the_same_design_on_one_or_two_threads() {
     }
 }
 
-#[test]
-fn every_example_design_passes_an_independent_re_simulation() {
-    let dir = format!("{}/../../examples", env!("CARGO_MANIFEST_DIR"));
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
+/// Every scene file in `dir`, by name.
+fn scenes_in(dir: &str) -> Vec<(String, Problem)> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
         .collect();
-    names.sort();
-    assert!(names.len() >= 8);
-    let mut designs = 0;
-    for name in &names {
-        let mut problem = example(name);
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|p| {
+            let scene = Scene::from_json(&std::fs::read_to_string(&p).unwrap()).unwrap();
+            (p.file_stem().unwrap().to_string_lossy().into_owned(), Problem::new(&scene).unwrap())
+        })
+        .collect()
+}
+
+/// The synthesis re-simulates every design it returns as `check` does, and drops those that fail:
+/// so every design and alternative of every bundled example and reference scene (the paper's
+/// objects) passes the check. Fewer samples than by default, so the test stays quick.
+#[test]
+fn every_example_and_reference_design_passes_an_independent_re_simulation() {
+    let manifest = env!("CARGO_MANIFEST_DIR");
+    let mut scenes = scenes_in(&format!("{manifest}/../../examples"));
+    scenes.extend(scenes_in(&format!("{manifest}/tests/fixtures/reference-scenes")));
+    assert!(scenes.len() >= 70, "{} scenes", scenes.len());
+    let (mut designs, mut checked) = (0, 0);
+    for (name, mut problem) in scenes.iter().cloned() {
         problem.settings.samples = 4000;
         problem.settings.iterations = 4;
         problem.settings.particles = 30;
@@ -113,12 +127,14 @@ fn every_example_design_passes_an_independent_re_simulation() {
                 ..design.clone()
             })) {
                 assert_eq!(alternative.violations(&problem), vec![], "{name}");
+                checked += 1;
             }
         } else {
             assert!(design.reason.as_deref().is_some_and(|r| !r.is_empty()), "{name}: no_solution needs a reason");
         }
     }
-    assert!(designs * 4 >= names.len() * 3, "only {designs} of {} examples found a design", names.len());
+    assert!(designs * 4 >= scenes.len() * 3, "only {designs} of {} scenes found a design", scenes.len());
+    assert!(checked > 5 * designs, "only {checked} designs and alternatives checked");
 }
 
 /// Records progress and cancels after a given number of reports.

@@ -4,7 +4,9 @@ use crate::files::{read_design, read_problem, write_atomically};
 use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use linkwright_core::analysis::{pose_misses, AnalysisOptions, Replay, Which};
 use linkwright_core::design::{DesignFile, Status};
+use linkwright_core::scene::{PoseMiss, Problem};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
@@ -137,7 +139,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     if args.json {
         println!("{json}");
     } else {
-        println!("{}", summary(&file, &scene.units, &out_dir));
+        println!("{}", summary(&file, &problem, &scene.units, &out_dir));
     }
     if args.fabricate {
         if outcome.best.is_some() {
@@ -166,23 +168,17 @@ fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::mechanism::Me
     Ok(mechanisms)
 }
 
-fn summary(file: &DesignFile, units: &str, out_dir: &Path) -> String {
+fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) -> String {
     let s = &file.stats;
     let counts = format!("{} valid of {} samples, {:.2} s, seed {}", s.valid, s.samples, s.seconds.total, s.seed);
     match (&file.status, &file.mechanism, &file.metrics) {
         (Status::Ok, Some(m), Some(x)) => format!(
-            "{}: {} with {} joints, reaches every pose within {}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, \
-             location {:.3}, size {:.2}), min transmission {:.1}°; {counts} -> {}",
+            "{}: {} with {} joints{}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}), \
+             min transmission {:.1}°; {counts} -> {}",
             file.scene,
             kind_name(m),
             m.joints.len(),
-            x.worst_pose_error.map_or("(not reported)".to_string(), |w| format!(
-                "{:.3} {} ({:.1}% of the body's size) and {:.2}°",
-                w.position,
-                units,
-                100.0 * w.position_rel_d,
-                w.angle_deg
-            )),
+            pose_reach(problem, &x.pose_errors, units),
             x.cost,
             x.accuracy,
             x.smoothness,
@@ -216,13 +212,17 @@ fn kind_name(m: &linkwright_core::design::MechanismJson) -> String {
 }
 
 pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
-    let (_, problem) = read_problem(scene)?;
+    let (scene, problem) = read_problem(scene)?;
     let file = read_design(design)?;
     let violations = file.violations(&problem);
     if json {
         println!("{}", serde_json::to_string_pretty(&violations).expect("violations serialize"));
     } else if violations.is_empty() {
-        println!("{}: every constraint holds", design.display());
+        let reach = match Replay::new(&problem, &file, Which::Best, AnalysisOptions::default().steps) {
+            Ok(replay) => pose_reach(&problem, &pose_misses(&problem, &replay), &scene.units),
+            Err(_) => String::new(),
+        };
+        println!("{}: every hard constraint holds{reach}", design.display());
     } else {
         for v in &violations {
             println!("{}: {}", v.constraint, v.message);
@@ -261,4 +261,28 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
     }
     print!("{out}");
     Ok(())
+}
+
+/// What a person wants to know after the hard constraints: whether the design reaches the drawn poses,
+/// and if not, which one it misses most (a pose is reached within 1% of the body's size and 1°).
+fn pose_reach(problem: &Problem, misses: &[Vec<PoseMiss>], units: &str) -> String {
+    let worst = PoseMiss::worst(misses.iter().flatten());
+    let missed = misses.iter().enumerate().flat_map(|(i, m)| m.iter().enumerate().map(move |(b, m)| (i, b, m))).max_by(
+        |a, b| {
+            let over = |m: &PoseMiss| (m.position_rel_d / 0.01).max(m.angle_deg / 1.0);
+            over(a.2).total_cmp(&over(b.2))
+        },
+    );
+    match missed {
+        Some((i, b, m)) if m.position_rel_d > 0.01 || m.angle_deg > 1.0 => format!(
+            ", misses pose {} of {} by {:.3} {units} ({:.1}% of its size) and {:.2}°",
+            i + 1,
+            problem.bodies[b].name,
+            m.position,
+            100.0 * m.position_rel_d,
+            m.angle_deg
+        ),
+        Some(_) => format!(", reaches every pose within {:.3} {units} and {:.2}°", worst.position, worst.angle_deg),
+        None => String::new(),
+    }
 }

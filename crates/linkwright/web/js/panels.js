@@ -94,14 +94,14 @@ const WEIGHTS = [
   ['size', 'Size', 'how short the links are'],
 ];
 
-/** A log-scale slider (0.01 to 100) with a number field beside it. */
+/** A log-scale slider (0.01 to 10,000) with a number field beside it. */
 function weightControl(store, key, label, help) {
   const value = store.scene.weights[key];
   const pos = value > 0 ? Math.log10(value) : -2;
   const field = number(value, `w-${key}`, (v) => commit(Math.max(0, v)), { min: 0 });
   const commit = (v) => store.edit(`weight ${key}`, (s) => { s.weights[key] = v; });
   const slider = html('input', {
-    type: 'range', min: -2, max: 2, step: 0.05, value: String(pos), 'data-key': `ws-${key}`, 'aria-label': `${label} weight`,
+    type: 'range', min: -2, max: 4, step: 0.05, value: String(pos), 'data-key': `ws-${key}`, 'aria-label': `${label} weight`,
     oninput: (e) => { field.value = String(tidy(10 ** Number(e.target.value), 3)); },
     onchange: (e) => commit(tidy(10 ** Number(e.target.value), 3)),
   });
