@@ -41,7 +41,7 @@ const JOINT_SPREAD: f64 = 0.35;
 /// No two joints of a drawn mechanism are closer than this (so no part is degenerate).
 const MIN_JOINT_DISTANCE: f64 = 0.15;
 /// A body outline lies this far around its joints, drawn uniformly between the two.
-const PADDING: (f64, f64) = (0.12, 0.25);
+const PADDING: (f64, f64) = (0.15, 0.3);
 /// Along the travel no two outlines come closer than this fraction of the smallest body size.
 const GAP_FRACTION: f64 = 0.05;
 /// Between the first and the last pose every body moves at least this fraction of its size d.

@@ -35,6 +35,10 @@ pub struct BenchArgs {
     /// With --known: the synthesis seed of every run.
     #[arg(long, requires = "known", default_value_t = 0)]
     seed: u64,
+    /// With --known: write each scene and the engine's design into this directory, to rerun or
+    /// inspect one (`<family>_k<K>_n<N>_seed<S>.json` and `.design.json`).
+    #[arg(long, requires = "known", value_name = "DIR")]
+    save: Option<PathBuf>,
 }
 
 /// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
@@ -125,7 +129,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Failure> {
         .build()
         .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
     if args.known {
-        return known::bench_known(args.quick, args.seed, &pool, args.json);
+        return known::bench_known(args.quick, args.seed, args.save.as_deref(), &pool, args.json);
     }
     let mut jobs: Vec<(String, Problem, Option<f64>)> = Vec::new();
     if args.scenes.is_empty() {

@@ -3,6 +3,7 @@
 //! four-bar motion task of the literature. Errors come from replaying each design file against its
 //! scene ([`analyze`]), independently of the engine's own cost terms.
 
+use crate::files::write_atomically;
 use crate::Failure;
 use linkwright_core::analysis::{analyze, AnalysisOptions, MotionAnalysis, Which};
 use linkwright_core::design::{DesignFile, Status};
@@ -11,6 +12,7 @@ use linkwright_core::synth::{synthesize, Silent};
 use linkwright_core::testbed::{known_scene, Family};
 use linkwright_core::verify::verify;
 use serde::Serialize;
+use std::path::Path;
 
 /// The nine-pose four-bar task (see the fixture's README for its source).
 const NINE_POSE: &str = include_str!("../../../linkwright-core/tests/fixtures/nine_pose_four_bar.json");
@@ -138,7 +140,17 @@ fn run(problem: &Problem, pool: &rayon::ThreadPool) -> (DesignFile, Vec<String>)
     (design, violations)
 }
 
-pub fn bench_known(quick: bool, seed: u64, pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
+pub fn bench_known(
+    quick: bool,
+    seed: u64,
+    save: Option<&Path>,
+    pool: &rayon::ThreadPool,
+    json: bool,
+) -> Result<(), Failure> {
+    if let Some(dir) = save {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", dir.display())))?;
+    }
     let (grid, scene_seeds) = grid(quick);
     let mut rows = Vec::new();
     for (family, counts) in &grid {
@@ -151,6 +163,11 @@ pub fn bench_known(quick: bool, seed: u64, pool: &rayon::ThreadPool, json: bool)
                 })?;
                 problem.settings.seed = seed;
                 let (design, violations) = run(&problem, pool);
+                if let Some(dir) = save {
+                    let stem = format!("{}_k{}_n{poses}_seed{scene_seed}", family.name(), family.body_count());
+                    write_atomically(&dir.join(format!("{stem}.json")), known.scene.to_json().as_bytes())?;
+                    write_atomically(&dir.join(format!("{stem}.design.json")), design.to_json().as_bytes())?;
+                }
                 let analysis = analyze(&problem, &design, Which::Best, &AnalysisOptions::default()).ok();
                 let n = problem.pose_count;
                 let worst = analysis.as_ref().map(|a| pose_errors(&problem, a, 0..n));
