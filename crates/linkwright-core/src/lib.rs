@@ -14,6 +14,7 @@
 //! - [`render`]: pictures of a design (SVG text, static and animated).
 //! - [`fab`]: fabrication: connectors, depth ordering, part solids, STL/3MF/SVG/DXF, plates, sheets.
 //! - [`analysis`]: a design's motion replayed for display: frames, error at each pose, Grashof types.
+//! - [`testbed`]: scenes made from known mechanisms (so an exact answer exists), for measuring designs.
 //!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
@@ -28,4 +29,5 @@ pub mod mechanism;
 pub mod render;
 pub mod scene;
 pub mod synth;
+pub mod testbed;
 pub mod verify;

@@ -1,4 +1,7 @@
-//! `linkwright bench`: the paper's Table 1, measured side by side on this machine.
+//! `linkwright bench`: the paper's Table 1, measured side by side on this machine; with `--known`,
+//! the quality of the designs on scenes whose exact answer is known (see [`known`]).
+
+mod known;
 
 use crate::files::read_problem;
 use crate::Failure;
@@ -22,6 +25,20 @@ pub struct BenchArgs {
     /// Print the table as JSON.
     #[arg(long)]
     json: bool,
+    /// Measure how close the designs come to the drawn poses, on scenes made from known exact
+    /// mechanisms and on the nine-pose four-bar task, instead of timing Table 1.
+    #[arg(long, conflicts_with_all = ["scenes", "repeat"])]
+    known: bool,
+    /// With --known: a smaller grid of scenes.
+    #[arg(long, requires = "known")]
+    quick: bool,
+    /// With --known: the synthesis seed of every run.
+    #[arg(long, requires = "known", default_value_t = 0)]
+    seed: u64,
+    /// With --known: write each scene and the engine's design into this directory, to rerun or
+    /// inspect one (`<family>_k<K>_n<N>_seed<S>.json` and `.design.json`).
+    #[arg(long, requires = "known", value_name = "DIR")]
+    save: Option<PathBuf>,
 }
 
 /// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
@@ -107,6 +124,13 @@ struct Row {
 }
 
 pub fn bench(args: BenchArgs) -> Result<(), Failure> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
+    if args.known {
+        return known::bench_known(args.quick, args.seed, args.save.as_deref(), &pool, args.json);
+    }
     let mut jobs: Vec<(String, Problem, Option<f64>)> = Vec::new();
     if args.scenes.is_empty() {
         for object in &TABLE_1 {
@@ -121,10 +145,6 @@ pub fn bench(args: BenchArgs) -> Result<(), Failure> {
             jobs.push((path.display().to_string(), problem, None));
         }
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
     let repeat = args.repeat.max(1);
     let mut rows = Vec::new();
     for (label, problem, paper) in &jobs {
