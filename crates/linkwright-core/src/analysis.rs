@@ -375,7 +375,9 @@ pub fn pose_misses(problem: &Problem, replay: &Replay) -> Vec<Vec<PoseMiss>> {
         .pose_rows
         .iter()
         .enumerate()
-        .map(|(i, &r)| problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &replay.body_pose(b, r))).collect())
+        .map(|(i, &r)| {
+            problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &replay.body_pose(b, r))).collect()
+        })
         .collect()
 }
 

@@ -14,6 +14,7 @@ use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use crate::synth::{CostWeights, SoftTerms};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::{PI, TAU};
@@ -545,7 +546,8 @@ fn known_metrics(
     accuracy /= (pose_crank.len() * carried.len()) as f64;
 
     // Eq. 11: each body joint's path between consecutive poses over its chord.
-    let f = 0.05 * bodies.iter().map(|(o, _)| size(o)).fold(f64::INFINITY, f64::min);
+    let d = bodies.iter().map(|(o, _)| size(o)).fold(f64::INFINITY, f64::min);
+    let f = 0.05 * d;
     let mut trace = Trace::new(n);
     let mut smoothness = 0.0;
     for w in pose_crank.windows(2) {
@@ -567,18 +569,23 @@ fn known_metrics(
     let _ = trace.sweep(plan, start, end, step);
     let min_transmission_deg = trace.min_transmission(plan).to_degrees();
     let (accuracy, location, size) = (accuracy * scale * scale, location * scale, size * scale);
-    let cost = weights.accuracy * accuracy
-        + weights.smoothness * smoothness
-        + weights.location * location
-        + weights.size * size;
-    Metrics { accuracy, smoothness, location, size, cost, min_transmission_deg }
+    let cost = CostWeights::new(weights, d * scale).cost(&SoftTerms { accuracy, smoothness, location, size });
+    Metrics {
+        accuracy,
+        smoothness,
+        location,
+        size,
+        cost,
+        min_transmission_deg,
+        pose_errors: Vec::new(),
+        worst_pose_error: None,
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::{validate, Problem, Severity};
-    use crate::verify::verify;
 
     /// The families, each with the pose counts the quality benchmark uses.
     fn grid() -> Vec<(Family, Vec<usize>)> {
@@ -604,7 +611,7 @@ mod tests {
                     assert_eq!(problem.body_count(), family.body_count(), "{label}");
                     assert_eq!(problem.pose_count, poses, "{label}");
                     let design = known.design();
-                    let violations = verify(&problem, &design);
+                    let violations = design.violations(&problem);
                     assert!(violations.is_empty(), "{label}: {violations:?}");
                     let metrics = design.metrics.as_ref().expect("metrics");
                     assert!(metrics.min_transmission_deg >= MIN_TRANSMISSION_DEG - 1e-9, "{label}");
@@ -612,7 +619,7 @@ mod tests {
                     assert_eq!(metrics.location, 0.0, "{label}");
                     // The design file round-trips and reads back as the same mechanism.
                     let reread = DesignFile::from_json(&design.to_json()).expect("parses");
-                    assert!(verify(&problem, &reread).is_empty(), "{label}");
+                    assert!(reread.violations(&problem).is_empty(), "{label}");
                 }
             }
         }

@@ -6,10 +6,10 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{pose_misses, AnalysisOptions, Replay, Which};
 use linkwright_core::design::{DesignFile, Status};
-use linkwright_core::scene::{PoseMiss, Problem};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
+use linkwright_core::scene::{PoseMiss, Problem};
 use linkwright_core::synth::{synthesize_with, Observer, Options, Progress, Stage, Start};
 
 use std::path::{Path, PathBuf};

@@ -15,7 +15,7 @@ mod sample;
 mod scratch_pool;
 
 pub use collision::check_collisions;
-pub use context::Context;
+pub use context::{Context, CostWeights};
 pub use evaluate::{evaluate, Candidate, Reject, Scratch, SoftTerms};
 pub use pfo::FilterOptions;
 pub use pipeline::{

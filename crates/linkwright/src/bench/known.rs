@@ -10,7 +10,7 @@ use linkwright_core::design::{DesignFile, Status};
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::{synthesize, Silent};
 use linkwright_core::testbed::{known_scene, Family};
-use linkwright_core::verify::verify;
+
 use serde::Serialize;
 use std::path::Path;
 
@@ -136,7 +136,8 @@ fn pose_errors(problem: &Problem, analysis: &MotionAnalysis, poses: std::ops::Ra
 fn run(problem: &Problem, pool: &rayon::ThreadPool) -> (DesignFile, Vec<String>) {
     let outcome = pool.install(|| synthesize(problem, &Silent)).expect("never cancelled");
     let design = DesignFile::from_outcome(problem, &outcome);
-    let violations = verify(problem, &design).into_iter().map(|v| format!("{}: {}", v.constraint, v.message)).collect();
+    let violations =
+        design.violations(problem).into_iter().map(|v| format!("{}: {}", v.constraint, v.message)).collect();
     (design, violations)
 }
 
