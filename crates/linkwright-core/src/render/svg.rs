@@ -55,8 +55,9 @@ impl Num {
     fn units(&self, v: f64) -> Option<u64> {
         let scale = *POWERS_OF_TEN.get(self.decimals)? as f64;
         let x = v.abs() * scale;
-        if !(x < 4_503_599_627_370_496.0) {
-            return None; // 2⁵² and beyond, or not a number
+        // Below 2⁵² (so not a NaN either), every count of units is a whole double.
+        if x.is_nan() || x >= 4_503_599_627_370_496.0 {
+            return None;
         }
         let floor = x.floor();
         let fraction = x - floor;
@@ -73,21 +74,39 @@ impl Num {
             out.push('0');
             return;
         }
-        if negative {
-            out.push('-');
-        }
+        // Written from the last digit back: a sign, 16 whole digits, a point and 15 decimals at most.
+        let mut text = [0u8; 40];
+        let mut at = text.len();
+        let mut put = |byte: u8| {
+            at -= 1;
+            text[at] = byte;
+        };
         let scale = POWERS_OF_TEN[self.decimals];
-        let _ = write!(out, "{}", units / scale);
         let mut fraction = units % scale;
-        if fraction == 0 {
-            return;
+        if fraction != 0 {
+            let mut digits = self.decimals;
+            while fraction % 10 == 0 {
+                fraction /= 10;
+                digits -= 1;
+            }
+            for _ in 0..digits {
+                put(b'0' + (fraction % 10) as u8);
+                fraction /= 10;
+            }
+            put(b'.');
         }
-        let mut digits = self.decimals;
-        while fraction % 10 == 0 {
-            fraction /= 10;
-            digits -= 1;
+        let mut whole = units / scale;
+        loop {
+            put(b'0' + (whole % 10) as u8);
+            whole /= 10;
+            if whole == 0 {
+                break;
+            }
         }
-        let _ = write!(out, ".{fraction:0digits$}");
+        if negative {
+            put(b'-');
+        }
+        out.push_str(std::str::from_utf8(&text[at..]).unwrap_or_default());
     }
 
     /// Appends `v` through the standard library's exact formatting, trailing zeros dropped.
