@@ -10,8 +10,7 @@ use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{PoseMiss, Problem};
-use linkwright_core::synth::{synthesize_with, Observer, Options, Progress, Stage, Start};
-
+use linkwright_core::synth::{synthesize_with, Observer, Options, Outcome, Progress, Stage, Start};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -121,21 +120,9 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     let outcome = pool.install(|| synthesize_with(&problem, &options, &observer)).expect("the CLI never cancels");
     observer.0.finish_and_clear();
 
-    let file = DesignFile::from_outcome(&problem, &outcome);
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
-    let json = file.to_json();
-    write_atomically(&out_dir.join("design.json"), json.as_bytes())?;
-    if let Some(best) = &outcome.best {
-        let input = RenderInput {
-            problem: &problem,
-            mechanism: &best.mechanism,
-            trace: &best.trace,
-            pose_steps: &best.pose_rows,
-        };
-        write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes())?;
-        write_atomically(&out_dir.join("animation.svg"), animation_svg(&input, 3.0).as_bytes())?;
-    }
+    let (file, json) = write_outputs(&problem, &outcome, &out_dir)?;
     if args.json {
         println!("{json}");
     } else {
@@ -155,6 +142,38 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+/// Builds and writes design.json, and with a design design.svg and animation.svg. The three files
+/// are independent, so each is built and written (its flush to disk included) on its own thread: the
+/// run waits for the slowest file rather than for all three in turn, and the disk's flushes overlap.
+/// On failure, the message is the first file's in that order.
+fn write_outputs(problem: &Problem, outcome: &Outcome, out_dir: &Path) -> Result<(DesignFile, String), Failure> {
+    std::thread::scope(|s| {
+        let pictures = outcome.best.as_ref().map(|best| {
+            let input =
+                RenderInput { problem, mechanism: &best.mechanism, trace: &best.trace, pose_steps: &best.pose_rows };
+            let animation = s
+                .spawn(move || write_atomically(&out_dir.join("animation.svg"), animation_svg(&input, 3.0).as_bytes()));
+            let design = s.spawn(move || write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes()));
+            (design, animation)
+        });
+        let file = DesignFile::from_outcome(problem, outcome);
+        let json = file.to_json();
+        let written = write_atomically(&out_dir.join("design.json"), json.as_bytes());
+        let pictures = pictures.map(|(design, animation)| (joined(design), joined(animation)));
+        written?;
+        if let Some((design, animation)) = pictures {
+            design?;
+            animation?;
+        }
+        Ok((file, json))
+    })
+}
+
+/// A writer thread's result; a panic in it carries on in this thread.
+fn joined(handle: std::thread::ScopedJoinHandle<'_, Result<(), Failure>>) -> Result<(), Failure> {
+    handle.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))
 }
 
 /// The mechanisms of a previous design file (its design and alternatives), for a warm start.

@@ -9,6 +9,7 @@ use super::RenderInput;
 use crate::geom::Point;
 use crate::mechanism::PartKind;
 use std::f64::consts::PI;
+use std::fmt::Write;
 
 /// Most configurations (frames) one way; the file stays small and the motion smooth.
 pub const MAX_FRAMES: usize = 180;
@@ -82,12 +83,16 @@ impl Clock {
 
     /// Writes an animation of `attribute` through `forward` (one value per sampled frame), forward then
     /// back. `transform` names the `animateTransform` type, `None` for a plain `animate`.
-    fn animate(&self, attribute: &str, transform: Option<&str>, forward: &[String], out: &mut String) {
-        let (Some(key_times), Some((_, back))) = (&self.key_times, forward.split_last()) else { return };
-        let mut values = forward.join(";");
-        for v in back.iter().rev() {
+    fn animate(&self, attribute: &str, transform: Option<&str>, forward: &Frames, out: &mut String) {
+        let Some(key_times) = &self.key_times else { return };
+        if forward.ends.is_empty() {
+            return;
+        }
+        let mut values = String::with_capacity(2 * forward.text.len());
+        values.push_str(&forward.text);
+        for i in (0..forward.ends.len() - 1).rev() {
             values.push(';');
-            values.push_str(v);
+            values.push_str(forward.value(i));
         }
         let tag = if transform.is_some() { "animateTransform" } else { "animate" };
         Element::new(tag)
@@ -101,9 +106,31 @@ impl Clock {
     }
 }
 
-/// One value per sampled frame.
-fn per_frame(sheet: &Sheet, value: impl Fn(&[Point]) -> String) -> Vec<String> {
-    sheet.rows.iter().map(|&s| value(sheet.row(s))).collect()
+/// Values, one per sampled frame, in one text separated by `;`.
+struct Frames {
+    text: String,
+    /// Where each value ends in `text`.
+    ends: Vec<usize>,
+}
+
+impl Frames {
+    fn value(&self, i: usize) -> &str {
+        let start = if i == 0 { 0 } else { self.ends[i - 1] + 1 };
+        &self.text[start..self.ends[i]]
+    }
+}
+
+/// One value per sampled frame, each written by `value` from the frame's joints.
+fn per_frame(sheet: &Sheet, value: impl Fn(&[Point], &mut String)) -> Frames {
+    let mut frames = Frames { text: String::new(), ends: Vec::with_capacity(sheet.rows.len()) };
+    for (i, &s) in sheet.rows.iter().enumerate() {
+        if i > 0 {
+            frames.text.push(';');
+        }
+        value(sheet.row(s), &mut frames.text);
+        frames.ends.push(frames.text.len());
+    }
+    frames
 }
 
 /// Each body in a translating group around a rotating group, both animated, holding the outline and
@@ -131,11 +158,18 @@ fn moving_bodies(sheet: &Sheet, clock: &Clock, out: &mut String) {
         clock.animate(
             "transform",
             Some("translate"),
-            &per_frame(sheet, |row| n.points([Point::ORIGIN + sheet.body_pose(b, row).translation()])),
+            &per_frame(sheet, |row, out| n.put_point(out, Point::ORIGIN + sheet.body_pose(b, row).translation())),
             out,
         );
         Element::new("g").attr("transform", format!("rotate({:.2})", angles[0].to_degrees())).open(out);
-        let degrees: Vec<String> = angles.iter().map(|a| format!("{:.2}", a.to_degrees())).collect();
+        let mut degrees = Frames { text: String::new(), ends: Vec::with_capacity(angles.len()) };
+        for (i, a) in angles.iter().enumerate() {
+            if i > 0 {
+                degrees.text.push(';');
+            }
+            let _ = write!(degrees.text, "{:.2}", a.to_degrees());
+            degrees.ends.push(degrees.text.len());
+        }
         clock.animate("transform", Some("rotate"), &degrees, out);
         polygon(sheet, &body.outline, "body", Some(colour), out);
         if b < topo.body_count {
@@ -169,13 +203,21 @@ fn links(sheet: &Sheet, clock: &Clock, out: &mut String) {
         }
         layers::link(sheet, i, first).open(out);
         if let [a, b] = part.joints[..] {
-            clock.animate("x1", None, &per_frame(sheet, |row| n.f(row[a].x)), out);
-            clock.animate("y1", None, &per_frame(sheet, |row| n.f(row[a].y)), out);
-            clock.animate("x2", None, &per_frame(sheet, |row| n.f(row[b].x)), out);
-            clock.animate("y2", None, &per_frame(sheet, |row| n.f(row[b].y)), out);
+            clock.animate("x1", None, &per_frame(sheet, |row, out| n.put(out, row[a].x)), out);
+            clock.animate("y1", None, &per_frame(sheet, |row, out| n.put(out, row[a].y)), out);
+            clock.animate("x2", None, &per_frame(sheet, |row, out| n.put(out, row[b].x)), out);
+            clock.animate("y2", None, &per_frame(sheet, |row, out| n.put(out, row[b].y)), out);
             close(out, "line");
         } else {
-            clock.animate("points", None, &per_frame(sheet, |row| n.points(part.joints.iter().map(|&j| row[j]))), out);
+            let corners = |row: &[Point], out: &mut String| {
+                for (k, &j) in part.joints.iter().enumerate() {
+                    if k > 0 {
+                        out.push(' ');
+                    }
+                    n.put_point(out, row[j]);
+                }
+            };
+            clock.animate("points", None, &per_frame(sheet, corners), out);
             close(out, "polygon");
         }
     }
@@ -188,7 +230,7 @@ fn slider(sheet: &Sheet, clock: &Clock, out: &mut String) {
     let n = &sheet.num;
     let at = sheet.row(sheet.rows[0])[j];
     Element::new("g").attr("transform", format!("translate({})", n.points([at]))).open(out);
-    clock.animate("transform", Some("translate"), &per_frame(sheet, |row| n.points([row[j]])), out);
+    clock.animate("transform", Some("translate"), &per_frame(sheet, |row, out| n.put_point(out, row[j])), out);
     layers::slider_block(sheet, line.direction).empty(out);
     close(out, "g");
 }
@@ -203,8 +245,8 @@ fn joints(sheet: &Sheet, clock: &Clock, out: &mut String) {
             layers::joint(sheet, p).empty(out);
         } else {
             layers::joint(sheet, p).open(out);
-            clock.animate("cx", None, &per_frame(sheet, |row| n.f(row[j].x)), out);
-            clock.animate("cy", None, &per_frame(sheet, |row| n.f(row[j].y)), out);
+            clock.animate("cx", None, &per_frame(sheet, |row, out| n.put(out, row[j].x)), out);
+            clock.animate("cy", None, &per_frame(sheet, |row, out| n.put(out, row[j].y)), out);
             close(out, "circle");
         }
     }

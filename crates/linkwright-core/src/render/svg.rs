@@ -6,7 +6,8 @@ use std::fmt::Write;
 
 /// Escapes text for XML content and attribute values (`&`, `<`, `>`, `"`, `'`).
 pub fn escape(text: &str) -> Cow<'_, str> {
-    if !text.contains(['&', '<', '>', '"', '\'']) {
+    // A byte scan: every character escaped is ASCII, and UTF-8 never uses ASCII bytes inside others.
+    if !text.bytes().any(|b| matches!(b, b'&' | b'<' | b'>' | b'"' | b'\'')) {
         return Cow::Borrowed(text);
     }
     let mut out = String::with_capacity(text.len() + 8);
@@ -40,6 +41,76 @@ impl Num {
     }
     /// Appends `v` to `out`.
     pub fn put(&self, out: &mut String, v: f64) {
+        match self.units(v) {
+            Some(units) => self.put_units(out, v.is_sign_negative(), units),
+            None => self.put_exact(out, v),
+        }
+    }
+
+    /// `|v|` in units of the last decimal, rounded to the nearest, when that is surely what exact
+    /// decimal rounding of `v` gives; `None` otherwise. Scaling by 10^decimals (exact as a double)
+    /// rounds the product by at most half an ulp, a relative 2⁻⁵³, so the nearest integer is the
+    /// exact product's unless the product lies within that error of a half: such near-ties (and exact
+    /// ties, which [`Num::put_exact`] rounds its own way), huge and non-finite values return `None`.
+    fn units(&self, v: f64) -> Option<u64> {
+        let scale = *POWERS_OF_TEN.get(self.decimals)? as f64;
+        let x = v.abs() * scale;
+        // Below 2⁵² (so not a NaN either), every count of units is a whole double.
+        if x.is_nan() || x >= 4_503_599_627_370_496.0 {
+            return None;
+        }
+        let floor = x.floor();
+        let fraction = x - floor;
+        if (fraction - 0.5).abs() <= x * f64::EPSILON * 2.0 {
+            return None;
+        }
+        Some(floor as u64 + u64::from(fraction > 0.5))
+    }
+
+    /// Appends the number `units` × 10^−decimals, negative when `negative` (unless it is zero), in
+    /// the form [`Num::put_exact`] writes.
+    fn put_units(&self, out: &mut String, negative: bool, units: u64) {
+        if units == 0 {
+            out.push('0');
+            return;
+        }
+        // Written from the last digit back: a sign, 16 whole digits, a point and 15 decimals at most.
+        let mut text = [0u8; 40];
+        let mut at = text.len();
+        let mut put = |byte: u8| {
+            at -= 1;
+            text[at] = byte;
+        };
+        let scale = POWERS_OF_TEN[self.decimals];
+        let mut fraction = units % scale;
+        if fraction != 0 {
+            let mut digits = self.decimals;
+            while fraction % 10 == 0 {
+                fraction /= 10;
+                digits -= 1;
+            }
+            for _ in 0..digits {
+                put(b'0' + (fraction % 10) as u8);
+                fraction /= 10;
+            }
+            put(b'.');
+        }
+        let mut whole = units / scale;
+        loop {
+            put(b'0' + (whole % 10) as u8);
+            whole /= 10;
+            if whole == 0 {
+                break;
+            }
+        }
+        if negative {
+            put(b'-');
+        }
+        out.push_str(std::str::from_utf8(&text[at..]).unwrap_or_default());
+    }
+
+    /// Appends `v` through the standard library's exact formatting, trailing zeros dropped.
+    fn put_exact(&self, out: &mut String, v: f64) {
         let start = out.len();
         let _ = write!(out, "{:.*}", self.decimals, v);
         if self.decimals > 0 {
@@ -76,6 +147,28 @@ impl Num {
     }
 }
 
+/// 10⁰ to 10¹⁵: every one exact as a double, and any count of units below 2⁵² splits into whole
+/// units and at most 15 decimals.
+const POWERS_OF_TEN: [u64; 16] = {
+    let mut powers = [1; 16];
+    let mut i = 1;
+    while i < 16 {
+        powers[i] = powers[i - 1] * 10;
+        i += 1;
+    }
+    powers
+};
+
+/// Appends what is written to it to a string, XML-escaped.
+struct Escaping<'a>(&'a mut String);
+
+impl Write for Escaping<'_> {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        self.0.push_str(&escape(s));
+        Ok(())
+    }
+}
+
 /// One element being written: `Element::new("circle").attr("r", 2).empty(&mut out)`.
 #[must_use = "an element is only written by empty, open or text"]
 pub struct Element {
@@ -92,8 +185,11 @@ impl Element {
     }
     /// Adds `name="value"`, escaping the value.
     pub fn attr(mut self, name: &str, value: impl std::fmt::Display) -> Element {
-        let value = value.to_string();
-        let _ = write!(self.head, " {name}=\"{}\"", escape(&value));
+        self.head.push(' ');
+        self.head.push_str(name);
+        self.head.push_str("=\"");
+        let _ = write!(Escaping(&mut self.head), "{value}");
+        self.head.push('"');
         self
     }
     /// Adds the attribute only when `value` is `Some`.
@@ -142,6 +238,54 @@ mod tests {
         assert_eq!(Num::resolving(0.025).f(1.23456), "1.23");
     }
 
+    /// The quick way of writing a number against the standard library's exact formatting, on values
+    /// of every size and sign and on values at and near the halves between two roundings.
+    #[test]
+    fn quick_numbers_are_the_exact_ones() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            // xorshift64*
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            state.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        };
+        let mut quick_count = 0;
+        for decimals in 0..=9 {
+            let n = Num::with_decimals(decimals);
+            let unit = 10f64.powi(-(decimals as i32));
+            for i in 0..20_000 {
+                let r = next();
+                let magnitude = 10f64.powi((r % 13) as i32 - 6);
+                let mut v = (next() >> 11) as f64 / (1u64 << 53) as f64 * magnitude;
+                if i % 3 == 0 {
+                    // A half between two roundings, and its neighbours a few ulps away.
+                    let half = ((next() % 2_000_000) as f64 + 0.5) * unit;
+                    v = f64::from_bits(half.to_bits().wrapping_add(next() % 7).wrapping_sub(3));
+                }
+                if r & (1 << 40) != 0 {
+                    v = -v;
+                }
+                let (mut quick, mut exact) = (String::new(), String::new());
+                n.put(&mut quick, v);
+                n.put_exact(&mut exact, v);
+                assert_eq!(quick, exact, "{v:e} with {decimals} decimals");
+                quick_count += usize::from(n.units(v).is_some());
+            }
+        }
+        // Most values take the quick way (the test would pass trivially if none did).
+        assert!(quick_count > 100_000, "{quick_count}");
+        for v in [0.0, -0.0, 0.5, 1.5, 2.5, -0.5, 1e300, -1e300, f64::MAX, f64::MIN_POSITIVE, 4.5e15, f64::NAN] {
+            for decimals in [0, 3, 9] {
+                let n = Num::with_decimals(decimals);
+                let (mut quick, mut exact) = (String::new(), String::new());
+                n.put(&mut quick, v);
+                n.put_exact(&mut exact, v);
+                assert_eq!(quick, exact, "{v:e} with {decimals} decimals");
+            }
+        }
+    }
+
     #[test]
     fn escaping() {
         assert_eq!(escape("a<b & 'c' \"d\">"), "a&lt;b &amp; &apos;c&apos; &quot;d&quot;&gt;");
@@ -149,5 +293,8 @@ mod tests {
         let mut out = String::new();
         Element::new("text").attr("x", 1).text("<&>", &mut out);
         assert_eq!(out, "<text x=\"1\">&lt;&amp;&gt;</text>\n");
+        out.clear();
+        Element::new("g").attr("id", "a<\"b\">&é").attr("n", 1.5).empty(&mut out);
+        assert_eq!(out, "<g id=\"a&lt;&quot;b&quot;&gt;&amp;é\" n=\"1.5\"/>\n");
     }
 }
