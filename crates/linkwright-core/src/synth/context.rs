@@ -114,6 +114,12 @@ pub struct Context<'a> {
     pub exact: bool,
     /// The motion has more poses than the linkage type can hit exactly.
     pub overdetermined: bool,
+    /// The factor on the scene's pose noise (`pose_tolerance`, `angle_tolerance_deg`): 1, or for an
+    /// over-determined motion the share of its intermediate poses an exact fit could pass through.
+    /// Noise on every one of many intermediate poses does not widen the set of linkages a fit finds;
+    /// it only pulls the fit away from every linkage (a four-bar through nine poses of a known
+    /// four-bar at the paper's 0.5·d: no valid design in 100,000 samples; at 0.2·d a valid one).
+    pub noise_scale: f64,
     /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
     /// kept rigid through ([`END_DEVIATION`]).
     pub end_motions: Vec<Vec<Rigid>>,
@@ -169,6 +175,11 @@ impl<'a> Context<'a> {
             problem.bodies.iter().map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect()).collect();
         let end_motions = motions.iter().map(|m| vec![m[0], m[m.len() - 1]]).collect();
         let overdetermined = problem.pose_count > topology.max_exact_poses();
+        let noise_scale = if overdetermined {
+            (topology.max_exact_poses() - 2) as f64 / (problem.pose_count - 2) as f64
+        } else {
+            1.0
+        };
         let unperturbed = problem.settings.pose_tolerance == 0.0;
         Context {
             problem,
@@ -194,6 +205,7 @@ impl<'a> Context<'a> {
             unperturbed,
             exact: unperturbed && !overdetermined,
             overdetermined,
+            noise_scale,
             topology,
             scratches: ScratchPool::default(),
             sample_scratches: ScratchPool::default(),

@@ -96,8 +96,8 @@ impl PerturbationCells {
         let fixed = ctx.fixed_obstacles.len();
         let mut grids = Vec::with_capacity(problem.bodies.len() * poses);
         for body in &problem.bodies {
-            let shift = Axis::new(settings.pose_tolerance * body.size);
-            let turn = Axis::new(settings.angle_tolerance_deg.to_radians());
+            let shift = Axis::new(ctx.noise_scale * settings.pose_tolerance * body.size);
+            let turn = Axis::new(ctx.noise_scale * settings.angle_tolerance_deg.to_radians());
             let arm = body.outline.vertices().iter().fold(0.0, |r: f64, p| r.max(p.to_vec2().norm()));
             // Half a cell's diagonal in shift, half its width in turn, and a hair more for the
             // rounding of the cell index.

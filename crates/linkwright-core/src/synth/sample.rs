@@ -3,7 +3,7 @@
 //! pull the rest onto a rigid linkage by minimising E_rigid.
 
 use super::construct::{ConstructScratch, Constructor, Region};
-use super::context::{Context, END_DEVIATION};
+use super::context::Context;
 use super::perturb::{PerturbationCells, Verdict};
 use super::random::{normal, rng, Stream};
 use super::rigidity::FitWorkspace;
@@ -131,8 +131,10 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if deviation.is_nan() || deviation > ctx.accepted_deviation() {
             return false;
         }
-        // A fit that balanced its residual over every pose is moved onto one through the end poses.
-        if deviation > END_DEVIATION && !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
+        // Every linkage is moved onto one rigid through the end poses (a fit that balanced its
+        // residual over every pose is not, nor is every construction left unpolished: K = 2 from two
+        // poses ended up to 2·d away from the last pose on the gripper reference scene).
+        if !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
             return false;
         }
         let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));
@@ -175,8 +177,9 @@ impl<'c, 'p> Sampler<'c, 'p> {
                 let mut pose = input;
                 let mut free = false;
                 for _ in 0..PERTURB_TRIES {
-                    let shift = Vec2::new(normal(rng), normal(rng)) * (settings.pose_tolerance * body.size);
-                    let turn = normal(rng) * settings.angle_tolerance_deg.to_radians();
+                    let noise = self.ctx.noise_scale;
+                    let shift = Vec2::new(normal(rng), normal(rng)) * (noise * settings.pose_tolerance * body.size);
+                    let turn = normal(rng) * noise * settings.angle_tolerance_deg.to_radians();
                     let trial = Rigid::new(input.angle() + turn, input.translation() + shift);
                     if self.free_at(b, i, (shift, turn), &trial, scratch) {
                         (pose, free) = (trial, true);
