@@ -115,10 +115,12 @@ pub struct Context<'a> {
     /// The motion has more poses than the linkage type can hit exactly.
     pub overdetermined: bool,
     /// The factor on the scene's pose noise (`pose_tolerance`, `angle_tolerance_deg`): 1, or for an
-    /// over-determined motion the share of its intermediate poses an exact fit could pass through.
-    /// Noise on every one of many intermediate poses does not widen the set of linkages a fit finds;
-    /// it only pulls the fit away from every linkage (a four-bar through nine poses of a known
-    /// four-bar at the paper's 0.5·d: no valid design in 100,000 samples; at 0.2·d a valid one).
+    /// over-determined motion the square of the share of its intermediate poses an exact fit could
+    /// pass through. Noise on every one of many intermediate poses does not widen the set of linkages
+    /// a fit finds; it pulls the fit away from every linkage, towards collapsed links (a four-bar
+    /// through nine poses of a known four-bar, 100,000 samples: at the paper's 0.5·d no valid design,
+    /// at 0.2·d three, at 0.1·d 424; this factor gives 0.09·d. Measured on `chain_k1_n9_seed0` of
+    /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited).
     pub noise_scale: f64,
     /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
     /// kept rigid through ([`END_DEVIATION`]).
@@ -176,7 +178,7 @@ impl<'a> Context<'a> {
         let end_motions = motions.iter().map(|m| vec![m[0], m[m.len() - 1]]).collect();
         let overdetermined = problem.pose_count > topology.max_exact_poses();
         let noise_scale = if overdetermined {
-            (topology.max_exact_poses() - 2) as f64 / (problem.pose_count - 2) as f64
+            ((topology.max_exact_poses() - 2) as f64 / (problem.pose_count - 2) as f64).powi(2)
         } else {
             1.0
         };

@@ -1,4 +1,5 @@
-//! The whole synthesis (paper fig. 2): sample → kinematic checks → collision checks → particle filter,
+//! The whole synthesis (paper fig. 2): sample → kinematic checks → collision checks → particle filter
+//! → a local refinement of the designs kept, each verified again as `check` does,
 //! for every mechanism family that fits the scene, with progress reports and cancellation.
 
 use super::collision::check_collisions;
@@ -216,6 +217,15 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let t = Instant::now();
     let picked = finish_designs(problem, &contexts, picked, options.printable, &mut stats, observer)?;
     stats.seconds_refinement = t.elapsed().as_secs_f64();
+    if let Some(best) = picked.first() {
+        // The refinement lowers the best cost, and a design that fails verification may be dropped.
+        observer.progress(&Progress {
+            stage: Stage::Refining,
+            mechanism: best.mechanism.topology.mechanism_type,
+            fraction: 1.0,
+            best_cost: Some(best.cost),
+        });
+    }
     stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
     stats.seconds_total = started.elapsed().as_secs_f64();
     let mut picked = picked.into_iter();

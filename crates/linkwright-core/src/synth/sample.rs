@@ -3,7 +3,7 @@
 //! pull the rest onto a rigid linkage by minimising E_rigid.
 
 use super::construct::{ConstructScratch, Constructor, Region};
-use super::context::Context;
+use super::context::{Context, END_DEVIATION};
 use super::perturb::{PerturbationCells, Verdict};
 use super::random::{normal, rng, Stream};
 use super::rigidity::FitWorkspace;
@@ -131,10 +131,9 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if deviation.is_nan() || deviation > ctx.accepted_deviation() {
             return false;
         }
-        // Every linkage is moved onto one rigid through the end poses (a fit that balanced its
-        // residual over every pose is not, nor is every construction left unpolished: K = 2 from two
-        // poses ended up to 2·d away from the last pose on the gripper reference scene).
-        if !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
+        // A fit that balanced its residual over every pose is moved onto one through the end poses
+        // (a construction left unpolished already is: `constructions_left_unpolished_are_rigid`).
+        if deviation > END_DEVIATION && !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
             return false;
         }
         let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));
