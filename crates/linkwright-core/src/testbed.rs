@@ -14,6 +14,7 @@ use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use crate::synth::random::splitmix;
 use crate::synth::{CostWeights, SoftTerms};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -188,13 +189,6 @@ fn generator(seed: u64, family: u64, stream: u64) -> Xoshiro256PlusPlus {
         h = splitmix(h ^ word);
     }
     Xoshiro256PlusPlus::seed_from_u64(h)
-}
-
-fn splitmix(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 /// A mechanism that met every requirement, in the unit frame.

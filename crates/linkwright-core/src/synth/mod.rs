@@ -8,7 +8,7 @@ mod evaluate;
 mod perturb;
 mod pfo;
 mod pipeline;
-mod random;
+pub(crate) mod random;
 mod refine;
 pub mod rigidity;
 mod sample;
