@@ -10,7 +10,7 @@ use crate::design::{DesignError, DesignFile, MechanismJson, Motion};
 use crate::geom::{Point, Rigid};
 use crate::kinematics::{BodyFrames, CompileError, Plan, Step, SweepError, Trace};
 use crate::mechanism::{Mechanism, MechanismType, PartKind};
-use crate::scene::{PoseMiss, Problem};
+use crate::scene::Problem;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -364,19 +364,6 @@ fn transmission_angles(plan: &Plan, row: &[Point]) -> Vec<f64> {
             Step::Dyad { joint, a, b, .. } => Some(angle(row[a] - row[joint], row[b] - row[joint])),
             Step::Slider { joint, centre, direction, .. } => Some(angle(row[centre] - row[joint], direction.perp())),
             Step::Attach { .. } => None,
-        })
-        .collect()
-}
-
-/// How far each body is from each input pose (`[pose][body]`) in the configurations the replayed
-/// design offers for them, recomputed from its parts.
-pub fn pose_misses(problem: &Problem, replay: &Replay) -> Vec<Vec<PoseMiss>> {
-    replay
-        .pose_rows
-        .iter()
-        .enumerate()
-        .map(|(i, &r)| {
-            problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &replay.body_pose(b, r))).collect()
         })
         .collect()
 }

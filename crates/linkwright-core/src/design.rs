@@ -2,10 +2,9 @@
 //! back into a [`Mechanism`] (so any design can be re-simulated from the file alone).
 
 use crate::geom::{Point, Vec2};
-use crate::kinematics::BodyFrames;
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
 use crate::scene::{PoseMiss, Problem};
-use crate::verify::{verify_travel, Travel, Violation};
+use crate::verify::{pose_misses, verify_travel, Travel, Violation};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -355,6 +354,7 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
             stroke: [lo, hi],
         });
     }
+    let pose_errors = pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows);
     let thetas = &c.trace.thetas;
     let motion = Motion {
         crank_start_deg: thetas[0].to_degrees(),
@@ -368,23 +368,8 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
         size: c.soft.size,
         cost: c.cost,
         min_transmission_deg: c.trace.min_transmission(&c.plan).to_degrees(),
-        pose_errors: pose_errors(problem, c),
-        worst_pose_error: None,
+        worst_pose_error: Some(PoseMiss::worst(pose_errors.iter().flatten())),
+        pose_errors,
     };
-    let metrics = Metrics { worst_pose_error: Some(PoseMiss::worst(metrics.pose_errors.iter().flatten())), ..metrics };
     (mechanism, motion, metrics)
-}
-
-/// How far each body is from each input pose in the configurations a candidate offers for them.
-fn pose_errors(problem: &Problem, c: &crate::synth::Candidate) -> Vec<Vec<PoseMiss>> {
-    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
-    let frames = BodyFrames::new(&c.mechanism, &first_poses);
-    c.pose_rows
-        .iter()
-        .enumerate()
-        .map(|(i, &r)| {
-            let row = c.trace.row(r);
-            problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &frames.pose(b, row))).collect()
-        })
-        .collect()
 }

@@ -6,7 +6,7 @@
 use crate::geom::{Point, Polygon};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::Mechanism;
-use crate::scene::Problem;
+use crate::scene::{PoseMiss, Problem};
 
 /// One violated constraint.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -154,4 +154,19 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
         }
     }
     (out, Some(sum / count.max(1) as f64))
+}
+
+/// How far each body is from each input pose (`[pose][body]`) in the configurations of `trace` at
+/// `pose_rows`, the rows a design offers for the poses.
+pub fn pose_misses(problem: &Problem, mechanism: &Mechanism, trace: &Trace, pose_rows: &[usize]) -> Vec<Vec<PoseMiss>> {
+    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+    let frames = BodyFrames::new(mechanism, &first_poses);
+    pose_rows
+        .iter()
+        .enumerate()
+        .map(|(i, &r)| {
+            let row = trace.row(r);
+            problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &frames.pose(b, row))).collect()
+        })
+        .collect()
 }

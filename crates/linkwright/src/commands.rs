@@ -4,13 +4,14 @@ use crate::files::{read_design, read_problem, write_atomically};
 use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use linkwright_core::analysis::{pose_misses, AnalysisOptions, Replay, Which};
+use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
 use linkwright_core::design::{DesignFile, Status};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{PoseMiss, Problem};
 use linkwright_core::synth::{synthesize_with, Observer, Options, Outcome, Progress, Stage, Start};
+use linkwright_core::verify::pose_misses;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -238,7 +239,7 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
         println!("{}", serde_json::to_string_pretty(&violations).expect("violations serialize"));
     } else if violations.is_empty() {
         let reach = match Replay::new(&problem, &file, Which::Best, AnalysisOptions::default().steps) {
-            Ok(replay) => pose_reach(&problem, &pose_misses(&problem, &replay), &scene.units),
+            Ok(r) => pose_reach(&problem, &pose_misses(&problem, &r.mechanism, &r.trace, &r.pose_rows), &scene.units),
             Err(_) => String::new(),
         };
         println!("{}: every hard constraint holds{reach}", design.display());
@@ -282,18 +283,18 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
     Ok(())
 }
 
+/// A pose counts as reached within this fraction of the body's size and this angle (the web app's
+/// badge uses the same bounds).
+const REACHED_REL_D: f64 = 0.01;
+const REACHED_DEG: f64 = 1.0;
+
 /// What a person wants to know after the hard constraints: whether the design reaches the drawn poses,
-/// and if not, which one it misses most (a pose is reached within 1% of the body's size and 1°).
+/// and if not, which one it misses most (the one furthest past either bound).
 fn pose_reach(problem: &Problem, misses: &[Vec<PoseMiss>], units: &str) -> String {
-    let worst = PoseMiss::worst(misses.iter().flatten());
-    let missed = misses.iter().enumerate().flat_map(|(i, m)| m.iter().enumerate().map(move |(b, m)| (i, b, m))).max_by(
-        |a, b| {
-            let over = |m: &PoseMiss| (m.position_rel_d / 0.01).max(m.angle_deg / 1.0);
-            over(a.2).total_cmp(&over(b.2))
-        },
-    );
-    match missed {
-        Some((i, b, m)) if m.position_rel_d > 0.01 || m.angle_deg > 1.0 => format!(
+    let past = |m: &PoseMiss| (m.position_rel_d / REACHED_REL_D).max(m.angle_deg / REACHED_DEG);
+    let indexed = misses.iter().enumerate().flat_map(|(i, m)| m.iter().enumerate().map(move |(b, m)| (i, b, m)));
+    match indexed.max_by(|a, b| past(a.2).total_cmp(&past(b.2))) {
+        Some((i, b, m)) if past(m) > 1.0 => format!(
             ", misses pose {} of {} by {:.3} {units} ({:.1}% of its size) and {:.2}°",
             i + 1,
             problem.bodies[b].name,
@@ -301,7 +302,10 @@ fn pose_reach(problem: &Problem, misses: &[Vec<PoseMiss>], units: &str) -> Strin
             100.0 * m.position_rel_d,
             m.angle_deg
         ),
-        Some(_) => format!(", reaches every pose within {:.3} {units} and {:.2}°", worst.position, worst.angle_deg),
+        Some(_) => {
+            let worst = PoseMiss::worst(misses.iter().flatten());
+            format!(", reaches every pose within {:.3} {units} and {:.2}°", worst.position, worst.angle_deg)
+        }
         None => String::new(),
     }
 }

@@ -21,8 +21,8 @@ use crate::scene::Problem;
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
-/// The rows tested before the sweep, in eighths of the travel (chosen and measured in
-/// docs/performance.md, item 39: fewer or other rows caught fewer collisions, more did no better).
+/// The rows tested before the sweep, in eighths of the travel (measured in docs/performance.md, "Probes
+/// before the sweep": fewer or other rows caught fewer collisions, more did no better).
 const PROBES: [usize; 4] = [1, 3, 5, 7];
 /// Deepest bisection of one 1° interval (a sixteenth of a degree). At a quarter, a sharp corner of a
 /// fixed body could still poke through an edge sliding past it between two tests (the handle scene).
@@ -546,7 +546,7 @@ mod tests {
     /// The sweep's verdict is that of exact tests of every pair at every 1/64 of every step, on
     /// sampled travels of every bundled scene (all three families): it misses no collision that
     /// such a fine re-simulation finds, though its proofs assume a margin ([`ARC_MARGIN`]) that some
-    /// fast-moving linkages exceed (docs/performance.md, stop 15). A sweep that bisects no interval,
+    /// fast-moving linkages exceed (docs/performance.md, on `ARC_MARGIN`). A sweep that bisects no interval,
     /// or takes a third of the margin, misses some.
     #[test]
     fn sweep_agrees_with_exact_tests_at_every_64th_of_a_step() {

@@ -245,7 +245,7 @@ fn pick_designs(
     rejected: &mut [usize; Reject::ALL.len()],
     observer: &dyn Observer,
 ) -> Result<Vec<Candidate>, Cancelled> {
-    let min_shift = DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+    let min_shift = min_shift(problem);
     let wanted = MAX_ALTERNATIVES + 1;
     let mut picked: Vec<Candidate> = Vec::new();
     let mut queue = valid.into_iter().peekable();
@@ -315,7 +315,7 @@ fn finish_designs(
     stats.failed_verification = finished.iter().filter(|c| c.is_none()).count();
     let mut finished: Vec<Candidate> = finished.into_iter().flatten().collect();
     finished.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-    let min_shift = DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+    let min_shift = min_shift(problem);
     let mut out: Vec<Candidate> = Vec::new();
     for c in finished {
         if out.iter().all(|p| distinct(p, &c, min_shift)) {
@@ -605,6 +605,11 @@ fn check_in_order(
         }
     }
     Ok(valid)
+}
+
+/// How far some joint must move for two designs of one family to be distinct ([`DISTINCT`]·d).
+fn min_shift(problem: &Problem) -> f64 {
+    DISTINCT * problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min)
 }
 
 /// True when two designs differ: another family, or some joint moved by more than `min_shift`.
