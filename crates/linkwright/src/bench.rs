@@ -20,7 +20,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 3)]
     repeat: usize,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::thread_count())]
     threads: Option<usize>,
     /// Print the table as JSON.
     #[arg(long)]

@@ -25,10 +25,10 @@ pub struct DesignArgs {
     #[arg(long)]
     seed: Option<u64>,
     /// Number of candidate samples (overrides the scene's settings.samples).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::sample_count())]
     samples: Option<usize>,
     /// Worker threads (default: all cores). The result does not depend on it.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::thread_count())]
     threads: Option<usize>,
     /// Print the design JSON on stdout instead of the summary line.
     #[arg(long)]
@@ -89,9 +89,6 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         problem.settings.seed = seed;
     }
     if let Some(samples) = args.samples {
-        if samples == 0 {
-            return Err(Failure::Input("error: --samples: must be at least 1".into()));
-        }
         problem.settings.samples = samples;
     }
     let out_dir = args.output.clone().unwrap_or_else(|| {

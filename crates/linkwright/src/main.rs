@@ -11,6 +11,20 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Most worker threads a command takes: more than any machine this runs on has cores, while every
+/// thread keeps its own scratch memory for the synthesis (a hundred thousand threads would exhaust it).
+const MAX_THREADS: u64 = 256;
+
+/// `--threads`: between 1 and [`MAX_THREADS`].
+fn thread_count() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=MAX_THREADS)
+}
+
+/// `--samples`: between 1 and the scene format's own bound.
+fn sample_count() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=linkwright_core::scene::limits::MAX_SAMPLES as u64)
+}
+
 /// Turn a sketch of an object and its key poses into a working linkage.
 #[derive(Parser, Debug)]
 #[command(name = "linkwright", version, about, long_about = None)]

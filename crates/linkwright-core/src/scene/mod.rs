@@ -5,7 +5,7 @@ mod problem;
 mod validate;
 
 pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
-pub use validate::{validate, Issue, Severity};
+pub use validate::{limits, validate, Issue, Severity};
 
 use crate::geom::Point;
 use serde::{Deserialize, Serialize};

@@ -36,18 +36,47 @@ impl std::fmt::Display for Issue {
     }
 }
 
-/// Largest coordinate (mm) accepted: a kilometre-scale object is surely a unit mistake, and bounding the
-/// numbers keeps every later product (areas, squared lengths) far from overflow.
-const MAX_COORDINATE: f64 = 1e9;
+/// The limits of what a scene may ask for, in one place (documented in `docs/formats.md`, their
+/// measured worst case in `docs/security.md`). Each is far beyond what a person draws: the 64 reference
+/// scenes reach at most 39 vertices in one outline and 128 in all, 6 fixed and 8 moving bodies, 6 poses,
+/// 2 avoid regions, coordinates of 355 and a drawing 66 times as large as its smallest moving body.
+/// Together they bound the time and memory of every stage, whatever a file says.
+pub mod limits {
+    /// Largest coordinate accepted, in scene units: a kilometre-scale object is surely a unit
+    /// mistake, and bounding the numbers keeps every later product (areas, squared lengths) far from
+    /// overflow and the printability check's outline sampling (a step of a fraction of a millimetre)
+    /// bounded.
+    pub const MAX_COORDINATE: f64 = 1e6;
+    /// Vertices of one outline: a traced photograph simplified to a few hundred corners still fits, and
+    /// the self-intersection test is quadratic in them.
+    pub const MAX_OUTLINE_VERTICES: usize = 500;
+    /// Vertices of every outline and region together: the collision sweep tests each link against
+    /// every edge at every step of the motion.
+    pub const MAX_VERTICES: usize = 2000;
+    pub const MAX_FIXED_BODIES: usize = 50;
+    /// Moving bodies: the chain grows two links per body, and its sampling works in 4K dimensions.
+    pub const MAX_MOVING_BODIES: usize = 8;
+    /// Poses per moving body: beyond the nine or ten of the classic motion-generation tasks, more
+    /// poses only draw the path, and every sample fits and simulates through each of them.
+    pub const MAX_POSES: usize = 20;
+    pub const MAX_AVOID_REGIONS: usize = 50;
+    /// How many times the whole drawing (every outline at every pose, and the regions) may be larger
+    /// than its smallest moving body: the engine resolves contacts and noise in fractions of that
+    /// body's size, so a drawing a thousand times as large is mostly unrelated geometry.
+    pub const MAX_EXTENT_RATIO: f64 = 1000.0;
+    /// Upper bounds of the settings: together with the geometry's bounds these keep a run on two
+    /// cores within minutes (the paper's settings are 100,000 samples, 100 particles, 20 iterations).
+    pub const MAX_SAMPLES: usize = 1_000_000;
+    pub const MAX_PARTICLES: usize = 1000;
+    pub const MAX_ITERATIONS: usize = 200;
+}
+use limits::*;
 /// Bodies closer than this fraction of the smaller body size d *touch* (a warning), bodies reaching into
 /// each other deeper than it *overlap* (an error). Hand-drawn scenes put bodies in contact with some
 /// slack: of the 64 reference scenes none overlaps at any pose, and the closest contacts leave gaps of
 /// 0.7% to 1.8% of d (0.2 to 2 mm). 2% of d (0.2 mm for the smallest reference bodies, 1.5 mm for a
 /// 75 mm one) forgives sub-millimetre drawing imprecision, while an overlap of 5% of d is refused.
 const TOUCH_FRACTION: f64 = 0.02;
-/// Upper bounds of the settings: beyond these a run would take days, which is never what was meant.
-const MAX_SAMPLES: usize = 10_000_000;
-const MAX_ITERATIONS: usize = 1000;
 const MAX_POSE_TOLERANCE: f64 = 10.0;
 const MAX_ANGLE_TOLERANCE_DEG: f64 = 90.0;
 const MAX_MIN_TRANSMISSION_DEG: f64 = 80.0;
@@ -62,6 +91,11 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
         );
     }
     out.unknown_fields("", &scene.extra);
+    if !check_counts(scene, &mut out) {
+        // Every later check costs in proportion to these counts: a file far beyond them is answered
+        // at once with what to cut, not after minutes of checking what will not run anyway.
+        return out.0;
+    }
     let fixed_ok = check_fixed_bodies(&scene.fixed_bodies, &mut out);
     let moving_ok = check_moving_bodies(&scene.moving_bodies, &mut out);
     if let Some(region) = &scene.linkage_region {
@@ -73,8 +107,108 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
     check_mechanism(scene, &mut out);
     check_weights(&scene.weights, &mut out);
     check_settings(&scene.settings, &mut out);
+    if fixed_ok.iter().chain(&moving_ok).all(|&ok| ok) {
+        check_extent(scene, &mut out);
+    }
     check_collisions(scene, &fixed_ok, &moving_ok, &mut out);
     out.0
+}
+
+/// Checks the counts against [`limits`]; returns whether every one is within them.
+fn check_counts(scene: &Scene, out: &mut Issues) -> bool {
+    let before = out.0.len();
+    let counts = [
+        (
+            "fixed_bodies",
+            scene.fixed_bodies.len(),
+            MAX_FIXED_BODIES,
+            "fixed bodies",
+            "merge touching parts into one outline",
+        ),
+        ("moving_bodies", scene.moving_bodies.len(), MAX_MOVING_BODIES, "moving bodies", "design the motion in parts"),
+        ("avoid_regions", scene.avoid_regions.len(), MAX_AVOID_REGIONS, "avoid regions", "merge neighbouring regions"),
+    ];
+    for (field, n, max, what, fix) in counts {
+        if n > max {
+            out.error(field, format!("has {n} {what}; at most {max} are supported: {fix}"));
+        }
+    }
+    for (k, body) in scene.moving_bodies.iter().enumerate() {
+        if body.poses.len() > MAX_POSES {
+            out.error(
+                format!("moving_bodies[{k}].poses"),
+                format!(
+                    "has {} poses; at most {MAX_POSES} are supported: keep the poses that matter (where the \
+                     motion rests and where it must pass) and drop the ones that only draw the path",
+                    body.poses.len()
+                ),
+            );
+        }
+    }
+    let outlines: Vec<(String, usize)> = (scene.fixed_bodies.iter().enumerate())
+        .map(|(j, b)| (format!("fixed_bodies[{j}].polygon"), b.polygon.len()))
+        .chain(
+            scene
+                .moving_bodies
+                .iter()
+                .enumerate()
+                .map(|(k, b)| (format!("moving_bodies[{k}].polygon"), b.polygon.len())),
+        )
+        .chain(scene.linkage_region.iter().map(|r| ("linkage_region".to_string(), r.len())))
+        .chain(scene.avoid_regions.iter().enumerate().map(|(i, r)| (format!("avoid_regions[{i}]"), r.len())))
+        .collect();
+    let vertices = outlines.iter().map(|o| o.1).fold(0usize, usize::saturating_add);
+    if let Some((largest, n)) = outlines.iter().rev().max_by_key(|o| o.1).filter(|_| vertices > MAX_VERTICES) {
+        out.error(
+            largest,
+            format!(
+                "the outlines and regions have {vertices} vertices in all, this one {n}; at most \
+                 {MAX_VERTICES} are supported in all: simplify the outlines (a few dozen corners per body \
+                 keep their shape)"
+            ),
+        );
+    }
+    out.0.len() == before
+}
+
+/// The whole drawing must stay within [`MAX_EXTENT_RATIO`] times the smallest moving body (its outlines
+/// and poses already checked finite and bounded).
+fn check_extent(scene: &Scene, out: &mut Issues) {
+    let Some((k, d)) = scene
+        .moving_bodies
+        .iter()
+        .map(|b| Polygon::new(b.polygon.clone()).aabb())
+        .map(|bb| bb.width().min(bb.height()))
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return;
+    };
+    let mut points: Vec<Point> = Vec::new();
+    points.extend(scene.fixed_bodies.iter().flat_map(|b| b.polygon.iter().copied()));
+    points.extend(scene.linkage_region.iter().flatten().copied());
+    points.extend(scene.avoid_regions.iter().flatten().copied());
+    for body in &scene.moving_bodies {
+        for pose in body.poses.iter().filter(|p| pose_is_usable(p)) {
+            let placed = Rigid::from_pose(*pose);
+            points.extend(body.polygon.iter().map(|&p| placed.apply(p)));
+        }
+    }
+    let Some(bb) = Aabb::around(points) else { return };
+    let extent = bb.width().max(bb.height());
+    if extent > MAX_EXTENT_RATIO * d {
+        let body = &scene.moving_bodies[k];
+        out.error(
+            format!("moving_bodies[{k}].polygon"),
+            format!(
+                "{} is {d:.3} across, but the drawing spans {extent:.0}: {:.0} times as much, and at most \
+                 {MAX_EXTENT_RATIO} is supported (the engine works in fractions of the smallest body); draw \
+                 the small body larger, or crop the fixed bodies and regions to the part near the motion",
+                label("body", &body.name, &format!("moving_bodies[{k}]")),
+                extent / d
+            ),
+        );
+    }
 }
 
 /// The findings so far, with the helpers every check shares.
@@ -102,6 +236,17 @@ impl Issues {
 
     /// Checks that `points` form a usable simple polygon; returns whether they do.
     fn polygon(&mut self, field: &str, points: &[Point]) -> bool {
+        if points.len() > MAX_OUTLINE_VERTICES {
+            self.error(
+                field,
+                format!(
+                    "has {} vertices; at most {MAX_OUTLINE_VERTICES} are supported: simplify the outline \
+                     (a few dozen corners keep its shape)",
+                    points.len()
+                ),
+            );
+            return false;
+        }
         if let Some(i) = points.iter().position(|p| p.is_finite() && (p.x.abs().max(p.y.abs()) > MAX_COORDINATE)) {
             self.error(
                 field,
@@ -242,8 +387,11 @@ fn check_settings(s: &Settings, out: &mut Issues) {
             format!("is {}; use between 1 and {MAX_SAMPLES} (the paper uses 100000)", s.samples),
         );
     }
-    if s.particles == 0 {
-        out.error("settings.particles", "is 0; use at least 1 particle for the particle filter (the paper uses 100)");
+    if s.particles == 0 || s.particles > MAX_PARTICLES {
+        out.error(
+            "settings.particles",
+            format!("is {}; use between 1 and {MAX_PARTICLES} (the paper uses 100)", s.particles),
+        );
     }
     if s.iterations > MAX_ITERATIONS {
         out.error(
@@ -462,6 +610,60 @@ mod tests {
     #[test]
     fn a_valid_scene_has_no_issue() {
         assert_eq!(validate(&scene()), vec![]);
+    }
+
+    /// A regular polygon of `n` vertices around (`cx`, `cy`).
+    fn round(n: usize, cx: f64, cy: f64, r: f64) -> Vec<Point> {
+        let at = |i: usize| std::f64::consts::TAU * i as f64 / n as f64;
+        (0..n).map(|i| Point::new(cx + r * at(i).cos(), cy + r * at(i).sin())).collect()
+    }
+
+    #[test]
+    fn outlines_are_bounded_in_vertices() {
+        let mut s = scene();
+        s.fixed_bodies[0].polygon = round(MAX_OUTLINE_VERTICES, 100.0, -60.0, 50.0);
+        assert_eq!(errors(&s), vec![]);
+        s.fixed_bodies[0].polygon = round(MAX_OUTLINE_VERTICES + 1, 100.0, -60.0, 50.0);
+        assert_error(&s, "fixed_bodies[0].polygon", "has 501 vertices; at most 500");
+        // Thirty thousand vertices in all are refused before any quadratic check looks at them.
+        s.fixed_bodies[0].polygon = round(400, 100.0, -60.0, 50.0);
+        s.avoid_regions = (0..5).map(|i| round(400, 300.0 + 120.0 * i as f64, 300.0, 50.0)).collect();
+        assert_error(&s, "fixed_bodies[0].polygon", "have 2404 vertices in all");
+        s.avoid_regions = (0..60).map(|i| round(40, 300.0 + 120.0 * i as f64, 300.0, 50.0)).collect();
+        let issues = errors(&s);
+        assert!(issues.len() == 2 && issues.iter().all(|i| i.message.contains("supported")), "{issues:#?}");
+    }
+
+    #[test]
+    fn bodies_regions_and_poses_are_bounded_in_number() {
+        let mut s = scene();
+        s.avoid_regions = (0..=MAX_AVOID_REGIONS)
+            .map(|i| rect(300.0 + 30.0 * i as f64, 0.0, 310.0 + 30.0 * i as f64, 10.0))
+            .collect();
+        assert_error(&s, "avoid_regions", "has 51 avoid regions; at most 50");
+        s.avoid_regions.pop();
+        assert_eq!(errors(&s), vec![]);
+        let lid = s.moving_bodies[0].clone();
+        s.moving_bodies = vec![lid.clone(); MAX_MOVING_BODIES + 1];
+        assert!(errors(&s).iter().any(|i| i.field == "moving_bodies" && i.message.contains("has 9 moving bodies")));
+        s.moving_bodies = vec![lid];
+        let (a, b) = (s.moving_bodies[0].poses[0], s.moving_bodies[0].poses[1]);
+        s.moving_bodies[0].poses = (0..=MAX_POSES).map(|i| if i % 2 == 0 { a } else { b }).collect();
+        assert_error(&s, "moving_bodies[0].poses", "has 21 poses; at most 20");
+    }
+
+    #[test]
+    fn the_drawing_is_bounded_in_size_against_its_smallest_body() {
+        // The lid is 20 across: a ground 950 times as wide passes, one 1500 times as wide does not.
+        let mut s = scene();
+        s.fixed_bodies[0].polygon = rect(0.0, 0.0, 19_000.0, 20.0);
+        assert_eq!(errors(&s), vec![]);
+        s.fixed_bodies[0].polygon = rect(0.0, 0.0, 30_000.0, 20.0);
+        assert_error(&s, "moving_bodies[0].polygon", "spans 30000: 1500 times as much");
+        // And nothing is drawn a kilometre away, whatever its size.
+        let mut s = scene();
+        s.moving_bodies[0].poses[1] = [2e6, 60.0, 0.0];
+        assert_error(&s, "moving_bodies[0].poses[1]", "within ±1e6");
     }
 
     #[test]

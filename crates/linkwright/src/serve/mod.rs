@@ -37,7 +37,7 @@ pub struct ServeArgs {
     #[arg(long)]
     open: bool,
     /// Worker threads for designs and fabrications (default: all cores). Results do not depend on it.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::thread_count())]
     threads: Option<usize>,
     /// Designs and fabrications that run at once; more wait in a short queue.
     #[arg(long, default_value_t = Limits::default().running)]
