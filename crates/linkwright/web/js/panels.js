@@ -125,7 +125,7 @@ export function renderSettingsTab(host, store) {
     ['slider_crank', 'Slider-crank (one moving body)'],
   ].map(([v, t]) => html('option', { value: v, text: t, selected: scene.mechanism === v })));
   const samples = html('div', { class: 'inline' }, [
-    number(st.samples, 'samples', (v) => setSetting('samples', Math.max(1, Math.round(v))), { min: 1, step: 1000 }),
+    number(st.samples, 'samples', (v) => setSetting('samples', Math.min(1000000, Math.max(1, Math.round(v)))), { min: 1, max: 1000000, step: 1000 }),
     ...[['Quick', 5000], ['Normal', 20000], ['Paper', 100000]].map(([t, n]) =>
       html('button', { class: st.samples === n ? 'small on' : 'small', text: t, title: `${n} samples`, onclick: () => setSetting('samples', n) })),
   ]);
@@ -147,8 +147,8 @@ export function renderSettingsTab(host, store) {
     html('h3', { text: 'Search' }),
     row('Samples', samples, 'more samples: better designs, longer runs'),
     row('Seed', seed, 'the same seed gives the same design'),
-    row('Particles', number(st.particles, 'particles', (v) => setSetting('particles', Math.max(1, Math.round(v))), { min: 1, step: 10 })),
-    row('Iterations', number(st.iterations, 'iterations', (v) => setSetting('iterations', Math.max(0, Math.round(v))), { min: 0, step: 1 })),
+    row('Particles', number(st.particles, 'particles', (v) => setSetting('particles', Math.min(1000, Math.max(1, Math.round(v)))), { min: 1, max: 1000, step: 10 })),
+    row('Iterations', number(st.iterations, 'iterations', (v) => setSetting('iterations', Math.min(200, Math.max(0, Math.round(v)))), { min: 0, max: 200, step: 1 })),
     html('button', {
       text: 'Reset to defaults',
       onclick: () => store.edit('reset settings', (s) => { s.weights = { ...S.DEFAULT_WEIGHTS }; s.settings = { ...S.DEFAULT_SETTINGS }; s.mechanism = 'auto'; }),
