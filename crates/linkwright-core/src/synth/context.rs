@@ -231,21 +231,24 @@ impl<'a> Context<'a> {
     pub fn project(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
         if self.exact {
             let deviation = self.rigidity.fit(x, &self.motions, self.body_size, fit).max_relative_deviation;
-            deviation <= EXACT_DEVIATION
+            deviation <= EXACT_DEVIATION && !self.rigidity.mirrored(x, &self.motions, self.body_size)
         } else {
             self.keep_end_poses(x, fit)
         }
     }
 
     /// Moves parameter vector `x` to a nearby linkage that is rigid through the first and last input
-    /// poses ([`END_DEVIATION`]), so its body reaches the last pose; false when no such linkage is near.
+    /// poses ([`END_DEVIATION`]) with no ternary link turned over, so its body reaches the last pose;
+    /// false when no such linkage is near.
     /// Two poses leave a link one equation to meet, so from a start close to rigid the fit ends close by.
     pub fn keep_end_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
-        if self.rigidity.relative_deviation(x, &self.end_motions, self.body_size) <= END_DEVIATION {
-            return true;
+        if self.rigidity.relative_deviation(x, &self.end_motions, self.body_size) > END_DEVIATION {
+            let deviation = self.rigidity.fit(x, &self.end_motions, self.body_size, fit).max_relative_deviation;
+            if deviation > END_DEVIATION {
+                return false;
+            }
         }
-        let deviation = self.rigidity.fit(x, &self.end_motions, self.body_size, fit).max_relative_deviation;
-        deviation <= END_DEVIATION
+        !self.rigidity.mirrored(x, &self.end_motions, self.body_size)
     }
 
     /// Where joint `j`, at `p` in the first pose, should be at pose `i` (it rides on its carrier).

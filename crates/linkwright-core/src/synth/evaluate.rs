@@ -589,7 +589,7 @@ mod tests {
             let sampler = Sampler::new(&ctx, 0);
             let (mut sample_scratch, mut scratch) = (SampleScratch::default(), Scratch::default());
             let (mut checked, mut tight) = (0, 0);
-            for i in 0..3000 {
+            for i in 0..6000 {
                 let Some(m) = sampler.sample(7, i, None, &mut sample_scratch) else { continue };
                 let Ok(c) = evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else {
                     continue;

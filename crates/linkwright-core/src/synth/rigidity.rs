@@ -44,6 +44,10 @@
 use crate::geom::{Point, Rigid, Vec2};
 use crate::mechanism::{PartKind, Topology};
 
+/// How far turning a ternary link over may move a joint, as a fraction of the body size, before the
+/// link counts as mirrored ([`RigidityModel::mirrored`]): the precision the end poses are reached with.
+pub const FLIP_TOLERANCE: f64 = 0.05;
+
 /// What carries a joint from pose to pose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Carrier {
@@ -70,6 +74,8 @@ pub struct RigidityModel {
     slider: Option<usize>,
     body_count: usize,
     blocks: Vec<Block>,
+    /// The ternary links' joints: their lengths keep a triangle only up to its mirror image.
+    triangles: Vec<[usize; 3]>,
     /// For each unknown, its index within its block.
     local: Vec<usize>,
     max_iterations: usize,
@@ -242,7 +248,20 @@ impl RigidityModel {
             local[dim - 1] = blocks[b].vars.len();
             blocks[b].vars.push(dim - 1);
         }
-        RigidityModel { carriers, pairs, slider, body_count: topology.body_count, blocks, local, max_iterations: 100 }
+        let triangles = (topology.parts.iter())
+            .filter(|p| p.kind == PartKind::Link && p.joints.len() == 3)
+            .map(|p| [p.joints[0], p.joints[1], p.joints[2]])
+            .collect();
+        RigidityModel {
+            carriers,
+            pairs,
+            slider,
+            body_count: topology.body_count,
+            blocks,
+            triangles,
+            local,
+            max_iterations: 100,
+        }
     }
 
     /// The same model with another iteration limit per block for [`RigidityModel::fit`] (default 100).
@@ -616,6 +635,29 @@ impl RigidityModel {
         self.max_deviation(x, motions) / s
     }
 
+    /// Whether a ternary link of `x` is, at some pose of `motions`, the mirror image of itself at the
+    /// first pose. Its three lengths then all hold, yet no linkage reaches that pose: a rigid triangle
+    /// cannot turn over in the plane. A nearly straight link is the exception: turning it over moves a
+    /// joint by twice its height, and where that is under [`FLIP_TOLERANCE`] of the body size `scale`
+    /// the linkage comes as close to the pose as the person asked for (two jaws closing on a line are
+    /// driven by such links). (Checked apart from the energy, whose length residuals cannot see it: a
+    /// signed-area residual would be redundant with them at every solution and make the fit's normal
+    /// equations singular.)
+    pub fn mirrored(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> bool {
+        let poses = self.poses(motions);
+        let tolerance = FLIP_TOLERANCE * usable_scale(scale);
+        // Twice the triangle's height over its longest side, signed by its orientation.
+        let flip = |[a, b, c]: [Point; 3]| {
+            let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+            2.0 * (b - a).cross(c - a) / longest.max(f64::MIN_POSITIVE)
+        };
+        self.triangles.iter().any(|&t| {
+            // `x` holds the first pose; `motions` carry it to the others.
+            let first = flip(t.map(|j| Point::new(x[2 * j], x[2 * j + 1])));
+            first.abs() > tolerance && (1..poses).any(|i| first * flip(t.map(|j| self.place(j, x, motions, i).0)) < 0.0)
+        })
+    }
+
     /// Whether `x` and `motions` are finite (a fit leaves anything else unchanged).
     fn finite(&self, x: &[f64], motions: &[Vec<Rigid>]) -> bool {
         x.iter().all(|v| v.is_finite())
@@ -716,6 +758,32 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;
     use std::sync::Arc;
+
+    /// A six-bar's ternary link r0 (ground), q1 (body 1), p2 (body 2) with body 1 still and body 2
+    /// moved by `shift`: the link's lengths hold exactly when the move reflects p2 across r0–q1.
+    #[test]
+    fn a_ternary_link_turned_over_is_mirrored_unless_nearly_straight() {
+        let topology = Topology::chain(2);
+        let model = RigidityModel::new(&topology);
+        let joint = |name: &str| topology.joint_names.iter().position(|n| n == name).unwrap();
+        let check = |p2: Point, shift: Vec2| {
+            let mut x = vec![0.0; model.dim()];
+            for (name, p) in [("r0", Point::new(0.0, 0.0)), ("q1", Point::new(10.0, 0.0)), ("p2", p2)] {
+                (x[2 * joint(name)], x[2 * joint(name) + 1]) = (p.x, p.y);
+            }
+            let motions = vec![vec![Rigid::IDENTITY; 2], vec![Rigid::IDENTITY, Rigid::new(0.0, shift)]];
+            model.mirrored(&x, &motions, 10.0)
+        };
+        // Turned over: lengths kept, p2 moved by 10 = the body size.
+        assert!(check(Point::new(0.0, 5.0), Vec2::new(0.0, -10.0)));
+        // Not moved, or moved without turning over: not mirrored.
+        assert!(!check(Point::new(0.0, 5.0), Vec2::ZERO));
+        assert!(!check(Point::new(0.0, 5.0), Vec2::new(0.0, 1.0)));
+        // Nearly straight (height 0.01): turned over it moves p2 by 0.02 = 0.2% of the body size.
+        assert!(!check(Point::new(5.0, 0.01), Vec2::new(0.0, -0.02)));
+        // Height 0.5: turned over it moves p2 by 10% of the body size, beyond the tolerance.
+        assert!(check(Point::new(5.0, 0.5), Vec2::new(0.0, -1.0)));
+    }
 
     fn topologies() -> Vec<Topology> {
         vec![Topology::chain(1), Topology::chain(2), Topology::chain(3), Topology::slider_crank()]

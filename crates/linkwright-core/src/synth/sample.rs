@@ -136,6 +136,10 @@ impl<'c, 'p> Sampler<'c, 'p> {
         if deviation > END_DEVIATION && !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
             return false;
         }
+        // Rigid lengths through the end poses are not enough for a ternary link (`mirrored`).
+        if ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size) {
+            return false;
+        }
         let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));
         mechanism_into_x(ctx, &scratch.x, slider_direction, m);
         true
