@@ -583,6 +583,20 @@ fn huge_body_scene(across_mm: f64) -> Value {
     scene
 }
 
+/// The garbage truck with one more fixed body, a circle drawn with `vertices` vertices: a scene whose
+/// validation takes seconds.
+fn finely_drawn_scene(vertices: usize) -> Value {
+    let mut scene = quick_garbage_truck(300, 1);
+    let circle: Vec<Value> = (0..vertices)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / vertices as f64;
+            json!([400.0 + 50.0 * a.cos(), 400.0 + 50.0 * a.sin()])
+        })
+        .collect();
+    scene["fixed_bodies"].as_array_mut().unwrap().push(json!({"name": "fine", "polygon": circle}));
+    scene
+}
+
 /// `host:port` of the server.
 fn host(server: &Server) -> String {
     server.url.trim_start_matches("http://").trim_end_matches('/').to_string()
@@ -727,27 +741,25 @@ fn inputs_that_used_to_kill_the_server_are_refused_and_it_lives_on() {
 #[test]
 fn heavy_designs_in_flight_do_not_hold_up_the_apps_own_files() {
     let server = Server::start(&["--job-seconds", "20"]);
-    // Two clients post scenes with a body 10 km across (whose print pre-check took 45 s and froze every
-    // other request), two others designs with far more samples than the test waits for.
-    let scenes = [
-        huge_body_scene(1e7),
-        huge_body_scene(1e7),
-        quick_garbage_truck(5_000_000, 1),
-        quick_garbage_truck(5_000_000, 2),
-    ];
-    let posters: Vec<_> = scenes
-        .into_iter()
-        .enumerate()
-        .map(|(i, scene)| {
-            let url = server.at("/api/design");
-            std::thread::spawn(move || {
-                let response =
-                    agent().post(url).header("x-linkwright-client", format!("heavy{i}")).send(scene.to_string());
-                call(response).0
-            })
+    let post = |i: usize, scene: Value| {
+        let url = server.at("/api/design");
+        std::thread::spawn(move || {
+            let response = agent().post(url).header("x-linkwright-client", format!("heavy{i}")).send(scene.to_string());
+            call(response).0
         })
-        .collect();
+    };
+    // Two clients post scenes with a body 10 km across (whose print pre-check took 45 s and froze every
+    // other request), two others designs with far more samples than the test waits for; then two more
+    // post scenes whose validation takes seconds.
+    let mut posters = vec![
+        post(0, huge_body_scene(1e7)),
+        post(1, huge_body_scene(1e7)),
+        post(2, quick_garbage_truck(5_000_000, 1)),
+        post(3, quick_garbage_truck(5_000_000, 2)),
+    ];
     wait_status(&server, "running", 2);
+    posters.extend([post(4, finely_drawn_scene(40_000)), post(5, finely_drawn_scene(40_000))]);
+    wait_status(&server, "reading", 2);
     for path in ["/", "/js/main.js", "/api/status", "/api/examples", "/api/examples/k1_table"] {
         let start = Instant::now();
         let status = agent().get(server.at(path)).call().unwrap().status().as_u16();

@@ -96,6 +96,7 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
         "version": env!("CARGO_PKG_VERSION"),
         "running": jobs.running(),
         "queued": jobs.waiting(),
+        "reading": jobs.reading(),
         "threads": jobs.pool.current_num_threads(),
         "limits": {
             "running": limits.running,
@@ -290,7 +291,8 @@ pub async fn design(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<DesignFile>, ApiError> {
-    let input = DesignInput::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let input = state.jobs.read(move || DesignInput::parse(&text)).await?;
     let file = state.jobs.run(Kind::Design, &client, Work::DESIGN, move |flag| input.design(flag, |_| {})).await?;
     Ok(Json(file))
 }
@@ -332,7 +334,8 @@ pub async fn design_stream(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let input = DesignInput::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let input = state.jobs.read(move || DesignInput::parse(&text)).await?;
     let warnings: Vec<Value> =
         input.problem.warnings.iter().filter_map(|w| serde_json::to_value(issue_json("", w)).ok()).collect();
     let ticket = state.jobs.admit(Kind::Design, &client)?;
@@ -410,7 +413,8 @@ pub async fn check(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Value>, ApiError> {
-    let request = Compound::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Compound::parse(&text)).await?;
     let violations = match travel_violation(&request.design) {
         Some(v) => vec![v],
         None => {
@@ -427,7 +431,8 @@ pub async fn simulate(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Value>, ApiError> {
-    let request = Compound::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Compound::parse(&text)).await?;
     let which = request.which()?;
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
     let simulation = move |_: &Arc<StopFlag>| {
@@ -449,7 +454,8 @@ pub async fn render(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let request = Compound::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Compound::parse(&text)).await?;
     let kind = match request.fields.get("kind").and_then(Value::as_str).unwrap_or("animation") {
         "design" => "design",
         "animation" => "animation",

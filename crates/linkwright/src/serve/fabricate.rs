@@ -169,7 +169,8 @@ pub async fn fabricate(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Answer>, ApiError> {
-    let request = Request::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Request::parse(&text)).await?;
     // A client that hangs up while the job waits in line frees its place at once. A running
     // fabrication cannot be stopped midway (the library has no cancellation hook); it finishes, still
     // counted as running, and its answer is dropped.

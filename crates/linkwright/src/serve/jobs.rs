@@ -134,6 +134,8 @@ pub struct Jobs {
     slots: Arc<Semaphore>,
     waiting: Arc<AtomicUsize>,
     clients: Mutex<HashMap<(Kind, String), ClientSlot>>,
+    /// Requests being read and validated (see [`Jobs::read`]), at most [`Limits::running`] at once.
+    reading: Arc<Semaphore>,
     /// Every job's flag, so a shutdown can stop them all.
     all: Mutex<Vec<std::sync::Weak<StopFlag>>>,
     pub pool: Arc<rayon::ThreadPool>,
@@ -229,6 +231,7 @@ impl Jobs {
             slots: Arc::new(Semaphore::new(limits.running.max(1))),
             waiting: Arc::new(AtomicUsize::new(0)),
             clients: Mutex::new(HashMap::new()),
+            reading: Arc::new(Semaphore::new(limits.running.max(1))),
             all: Mutex::new(Vec::new()),
             pool: Arc::new(pool),
         }
@@ -283,6 +286,51 @@ impl Jobs {
             all.push(Arc::downgrade(&flag));
         }
         Ok(Ticket { flag, client_lock, slots: self.slots.clone(), waiting })
+    }
+
+    /// Requests being read and validated now.
+    pub fn reading(&self) -> usize {
+        self.limits.running.max(1) - self.reading.available_permits()
+    }
+
+    /// Parses and validates a request body with `read`, off the async threads: validating a scene of
+    /// tens of thousands of vertices takes seconds, and on the async threads it would hold up every
+    /// other request. At most [`Limits::running`] requests are read at once (each holds its place until
+    /// its computation ends, even when the request gave up), and a request waits and reads at most the
+    /// deadline. Bad input is answered from here, without waiting in the job queue.
+    pub async fn read<T: Send + 'static>(
+        &self,
+        read: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+    ) -> Result<T, ApiError> {
+        let deadline = self.limits.deadline;
+        let seconds = deadline.as_secs_f64();
+        let busy = || {
+            let message =
+                format!("the server is busy: the request waited {seconds} s to be read; try again in a moment");
+            ApiError::new(StatusCode::SERVICE_UNAVAILABLE, message).retry_after(2)
+        };
+        let permit = match tokio::time::timeout(deadline, self.reading.clone().acquire_owned()).await {
+            Ok(Ok(permit)) => permit,
+            _ => return Err(busy()),
+        };
+        let reading = tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            read()
+        });
+        match tokio::time::timeout(deadline, reading).await {
+            Ok(Ok(result)) => result,
+            Ok(Err(_)) => Err(ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "internal error: reading the request failed; please report it",
+            )),
+            Err(_) => Err(ApiError::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                format!(
+                    "reading and checking the request took longer than this server's limit of {seconds} s: send \
+                     smaller shapes (fewer vertices), or use the command line, which has no time limit"
+                ),
+            )),
+        }
     }
 
     /// Runs `work` on the pool as the job that holds `running`, and waits for its result at most
