@@ -569,3 +569,207 @@ fn fabrication_names_bad_settings_and_designs_it_cannot_make() {
     assert_error(status, &body, 422);
     assert!(body["error"].as_str().unwrap().contains("no linkage to fabricate"), "{body}");
 }
+
+/// The garbage truck with its moving body scaled to `across_mm` millimetres across (its poses and the
+/// rest of the scene as they are): a scene that parses, and is heavy for the print pre-check.
+fn huge_body_scene(across_mm: f64) -> Value {
+    let mut scene = quick_garbage_truck(1000, 1);
+    let polygon = scene["moving_bodies"][0]["polygon"].as_array().unwrap().clone();
+    let width = polygon.iter().map(|p| p[0].as_f64().unwrap()).fold(0.0, f64::max);
+    let scale = across_mm / width;
+    let scaled: Vec<Value> =
+        polygon.iter().map(|p| json!([p[0].as_f64().unwrap() * scale, p[1].as_f64().unwrap() * scale])).collect();
+    scene["moving_bodies"][0]["polygon"] = json!(scaled);
+    scene
+}
+
+/// The garbage truck with one more fixed body, a circle drawn with `vertices` vertices: a scene whose
+/// validation takes seconds.
+fn finely_drawn_scene(vertices: usize) -> Value {
+    let mut scene = quick_garbage_truck(300, 1);
+    let circle: Vec<Value> = (0..vertices)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / vertices as f64;
+            json!([400.0 + 50.0 * a.cos(), 400.0 + 50.0 * a.sin()])
+        })
+        .collect();
+    scene["fixed_bodies"].as_array_mut().unwrap().push(json!({"name": "fine", "polygon": circle}));
+    scene
+}
+
+/// `host:port` of the server.
+fn host(server: &Server) -> String {
+    server.url.trim_start_matches("http://").trim_end_matches('/').to_string()
+}
+
+/// The server still answers `/api/status` (it was neither killed nor frozen).
+fn assert_alive(server: &Server) {
+    let (status, body) = get(server, "/api/status");
+    assert_eq!(status, 200, "{body}");
+}
+
+#[test]
+fn a_body_announced_over_the_limit_is_refused_before_it_is_sent() {
+    let server = Server::start(&[]);
+    let host = host(&server);
+    let mut stream = std::net::TcpStream::connect(&host).unwrap();
+    // Only the head: a server that waits for the announced petabyte never answers before the timeout.
+    stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    let head = format!(
+        "POST /api/design HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nContent-Length: 1000000000000000\r\n\r\n"
+    );
+    std::io::Write::write_all(&mut stream, head.as_bytes()).unwrap();
+    let mut answer = Vec::new();
+    let read = stream.read_to_end(&mut answer);
+    let answer = String::from_utf8_lossy(&answer);
+    assert!(read.is_ok(), "the server closes the connection after its answer: {read:?}, {answer}");
+    assert!(answer.starts_with("HTTP/1.1 413"), "{answer}");
+    assert!(answer.to_ascii_lowercase().contains("connection: close"), "{answer}");
+    let body: Value = serde_json::from_str(&answer[answer.find('{').unwrap()..]).expect("a JSON body");
+    assert_error(413, &body, 413);
+    assert!(body["error"].as_str().unwrap().contains("1000000000000000 bytes"), "{body}");
+    assert_alive(&server);
+}
+
+/// Reads from `stream` until the server closes it, and returns what it sent and how long it took;
+/// panics when it is still open after `within`.
+fn read_until_closed(mut stream: std::net::TcpStream, within: Duration) -> (String, Duration) {
+    let start = Instant::now();
+    stream.set_read_timeout(Some(within)).unwrap();
+    let mut answer = Vec::new();
+    match stream.read_to_end(&mut answer) {
+        // A reset (the server closed with unread bytes) is a close too.
+        Ok(_) | Err(_) if start.elapsed() < within => {}
+        other => panic!("still open after {within:?}: {other:?}, {}", String::from_utf8_lossy(&answer)),
+    }
+    (String::from_utf8_lossy(&answer).into_owned(), start.elapsed())
+}
+
+#[test]
+fn idle_and_half_sent_connections_are_closed_by_the_server() {
+    let server = Server::start(&[]);
+    let (status, body) = get(&server, "/api/status");
+    assert_eq!(status, 200);
+    let header_seconds = body["limits"]["header_seconds"].as_f64().unwrap();
+    let body_seconds = body["limits"]["body_seconds"].as_f64().unwrap();
+    assert!(header_seconds > 0.0 && header_seconds <= 30.0 && body_seconds > 0.0 && body_seconds <= 60.0, "{body}");
+    // Generous margins: the machine is slow and shared.
+    let head_bound = Duration::from_secs_f64(header_seconds + 15.0);
+    let body_bound = Duration::from_secs_f64(body_seconds + 15.0);
+    let host = host(&server);
+    let connect = || std::net::TcpStream::connect(&host).unwrap();
+    let send =
+        |stream: &mut std::net::TcpStream, text: &str| std::io::Write::write_all(stream, text.as_bytes()).unwrap();
+
+    let silent = connect();
+    let mut half_head = connect();
+    send(&mut half_head, &format!("POST /api/design HTTP/1.1\r\nHost: {host}\r\nContent-Le"));
+    let mut half_body = connect();
+    send(
+        &mut half_body,
+        &format!("POST /api/design HTTP/1.1\r\nHost: {host}\r\nContent-Length: 1000\r\n\r\n{{\"linkw"),
+    );
+    // A kept-alive connection after one answer.
+    let mut kept = connect();
+    send(&mut kept, &format!("GET /api/status HTTP/1.1\r\nHost: {host}\r\n\r\n"));
+
+    let checks = [
+        std::thread::spawn(move || ("silent", read_until_closed(silent, head_bound))),
+        std::thread::spawn(move || ("half head", read_until_closed(half_head, head_bound))),
+        std::thread::spawn(move || ("half body", read_until_closed(half_body, body_bound))),
+        std::thread::spawn(move || ("kept alive", read_until_closed(kept, head_bound))),
+    ];
+    for check in checks {
+        let (name, (answer, _)) = check.join().unwrap();
+        match name {
+            "half body" => {
+                assert!(answer.starts_with("HTTP/1.1 408"), "{name}: {answer}");
+                assert!(answer.contains("did not arrive within"), "{name}: {answer}");
+            }
+            "kept alive" => assert!(answer.starts_with("HTTP/1.1 200"), "{name}: {answer}"),
+            // Nothing to answer, or a 408 for the unfinished head.
+            _ => assert!(answer.is_empty() || answer.starts_with("HTTP/1.1 408"), "{name}: {answer}"),
+        }
+    }
+    assert_alive(&server);
+}
+
+#[test]
+fn a_job_past_its_deadline_is_stopped_with_an_answer_that_says_what_to_change() {
+    let server = Server::start(&["--job-seconds", "2"]);
+    let (_, status) = get(&server, "/api/status");
+    assert_eq!(status["limits"]["job_seconds"], 2.0, "{status}");
+    // Far more samples than two seconds allow.
+    let big = quick_garbage_truck(5_000_000, 1);
+    let start = Instant::now();
+    let (status, body) = post(&server, "/api/design", &big);
+    assert_error(status, &body, 503);
+    let message = body["error"].as_str().unwrap();
+    assert!(message.contains("limit of 2 s") && message.contains("settings.samples"), "{message}");
+    assert!(start.elapsed() < Duration::from_secs(30), "answered at the deadline, took {:?}", start.elapsed());
+    // The synthesis itself stopped: the slot is free again.
+    wait_idle(&server, Duration::from_secs(15));
+
+    // The stream ends with an error event that says the same.
+    let events: Vec<(String, Value)> = stream(&server, &big, "streamer").collect();
+    let (name, data) = events.last().expect("events");
+    assert_eq!(name, "error", "{events:?}");
+    assert!(data["error"].as_str().unwrap().contains("limit of 2 s"), "{data}");
+    wait_idle(&server, Duration::from_secs(15));
+}
+
+#[test]
+fn inputs_that_used_to_kill_the_server_are_refused_and_it_lives_on() {
+    let server = Server::start(&["--job-seconds", "20"]);
+    let (scene, design) = quick_design(&server);
+    // A crank travel of a billion degrees asked the fabrication for gigabytes, and the process died on
+    // the failed allocation; 1e18 degrees was a 500.
+    for travel in [1e9, 1e18] {
+        let mut far = design.clone();
+        far["motion"]["crank_end_deg"] = json!(travel);
+        let (status, body) = post(&server, "/api/fabricate", &json!({"scene": scene, "design": far}));
+        assert!((400..500).contains(&status), "travel {travel}: {status} {body}");
+        assert!(body["error"].as_str().is_some_and(|e| !e.is_empty()), "{body}");
+        assert_alive(&server);
+    }
+    // A body 1e8 mm across: refused by validation (4xx), or stopped at the job's deadline (503).
+    let (status, body) = post(&server, "/api/design", &huge_body_scene(1e8));
+    assert!((400..500).contains(&status) || status == 503, "{status} {body}");
+    assert_alive(&server);
+}
+
+#[test]
+fn heavy_designs_in_flight_do_not_hold_up_the_apps_own_files() {
+    let server = Server::start(&["--job-seconds", "20"]);
+    let post = |i: usize, scene: Value| {
+        let url = server.at("/api/design");
+        std::thread::spawn(move || {
+            let response = agent().post(url).header("x-linkwright-client", format!("heavy{i}")).send(scene.to_string());
+            call(response).0
+        })
+    };
+    // Two clients post scenes with a body 10 km across (whose print pre-check took 45 s and froze every
+    // other request), two others designs with far more samples than the test waits for; then two more
+    // post scenes whose validation takes seconds.
+    let mut posters = vec![
+        post(0, huge_body_scene(1e7)),
+        post(1, huge_body_scene(1e7)),
+        post(2, quick_garbage_truck(5_000_000, 1)),
+        post(3, quick_garbage_truck(5_000_000, 2)),
+    ];
+    wait_status(&server, "running", 2);
+    posters.extend([post(4, finely_drawn_scene(40_000)), post(5, finely_drawn_scene(40_000))]);
+    wait_status(&server, "reading", 2);
+    for path in ["/", "/js/main.js", "/api/status", "/api/examples", "/api/examples/k1_table"] {
+        let start = Instant::now();
+        let status = agent().get(server.at(path)).call().unwrap().status().as_u16();
+        assert_eq!(status, 200, "{path}");
+        // Generous for a slow, shared machine; the frozen server took 42 s.
+        assert!(start.elapsed() < Duration::from_secs(5), "{path} took {:?}", start.elapsed());
+    }
+    for poster in posters {
+        let status = poster.join().unwrap();
+        assert!((400..500).contains(&status) || status == 503, "{status}");
+    }
+    assert_alive(&server);
+}

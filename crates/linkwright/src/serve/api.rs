@@ -1,10 +1,11 @@
 //! The API handlers (documented in `docs/api.md`). Every request body is read as text, parsed with
-//! path-aware errors and validated before any work starts; heavy work runs on the job table's pool.
+//! path-aware errors and validated before any work starts; heavy work runs as a job (see
+//! [`super::jobs`]) on the job table's pool, never on the async threads.
 
 use super::assets::{example_summaries, example_text, ExampleSummary};
 use super::bundles::{Bundles, Limits as BundleLimits};
 use super::error::{issue_json, ApiError};
-use super::jobs::{JobObserver, Jobs, Kind, StopOnDrop, StopReason};
+use super::jobs::{JobEnd, JobObserver, Jobs, Kind, StopFlag, StopOnDrop, StopReason, Work};
 use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, PathRejection};
 use axum::extract::{ConnectInfo, FromRequestParts, Path, State};
@@ -95,8 +96,18 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
         "version": env!("CARGO_PKG_VERSION"),
         "running": jobs.running(),
         "queued": jobs.waiting(),
+        "reading": jobs.reading(),
         "threads": jobs.pool.current_num_threads(),
-        "limits": {"running": limits.running, "queued": limits.queued, "body_bytes": MAX_BODY},
+        "limits": {
+            "running": limits.running,
+            "queued": limits.queued,
+            "job_seconds": limits.deadline.as_secs_f64(),
+            "body_bytes": MAX_BODY,
+            "printed_body_mm": MAX_PRINTED_BODY_MM,
+            "body_seconds": super::connections::BODY_READ_TIMEOUT.as_secs_f64(),
+            "header_seconds": super::connections::HEADER_READ_TIMEOUT.as_secs_f64(),
+            "connections": super::connections::MAX_CONNECTIONS,
+        },
     }))
 }
 
@@ -119,16 +130,47 @@ fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
     Ok((scene, problem))
 }
 
-/// The check that designs print with `settings`, when the scene's units are known.
-fn printable_in(scene: &Scene, problem: &Problem, settings: &PrintSettings) -> Option<FeasibilityCheck> {
-    millimetres_per_unit(&scene.units).map(|mm| FeasibilityCheck::new(problem, settings, mm))
+/// The largest body the server builds printable parts or the print pre-check for, millimetres across.
+/// Their cost grows with the length of the outlines in millimetres (sampled every few millimetres): a
+/// body 10 km across took 45 s and 1.6 GB, 100 km asked for more memory than the computer has and the
+/// process died on the failed allocation, which no deadline can stop. 100 m is far beyond anything a
+/// printer makes, and costs well under a second.
+const MAX_PRINTED_BODY_MM: f64 = 100_000.0;
+
+/// Refuses a scene with a body too large for the print computations ([`MAX_PRINTED_BODY_MM`]), when
+/// its units are known (otherwise nothing is printed). `prefix` is the request field of the scene.
+pub(super) fn printable_size(problem: &Problem, units: &str, prefix: &str) -> Result<(), ApiError> {
+    let Some(mm) = millimetres_per_unit(units) else { return Ok(()) };
+    let across = |points: &mut dyn Iterator<Item = &linkwright_core::geom::Point>| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points {
+            lo = [lo[0].min(p.x), lo[1].min(p.y)];
+            hi = [hi[0].max(p.x), hi[1].max(p.y)];
+        }
+        (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0) * mm
+    };
+    // The fixed bodies are printed as one ground piece; each moving body on its own.
+    let ground = across(&mut problem.fixed.iter().flat_map(|p| p.vertices()));
+    let largest = problem.bodies.iter().map(|b| across(&mut b.outline.vertices().iter())).fold(ground, f64::max);
+    if largest <= MAX_PRINTED_BODY_MM {
+        return Ok(());
+    }
+    let message = format!(
+        "a body is {largest:.0} mm across; this server makes printable designs of bodies up to \
+         {MAX_PRINTED_BODY_MM:.0} mm (100 m) across: check the scene's units and sizes"
+    );
+    let field = if prefix.is_empty() { "units".to_string() } else { format!("{prefix}.units") };
+    Err(ApiError::unprocessable(format!("the scene is too large to print: {message}")).with_issue(field, message))
 }
 
-/// What a design request carries: the scene, and the mechanisms of an earlier design to start from.
+/// What a design request carries: the scene, the mechanisms of an earlier design to start from, and
+/// the print settings its designs must be printable with.
 struct DesignInput {
     problem: Problem,
+    /// The scene's `units` (the problem has none).
+    units: String,
     previous: Vec<Mechanism>,
-    printable: Option<FeasibilityCheck>,
+    settings: PrintSettings,
 }
 
 impl DesignInput {
@@ -142,12 +184,13 @@ impl DesignInput {
         let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
         let Some(scene) = wrapped else {
             let (scene, problem) = scene_of(text, "")?;
-            let printable = printable_in(&scene, &problem, &PrintSettings::default());
-            return Ok(DesignInput { problem, previous: Vec::new(), printable });
+            printable_size(&problem, &scene.units, "")?;
+            let settings = PrintSettings::default();
+            return Ok(DesignInput { problem, units: scene.units, previous: Vec::new(), settings });
         };
         let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
+        printable_size(&problem, &scene.units, "scene")?;
         let settings = super::fabricate::print_settings(value.get("print_settings"), "print_settings")?;
-        let printable = printable_in(&scene, &problem, &settings);
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
@@ -158,13 +201,23 @@ impl DesignInput {
                 all.filter_map(|m| m.to_mechanism().ok()).collect()
             }
         };
-        Ok(DesignInput { problem, previous, printable })
+        Ok(DesignInput { problem, units: scene.units, previous, settings })
     }
 
-    /// Designs start from the earlier design when there is one, and must be printable.
-    fn options(&self) -> Options<'_> {
+    /// Designs the scene, as a job: it stops at its next check once `flag` is set. Designs start from
+    /// the earlier design when there is one, and must be printable (when the scene's units are known).
+    fn design(&self, flag: &Arc<StopFlag>, on_progress: impl Fn(&Progress) + Sync) -> Result<DesignFile, ApiError> {
+        // The print pre-check is built here, inside the job, not while the request is parsed: for a
+        // large scene it is heavy, and it has no cancellation hook, so it must not run on the async
+        // threads that answer every other request.
+        let printable =
+            millimetres_per_unit(&self.units).map(|mm| FeasibilityCheck::new(&self.problem, &self.settings, mm));
         let start = if self.previous.is_empty() { Start::Cold } else { Start::Warm(&self.previous) };
-        Options { start, printable: self.printable.as_ref() }
+        let options = Options { start, printable: printable.as_ref() };
+        let observer = JobObserver { flag: flag.clone(), on_progress };
+        synthesize_with(&self.problem, &options, &observer)
+            .map(|outcome| DesignFile::from_outcome(&self.problem, &outcome))
+            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))
     }
 }
 
@@ -231,24 +284,6 @@ impl Compound {
     }
 }
 
-/// Runs blocking work off the async threads; a panic becomes a 500, never a dropped connection.
-pub(super) async fn blocking<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> Result<T, ApiError> {
-    tokio::task::spawn_blocking(work).await.map_err(|_| {
-        ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, "internal error: the computation failed; please report it")
-    })
-}
-
-/// The answer to a `what` job (design, fabrication) that was stopped before it finished.
-pub(super) fn stopped(what: &str, reason: Option<StopReason>) -> ApiError {
-    match reason {
-        Some(StopReason::Superseded) => ApiError::new(
-            StatusCode::CONFLICT,
-            format!("cancelled: a newer {what} request from the same client replaced it"),
-        ),
-        _ => ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
-    }
-}
-
 /// `POST /api/design`: scene/1 (or `{scene, from}`) in, design/1 out (a `no_solution` design is a 200
 /// too).
 pub async fn design(
@@ -256,23 +291,10 @@ pub async fn design(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<DesignFile>, ApiError> {
-    let input = DesignInput::parse(&body_text(body)?)?;
-    let ticket = state.jobs.admit(Kind::Design, &client)?;
-    // Lives as long as this request: a client that hangs up drops it, and the job stops.
-    let guard = StopOnDrop(ticket.flag.clone());
-    let flag = ticket.flag.clone();
-    let running = ticket.start().await.ok_or_else(|| stopped("design", flag.reason()))?;
-    let pool = state.jobs.pool.clone();
-    let job_flag = flag.clone();
-    let result = blocking(move || {
-        let _running = running;
-        let observer = JobObserver { flag: job_flag, on_progress: |_: &Progress| {} };
-        pool.install(|| synthesize_with(&input.problem, &input.options(), &observer))
-            .map(|outcome| DesignFile::from_outcome(&input.problem, &outcome))
-    })
-    .await?;
-    drop(guard);
-    result.map(Json).map_err(|_| stopped("design", flag.reason()))
+    let text = body_text(body)?;
+    let input = state.jobs.read(move || DesignInput::parse(&text)).await?;
+    let file = state.jobs.run(Kind::Design, &client, Work::DESIGN, move |flag| input.design(flag, |_| {})).await?;
+    Ok(Json(file))
 }
 
 /// What the design stream says, in order: accepted, maybe queued, started, progress..., then one of
@@ -312,41 +334,40 @@ pub async fn design_stream(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let input = DesignInput::parse(&body_text(body)?)?;
+    let text = body_text(body)?;
+    let input = state.jobs.read(move || DesignInput::parse(&text)).await?;
     let warnings: Vec<Value> =
         input.problem.warnings.iter().filter_map(|w| serde_json::to_value(issue_json("", w)).ok()).collect();
     let ticket = state.jobs.admit(Kind::Design, &client)?;
     let flag = ticket.flag.clone();
     let (tx, rx) = mpsc::channel::<Note>(64);
-    let pool = state.jobs.pool.clone();
+    let jobs = state.jobs.clone();
     tokio::spawn(async move {
         let _ = tx.send(Note::Accepted(warnings)).await;
         if !ticket.can_start_now() {
             let _ = tx.send(Note::Queued).await;
         }
         let flag = ticket.flag.clone();
-        let Some(running) = ticket.start().await else {
-            let _ = tx.send(cancelled_note(flag.reason())).await;
-            return;
+        let deadline = jobs.limits().deadline;
+        let running = match ticket.start_within(deadline).await {
+            Ok(running) => running,
+            Err(end) => {
+                let _ = tx.send(ended_note(end, deadline)).await;
+                return;
+            }
         };
         let _ = tx.send(Note::Started).await;
         let progress_tx = tx.clone();
-        let job_flag = flag.clone();
-        let result = blocking(move || {
-            let _running = running;
-            let on_progress = |p: &Progress| {
-                // A lagging client misses a report, never blocks the run.
-                let _ = progress_tx.try_send(Note::Progress(*p));
-            };
-            let observer = JobObserver { flag: job_flag, on_progress };
-            pool.install(|| synthesize_with(&input.problem, &input.options(), &observer))
-                .map(|outcome| DesignFile::from_outcome(&input.problem, &outcome))
-        })
-        .await;
-        let note = match result {
-            Ok(Ok(file)) => Note::Design(Box::new(file)),
-            Ok(Err(_)) => cancelled_note(flag.reason()),
-            Err(e) => Note::Failed(e.error),
+        let on_progress = move |p: &Progress| {
+            // A lagging client misses a report, never blocks the run.
+            let _ = progress_tx.try_send(Note::Progress(*p));
+        };
+        let result = jobs.execute(running, flag.clone(), move |flag| input.design(flag, on_progress)).await;
+        let note = match (result, flag.reason()) {
+            (Ok(Ok(file)), _) => Note::Design(Box::new(file)),
+            (Ok(Err(_)), Some(reason)) => ended_note(JobEnd::Stopped(reason), deadline),
+            (Ok(Err(e)), None) => Note::Failed(e.error),
+            (Err(end), _) => ended_note(end, deadline),
         };
         let _ = tx.send(note).await;
     });
@@ -361,15 +382,18 @@ pub async fn design_stream(
     Ok(Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(1))).into_response())
 }
 
-fn cancelled_note(reason: Option<StopReason>) -> Note {
-    Note::Cancelled(match reason {
-        Some(StopReason::Superseded) => "superseded by a newer design request",
-        _ => "cancelled",
-    })
+/// The last event of a design job that ended without a design: `cancelled` when the client replaced it
+/// or left, `error` (with what to change) when it ran out of time or failed.
+fn ended_note(end: JobEnd, deadline: Duration) -> Note {
+    match end {
+        JobEnd::Stopped(StopReason::Superseded) => Note::Cancelled("superseded by a newer design request"),
+        JobEnd::Stopped(StopReason::ClientGone) => Note::Cancelled("cancelled"),
+        end => Note::Failed(Work::DESIGN.error(end, deadline).error),
+    }
 }
 
 /// A crank travel a re-simulation can afford: finite, and shorter than a turn.
-fn travel_violation(design: &DesignFile) -> Option<Violation> {
+pub(super) fn travel_violation(design: &DesignFile) -> Option<Violation> {
     let travels = design.motion.iter().chain(design.alternatives.iter().map(|a| &a.motion));
     travels
         .filter(|m| {
@@ -384,35 +408,54 @@ fn travel_violation(design: &DesignFile) -> Option<Violation> {
 }
 
 /// `POST /api/check`: `{scene, design}` in, `{ok, violations}` out.
-pub async fn check(body: Result<Bytes, BytesRejection>) -> Result<Json<Value>, ApiError> {
-    let request = Compound::parse(&body_text(body)?)?;
+pub async fn check(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<Value>, ApiError> {
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Compound::parse(&text)).await?;
     let violations = match travel_violation(&request.design) {
         Some(v) => vec![v],
-        None => blocking(move || request.design.violations(&request.problem)).await?,
+        None => {
+            let check = move |_: &Arc<StopFlag>| Ok(request.design.violations(&request.problem));
+            state.jobs.run(Kind::Analysis, &client, Work::CHECK, check).await?
+        }
     };
     Ok(Json(json!({"ok": violations.is_empty(), "violations": violations})))
 }
 
 /// `POST /api/simulate`: `{scene, design, alternative?, steps?}` in, the motion analysis out.
-pub async fn simulate(body: Result<Bytes, BytesRejection>) -> Result<Json<Value>, ApiError> {
-    let request = Compound::parse(&body_text(body)?)?;
+pub async fn simulate(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<Value>, ApiError> {
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Compound::parse(&text)).await?;
     let which = request.which()?;
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
-    let analysis = blocking(move || {
+    let simulation = move |_: &Arc<StopFlag>| {
         analyze(&request.problem, &request.design, which, &AnalysisOptions::default().with_steps(steps))
             .map(|a| serde_json::to_value(a).unwrap_or(Value::Null))
-    })
-    .await?
-    .map_err(|e| {
-        ApiError::unprocessable(format!("the design cannot be simulated: {e}")).with_issue("design", e.to_string())
-    })?;
+            .map_err(|e| {
+                ApiError::unprocessable(format!("the design cannot be simulated: {e}"))
+                    .with_issue("design", e.to_string())
+            })
+    };
+    let analysis = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, simulation).await?;
     Ok(Json(analysis))
 }
 
 /// `POST /api/render`: `{scene, design, alternative?, kind: "design" | "animation", seconds?}` in,
 /// the picture (SVG) out, as a download.
-pub async fn render(body: Result<Bytes, BytesRejection>) -> Result<Response, ApiError> {
-    let request = Compound::parse(&body_text(body)?)?;
+pub async fn render(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Compound::parse(&text)).await?;
     let kind = match request.fields.get("kind").and_then(Value::as_str).unwrap_or("animation") {
         "design" => "design",
         "animation" => "animation",
@@ -428,7 +471,7 @@ pub async fn render(body: Result<Bytes, BytesRejection>) -> Result<Response, Api
                 .with_issue("seconds", "must be a number from 0 to 600")
         })?,
     };
-    let svg = blocking(move || {
+    let picture = move |_: &Arc<StopFlag>| {
         let replay = request.replay(720)?;
         let input = RenderInput {
             problem: &request.problem,
@@ -436,9 +479,9 @@ pub async fn render(body: Result<Bytes, BytesRejection>) -> Result<Response, Api
             trace: &replay.trace,
             pose_steps: &replay.pose_rows,
         };
-        Ok::<String, ApiError>(if kind == "design" { design_svg(&input) } else { animation_svg(&input, seconds) })
-    })
-    .await??;
+        Ok(if kind == "design" { design_svg(&input) } else { animation_svg(&input, seconds) })
+    };
+    let svg = state.jobs.run(Kind::Analysis, &client, Work::PICTURE, picture).await?;
     let disposition = format!("attachment; filename=\"{kind}.svg\"");
     Ok(([(header::CONTENT_TYPE, "image/svg+xml".to_string()), (header::CONTENT_DISPOSITION, disposition)], svg)
         .into_response())

@@ -2,10 +2,10 @@
 //! The files stay in memory (see [`super::bundles`]); the answer lists them with the report and what
 //! the 3D preview needs.
 
-use super::api::{blocking, body_text, stopped, AppState, Client, Compound};
+use super::api::{body_text, printable_size, travel_violation, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
 use super::error::{join_field, ApiError};
-use super::jobs::{Kind, StopOnDrop};
+use super::jobs::{Kind, StopFlag, Work};
 use super::preview::{preview, Preview};
 use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, PathRejection};
@@ -21,6 +21,7 @@ use linkwright_core::fab::{fabricate_design_or_alternative, sanitize, FabError, 
 use linkwright_core::scene::Problem;
 use serde::Serialize;
 use serde_json::Value;
+use std::sync::Arc;
 
 /// What a fabrication request asks for, checked.
 struct Request {
@@ -41,9 +42,16 @@ impl Request {
         let settings = print_settings(compound.fields.get("settings"), "settings")?;
         let which = compound.which()?;
         let Compound { problem, units, mut design, .. } = compound;
+        printable_size(&problem, &units, "scene")?;
         if design.mechanism.is_none() {
             let message = "the design has no linkage to fabricate (it found no solution): design one first";
             return Err(ApiError::unprocessable(message).with_issue("design.mechanism", message));
+        }
+        // The motion is simulated again in 1° steps: a travel of a billion degrees would ask for
+        // gigabytes (and kill the server on the failed allocation) before any check of the library.
+        if let Some(v) = travel_violation(&design) {
+            return Err(ApiError::unprocessable(format!("cannot fabricate this design: {}", v.message))
+                .with_issue("design.motion", v.message));
         }
         let (offset, design) = match which {
             Which::Best => (0, design),
@@ -161,21 +169,13 @@ pub async fn fabricate(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Answer>, ApiError> {
-    let request = Request::parse(&body_text(body)?)?;
-    let ticket = state.jobs.admit(Kind::Fabrication, &client)?;
+    let text = body_text(body)?;
+    let request = state.jobs.read(move || Request::parse(&text)).await?;
     // A client that hangs up while the job waits in line frees its place at once. A running
-    // fabrication cannot be stopped midway (the library has no cancellation hook); it finishes and its
-    // answer is dropped.
-    let guard = StopOnDrop(ticket.flag.clone());
-    let flag = ticket.flag.clone();
-    let running = ticket.start().await.ok_or_else(|| stopped("fabrication", flag.reason()))?;
-    let pool = state.jobs.pool.clone();
-    let made = blocking(move || {
-        let _running = running;
-        pool.install(|| request.make())
-    })
-    .await??;
-    drop(guard);
+    // fabrication cannot be stopped midway (the library has no cancellation hook); it finishes, still
+    // counted as running, and its answer is dropped.
+    let make = move |_: &Arc<StopFlag>| request.make();
+    let made = state.jobs.run(Kind::Fabrication, &client, Work::FABRICATION, make).await?;
     let Made { used, report, preview, stored } = made;
     let (id, stored) = state.bundles.insert(stored);
     let entry = |name: &str, bytes: &Bytes| FileEntry {

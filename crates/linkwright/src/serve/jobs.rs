@@ -1,14 +1,18 @@
-//! Heavy jobs (designs and fabrications) are bounded: a few run at once on one shared thread pool, a
-//! short queue waits, anything beyond is refused; each client has at most one job of a kind (a new one
-//! replaces the old); and a job stops at its next check when its client goes away.
+//! Every CPU-heavy request (a design with its print pre-check, a fabrication, a check, a simulation, a
+//! picture) runs as a job: a few run at once on one shared thread pool, off the async threads that
+//! answer every other request; a short queue waits, anything beyond is refused; each client has at most
+//! one job of a kind; a job waits in line and runs for a bounded time (its deadline); and a job stops at
+//! its next check when its client goes away.
 
 use super::error::ApiError;
 use axum::http::StatusCode;
 use linkwright_core::synth::{Observer, Progress};
 use std::collections::HashMap;
+use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use tokio::sync::{Notify, OwnedMutexGuard, OwnedSemaphorePermit, Semaphore};
+use std::time::Duration;
+use tokio::sync::{oneshot, Notify, OwnedMutexGuard, OwnedSemaphorePermit, Semaphore};
 
 /// Why a job should stop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -17,6 +21,8 @@ pub enum StopReason {
     ClientGone,
     /// The same client started a newer job.
     Superseded,
+    /// The job ran longer than [`Limits::deadline`].
+    Deadline,
 }
 
 /// A job's stop flag, shared by the request, the worker and the job table. The worker polls it; a job
@@ -31,12 +37,14 @@ impl StopFlag {
     const GO: u8 = 0;
     const GONE: u8 = 1;
     const SUPERSEDED: u8 = 2;
+    const DEADLINE: u8 = 3;
 
     /// Asks the job to stop; the first reason given is kept.
     pub fn stop(&self, reason: StopReason) {
         let code = match reason {
             StopReason::ClientGone => Self::GONE,
             StopReason::Superseded => Self::SUPERSEDED,
+            StopReason::Deadline => Self::DEADLINE,
         };
         if self.code.compare_exchange(Self::GO, code, Ordering::SeqCst, Ordering::SeqCst).is_ok() {
             self.stopped.notify_waiters();
@@ -46,6 +54,7 @@ impl StopFlag {
         match self.code.load(Ordering::SeqCst) {
             Self::GONE => Some(StopReason::ClientGone),
             Self::SUPERSEDED => Some(StopReason::Superseded),
+            Self::DEADLINE => Some(StopReason::Deadline),
             _ => None,
         }
     }
@@ -62,11 +71,23 @@ impl Drop for StopOnDrop {
     }
 }
 
-/// What a job does. A client has at most one job of each kind: a fabrication does not stop its design.
+/// What a job does. A client has at most one job of each kind running: a fabrication does not stop
+/// its design.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {
     Design,
     Fabrication,
+    /// A check, a simulation or a picture of a design: short, so none of them replaces another; the
+    /// same client's analyses run one after the other.
+    Analysis,
+}
+
+impl Kind {
+    /// True when a newer job of this kind from the same client replaces the older one: only the answer
+    /// to the latest design or fabrication matters to the app (a pose dragged, settings changed).
+    fn supersedes(self) -> bool {
+        matches!(self, Kind::Design | Kind::Fabrication)
+    }
 }
 
 /// Limits of the job table.
@@ -76,12 +97,29 @@ pub struct Limits {
     pub running: usize,
     /// Jobs waiting for a free slot; more are refused with 503. Default 4.
     pub queued: usize,
+    /// How long a job may run, and also how long it may wait in line for a slot. Default 60 s: the
+    /// bundled examples design in well under 5 s with their own settings, so a minute leaves room for
+    /// ten times the samples on a slow, shared machine, while every request is answered within two
+    /// minutes at worst (a minute in line, a minute running). Work that needs longer belongs to the
+    /// command line, which has no deadline.
+    pub deadline: Duration,
 }
 
 impl Default for Limits {
     fn default() -> Self {
-        Limits { running: 2, queued: 4 }
+        Limits { running: 2, queued: 4, deadline: Duration::from_secs(60) }
     }
+}
+
+/// How a job ended without its result.
+#[derive(Debug, PartialEq, Eq)]
+pub enum JobEnd {
+    /// It was stopped (see [`StopFlag`]), before it started or while it ran.
+    Stopped(StopReason),
+    /// It waited [`Limits::deadline`] in line without getting a slot.
+    WaitedTooLong,
+    /// The computation panicked (a bug: the panic is caught so the server and its pool live on).
+    Panicked,
 }
 
 /// One client's slot: its lock (held by its running job) and the flag of its latest job.
@@ -96,9 +134,72 @@ pub struct Jobs {
     slots: Arc<Semaphore>,
     waiting: Arc<AtomicUsize>,
     clients: Mutex<HashMap<(Kind, String), ClientSlot>>,
+    /// Requests being read and validated (see [`Jobs::read`]), at most [`Limits::running`] at once.
+    reading: Arc<Semaphore>,
     /// Every job's flag, so a shutdown can stop them all.
     all: Mutex<Vec<std::sync::Weak<StopFlag>>>,
     pub pool: Arc<rayon::ThreadPool>,
+}
+
+/// The work of a job as the answers name it, with what to change when it runs out of time.
+#[derive(Clone, Copy, Debug)]
+pub struct Work {
+    /// `design`, `fabrication`, ...
+    pub noun: &'static str,
+    /// What to change when it takes longer than the deadline.
+    pub advice: &'static str,
+}
+
+impl Work {
+    pub const DESIGN: Work = Work {
+        noun: "design",
+        advice: "ask for less (fewer settings.samples, fewer poses or moving bodies), check that the scene's \
+                 units and sizes are what you meant, or run `linkwright design` on the command line, which \
+                 has no time limit",
+    };
+    pub const FABRICATION: Work = Work {
+        noun: "fabrication",
+        advice: "check that the scene's units and sizes and the print settings are what you meant, or run \
+                 `linkwright fabricate` on the command line, which has no time limit",
+    };
+    pub const CHECK: Work = Work { noun: "check", advice: "check that the scene's units and sizes are what you meant" };
+    pub const SIMULATION: Work = Work {
+        noun: "simulation",
+        advice: "ask for fewer steps, and check that the scene's units and sizes are what you meant",
+    };
+    pub const PICTURE: Work =
+        Work { noun: "picture", advice: "check that the scene's units and sizes are what you meant" };
+
+    /// The answer to this work when its job ended without a result.
+    pub fn error(self, end: JobEnd, deadline: Duration) -> ApiError {
+        let seconds = deadline.as_secs_f64();
+        match end {
+            JobEnd::Stopped(StopReason::Superseded) => ApiError::new(
+                StatusCode::CONFLICT,
+                format!("cancelled: a newer {} request from the same client replaced it", self.noun),
+            ),
+            JobEnd::Stopped(StopReason::ClientGone) => ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
+            JobEnd::Stopped(StopReason::Deadline) => ApiError::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                format!(
+                    "the {} ran longer than this server's limit of {seconds} s per job and was stopped: {}",
+                    self.noun, self.advice
+                ),
+            ),
+            JobEnd::WaitedTooLong => ApiError::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                format!(
+                    "the server is busy: the {} waited {seconds} s for a free slot; try again in a moment",
+                    self.noun
+                ),
+            )
+            .retry_after(2),
+            JobEnd::Panicked => ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                format!("internal error: the {} failed; please report it", self.noun),
+            ),
+        }
+    }
 }
 
 /// Admission to the queue: the job's flag and its place in line.
@@ -130,6 +231,7 @@ impl Jobs {
             slots: Arc::new(Semaphore::new(limits.running.max(1))),
             waiting: Arc::new(AtomicUsize::new(0)),
             clients: Mutex::new(HashMap::new()),
+            reading: Arc::new(Semaphore::new(limits.running.max(1))),
             all: Mutex::new(Vec::new()),
             pool: Arc::new(pool),
         }
@@ -173,7 +275,9 @@ impl Jobs {
         let slot = clients
             .entry((kind, client.to_string()))
             .or_insert_with(|| ClientSlot { lock: Arc::default(), latest: Arc::new(StopFlag::default()) });
-        slot.latest.stop(StopReason::Superseded);
+        if kind.supersedes() {
+            slot.latest.stop(StopReason::Superseded);
+        }
         slot.latest = flag.clone();
         let client_lock = slot.lock.clone();
         drop(clients);
@@ -182,6 +286,117 @@ impl Jobs {
             all.push(Arc::downgrade(&flag));
         }
         Ok(Ticket { flag, client_lock, slots: self.slots.clone(), waiting })
+    }
+
+    /// Requests being read and validated now.
+    pub fn reading(&self) -> usize {
+        self.limits.running.max(1) - self.reading.available_permits()
+    }
+
+    /// Parses and validates a request body with `read`, off the async threads: validating a scene of
+    /// tens of thousands of vertices takes seconds, and on the async threads it would hold up every
+    /// other request. At most [`Limits::running`] requests are read at once (each holds its place until
+    /// its computation ends, even when the request gave up), and a request waits and reads at most the
+    /// deadline. Bad input is answered from here, without waiting in the job queue.
+    pub async fn read<T: Send + 'static>(
+        &self,
+        read: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+    ) -> Result<T, ApiError> {
+        let deadline = self.limits.deadline;
+        let seconds = deadline.as_secs_f64();
+        let busy = || {
+            let message =
+                format!("the server is busy: the request waited {seconds} s to be read; try again in a moment");
+            ApiError::new(StatusCode::SERVICE_UNAVAILABLE, message).retry_after(2)
+        };
+        let permit = match tokio::time::timeout(deadline, self.reading.clone().acquire_owned()).await {
+            Ok(Ok(permit)) => permit,
+            _ => return Err(busy()),
+        };
+        let reading = tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            read()
+        });
+        match tokio::time::timeout(deadline, reading).await {
+            Ok(Ok(result)) => result,
+            Ok(Err(_)) => Err(ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "internal error: reading the request failed; please report it",
+            )),
+            Err(_) => Err(ApiError::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                format!(
+                    "reading and checking the request took longer than this server's limit of {seconds} s: send \
+                     smaller shapes (fewer vertices), or use the command line, which has no time limit"
+                ),
+            )),
+        }
+    }
+
+    /// Runs `work` on the pool as the job that holds `running`, and waits for its result at most
+    /// [`Limits::deadline`]. At the deadline the job's flag is set, so work that checks it stops; work
+    /// that cannot check it (the print pre-check, a fabrication) finishes on its thread, still holding
+    /// its slot so the pool is never asked for more than the limits allow, and its result is dropped.
+    /// The wait also ends at once when the flag is set for another reason (the client went away or
+    /// replaced the job): nobody wants the answer any more.
+    pub async fn execute<T: Send + 'static>(
+        &self,
+        running: Running,
+        flag: Arc<StopFlag>,
+        work: impl FnOnce(&Arc<StopFlag>) -> T + Send + 'static,
+    ) -> Result<T, JobEnd> {
+        let (tx, rx) = oneshot::channel();
+        let job_flag = flag.clone();
+        self.pool.spawn(move || {
+            let _running = running;
+            if job_flag.reason().is_some() {
+                return;
+            }
+            // A panic in a rayon task would abort the whole process; here it is this job's failure.
+            let result = std::panic::catch_unwind(AssertUnwindSafe(|| work(&job_flag)));
+            let _ = tx.send(result.map_err(|_| JobEnd::Panicked));
+        });
+        let stopped = flag.stopped.notified();
+        tokio::pin!(stopped);
+        stopped.as_mut().enable();
+        let reason = || flag.reason().unwrap_or(StopReason::ClientGone);
+        if flag.reason().is_some() {
+            return Err(JobEnd::Stopped(reason()));
+        }
+        tokio::select! {
+            result = rx => result.unwrap_or_else(|_| Err(JobEnd::Stopped(reason()))),
+            () = tokio::time::sleep(self.limits.deadline) => {
+                flag.stop(StopReason::Deadline);
+                Err(JobEnd::Stopped(reason()))
+            }
+            () = &mut stopped => Err(JobEnd::Stopped(reason())),
+        }
+    }
+
+    /// A whole job for a plain request: admitted (or refused), waiting its turn (at most the deadline),
+    /// then [`Jobs::execute`]; `what` names the work in the answers. The job stops when the returned
+    /// future is dropped (the client hung up).
+    pub async fn run<T: Send + 'static>(
+        &self,
+        kind: Kind,
+        client: &str,
+        what: Work,
+        work: impl FnOnce(&Arc<StopFlag>) -> Result<T, ApiError> + Send + 'static,
+    ) -> Result<T, ApiError> {
+        let ticket = self.admit(kind, client)?;
+        let flag = ticket.flag.clone();
+        let _guard = StopOnDrop(flag.clone());
+        let ended = |end| what.error(end, self.limits.deadline);
+        let running = ticket.start_within(self.limits.deadline).await.map_err(ended)?;
+        match self.execute(running, flag.clone(), work).await {
+            Ok(Ok(value)) => Ok(value),
+            // Work that was stopped fails (a cancelled synthesis); the answer says why it was stopped.
+            Ok(Err(error)) => match flag.reason() {
+                Some(reason) => Err(ended(JobEnd::Stopped(reason))),
+                None => Err(error),
+            },
+            Err(end) => Err(ended(end)),
+        }
     }
 
     /// Stops every job (at shutdown).
@@ -225,6 +440,16 @@ impl Ticket {
         drop(self.waiting);
         Some(running)
     }
+
+    /// [`Ticket::start`], waiting at most `wait`.
+    pub async fn start_within(self, wait: Duration) -> Result<Running, JobEnd> {
+        let flag = self.flag.clone();
+        match tokio::time::timeout(wait, self.start()).await {
+            Ok(Some(running)) => Ok(running),
+            Ok(None) => Err(JobEnd::Stopped(flag.reason().unwrap_or(StopReason::ClientGone))),
+            Err(_) => Err(JobEnd::WaitedTooLong),
+        }
+    }
 }
 
 /// The observer of a running synthesis: forwards progress (dropping reports when the receiver lags)
@@ -248,7 +473,78 @@ mod tests {
     use super::*;
 
     fn jobs(running: usize, queued: usize) -> Jobs {
-        Jobs::new(Limits { running, queued }, rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap())
+        jobs_with_deadline(running, queued, Limits::default().deadline)
+    }
+
+    fn jobs_with_deadline(running: usize, queued: usize, deadline: Duration) -> Jobs {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        Jobs::new(Limits { running, queued, deadline }, pool)
+    }
+
+    /// Work that spins until its flag is set, as a synthesis does between its checks.
+    fn until_stopped(flag: &Arc<StopFlag>) -> Option<StopReason> {
+        while flag.reason().is_none() {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        flag.reason()
+    }
+
+    #[tokio::test]
+    async fn a_job_past_its_deadline_is_stopped_and_answered() {
+        let jobs = jobs_with_deadline(1, 4, Duration::from_millis(200));
+        let ticket = jobs.admit(Kind::Design, "a").unwrap();
+        let flag = ticket.flag.clone();
+        let running = ticket.start().await.unwrap();
+        let ended = jobs.execute(running, flag.clone(), until_stopped).await;
+        assert_eq!(ended, Err(JobEnd::Stopped(StopReason::Deadline)));
+        assert_eq!(flag.reason(), Some(StopReason::Deadline), "the work is told to stop");
+        let error = Work::DESIGN.error(JobEnd::Stopped(StopReason::Deadline), Duration::from_secs(60));
+        assert_eq!(error.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert!(error.error.contains("limit of 60 s") && error.error.contains("settings.samples"), "{}", error.error);
+    }
+
+    #[tokio::test]
+    async fn work_that_cannot_be_stopped_keeps_its_slot_until_it_ends() {
+        let jobs = jobs_with_deadline(1, 4, Duration::from_millis(100));
+        let (release, released) = std::sync::mpsc::channel::<()>();
+        let ticket = jobs.admit(Kind::Fabrication, "a").unwrap();
+        let flag = ticket.flag.clone();
+        let running = ticket.start().await.unwrap();
+        // Ignores its flag, like the print pre-check: ends only when told here.
+        let stubborn = move |_: &Arc<StopFlag>| released.recv().is_ok();
+        let ended = jobs.execute(running, flag, stubborn).await;
+        assert_eq!(ended, Err(JobEnd::Stopped(StopReason::Deadline)), "answered at the deadline");
+        assert_eq!(jobs.running(), 1, "still counted while its thread computes");
+        let waiting = jobs.admit(Kind::Fabrication, "b").unwrap();
+        assert_eq!(waiting.start_within(Duration::from_millis(100)).await.err(), Some(JobEnd::WaitedTooLong));
+        release.send(()).unwrap();
+        let next = jobs.admit(Kind::Fabrication, "c").unwrap();
+        assert!(next.start_within(Duration::from_secs(10)).await.is_ok(), "the slot is free once it ends");
+    }
+
+    #[tokio::test]
+    async fn a_panicking_job_is_a_failure_not_a_dead_server() {
+        let jobs = jobs(1, 4);
+        let ticket = jobs.admit(Kind::Analysis, "a").unwrap();
+        let flag = ticket.flag.clone();
+        let running = ticket.start().await.unwrap();
+        let ended = jobs.execute(running, flag, |_: &Arc<StopFlag>| -> u8 { panic!("a bug") }).await;
+        assert_eq!(ended, Err(JobEnd::Panicked));
+        let answer = jobs.run(Kind::Analysis, "a", Work::CHECK, |_| Ok::<u8, ApiError>(7)).await;
+        assert_eq!(answer.ok(), Some(7), "the pool still works");
+        assert_eq!((jobs.running(), jobs.waiting()), (0, 0));
+    }
+
+    #[tokio::test]
+    async fn analyses_of_one_client_wait_for_each_other_instead_of_replacing() {
+        let jobs = jobs(2, 4);
+        let first = jobs.admit(Kind::Analysis, "a").unwrap();
+        let running = first.start().await.unwrap();
+        let second = jobs.admit(Kind::Analysis, "a").unwrap();
+        assert_eq!(second.flag.reason(), None);
+        assert!(!second.can_start_now(), "it waits for the first");
+        drop(running);
+        assert!(second.can_start_now());
     }
 
     #[tokio::test]

@@ -1,10 +1,12 @@
 //! `linkwright serve`: the local web app. One binary serves the front-end it carries (`web/`, embedded)
 //! and a small JSON API over the library (see `docs/api.md`). It listens on 127.0.0.1 unless told
-//! otherwise, bounds request sizes and heavy jobs, and stops a job when its client goes away.
+//! otherwise, bounds connections, request sizes and heavy jobs (in number and in time), and stops a job
+//! when its client goes away.
 
 mod api;
 mod assets;
 mod bundles;
+mod connections;
 mod error;
 mod fabricate;
 mod jobs;
@@ -39,9 +41,13 @@ pub struct ServeArgs {
     /// Worker threads for designs and fabrications (default: all cores). Results do not depend on it.
     #[arg(long, value_parser = crate::thread_count())]
     threads: Option<usize>,
-    /// Designs and fabrications that run at once; more wait in a short queue.
+    /// Designs, fabrications and other heavy requests that run at once; more wait in a short queue.
     #[arg(long, default_value_t = Limits::default().running)]
     jobs: usize,
+    /// Seconds a heavy request may run (and may wait in line) before it is stopped and answered with
+    /// an error saying what to change.
+    #[arg(long, default_value_t = Limits::default().deadline.as_secs_f64())]
+    job_seconds: f64,
 }
 
 /// The app: API routes, the embedded front-end, limits and security headers.
@@ -61,6 +67,7 @@ pub fn router(state: AppState) -> Router {
         .method_not_allowed_fallback(method_not_allowed)
         .fallback(fallback)
         .layer(DefaultBodyLimit::max(api::MAX_BODY))
+        .layer(axum::middleware::from_fn(connections::read_body))
         .layer(axum::middleware::from_fn_with_state(state.clone(), same_origin))
         .layer(axum::middleware::map_response(security_headers))
         .with_state(state)
@@ -133,7 +140,11 @@ pub fn serve(args: ServeArgs) -> Result<(), Failure> {
     if args.jobs == 0 {
         return Err(Failure::Input("error: --jobs: must be at least 1".into()));
     }
-    let limits = Limits { running: args.jobs, ..Limits::default() };
+    let deadline = Some(args.job_seconds)
+        .filter(|s| s.is_finite() && *s > 0.0 && *s <= 86_400.0)
+        .map(Duration::from_secs_f64)
+        .ok_or_else(|| Failure::Input("error: --job-seconds: must be a number of seconds from 0 to 86400".into()))?;
+    let limits = Limits { running: args.jobs, deadline, ..Limits::default() };
     let loopback_only = match args.host.parse::<std::net::IpAddr>() {
         Ok(ip) => ip.is_loopback(),
         Err(_) => args.host.eq_ignore_ascii_case("localhost"),
@@ -170,9 +181,8 @@ async fn run(args: ServeArgs, state: AppState) -> Result<(), Failure> {
     if args.open {
         open_browser(&url);
     }
-    let app = router(state).into_make_service_with_connect_info::<SocketAddr>();
     tokio::select! {
-        served = axum::serve(listener, app) => served.map_err(|e| Failure::Input(format!("error: the server stopped: {e}"))),
+        () = connections::serve(listener, router(state)) => Err(Failure::Input("error: the server stopped".into())),
         _ = tokio::signal::ctrl_c() => {
             println!("stopping");
             Ok(())
