@@ -296,7 +296,7 @@ fn wait_idle(server: &Server, within: Duration) -> Value {
 fn a_job_stops_when_its_client_goes_away() {
     let server = Server::start(&[]);
     // Far more samples than the test would wait for.
-    let scene = quick_garbage_truck(5_000_000, 1);
+    let scene = quick_garbage_truck(1_000_000, 1);
     let mut events = stream(&server, &scene, "leaver");
     let first_progress = events.find(|(n, _)| n == "progress");
     assert!(first_progress.is_some());
@@ -339,7 +339,7 @@ fn wait_status(server: &Server, what: &str, count: u64) {
 fn a_fabrication_waiting_in_line_leaves_it_when_its_client_goes_away() {
     let server = Server::start(&["--jobs", "1"]);
     let (scene, design) = quick_design(&server);
-    let mut busy = stream(&server, &quick_garbage_truck(5_000_000, 1), "designer");
+    let mut busy = stream(&server, &quick_garbage_truck(1_000_000, 1), "designer");
     assert!(busy.find(|(n, _)| n == "progress").is_some());
     let raw = raw_post(&server, "/api/fabricate", &json!({"scene": scene, "design": design}));
     wait_status(&server, "queued", 1);
@@ -352,7 +352,7 @@ fn a_fabrication_waiting_in_line_leaves_it_when_its_client_goes_away() {
 #[test]
 fn one_job_per_client_and_a_short_queue() {
     let server = Server::start(&["--jobs", "1"]);
-    let big = quick_garbage_truck(5_000_000, 1);
+    let big = quick_garbage_truck(1_000_000, 1);
     // A newer job of the same client replaces the older one.
     let mut older = stream(&server, &big, "same");
     assert!(older.find(|(n, _)| n == "progress").is_some());
@@ -700,7 +700,7 @@ fn a_job_past_its_deadline_is_stopped_with_an_answer_that_says_what_to_change() 
     let (_, status) = get(&server, "/api/status");
     assert_eq!(status["limits"]["job_seconds"], 2.0, "{status}");
     // Far more samples than two seconds allow.
-    let big = quick_garbage_truck(5_000_000, 1);
+    let big = quick_garbage_truck(1_000_000, 1);
     let start = Instant::now();
     let (status, body) = post(&server, "/api/design", &big);
     assert_error(status, &body, 503);
@@ -732,9 +732,9 @@ fn inputs_that_used_to_kill_the_server_are_refused_and_it_lives_on() {
         assert!(body["error"].as_str().is_some_and(|e| !e.is_empty()), "{body}");
         assert_alive(&server);
     }
-    // A body 1e8 mm across: refused by validation (4xx), or stopped at the job's deadline (503).
+    // A body 1e8 mm across aborted the process on a failed allocation: now beyond the scene limits.
     let (status, body) = post(&server, "/api/design", &huge_body_scene(1e8));
-    assert!((400..500).contains(&status) || status == 503, "{status} {body}");
+    assert_error(status, &body, 422);
     assert_alive(&server);
 }
 
@@ -748,18 +748,16 @@ fn heavy_designs_in_flight_do_not_hold_up_the_apps_own_files() {
             call(response).0
         })
     };
-    // Two clients post scenes with a body 10 km across (whose print pre-check took 45 s and froze every
-    // other request), two others designs with far more samples than the test waits for; then two more
-    // post scenes whose validation takes seconds.
-    let mut posters = vec![
-        post(0, huge_body_scene(1e7)),
-        post(1, huge_body_scene(1e7)),
-        post(2, quick_garbage_truck(5_000_000, 1)),
-        post(3, quick_garbage_truck(5_000_000, 2)),
-    ];
+    // Two clients post designs with far more samples than the test waits for; two others scenes that
+    // once froze the server (a body 10 km across, whose print pre-check took 45 s on the request
+    // threads, and 40,000 vertices, whose validation took seconds), now refused at once by the limits.
+    let mut posters = vec![post(0, quick_garbage_truck(1_000_000, 1)), post(1, quick_garbage_truck(1_000_000, 2))];
     wait_status(&server, "running", 2);
-    posters.extend([post(4, finely_drawn_scene(40_000)), post(5, finely_drawn_scene(40_000))]);
-    wait_status(&server, "reading", 2);
+    for (i, scene) in [(2, huge_body_scene(1e7)), (3, finely_drawn_scene(40_000))] {
+        let start = Instant::now();
+        assert_eq!(post(i, scene).join().unwrap(), 422);
+        assert!(start.elapsed() < Duration::from_secs(5), "refused after {:?}", start.elapsed());
+    }
     for path in ["/", "/js/main.js", "/api/status", "/api/examples", "/api/examples/k1_table"] {
         let start = Instant::now();
         let status = agent().get(server.at(path)).call().unwrap().status().as_u16();
@@ -767,9 +765,9 @@ fn heavy_designs_in_flight_do_not_hold_up_the_apps_own_files() {
         // Generous for a slow, shared machine; the frozen server took 42 s.
         assert!(start.elapsed() < Duration::from_secs(5), "{path} took {:?}", start.elapsed());
     }
-    for poster in posters {
+    for poster in posters.drain(..) {
         let status = poster.join().unwrap();
-        assert!((400..500).contains(&status) || status == 503, "{status}");
+        assert!(status == 200 || status == 503, "{status}");
     }
     assert_alive(&server);
 }
