@@ -160,7 +160,7 @@ impl Issues {
     fn point(&mut self, field: &str, p: Point) -> bool {
         let ok = p.is_finite() && p.x.abs().max(p.y.abs()) <= MAX_COORDINATE;
         if !ok {
-            self.add(field, format!("{p:?} must be two finite numbers within ±{MAX_COORDINATE:e}"));
+            self.add(field, format!("[{}, {}] must be two finite numbers within ±{MAX_COORDINATE:e}", p.x, p.y));
         }
         ok
     }
@@ -275,7 +275,13 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
     }
     if let Some(n) = scene_bodies {
         if let Some(b) = (0..n).find(|b| !body_parts.contains_key(b)) {
-            out.add(field("parts"), format!("no part carries moving body {b}; the scene has {n} moving bodies"));
+            out.add(
+                field("parts"),
+                format!(
+                    "no part carries moving body {b}, but the scene has {n} moving bodies: the design belongs to \
+                     another scene, or lacks the body's part"
+                ),
+            );
         }
     }
     for (name, &j) in &index {
