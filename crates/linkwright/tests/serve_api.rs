@@ -191,10 +191,11 @@ fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_a
     let (status, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
     assert_eq!((status, checked["ok"].as_bool()), (200, Some(false)));
     assert_eq!(checked["violations"][0]["constraint"], "accuracy");
-    // A travel no simulation can afford is a violation, answered at once.
+    // A travel no simulation can afford makes the design invalid, answered at once.
     tampered["motion"]["crank_end_deg"] = json!(1e15);
-    let (_, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
-    assert_eq!(checked["violations"][0]["constraint"], "order");
+    let (status, body) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
+    assert_error(status, &body, 422);
+    assert_eq!(body["issues"][0]["field"], "design.motion.crank_end_deg", "{body}");
 
     let (status, analysis) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "steps": 60}));
     assert_eq!(status, 200, "{analysis}");

@@ -70,8 +70,9 @@ impl Request {
 
     /// Fabricates and bundles the design (or its first alternative that can be fabricated).
     fn make(&self) -> Result<Made, ApiError> {
-        let (which, fab) = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
+        let chosen = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
             .map_err(cannot)?;
+        let (which, fab) = (chosen.used, chosen.fabrication);
         let bundle = bundle(&fab).map_err(cannot)?;
         let preview = preview(&fab);
         let mut scene = sanitize(&self.problem.name);
