@@ -470,3 +470,32 @@ fn part_label(name: &str, kind: PartKind) -> String {
     };
     format!("{kind} {name:?}")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanism::{Part, Topology};
+    use std::sync::Arc;
+
+    /// A four-bar (joints p1, q0, q1, r0) that moves, and the same with a brace from the ground pivot
+    /// q0 to the body's joint q1, which the dyad plan never reads (both ends are placed without it).
+    fn four_bar(braced: bool) -> Mechanism {
+        let mut topology = Topology::chain(1);
+        if braced {
+            topology.parts.push(Part { name: "brace".into(), kind: PartKind::Link, joints: vec![1, 2] });
+        }
+        let joints = vec![Point::new(1.0, 2.0), Point::new(0.0, 0.0), Point::new(4.0, 3.0), Point::new(5.0, 0.0)];
+        Mechanism { topology: Arc::new(topology), joints, slider: None }
+    }
+
+    #[test]
+    fn a_part_the_motion_would_stretch_is_found_by_simulating() {
+        let mut out = Issues::default();
+        check_rigid_motion(&mut out, "mechanism", &four_bar(false), 60.0, 80.0);
+        assert_eq!(out.0, vec![]);
+        check_rigid_motion(&mut out, "mechanism", &four_bar(true), 60.0, 80.0);
+        assert_eq!(out.0.len(), 1, "{:?}", out.0);
+        assert_eq!(out.0[0].field, "mechanism.parts[4]");
+        assert!(out.0[0].message.contains("\"brace\"") && out.0[0].message.contains("locked"), "{}", out.0[0]);
+    }
+}
