@@ -9,6 +9,11 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+mod validate;
+pub use validate::{
+    DesignIssue, MAX_ALTERNATIVES, MAX_COORDINATE, MAX_CRANK_DEG, MAX_JOINTS, MAX_NAME_CHARS, MAX_PARTS, MAX_TRAVEL_DEG,
+};
+
 /// The version string of the design format this crate reads and writes.
 pub const DESIGN_FORMAT: &str = "design/1";
 
@@ -268,10 +273,15 @@ impl DesignFile {
 
 impl DesignFile {
     /// Every violated constraint of this design's best mechanism against `problem` (empty when it is
-    /// sound; a `no_solution` design has none): the file's own consistency, then an independent
+    /// sound; a `no_solution` design has none): the file's own consistency (a file that
+    /// [`DesignFile::validate`] refuses is one `format` violation per problem), then an independent
     /// re-simulation ([`crate::verify::verify_travel`]) and the reported accuracy against it.
     pub fn violations(&self, problem: &Problem) -> Vec<Violation> {
         let fail = |constraint, message: String| vec![Violation { constraint, message }];
+        let issues = self.validate(problem);
+        if !issues.is_empty() {
+            return issues.into_iter().map(|i| Violation { constraint: "format", message: i.to_string() }).collect();
+        }
         if self.status == Status::NoSolution {
             return Vec::new();
         }

@@ -458,10 +458,15 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
     assert!(json["oversized"][0]["square_bed_mm"].as_f64().is_some(), "{}", json["oversized"]);
     assert_exports_read_back("power shovel", &f);
     // The design file: an alternative that fits, or the design with its parts reported.
-    let (which, g) = fab::fabricate_design_or_alternative(&p, &scene.units, &design, &settings).unwrap();
+    let chosen = fab::fabricate_design_or_alternative(&p, &scene.units, &design, &settings).unwrap();
+    let (which, g) = (chosen.used, &chosen.fabrication);
     assert!(which > 0 || !g.off_bed().is_empty());
     if which > 0 {
         assert!(g.off_bed().is_empty());
+        let why = chosen.passed_over.as_deref().expect("says why the design itself was passed over");
+        assert!(why.contains("link1") && why.contains("bed"), "{why}");
+    } else {
+        assert!(chosen.passed_over.is_none());
     }
     // A bed that takes them.
     let side = b.report.oversized.iter().map(|o| o.misfit.square_bed_mm).fold(0.0, f64::max);

@@ -1,6 +1,6 @@
 //! The subcommands.
 
-use crate::files::{read_design, read_problem, write_atomically};
+use crate::files::{read_design, read_problem, read_valid_design, remove_if_present, write_atomically};
 use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -120,6 +120,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
 
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
+    remove_earlier_outputs(&out_dir, outcome.best.is_none())?;
     let (file, json) = write_outputs(&problem, &outcome, &out_dir)?;
     if args.json {
         println!("{json}");
@@ -137,6 +138,24 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
             }
         } else {
             eprintln!("no design to fabricate");
+        }
+    }
+    Ok(())
+}
+
+/// Removes what an earlier run derived from its design, so the folder never mixes two runs: its
+/// fabrication (rebuilt only if asked, after the new design is written), and its pictures when the
+/// new run has none to replace them with.
+fn remove_earlier_outputs(out_dir: &Path, no_design: bool) -> Result<(), Failure> {
+    let fabrication = out_dir.join("fabrication");
+    if fabrication.is_dir() {
+        crate::fabricate::remove_previous(&fabrication)?;
+        // Left in place when it holds anything else.
+        let _ = std::fs::remove_dir(&fabrication);
+    }
+    if no_design {
+        for picture in ["design.svg", "animation.svg"] {
+            remove_if_present(&out_dir.join(picture))?;
         }
     }
     Ok(())
@@ -177,8 +196,7 @@ fn joined(handle: std::thread::ScopedJoinHandle<'_, Result<(), Failure>>) -> Res
 /// The mechanisms of a previous design file (its design and alternatives), for a warm start.
 fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::mechanism::Mechanism>, Failure> {
     let file = read_design(path)?;
-    let all = file.mechanism.iter().chain(file.alternatives.iter().map(|a| &a.mechanism));
-    let mechanisms: Vec<_> = all.filter_map(|m| m.to_mechanism().ok()).collect();
+    let mechanisms = file.usable_mechanisms();
     if mechanisms.is_empty() {
         eprintln!("warning: --from {}: has no usable mechanism; starting from scratch", path.display());
     }
@@ -230,7 +248,7 @@ fn kind_name(m: &linkwright_core::design::MechanismJson) -> String {
 
 pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
     let (scene, problem) = read_problem(scene)?;
-    let file = read_design(design)?;
+    let file = read_valid_design(design, &problem)?;
     let violations = file.violations(&problem);
     if json {
         println!("{}", serde_json::to_string_pretty(&violations).expect("violations serialize"));
@@ -252,9 +270,18 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
     }
 }
 
+/// Most crank steps `simulate` prints: a row per 0.02° of the longest travel a design may have, a few
+/// megabytes of text for the usual linkages.
+const MAX_SIMULATE_STEPS: usize = 20_000;
+
 pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure> {
-    let (_, _problem) = read_problem(scene)?;
-    let file = read_design(design)?;
+    if steps > MAX_SIMULATE_STEPS {
+        return Err(Failure::Input(format!(
+            "error: --steps: {steps} is more than {MAX_SIMULATE_STEPS}; ask for fewer"
+        )));
+    }
+    let (_, problem) = read_problem(scene)?;
+    let file = read_valid_design(design, &problem)?;
     let (Some(mj), Some(motion)) = (&file.mechanism, &file.motion) else {
         return Err(Failure::Input(format!("error: {}: has no mechanism (status no_solution)", design.display())));
     };
@@ -264,7 +291,7 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
     let mut trace = Trace::new(plan.joint_count());
     let mut out = String::from("step,crank_deg");
     for name in &mechanism.topology.joint_names {
-        out.push_str(&format!(",{name}_x,{name}_y"));
+        out.push_str(&format!(",{},{}", csv_field(&format!("{name}_x")), csv_field(&format!("{name}_y"))));
     }
     out.push('\n');
     for s in 0..=steps {
@@ -278,6 +305,15 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
     }
     print!("{out}");
     Ok(())
+}
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break (joint names come from the file).
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
 }
 
 /// A pose counts as reached within this fraction of the body's size and this angle (the web app's

@@ -1,13 +1,15 @@
 //! `linkwright fabricate SCENE DESIGN -o DIR [--settings PRINT.json]`: printable parts, plates,
 //! profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`).
 
-use crate::files::{read_design, read_problem, write_atomically};
+use crate::files::{read_problem, read_valid_design, remove_if_present, write_atomically};
 use crate::Failure;
 use clap::Args;
 use linkwright_core::design::DesignFile;
-use linkwright_core::fab::bundle::bundle;
+use linkwright_core::fab::bundle::{bundle, FIXED_FILES};
+use linkwright_core::fab::names::is_safe_relative_path;
 use linkwright_core::fab::{fabricate_design_or_alternative, PrintSettings};
 use linkwright_core::scene::{Problem, Scene};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -41,7 +43,7 @@ pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
 
 pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
     let (scene, problem) = read_problem(&args.scene)?;
-    let design = read_design(&args.design)?;
+    let design = read_valid_design(&args.design, &problem)?;
     let settings = read_settings(args.settings.as_deref())?;
     let summary = run(&scene, &problem, &design, &settings, &args.output)?;
     println!("{summary}");
@@ -59,9 +61,14 @@ pub fn run(
     if out_dir.exists() && !out_dir.is_dir() {
         return Err(Failure::Input(format!("error: -o {}: exists and is not a directory", out_dir.display())));
     }
-    let (which, fab) = fabricate_design_or_alternative(problem, &scene.units, design, settings)
+    let chosen = fabricate_design_or_alternative(problem, &scene.units, design, settings)
         .map_err(|e| Failure::Input(format!("error: cannot fabricate: {e}")))?;
-    let bundle = bundle(&fab).map_err(|e| Failure::Input(format!("error: cannot fabricate: {e}")))?;
+    let bundle = bundle(&chosen.fabrication).map_err(|e| Failure::Input(format!("error: cannot fabricate: {e}")))?;
+    // The library names parts safely; a path that would leave the folder anyway is a bug, refused.
+    if let Some((path, _)) = bundle.files.iter().find(|(path, _)| !is_safe_relative_path(path)) {
+        return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
+    }
+    remove_previous(out_dir)?;
     for dir in [out_dir.to_path_buf(), out_dir.join("parts")] {
         std::fs::create_dir_all(&dir)
             .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", dir.display())))?;
@@ -83,11 +90,11 @@ pub fn run(
         r.seconds.meshing,
         out_dir.display()
     );
-    if which > 0 {
+    if let (k @ 1.., Some(why)) = (chosen.used, &chosen.passed_over) {
         line.push_str(&format!(
-            "\nnote: the design itself cannot be fabricated, or has parts larger than the bed; this is its alternative \
-             {which} (alternatives[{}])",
-            which - 1
+            "\nnote: these are the parts of the design's alternative {k} (alternatives[{}]), not of the design \
+             itself: {why}",
+            k - 1
         ));
     }
     if let Some(advice) = r.oversized_advice() {
@@ -97,4 +104,31 @@ pub fn run(
         line.push_str("\nwarning: the fabrication checks found problems (see fabrication.json \"checks\")");
     }
     Ok(line)
+}
+
+/// Removes what an earlier fabrication wrote into `dir`, as its `fabrication.json` lists it (each
+/// part's and plate's file, the files every fabrication writes, then `fabrication.json` itself and the
+/// `parts` folder if that leaves it empty), so a folder never holds the parts of two fabrications.
+/// Only paths of the shapes a fabrication writes are removed; nothing else in the folder is touched.
+pub fn remove_previous(dir: &Path) -> Result<(), Failure> {
+    let manifest = dir.join("fabrication.json");
+    let Ok(text) = std::fs::read_to_string(&manifest) else { return Ok(()) };
+    let report: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
+    let listed = ["parts", "plates"]
+        .iter()
+        .filter_map(|key| report.get(key).and_then(Value::as_array))
+        .flatten()
+        .filter_map(|entry| entry.get("file").and_then(Value::as_str));
+    let written_by_a_fabrication = |path: &&str| {
+        is_safe_relative_path(path)
+            && ((path.starts_with("parts/") && path.ends_with(".stl") && path.matches('/').count() == 1)
+                || (path.starts_with("plate_") && path.ends_with(".3mf") && !path.contains('/')))
+    };
+    for path in listed.filter(written_by_a_fabrication).chain(FIXED_FILES.iter().copied()) {
+        remove_if_present(&dir.join(path))?;
+    }
+    remove_if_present(&manifest)?;
+    // Left in place when it holds anything else.
+    let _ = std::fs::remove_dir(dir.join("parts"));
+    Ok(())
 }

@@ -138,7 +138,8 @@ fn check_refuses_an_endless_travel_at_once() {
     let bad = dir.join("endless.json");
     std::fs::write(&bad, v.to_string()).unwrap();
     let check = linkwright(&["check", &example("k1_garbage_truck"), bad.to_str().unwrap()]);
-    assert_eq!(check.status.code(), Some(1));
-    assert!(text(&check.stdout).contains("full turn"), "{}", text(&check.stdout));
+    assert_eq!(check.status.code(), Some(2), "an unusable design file is bad input");
+    let stderr = text(&check.stderr);
+    assert!(stderr.contains("motion.crank_end_deg") && stderr.contains("720"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }

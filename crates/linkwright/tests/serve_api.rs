@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{quick_garbage_truck, Server};
+use common::{example_text, quick_garbage_truck, Server};
 use linkwright_core::design::{DesignFile, Status};
 use linkwright_core::scene::{Problem, Scene};
 
@@ -12,6 +12,14 @@ use serde_json::{json, Value};
 use std::io::{BufRead, BufReader, Read};
 use std::time::{Duration, Instant};
 use ureq::Agent;
+
+/// A design that runs far longer than any test waits for: the three-body power shovel with the
+/// largest search the scene format allows (about 15 s of a release build on two cores).
+fn long_design(seed: u64) -> Value {
+    let mut scene: Value = serde_json::from_str(&example_text("k3_power_shovel")).unwrap();
+    scene["settings"] = json!({"samples": 1_000_000, "particles": 1000, "iterations": 200, "seed": seed});
+    scene
+}
 
 fn agent() -> Agent {
     Agent::config_builder().http_status_as_error(false).timeout_global(Some(Duration::from_secs(120))).build().into()
@@ -191,10 +199,11 @@ fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_a
     let (status, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
     assert_eq!((status, checked["ok"].as_bool()), (200, Some(false)));
     assert_eq!(checked["violations"][0]["constraint"], "accuracy");
-    // A travel no simulation can afford is a violation, answered at once.
+    // A travel no simulation can afford makes the design invalid, answered at once.
     tampered["motion"]["crank_end_deg"] = json!(1e15);
-    let (_, checked) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
-    assert_eq!(checked["violations"][0]["constraint"], "order");
+    let (status, body) = post(&server, "/api/check", &json!({"scene": scene, "design": tampered}));
+    assert_error(status, &body, 422);
+    assert_eq!(body["issues"][0]["field"], "design.motion.crank_end_deg", "{body}");
 
     let (status, analysis) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "steps": 60}));
     assert_eq!(status, 200, "{analysis}");
@@ -296,7 +305,7 @@ fn wait_idle(server: &Server, within: Duration) -> Value {
 fn a_job_stops_when_its_client_goes_away() {
     let server = Server::start(&[]);
     // Far more samples than the test would wait for.
-    let scene = quick_garbage_truck(1_000_000, 1);
+    let scene = long_design(1);
     let mut events = stream(&server, &scene, "leaver");
     let first_progress = events.find(|(n, _)| n == "progress");
     assert!(first_progress.is_some());
@@ -339,7 +348,7 @@ fn wait_status(server: &Server, what: &str, count: u64) {
 fn a_fabrication_waiting_in_line_leaves_it_when_its_client_goes_away() {
     let server = Server::start(&["--jobs", "1"]);
     let (scene, design) = quick_design(&server);
-    let mut busy = stream(&server, &quick_garbage_truck(1_000_000, 1), "designer");
+    let mut busy = stream(&server, &long_design(1), "designer");
     assert!(busy.find(|(n, _)| n == "progress").is_some());
     let raw = raw_post(&server, "/api/fabricate", &json!({"scene": scene, "design": design}));
     wait_status(&server, "queued", 1);
@@ -352,7 +361,7 @@ fn a_fabrication_waiting_in_line_leaves_it_when_its_client_goes_away() {
 #[test]
 fn one_job_per_client_and_a_short_queue() {
     let server = Server::start(&["--jobs", "1"]);
-    let big = quick_garbage_truck(1_000_000, 1);
+    let big = long_design(1);
     // A newer job of the same client replaces the older one.
     let mut older = stream(&server, &big, "same");
     assert!(older.find(|(n, _)| n == "progress").is_some());
@@ -700,7 +709,7 @@ fn a_job_past_its_deadline_is_stopped_with_an_answer_that_says_what_to_change() 
     let (_, status) = get(&server, "/api/status");
     assert_eq!(status["limits"]["job_seconds"], 2.0, "{status}");
     // Far more samples than two seconds allow.
-    let big = quick_garbage_truck(1_000_000, 1);
+    let big = long_design(1);
     let start = Instant::now();
     let (status, body) = post(&server, "/api/design", &big);
     assert_error(status, &body, 503);
@@ -751,7 +760,7 @@ fn heavy_designs_in_flight_do_not_hold_up_the_apps_own_files() {
     // Two clients post designs with far more samples than the test waits for; two others scenes that
     // once froze the server (a body 10 km across, whose print pre-check took 45 s on the request
     // threads, and 40,000 vertices, whose validation took seconds), now refused at once by the limits.
-    let mut posters = vec![post(0, quick_garbage_truck(1_000_000, 1)), post(1, quick_garbage_truck(1_000_000, 2))];
+    let mut posters = vec![post(0, long_design(1)), post(1, long_design(2))];
     wait_status(&server, "running", 2);
     for (i, scene) in [(2, huge_body_scene(1e7)), (3, finely_drawn_scene(40_000))] {
         let start = Instant::now();

@@ -10,6 +10,10 @@ use super::solid::Mesh;
 use super::{FabError, Fabrication};
 use crate::geom::Point;
 
+/// The files every bundle holds besides its parts (`parts/NAME.stl`), its plates (`plate_N.3mf`) and
+/// `fabrication.json`, which lists those.
+pub const FIXED_FILES: [&str; 4] = ["assembly.3mf", "profiles.svg", "profiles.dxf", "assembly.svg"];
+
 /// The files of a fabrication and its report.
 #[derive(Clone, Debug)]
 pub struct Bundle {

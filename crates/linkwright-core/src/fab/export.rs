@@ -43,8 +43,8 @@ pub fn stl_bytes(mesh: &Mesh, scale: f64, header: &str) -> Vec<u8> {
     out
 }
 
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&apos;")
+fn xml_escape(s: &str) -> std::borrow::Cow<'_, str> {
+    crate::render::escape(s)
 }
 
 /// The 3MF model XML of named objects (each a mesh already in place), millimetres.

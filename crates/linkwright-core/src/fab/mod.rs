@@ -25,6 +25,7 @@ pub mod check;
 pub mod depth;
 pub mod export;
 pub mod layout;
+pub mod names;
 pub mod parts;
 pub mod plates;
 pub mod posts;
@@ -87,6 +88,18 @@ pub enum FabError {
     Mesh(String),
     #[error("the design's motion cannot be simulated: {0}")]
     Motion(String),
+    #[error("the design file is not valid: {}", joined(.0))]
+    Invalid(Vec<crate::design::DesignIssue>),
+    #[error(
+        "the design fails its check against the scene ({}): fabricate a design that passes the check",
+        joined(.0.iter().map(|v| format!("{}: {}", v.constraint, v.message)))
+    )]
+    FailsCheck(Vec<crate::verify::Violation>),
+}
+
+/// Items of a message, one after the other.
+fn joined<T: std::fmt::Display>(items: impl IntoIterator<Item = T>) -> String {
+    items.into_iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; ")
 }
 
 /// Seconds spent in each stage.
@@ -125,8 +138,17 @@ pub struct Travel {
     pub end: f64,
 }
 
-/// The motion at crank steps of at most 1° (the paper's simulation step).
+/// The motion at crank steps of at most 1° (the paper's simulation step). A travel of a full turn or
+/// more is refused before anything is allocated for it (see [`crate::design::MAX_TRAVEL_DEG`]).
 pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabError> {
+    let turn = crate::design::MAX_TRAVEL_DEG.to_radians();
+    if !(travel.start.is_finite() && travel.end.is_finite() && (travel.end - travel.start).abs() < turn) {
+        return Err(FabError::Motion(format!(
+            "the crank's travel from {:.1}° to {:.1}° must be finite and less than a full turn",
+            travel.start.to_degrees(),
+            travel.end.to_degrees()
+        )));
+    }
     let plan = Plan::compile(mechanism).map_err(|e| FabError::Motion(e.to_string()))?;
     let mut trace = Trace::new(plan.joint_count());
     trace.sweep(&plan, travel.start, travel.end, 1f64.to_radians()).map_err(|e| FabError::Motion(e.to_string()))?;
@@ -204,7 +226,12 @@ pub fn fabricate(
     };
     let t2 = Instant::now();
     let body_names = body_names(problem);
-    let (parts, seats) = parts::build(&shapes, &layout, &ordering, &body_names, &settings.bed)?;
+    let (mut parts, seats) = parts::build(&shapes, &layout, &ordering, &body_names, &settings.bed)?;
+    // Link and connector names come from the design file, and every part's name becomes a file name.
+    let names = names::file_names(parts.iter().map(|p| p.name.as_str()));
+    for (part, name) in parts.iter_mut().zip(names) {
+        part.name = name;
+    }
     let t3 = Instant::now();
     Ok(Fabrication {
         scene_name: problem.name.clone(),
@@ -232,7 +259,9 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
     }
 }
 
-/// Fabricates the mechanism of a design file for its scene (`units` is the scene's `units` field).
+/// Fabricates the mechanism of a design file for its scene (`units` is the scene's `units` field). A
+/// design file that is not valid ([`crate::design::DesignFile::validate`]) or fails its check against
+/// the scene ([`crate::design::DesignFile::violations`]) is refused before anything is built.
 pub fn fabricate_design(
     problem: &Problem,
     units: &str,
@@ -240,29 +269,59 @@ pub fn fabricate_design(
     settings: &PrintSettings,
 ) -> Result<Fabrication, FabError> {
     let mm = millimetres_per_unit(units).ok_or_else(|| FabError::Units(units.to_string()))?;
+    let issues = design.validate(problem);
+    if !issues.is_empty() {
+        return Err(FabError::Invalid(issues));
+    }
     let (Some(mj), Some(motion)) = (&design.mechanism, &design.motion) else {
         return Err(FabError::Mismatch("the design has no mechanism (status no_solution)".into()));
     };
+    let violations = design.violations(problem);
+    if !violations.is_empty() {
+        return Err(FabError::FailsCheck(violations));
+    }
     let mechanism = mj.to_mechanism().map_err(|e| FabError::Mismatch(e.to_string()))?;
     let travel = Travel { start: motion.crank_start_deg.to_radians(), end: motion.crank_end_deg.to_radians() };
     fabricate(problem, mm, &mechanism, travel, settings)
 }
 
+/// What [`fabricate_design_or_alternative`] made.
+#[derive(Clone, Debug)]
+pub struct Chosen {
+    /// Which design was fabricated: 0 the design itself, k its k-th alternative (`alternatives[k - 1]`).
+    pub used: usize,
+    pub fabrication: Fabrication,
+    /// Why the design itself was passed over, when an alternative was used.
+    pub passed_over: Option<String>,
+}
+
 /// Fabricates the design's mechanism, or when it cannot be fabricated (no ordering, no room for a
 /// post, links too short to print) or has links or connectors larger than the bed, the first of its
-/// alternatives that can with every member on the bed. Returns which one was used (0 the design itself,
-/// k the k-th alternative): the design itself when none is better, and its error when none fabricates.
+/// alternatives that can with every member on the bed (and passes its check). Says which one was used
+/// and why the design itself was not: the design itself when none is better, and its error when none
+/// fabricates. A design file that is not valid or fails its check is refused with no fallback.
 pub fn fabricate_design_or_alternative(
     problem: &Problem,
     units: &str,
     design: &crate::design::DesignFile,
     settings: &PrintSettings,
-) -> Result<(usize, Fabrication), FabError> {
+) -> Result<Chosen, FabError> {
     let first = match fabricate_design(problem, units, design, settings) {
-        Ok(f) if f.off_bed().is_empty() => return Ok((0, f)),
-        Err(e @ (FabError::Settings(_) | FabError::Units(_))) => return Err(e),
+        Ok(f) if f.off_bed().is_empty() => return Ok(Chosen { used: 0, fabrication: f, passed_over: None }),
+        Err(e @ (FabError::Settings(_) | FabError::Units(_) | FabError::Invalid(_) | FabError::FailsCheck(_))) => {
+            return Err(e)
+        }
         other => other,
     };
+    let passed_over = match &first {
+        Ok(f) => {
+            let misfits = f.off_bed();
+            off_bed_error(&f.layout, &misfits, &f.settings.bed).to_string()
+        }
+        Err(e) => e.to_string(),
+    };
+    let chosen =
+        |used: usize, fabrication: Fabrication| Chosen { used, fabrication, passed_over: Some(passed_over.clone()) };
     let mut fallback = None;
     for (k, alt) in design.alternatives.iter().enumerate() {
         let view = crate::design::DesignFile {
@@ -273,13 +332,13 @@ pub fn fabricate_design_or_alternative(
             ..design.clone()
         };
         match fabricate_design(problem, units, &view, settings) {
-            Ok(f) if f.off_bed().is_empty() => return Ok((k + 1, f)),
-            Ok(f) if first.is_err() && fallback.is_none() => fallback = Some((k + 1, f)),
+            Ok(f) if f.off_bed().is_empty() => return Ok(chosen(k + 1, f)),
+            Ok(f) if first.is_err() && fallback.is_none() => fallback = Some(chosen(k + 1, f)),
             _ => {}
         }
     }
     match first {
-        Ok(f) => Ok((0, f)),
+        Ok(f) => Ok(Chosen { used: 0, fabrication: f, passed_over: None }),
         Err(e) => fallback.ok_or(e),
     }
 }

@@ -199,6 +199,6 @@ pub fn assembly_svg(fab: &Fabrication) -> String {
     s
 }
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+fn esc(s: &str) -> std::borrow::Cow<'_, str> {
+    crate::render::escape(s)
 }

@@ -257,6 +257,17 @@ fn names_are_escaped() {
 }
 
 #[test]
+fn control_characters_in_names_still_give_well_formed_xml() {
+    let f = four_bar("bed\0\u{1}\u{1b}", "lid\u{7}\u{ffff}");
+    for svg in [design_svg(&f.input()), animation_svg(&f.input(), 2.0)] {
+        let doc = Document::parse(&svg).expect("well-formed XML");
+        let texts: Vec<&str> = doc.descendants().filter_map(|n| n.text()).collect();
+        assert!(texts.contains(&"bed") && texts.contains(&"lid"), "{texts:?}");
+        assert!(!svg.chars().any(|c| c.is_control() && !matches!(c, '\n' | '\t' | '\r')));
+    }
+}
+
+#[test]
 fn output_is_deterministic() {
     let f = six_bar();
     assert_eq!(design_svg(&f.input()), design_svg(&f.input()));

@@ -15,13 +15,12 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
-use linkwright_core::design::{DesignFile, DESIGN_FORMAT};
+use linkwright_core::design::DesignFile;
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
 use linkwright_core::mechanism::Mechanism;
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::{synthesize_with, Options, Progress, Start};
-use linkwright_core::verify::Violation;
 use serde_json::{json, Map, Value};
 use std::convert::Infallible;
 use std::net::SocketAddr;
@@ -196,9 +195,8 @@ impl DesignInput {
             Some(from) => {
                 let file = DesignFile::from_json(&from.to_string())
                     .map_err(|e| ApiError::parse("the earlier design", "from", &e))?;
-                let all = file.mechanism.iter().chain(file.alternatives.iter().map(|a| &a.mechanism));
                 // Mechanisms that do not fit the scene are left out by the engine; unusable ones here.
-                all.filter_map(|m| m.to_mechanism().ok()).collect()
+                file.usable_mechanisms()
             }
         };
         Ok(DesignInput { problem, units: scene.units, previous, settings })
@@ -245,11 +243,13 @@ impl Compound {
         let (scene, problem) = scene_of(&member("scene")?.to_string(), "scene")?;
         let design = DesignFile::from_json(&member("design")?.to_string())
             .map_err(|e| ApiError::parse("the design", "design", &e))?;
-        if design.linkwright != DESIGN_FORMAT {
-            let message = format!("unknown format \"{}\"; this version reads \"{DESIGN_FORMAT}\"", design.linkwright);
-            return Err(
-                ApiError::bad_request(format!("design.linkwright: {message}")).with_issue("design.linkwright", message)
-            );
+        let issues = design.validate(&problem);
+        if let Some(first) = issues.first() {
+            let error = format!("the design is not valid: design.{first}");
+            let status =
+                if first.field == "linkwright" { StatusCode::BAD_REQUEST } else { StatusCode::UNPROCESSABLE_ENTITY };
+            let answer = ApiError::new(status, error);
+            return Err(issues.iter().fold(answer, |e, i| e.with_issue(format!("design.{}", i.field), &i.message)));
         }
         Ok(Compound { problem, units: scene.units, design, fields })
     }
@@ -392,21 +392,6 @@ fn ended_note(end: JobEnd, deadline: Duration) -> Note {
     }
 }
 
-/// A crank travel a re-simulation can afford: finite, and shorter than a turn.
-pub(super) fn travel_violation(design: &DesignFile) -> Option<Violation> {
-    let travels = design.motion.iter().chain(design.alternatives.iter().map(|a| &a.motion));
-    travels
-        .filter(|m| {
-            let (s, e) = (m.crank_start_deg, m.crank_end_deg);
-            !(s.is_finite() && e.is_finite() && (e - s).abs() < 360.0 && m.pose_crank_deg.iter().all(|a| a.is_finite()))
-        })
-        .map(|_| Violation {
-            constraint: "order",
-            message: "motion: the crank angles must be finite and the travel shorter than a full turn".into(),
-        })
-        .next()
-}
-
 /// `POST /api/check`: `{scene, design}` in, `{ok, violations}` out.
 pub async fn check(
     State(state): State<AppState>,
@@ -415,13 +400,8 @@ pub async fn check(
 ) -> Result<Json<Value>, ApiError> {
     let text = body_text(body)?;
     let request = state.jobs.read(move || Compound::parse(&text)).await?;
-    let violations = match travel_violation(&request.design) {
-        Some(v) => vec![v],
-        None => {
-            let check = move |_: &Arc<StopFlag>| Ok(request.design.violations(&request.problem));
-            state.jobs.run(Kind::Analysis, &client, Work::CHECK, check).await?
-        }
-    };
+    let check = move |_: &Arc<StopFlag>| Ok(request.design.violations(&request.problem));
+    let violations = state.jobs.run(Kind::Analysis, &client, Work::CHECK, check).await?;
     Ok(Json(json!({"ok": violations.is_empty(), "violations": violations})))
 }
 

@@ -2,6 +2,7 @@
 //! nobody can guess. The store is bounded in count and bytes; the oldest bundle goes first.
 
 use axum::body::Bytes;
+use linkwright_core::fab::names::is_safe_relative_path;
 use std::collections::hash_map::RandomState;
 use std::collections::VecDeque;
 use std::hash::BuildHasher;
@@ -62,11 +63,16 @@ impl Stored {
     }
 }
 
-/// Every file in one zip, under the same relative paths, compressed.
+/// Every file in one zip, under the same relative paths, compressed. A path that is not a plain
+/// relative one (`..`, absolute, a backslash) is refused: unzipping must never write outside the folder.
 fn zip_of(files: &[(String, Vec<u8>)]) -> zip::result::ZipResult<Vec<u8>> {
     let mut z = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
     for (path, bytes) in files {
+        if !is_safe_relative_path(path) {
+            let refused = std::io::Error::new(std::io::ErrorKind::InvalidInput, format!("unsafe entry name {path:?}"));
+            return Err(zip::result::ZipError::Io(refused));
+        }
         z.start_file(path.as_str(), options)?;
         z.write_all(bytes)?;
     }
@@ -152,6 +158,14 @@ mod tests {
         let (second, _) = small.insert(stored(2000));
         assert!(small.get(&first).is_none(), "over the byte limit");
         assert!(small.get(&second).is_some(), "the newest is kept even alone over the limit");
+    }
+
+    #[test]
+    fn entries_that_would_leave_the_folder_are_refused() {
+        for path in ["parts/../../../../ESCAPED.stl", "/etc/passwd", "parts\\..\\x.stl", ".hidden"] {
+            let files = vec![(path.to_string(), vec![1, 2, 3])];
+            assert!(Stored::new("truck".into(), files).is_err(), "{path}");
+        }
     }
 
     #[test]

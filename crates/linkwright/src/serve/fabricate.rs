@@ -2,7 +2,7 @@
 //! The files stay in memory (see [`super::bundles`]); the answer lists them with the report and what
 //! the 3D preview needs.
 
-use super::api::{body_text, printable_size, travel_violation, AppState, Client, Compound};
+use super::api::{body_text, printable_size, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
 use super::error::{join_field, ApiError};
 use super::jobs::{Kind, StopFlag, Work};
@@ -47,12 +47,6 @@ impl Request {
             let message = "the design has no linkage to fabricate (it found no solution): design one first";
             return Err(ApiError::unprocessable(message).with_issue("design.mechanism", message));
         }
-        // The motion is simulated again in 1° steps: a travel of a billion degrees would ask for
-        // gigabytes (and kill the server on the failed allocation) before any check of the library.
-        if let Some(v) = travel_violation(&design) {
-            return Err(ApiError::unprocessable(format!("cannot fabricate this design: {}", v.message))
-                .with_issue("design.motion", v.message));
-        }
         let (offset, design) = match which {
             Which::Best => (0, design),
             Which::Alternative(i) if i < design.alternatives.len() => {
@@ -78,8 +72,9 @@ impl Request {
 
     /// Fabricates and bundles the design (or its first alternative that can be fabricated).
     fn make(&self) -> Result<Made, ApiError> {
-        let (which, fab) = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
+        let chosen = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
             .map_err(cannot)?;
+        let (which, fab) = (chosen.used, chosen.fabrication);
         let bundle = bundle(&fab).map_err(cannot)?;
         let preview = preview(&fab);
         let mut scene = sanitize(&self.problem.name);
