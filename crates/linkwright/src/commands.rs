@@ -1,6 +1,8 @@
 //! The subcommands.
 
-use crate::files::{read_design, read_problem, read_valid_design, remove_if_present, write_atomically};
+use crate::files::{
+    read_design, read_problem, read_problem_with, read_valid_design, remove_if_present, write_atomically,
+};
 use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -71,7 +73,15 @@ impl Observer for Bar {
 }
 
 pub fn design(args: DesignArgs) -> Result<(), Failure> {
-    let (scene, mut problem) = read_problem(&args.scene)?;
+    // The command line's settings are part of the scene that is validated (its limits bound the work).
+    let (scene, problem) = read_problem_with(&args.scene, |scene| {
+        if let Some(seed) = args.seed {
+            scene.settings.seed = seed;
+        }
+        if let Some(samples) = args.samples {
+            scene.settings.samples = samples;
+        }
+    })?;
     let print_settings = crate::fabricate::read_settings(args.print_settings.as_deref())?;
     let printable = if args.no_print_check {
         None
@@ -85,12 +95,6 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         })?;
         Some(FeasibilityCheck::new(&problem, &print_settings, mm))
     };
-    if let Some(seed) = args.seed {
-        problem.settings.seed = seed;
-    }
-    if let Some(samples) = args.samples {
-        problem.settings.samples = samples;
-    }
     let out_dir = args.output.clone().unwrap_or_else(|| {
         Path::new("out").join(args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default())
     });

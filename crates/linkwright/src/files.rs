@@ -18,9 +18,15 @@ fn read_text(path: &Path) -> Result<String, Failure> {
 
 /// Reads and validates a scene; warnings go to stderr, errors become one message listing them all.
 pub fn read_problem(path: &Path) -> Result<(Scene, Problem), Failure> {
+    read_problem_with(path, |_| {})
+}
+
+/// [`read_problem`] with `edit` applied to the scene before it is validated.
+pub fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(Scene, Problem), Failure> {
     let text = read_text(path)?;
-    let scene = Scene::from_json(&text)
+    let mut scene = Scene::from_json(&text)
         .map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.path, e.message)))?;
+    edit(&mut scene);
     match Problem::new(&scene) {
         Ok(problem) => {
             for w in &problem.warnings {

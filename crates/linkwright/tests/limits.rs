@@ -100,3 +100,26 @@ fn a_run_is_bounded_in_samples_particles_and_threads() {
     assert_refused("threads", &scene, &["--threads", "100000"], "--threads", "1..=256");
     assert_refused("samples", &scene, &["--samples", "20000000"], "--samples", "1..=1000000");
 }
+
+#[test]
+fn the_sampling_work_is_bounded_whoever_sets_the_samples() {
+    // Eight bodies through twenty poses at a million samples once took nine minutes: samples × bodies
+    // × poses is bounded, whether the scene or the command line asks for the samples.
+    let body = |k: usize| {
+        let poses: Vec<Value> = (0..20)
+            .map(|i| json!([35.0 * k as f64 + 0.4 * f64::from(i), 0.3 * f64::from(i), 2.0 * f64::from(i)]))
+            .collect();
+        json!({"name": format!("b{k}"), "polygon": [[0, 0], [10, 0], [10, 10], [0, 10]], "poses": poses})
+    };
+    let scene = json!({
+        "linkwright": "scene/1",
+        "fixed_bodies": [{"name": "ground", "polygon": [[-20, -40], [300, -40], [300, -30], [-20, -30]]}],
+        "moving_bodies": (0..8).map(body).collect::<Vec<_>>(),
+        "settings": {"samples": 1000}
+    });
+    let phrase = "use at most 62500 samples";
+    assert_refused("work", &scene, &["--samples", "100000"], "settings.samples", phrase);
+    let mut scene = scene;
+    scene["settings"]["samples"] = json!(1_000_000);
+    assert_refused("work in the scene", &scene, &[], "settings.samples", phrase);
+}
