@@ -348,12 +348,13 @@ impl Jobs {
         let (tx, rx) = oneshot::channel();
         let job_flag = flag.clone();
         self.pool.spawn(move || {
-            let _running = running;
             if job_flag.reason().is_some() {
                 return;
             }
             // A panic in a rayon task would abort the whole process; here it is this job's failure.
             let result = std::panic::catch_unwind(AssertUnwindSafe(|| work(&job_flag)));
+            // The slot is free before the answer goes out, so whoever reads the answer sees it free.
+            drop(running);
             let _ = tx.send(result.map_err(|_| JobEnd::Panicked));
         });
         let stopped = flag.stopped.notified();
