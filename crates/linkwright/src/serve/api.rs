@@ -4,7 +4,7 @@
 
 use super::assets::{example_summaries, example_text, ExampleSummary};
 use super::bundles::{Bundles, Limits as BundleLimits};
-use super::error::{issue_json, ApiError};
+use super::error::{issue_json, join_field, ApiError};
 use super::jobs::{JobEnd, JobObserver, Jobs, Kind, StopFlag, StopOnDrop, StopReason, Work};
 use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, PathRejection};
@@ -28,8 +28,7 @@ use std::sync::Arc;
 use std::time::Duration;
 use tokio::sync::mpsc;
 
-/// Largest request body accepted, bytes (the largest bundled scene is about 20 kB).
-pub const MAX_BODY: usize = 2 * 1024 * 1024;
+pub use super::connections::MAX_BODY;
 
 /// What every handler shares.
 #[derive(Clone)]
@@ -189,7 +188,7 @@ impl DesignInput {
         };
         let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
         printable_size(&problem, &scene.units, "scene")?;
-        let settings = super::fabricate::print_settings(value.get("print_settings"), "print_settings")?;
+        let settings = print_settings(value.get("print_settings"), "print_settings")?;
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
@@ -465,4 +464,28 @@ pub async fn render(
     let disposition = format!("attachment; filename=\"{kind}.svg\"");
     Ok(([(header::CONTENT_TYPE, "image/svg+xml".to_string()), (header::CONTENT_DISPOSITION, disposition)], svg)
         .into_response())
+}
+
+/// The print settings in request field `name`: absent or null for the defaults, otherwise an object
+/// whose missing fields keep their defaults. Every problem is named by its field.
+pub(super) fn print_settings(value: Option<&Value>, name: &str) -> Result<PrintSettings, ApiError> {
+    let Some(value) = value.filter(|v| !v.is_null()) else { return Ok(PrintSettings::default()) };
+    if !value.is_object() {
+        let message = "must be an object of print settings in millimetres (GET /api/fabricate/settings lists them)";
+        return Err(ApiError::bad_request(format!("{name} {message}")).with_issue(name, message));
+    }
+    let settings = PrintSettings::from_json(&value.to_string()).map_err(|e| {
+        let field = join_field(name, &e.field);
+        // The position is in the text re-serialised here, not in anything the client sent.
+        let message = e.message.split(" at line ").next().unwrap_or_default();
+        ApiError::bad_request(format!("print settings: {field}: {message}")).with_issue(field, message)
+    })?;
+    let issues = settings.validate();
+    let Some(first) = issues.first() else { return Ok(settings) };
+    let field = |path: &str| join_field(name, path);
+    let error = match issues.len() {
+        1 => format!("print settings: {}: {}", field(&first.field), first.message),
+        n => format!("print settings have {n} problems; the first: {}: {}", field(&first.field), first.message),
+    };
+    Err(issues.iter().fold(ApiError::bad_request(error), |e, i| e.with_issue(field(&i.field), &i.message)))
 }

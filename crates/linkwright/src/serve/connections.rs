@@ -5,7 +5,6 @@
 //! within [`BODY_READ_TIMEOUT`]; and a body announced larger than [`MAX_BODY`] is refused before any
 //! of it is read. `axum::serve` has none of these knobs, hence the loop here over hyper's own builder.
 
-use super::api::MAX_BODY;
 use super::error::ApiError;
 use axum::body::Body;
 use axum::extract::{ConnectInfo, Request};
@@ -20,6 +19,9 @@ use std::time::Duration;
 use tokio::net::TcpListener;
 use tokio::sync::Semaphore;
 use tower::ServiceExt;
+
+/// Largest request body accepted, bytes (the largest bundled scene is about 20 kB).
+pub const MAX_BODY: usize = 2 * 1024 * 1024;
 
 /// Connections served at once; more wait in the kernel's backlog until one closes. A browser opens
 /// at most six to one server, so 256 is room for dozens of tabs and scripts while staying far below the

@@ -2,9 +2,9 @@
 //! The files stay in memory (see [`super::bundles`]); the answer lists them with the report and what
 //! the 3D preview needs.
 
-use super::api::{body_text, printable_size, AppState, Client, Compound};
+use super::api::{body_text, print_settings, printable_size, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
-use super::error::{join_field, ApiError};
+use super::error::ApiError;
 use super::jobs::{Kind, StopFlag, Work};
 use super::preview::{preview, Preview};
 use axum::body::Bytes;
@@ -20,7 +20,6 @@ use linkwright_core::fab::report::Report;
 use linkwright_core::fab::{fabricate_design_or_alternative, sanitize, FabError, PrintSettings};
 use linkwright_core::scene::Problem;
 use serde::Serialize;
-use serde_json::Value;
 use std::sync::Arc;
 
 /// What a fabrication request asks for, checked.
@@ -86,30 +85,6 @@ impl Request {
         })?;
         Ok(Made { used: self.offset + which, report: bundle.report, preview, stored })
     }
-}
-
-/// The print settings in request field `name`: absent or null for the defaults, otherwise an object
-/// whose missing fields keep their defaults. Every problem is named by its field.
-pub(super) fn print_settings(value: Option<&Value>, name: &str) -> Result<PrintSettings, ApiError> {
-    let Some(value) = value.filter(|v| !v.is_null()) else { return Ok(PrintSettings::default()) };
-    if !value.is_object() {
-        let message = "must be an object of print settings in millimetres (GET /api/fabricate/settings lists them)";
-        return Err(ApiError::bad_request(format!("{name} {message}")).with_issue(name, message));
-    }
-    let settings = PrintSettings::from_json(&value.to_string()).map_err(|e| {
-        let field = join_field(name, &e.field);
-        // The position is in the text re-serialised here, not in anything the client sent.
-        let message = e.message.split(" at line ").next().unwrap_or_default();
-        ApiError::bad_request(format!("print settings: {field}: {message}")).with_issue(field, message)
-    })?;
-    let issues = settings.validate();
-    let Some(first) = issues.first() else { return Ok(settings) };
-    let field = |path: &str| join_field(name, path);
-    let error = match issues.len() {
-        1 => format!("print settings: {}: {}", field(&first.field), first.message),
-        n => format!("print settings have {n} problems; the first: {}: {}", field(&first.field), first.message),
-    };
-    Err(issues.iter().fold(ApiError::bad_request(error), |e, i| e.with_issue(field(&i.field), &i.message)))
 }
 
 /// A design that cannot be fabricated: the library's message says what to change.
