@@ -369,7 +369,10 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     until(page, "/No linkage found/.test(document.getElementById('tab-result').textContent)", Duration::from_secs(20))
         .await?;
     // Cancel stops a long design, here and on the server.
-    eval(page, "window.linkwright.store.edit('long', (s) => { s.settings.samples = 5000000; }) && true").await?;
+    // (The largest search the scene format allows: tens of seconds.)
+    let long = "window.linkwright.store.edit('long', (s) => { s.avoid_regions = []; \
+                Object.assign(s.settings, { samples: 1000000, particles: 1000, iterations: 200 }); }) && true";
+    eval(page, long).await?;
     click(page, "#btn-design").await?;
     until(page, "/%/.test(document.getElementById('job-text').textContent)", Duration::from_secs(20)).await?;
     click(page, "#btn-cancel").await?;
