@@ -243,7 +243,7 @@ fn wall_chair_six_bar_fabricates() {
 
 #[test]
 fn wall_bed_parts_lie_on_plates_with_the_wall_cut_by_dovetails() {
-    let (_, f) = fabricated("k2_wall_bed", 20000);
+    let (_, f) = fabricated("k2_wall_bed", 40000);
     assert_sound("wall bed", &f);
     let b = bundle(&f).unwrap();
     assert!(b.report.oversized.is_empty(), "{:?}", b.report.oversized);
