@@ -113,7 +113,7 @@ fn every_example_and_reference_design_passes_an_independent_re_simulation() {
     assert!(scenes.len() >= 70, "{} scenes", scenes.len());
     let (mut designs, mut checked) = (0, 0);
     for (name, mut problem) in scenes.iter().cloned() {
-        problem.settings.samples = 4000;
+        problem.settings.samples = 8000;
         problem.settings.iterations = 4;
         problem.settings.particles = 30;
         let design = run(&problem, 2);
@@ -178,7 +178,7 @@ fn progress_rises_to_completion_and_cancellation_stops_the_run() {
 fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
     use linkwright_core::synth::{synthesize_with, Options, Start, WARM_SAMPLES};
     let mut problem = example("k2_wall_bed");
-    problem.settings.samples = 20000;
+    problem.settings.samples = 40000;
     problem.settings.iterations = 8;
     let first = synthesize(&problem, &Silent).unwrap();
     let previous: Vec<_> = first.best.iter().chain(&first.alternatives).map(|c| c.mechanism.clone()).collect();
