@@ -12,7 +12,7 @@ use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{PoseMiss, Problem};
-use linkwright_core::synth::{synthesize_with, Observer, Options, Outcome, Progress, Stage, Start};
+use linkwright_core::synth::{synthesize_with, Observer, Options, Outcome, Progress, Reject, Stage, Start};
 use linkwright_core::verify::pose_misses;
 use std::path::{Path, PathBuf};
 
@@ -130,6 +130,11 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         println!("{json}");
     } else {
         println!("{}", summary(&file, &problem, &scene.units, &out_dir));
+    }
+    // The library names the print settings to change; the remedy only this command has is its own.
+    let unprintable = outcome.stats.rejected.iter().any(|&(r, n)| r == Reject::Unprintable && n > 0);
+    if outcome.best.is_none() && unprintable {
+        eprintln!("hint: --no-print-check designs without the print check (for linkages built another way)");
     }
     if args.fabricate {
         if outcome.best.is_some() {

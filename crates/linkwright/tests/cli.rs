@@ -143,3 +143,22 @@ fn check_refuses_an_endless_travel_at_once() {
     assert!(stderr.contains("motion.crank_end_deg") && stderr.contains("720"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// When only the print check stood in the way, the command offers its own way around it (the library
+/// names only the print settings to change).
+#[test]
+fn an_unprintable_run_offers_to_design_without_the_print_check() {
+    // The truck drawn in metres: every linkage is tens of metres long, no printer takes it.
+    let dir = workdir("unprintable");
+    let mut scene: Value =
+        serde_json::from_str(&std::fs::read_to_string(example("k1_garbage_truck")).unwrap()).unwrap();
+    scene["units"] = "m".into();
+    let path = dir.join("truck_in_metres.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = dir.join("out");
+    let run = linkwright(&["design", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "--samples", "3000"]);
+    let (stdout, stderr) = (text(&run.stdout), text(&run.stderr));
+    assert!(stdout.contains("no solution") && stdout.contains("could not be printed"), "{stdout}");
+    assert!(!stdout.contains("--no-print-check"), "{stdout}");
+    assert!(stderr.contains("hint: --no-print-check"), "{stderr}");
+}

@@ -661,8 +661,8 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
         Reject::Unprintable => "valid linkages could not be printed with these print settings (no room for \
                                 the connectors, links larger than the print bed, or no order of the links in \
                                 depth avoids every collision): move the linkage_region closer to the bodies, use \
-                                a larger bed or narrower links in the print settings, allow links on both faces, \
-                                or design without the print check (--no-print-check)"
+                                a larger bed or narrower links in the print settings, or allow links on both \
+                                faces"
             .to_string(),
         Reject::Outclassed => unreachable!("filtered out above"),
     };
