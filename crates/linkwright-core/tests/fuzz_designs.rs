@@ -8,21 +8,17 @@
 //! A failing case is written to `target/tmp/fuzz-failures/` (its scene is the example named in the
 //! file); once fixed, add it to `tests/fixtures/fuzz-corpus/designs/`, which every run replays first.
 
-mod mutate;
+mod fuzz;
 
+use fuzz::{bounded, budget, keep_failure, mutate, Rng, CASE_BOUND};
 use linkwright_core::analysis::{analyze, AnalysisOptions, Which};
 use linkwright_core::design::DesignFile;
 use linkwright_core::fab::{fabricate_design, PrintSettings};
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::{synthesize, Silent};
-use mutate::{mutate, Rng};
 use std::path::{Path, PathBuf};
-use std::sync::{mpsc, Arc};
-use std::time::{Duration, Instant};
-
-/// The most one case may take: validation bounds the travel, the joints and the parts before any
-/// work proportional to them, so a case takes well under a second in release builds.
-const CASE_BOUND: Duration = Duration::from_secs(60);
+use std::sync::Arc;
+use std::time::Instant;
 
 /// The examples whose designs are mutated: one body, two bodies, and the slider-crank family.
 const EXAMPLES: [&str; 3] = ["k1_garbage_truck", "k2_wall_chair", "k1_sofa_bed"];
@@ -67,23 +63,10 @@ fn run_case(problem: &Problem, units: &str, text: &str, fabricate: bool) -> bool
     true
 }
 
-/// Runs one case on a thread of its own: whether it passed validation, or its failure.
+/// [`run_case`] within its bound: whether the design passed validation, or its failure.
 fn outcome(problem: &Arc<Problem>, units: &str, text: &str, fabricate: bool) -> Result<bool, String> {
-    let (done, finished) = mpsc::channel();
     let (problem, units, owned) = (problem.clone(), units.to_string(), text.to_string());
-    let started = Instant::now();
-    let worker = std::thread::spawn(move || {
-        let caught = std::panic::catch_unwind(|| run_case(&problem, &units, &owned, fabricate));
-        let _ = done.send(caught.ok());
-    });
-    match finished.recv_timeout(CASE_BOUND) {
-        Ok(Some(valid)) => {
-            let _ = worker.join();
-            Ok(valid)
-        }
-        Ok(None) | Err(mpsc::RecvTimeoutError::Disconnected) => Err("panicked".into()),
-        Err(mpsc::RecvTimeoutError::Timeout) => Err(format!("ran past {CASE_BOUND:?} ({:?})", started.elapsed())),
-    }
+    bounded(move || run_case(&problem, &units, &owned, fabricate))
 }
 
 #[test]
@@ -104,13 +87,12 @@ fn the_corpus_of_designs_that_once_failed_still_passes() {
 
 #[test]
 fn mutated_designs_never_panic_nor_run_unbounded() {
-    let seconds: u64 = std::env::var("LINKWRIGHT_FUZZ_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(15);
-    let seed: u64 = std::env::var("LINKWRIGHT_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    let (duration, seed) = budget();
     let seeds = seeds();
     let mut rng = Rng::new(seed);
     let started = Instant::now();
     let (mut cases, mut valid) = (0usize, 0usize);
-    while cases < 20 || started.elapsed() < Duration::from_secs(seconds) {
+    while cases < 20 || started.elapsed() < duration {
         let k = rng.below(seeds.len());
         let (scene, problem, text) = &seeds[k];
         let mutated = mutate(text, &mut rng);
@@ -119,10 +101,7 @@ fn mutated_designs_never_panic_nor_run_unbounded() {
         match outcome(problem, &scene.units, &mutated, fabricate) {
             Ok(passed) => valid += usize::from(passed),
             Err(what) => {
-                let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failures");
-                std::fs::create_dir_all(&dir).unwrap();
-                let path = dir.join(format!("{}--seed{seed}-case{cases}.json", EXAMPLES[k]));
-                std::fs::write(&path, &mutated).unwrap();
+                let path = keep_failure(&format!("{}--seed{seed}-case{cases}.json", EXAMPLES[k]), &mutated);
                 panic!("case {cases} of seed {seed} {what}; the input is in {}", path.display());
             }
         }

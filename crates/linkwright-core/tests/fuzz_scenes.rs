@@ -7,19 +7,14 @@
 //! A failing case is written to `target/tmp/fuzz-failures/`; once fixed, add it to
 //! `tests/fixtures/fuzz-corpus/scenes/`, which every run replays first.
 
-mod mutate;
+mod fuzz;
 
+use fuzz::{bounded, budget, keep_failure, mutate, Rng, CASE_BOUND};
 use linkwright_core::fab::{FeasibilityCheck, PrintSettings};
 use linkwright_core::scene::{validate, Problem, Scene, Severity};
 use linkwright_core::synth::{synthesize_with, Options, Silent};
-use mutate::{mutate, Rng};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
-
-/// The most one case may take: the scene limits bound the work of everything a valid file reaches,
-/// with a small search (see `run_case`) it takes well under a second in release builds.
-const CASE_BOUND: Duration = Duration::from_secs(60);
+use std::time::Instant;
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
@@ -56,33 +51,10 @@ fn run_case(text: &str) -> bool {
     true
 }
 
-/// Runs `text` on a thread of its own: whether it reached the engine, or its failure (a panic or
-/// running past the bound).
+/// [`run_case`] within its bound: whether it reached the engine, or its failure.
 fn outcome(text: &str) -> Result<bool, String> {
-    let (done, finished) = mpsc::channel();
     let owned = text.to_string();
-    let started = Instant::now();
-    let worker = std::thread::spawn(move || {
-        let caught = std::panic::catch_unwind(|| run_case(&owned));
-        let _ = done.send(caught.ok());
-    });
-    match finished.recv_timeout(CASE_BOUND) {
-        Ok(Some(reached)) => {
-            let _ = worker.join();
-            Ok(reached)
-        }
-        Ok(None) | Err(mpsc::RecvTimeoutError::Disconnected) => Err("panicked".into()),
-        // The worker is left running: the test fails and its process ends with it.
-        Err(mpsc::RecvTimeoutError::Timeout) => Err(format!("ran past {CASE_BOUND:?} ({:?})", started.elapsed())),
-    }
-}
-
-fn keep(name: &str, text: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failures");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
+    bounded(move || run_case(&owned))
 }
 
 #[test]
@@ -99,18 +71,17 @@ fn the_corpus_of_inputs_that_once_failed_still_passes() {
 
 #[test]
 fn mutated_scenes_never_panic_nor_run_unbounded() {
-    let seconds: u64 = std::env::var("LINKWRIGHT_FUZZ_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(15);
-    let seed: u64 = std::env::var("LINKWRIGHT_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    let (duration, seed) = budget();
     let seeds = seeds();
     let mut rng = Rng::new(seed);
     let started = Instant::now();
     let (mut cases, mut reached) = (0usize, 0usize);
-    while cases < 20 || started.elapsed() < Duration::from_secs(seconds) {
+    while cases < 20 || started.elapsed() < duration {
         let text = mutate(&seeds[rng.below(seeds.len())], &mut rng);
         match outcome(&text) {
             Ok(engine) => reached += usize::from(engine),
             Err(what) => {
-                let path = keep(&format!("scene-seed{seed}-case{cases}.json"), &text);
+                let path = keep_failure(&format!("scene-seed{seed}-case{cases}.json"), &text);
                 panic!("case {cases} of seed {seed} {what}; the input is in {}", path.display());
             }
         }

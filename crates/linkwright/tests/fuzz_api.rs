@@ -8,11 +8,11 @@
 //! A failing request body is written to `target/tmp/fuzz-failures/`.
 
 mod common;
-#[path = "../../linkwright-core/tests/mutate/mod.rs"]
-mod mutate;
+#[path = "../../linkwright-core/tests/fuzz/mod.rs"]
+mod fuzz;
 
 use common::{quick_garbage_truck, Server};
-use mutate::{mutate, Rng};
+use fuzz::{budget, keep_failure, mutate, Rng};
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};
 use ureq::Agent;
@@ -59,8 +59,7 @@ fn send(server: &Server, route: &str, body: &str) -> Result<u16, String> {
 
 #[test]
 fn mutated_requests_are_answered_and_the_server_lives_on() {
-    let seconds: u64 = std::env::var("LINKWRIGHT_FUZZ_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(15);
-    let seed: u64 = std::env::var("LINKWRIGHT_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    let (duration, seed) = budget();
     let server = Server::start(&["--job-seconds", "10"]);
     let scene = quick_garbage_truck(2000, 3);
     let design: Value = {
@@ -73,17 +72,14 @@ fn mutated_requests_are_answered_and_the_server_lives_on() {
     let started = Instant::now();
     let mut statuses = std::collections::BTreeMap::new();
     let mut cases = 0usize;
-    while cases < 20 || started.elapsed() < Duration::from_secs(seconds) {
+    while cases < 20 || started.elapsed() < duration {
         let route = *rng.pick(&ROUTES);
         let original = if route == "/api/design" { scene.to_string() } else { compound.clone() };
         let body = mutate(&original, &mut rng);
         match send(&server, route, &body) {
             Ok(status) => *statuses.entry(status).or_insert(0usize) += 1,
             Err(what) => {
-                let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failures");
-                std::fs::create_dir_all(&dir).unwrap();
-                let path = dir.join(format!("api-seed{seed}-case{cases}.json"));
-                std::fs::write(&path, &body).unwrap();
+                let path = keep_failure(&format!("api-seed{seed}-case{cases}.json"), &body);
                 panic!("case {cases} of seed {seed}, POST {route}: {what}; the body is in {}", path.display());
             }
         }

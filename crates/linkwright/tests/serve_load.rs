@@ -9,11 +9,9 @@
 
 mod common;
 
-use common::example_text;
+use common::{example_text, Server};
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -38,51 +36,6 @@ fn env_number(name: &str, default: u64) -> u64 {
     match std::env::var(name) {
         Ok(v) => v.trim().parse().unwrap_or_else(|_| panic!("{name}={v:?} is not a whole number")),
         Err(_) => default,
-    }
-}
-
-/// `linkwright serve` on a free port, killed (by its own pid) when dropped. Started here rather than
-/// with the shared helper because this test reads the process's memory by its pid.
-struct LoadServer {
-    child: Child,
-    url: String,
-}
-
-impl LoadServer {
-    fn start() -> LoadServer {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_linkwright"))
-            .args(["serve", "--port", "0", "--threads", "2", "--job-seconds", &JOB_SECONDS.to_string()])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("the binary starts");
-        let mut lines = BufReader::new(child.stdout.take().expect("piped stdout")).lines();
-        let first = lines.next().and_then(Result::ok).unwrap_or_default();
-        let url = first
-            .split_whitespace()
-            .find(|w| w.starts_with("http://"))
-            .unwrap_or_else(|| panic!("the server prints its URL first, printed {first:?}"))
-            .to_string();
-        std::thread::spawn(move || for _ in lines.by_ref() {});
-        LoadServer { child, url }
-    }
-
-    fn at(&self, path: &str) -> String {
-        format!("{}{}", self.url, path.trim_start_matches('/'))
-    }
-
-    /// A field of `/proc/PID/status` in KiB (`VmRSS`, `VmHWM`); `None` where there is no /proc.
-    fn memory_kib(&self, field: &str) -> Option<u64> {
-        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).ok()?;
-        let line = status.lines().find(|l| l.starts_with(field))?;
-        line.split_whitespace().nth(1)?.parse().ok()
-    }
-}
-
-impl Drop for LoadServer {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
     }
 }
 
@@ -119,7 +72,7 @@ struct Answer {
 fn many_clients_at_once_are_all_answered_in_bounded_time_and_memory() {
     let clients = env_number("LINKWRIGHT_LOAD_CLIENTS", DEFAULT_CLIENTS as u64) as usize;
     let seconds = env_number("LINKWRIGHT_LOAD_SECONDS", DEFAULT_SECONDS);
-    let server = Arc::new(LoadServer::start());
+    let server = Arc::new(Server::start(&["--job-seconds", &JOB_SECONDS.to_string()]));
 
     // One design to fabricate and simulate, made before the load starts.
     let truck = quick("k1_garbage_truck", 5);

@@ -72,34 +72,21 @@ impl DesignFile {
             );
             return out.0;
         }
-        match self.status {
-            Status::Ok => {
-                for (name, missing) in [
-                    ("mechanism", self.mechanism.is_none()),
-                    ("motion", self.motion.is_none()),
-                    ("metrics", self.metrics.is_none()),
-                ] {
-                    if missing {
-                        out.add(
-                            name,
-                            "is missing; a design with status \"ok\" has a mechanism, its motion and metrics",
-                        );
-                    }
+        // A design with status "ok" has all three; one with "no_solution" none of them.
+        let solved = self.status == Status::Ok;
+        for (name, present) in [
+            ("mechanism", self.mechanism.is_some()),
+            ("motion", self.motion.is_some()),
+            ("metrics", self.metrics.is_some()),
+        ] {
+            match (solved, present) {
+                (true, false) => {
+                    out.add(name, "is missing; a design with status \"ok\" has a mechanism, its motion and metrics")
                 }
-            }
-            Status::NoSolution => {
-                for (name, present) in [
-                    ("mechanism", self.mechanism.is_some()),
-                    ("motion", self.motion.is_some()),
-                    ("metrics", self.metrics.is_some()),
-                ] {
-                    if present {
-                        out.add(
-                            name,
-                            "a design with status \"no_solution\" has none; set status to \"ok\" or remove it",
-                        );
-                    }
+                (false, true) => {
+                    out.add(name, "a design with status \"no_solution\" has none; set status to \"ok\" or remove it")
                 }
+                _ => {}
             }
         }
         if let (Some(m), Some(motion), Some(metrics)) = (&self.mechanism, &self.motion, &self.metrics) {

@@ -132,12 +132,15 @@ impl<'c, 'p> Sampler<'c, 'p> {
             return false;
         }
         // A fit that balanced its residual over every pose is moved onto one through the end poses
-        // (a construction left unpolished already is: `constructions_left_unpolished_are_rigid`).
-        if deviation > END_DEVIATION && !ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit) {
-            return false;
-        }
-        // Rigid lengths through the end poses are not enough for a ternary link (`mirrored`).
-        if ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size) {
+        // (a construction left unpolished already is: `constructions_left_unpolished_are_rigid`); one
+        // already rigid through them still needs its ternary links the right way round (`mirrored`),
+        // which `keep_end_poses` checks too.
+        let through_end_poses = if deviation > END_DEVIATION {
+            ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit)
+        } else {
+            !ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size)
+        };
+        if !through_end_poses {
             return false;
         }
         let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));

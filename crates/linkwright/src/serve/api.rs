@@ -109,8 +109,19 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
     }))
 }
 
+/// The request body read by `parse`, off the async threads and within the job deadline
+/// ([`super::jobs::Jobs::read`]): validating a scene or a design is work like any other.
+pub(super) async fn parsed<T: Send + 'static>(
+    state: &AppState,
+    body: Result<Bytes, BytesRejection>,
+    parse: fn(&str) -> Result<T, ApiError>,
+) -> Result<T, ApiError> {
+    let text = body_text(body)?;
+    state.jobs.read(move || parse(&text)).await
+}
+
 /// The request body as text; a body over [`MAX_BODY`] is a 413.
-pub(super) fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
+fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
     let bytes = body.map_err(|r| match r.status() {
         StatusCode::PAYLOAD_TOO_LARGE => ApiError::new(
             StatusCode::PAYLOAD_TOO_LARGE,
@@ -290,8 +301,7 @@ pub async fn design(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<DesignFile>, ApiError> {
-    let text = body_text(body)?;
-    let input = state.jobs.read(move || DesignInput::parse(&text)).await?;
+    let input = parsed(&state, body, DesignInput::parse).await?;
     let file = state.jobs.run(Kind::Design, &client, Work::DESIGN, move |flag| input.design(flag, |_| {})).await?;
     Ok(Json(file))
 }
@@ -333,8 +343,7 @@ pub async fn design_stream(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let text = body_text(body)?;
-    let input = state.jobs.read(move || DesignInput::parse(&text)).await?;
+    let input = parsed(&state, body, DesignInput::parse).await?;
     let warnings: Vec<Value> =
         input.problem.warnings.iter().filter_map(|w| serde_json::to_value(issue_json("", w)).ok()).collect();
     let ticket = state.jobs.admit(Kind::Design, &client)?;
@@ -397,8 +406,7 @@ pub async fn check(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Value>, ApiError> {
-    let text = body_text(body)?;
-    let request = state.jobs.read(move || Compound::parse(&text)).await?;
+    let request = parsed(&state, body, Compound::parse).await?;
     let check = move |_: &Arc<StopFlag>| Ok(request.design.violations(&request.problem));
     let violations = state.jobs.run(Kind::Analysis, &client, Work::CHECK, check).await?;
     Ok(Json(json!({"ok": violations.is_empty(), "violations": violations})))
@@ -410,8 +418,7 @@ pub async fn simulate(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Value>, ApiError> {
-    let text = body_text(body)?;
-    let request = state.jobs.read(move || Compound::parse(&text)).await?;
+    let request = parsed(&state, body, Compound::parse).await?;
     let which = request.which()?;
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
     let simulation = move |_: &Arc<StopFlag>| {
@@ -433,8 +440,7 @@ pub async fn render(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let text = body_text(body)?;
-    let request = state.jobs.read(move || Compound::parse(&text)).await?;
+    let request = parsed(&state, body, Compound::parse).await?;
     let kind = match request.fields.get("kind").and_then(Value::as_str).unwrap_or("animation") {
         "design" => "design",
         "animation" => "animation",

@@ -2,7 +2,7 @@
 //! The files stay in memory (see [`super::bundles`]); the answer lists them with the report and what
 //! the 3D preview needs.
 
-use super::api::{body_text, print_settings, printable_size, AppState, Client, Compound};
+use super::api::{parsed, print_settings, printable_size, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
 use super::error::ApiError;
 use super::jobs::{Kind, StopFlag, Work};
@@ -139,8 +139,7 @@ pub async fn fabricate(
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Answer>, ApiError> {
-    let text = body_text(body)?;
-    let request = state.jobs.read(move || Request::parse(&text)).await?;
+    let request = parsed(&state, body, Request::parse).await?;
     // A client that hangs up while the job waits in line frees its place at once. A running
     // fabrication cannot be stopped midway (the library has no cancellation hook); it finishes, still
     // counted as running, and its answer is dropped.

@@ -62,6 +62,14 @@ impl Server {
     pub fn at(&self, path: &str) -> String {
         format!("{}{}", self.url, path.trim_start_matches('/'))
     }
+
+    /// A field of the server process's `/proc/PID/status` in KiB (`VmRSS`, `VmHWM`); `None` where
+    /// there is no /proc.
+    pub fn memory_kib(&self, field: &str) -> Option<u64> {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).ok()?;
+        let line = status.lines().find(|l| l.starts_with(field))?;
+        line.split_whitespace().nth(1)?.parse().ok()
+    }
 }
 
 impl Drop for Server {

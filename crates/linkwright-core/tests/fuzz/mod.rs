@@ -1,9 +1,52 @@
-//! A structure-aware mutator of JSON documents for the fuzz tests: it edits a valid file the way a
-//! careless or hostile writer would (wild numbers, missing or repeated fields, wrong types, huge
-//! arrays, broken text), deterministically from a seed, so a failing case can be replayed.
+//! What the fuzz tests share: a structure-aware mutator of JSON documents, which edits a valid file
+//! the way a careless or hostile writer would (wild numbers, missing or repeated fields, wrong types,
+//! huge arrays, broken text) deterministically from a seed, so a failing case can be replayed; the
+//! budget read from the environment; running one case within its bound; keeping a failing input.
 #![allow(dead_code, reason = "each fuzz target uses a different part of this module")]
 
 use serde_json::{Map, Value};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// The most one case may take: the formats' limits bound the work of everything a valid input
+/// reaches, and a case takes well under a second in release builds.
+pub const CASE_BOUND: Duration = Duration::from_secs(60);
+
+/// How long to fuzz and from which seed: `LINKWRIGHT_FUZZ_SECONDS` (default 15, the CI budget) and
+/// `LINKWRIGHT_FUZZ_SEED` (default 0).
+pub fn budget() -> (Duration, u64) {
+    let number = |name: &str, default: u64| std::env::var(name).ok().and_then(|s| s.parse().ok()).unwrap_or(default);
+    (Duration::from_secs(number("LINKWRIGHT_FUZZ_SECONDS", 15)), number("LINKWRIGHT_FUZZ_SEED", 0))
+}
+
+/// Runs `case` on a thread of its own: its result, or its failure (a panic, or running past
+/// [`CASE_BOUND`]; the worker is then left running, and the failing test's process ends with it).
+pub fn bounded<T: Send + 'static>(case: impl FnOnce() -> T + Send + 'static) -> Result<T, String> {
+    let (done, finished) = mpsc::channel();
+    let started = Instant::now();
+    let worker = std::thread::spawn(move || {
+        let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(case));
+        let _ = done.send(caught.ok());
+    });
+    match finished.recv_timeout(CASE_BOUND) {
+        Ok(Some(result)) => {
+            let _ = worker.join();
+            Ok(result)
+        }
+        Ok(None) | Err(mpsc::RecvTimeoutError::Disconnected) => Err("panicked".into()),
+        Err(mpsc::RecvTimeoutError::Timeout) => Err(format!("ran past {CASE_BOUND:?} ({:?})", started.elapsed())),
+    }
+}
+
+/// Writes a failing input to `target/tmp/fuzz-failures/NAME`; returns its path.
+pub fn keep_failure(name: &str, text: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failures");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
 
 /// SplitMix64: small, fast and good enough to choose mutations; the seed alone replays a case.
 pub struct Rng(u64);
