@@ -24,10 +24,10 @@ use std::sync::Arc;
 /// Every transmission angle stays at least this far from 0° and 180° along the known travel: twice
 /// the engine's default bound, so the known linkage is comfortably valid.
 pub const MIN_TRANSMISSION_DEG: f64 = 20.0;
-/// The most moving bodies a chain may have here (larger chains rarely move far with good angles).
-pub const MAX_CHAIN_BODIES: usize = 8;
-/// The most poses a scene may have.
-pub const MAX_POSES: usize = 100;
+/// The most moving bodies a chain may have here, and the most poses: the scene format's limits, so
+/// every scene made here is one the engine takes.
+pub const MAX_CHAIN_BODIES: usize = crate::scene::limits::MAX_MOVING_BODIES;
+pub const MAX_POSES: usize = crate::scene::limits::MAX_POSES;
 /// Mechanisms drawn before giving up.
 pub const MAX_DRAWS: usize = 20_000;
 
@@ -706,7 +706,10 @@ mod tests {
             TestbedError::BodyCount(MAX_CHAIN_BODIES + 1)
         );
         assert_eq!(known_scene(Family::Chain(1), 1, 0, 1.0).unwrap_err(), TestbedError::PoseCount(1));
-        assert_eq!(known_scene(Family::SliderCrank, MAX_POSES + 1, 0, 1.0).unwrap_err(), TestbedError::PoseCount(101));
+        assert_eq!(
+            known_scene(Family::SliderCrank, MAX_POSES + 1, 0, 1.0).unwrap_err(),
+            TestbedError::PoseCount(MAX_POSES + 1)
+        );
         for scale in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(matches!(known_scene(Family::Chain(1), 3, 0, scale), Err(TestbedError::Scale(_))));
         }
