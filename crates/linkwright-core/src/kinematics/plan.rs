@@ -4,7 +4,7 @@ use super::dyad::{
     circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_sine, Branch, DyadError,
 };
 use crate::geom::{Point, Vec2};
-use crate::mechanism::{Mechanism, PartKind};
+use crate::mechanism::{Mechanism, PartKind, Topology};
 
 /// One step of a plan: it places one joint from joints already placed.
 #[derive(Clone, Debug, PartialEq)]
@@ -72,99 +72,90 @@ pub struct Plan {
 impl Plan {
     /// Compiles `mechanism` at its first pose: lengths, part frames and branches are read from there.
     pub fn compile(mechanism: &Mechanism) -> Result<Plan, CompileError> {
-        let topo = &mechanism.topology;
-        let pos = &mechanism.joints;
-        let name = |j: usize| topo.joint_names[j].clone();
+        Plan::order(&mechanism.topology)?.redimension(mechanism)
+    }
+
+    /// The solving order of `topology`, undimensioned (every length 0, every fixed joint at the
+    /// origin): what [`Plan::redimension`] dimensions. Rigid placements first (a part with two placed
+    /// joints places the rest), then one dyad at a time: an unplaced joint where two parts, each
+    /// with a placed joint, meet, or the slider joint on its line.
+    fn order(topo: &Topology) -> Result<Plan, CompileError> {
         let n = topo.joint_count();
         let mut known = vec![false; n];
         let fixed_joints = topo.fixed_joints();
-        let fixed: Vec<(usize, Point)> = fixed_joints.iter().map(|&j| (j, pos[j])).collect();
         for &j in fixed_joints {
             known[j] = true;
         }
         let (pivot, tip) = (topo.driver_pivot, topo.driver_tip);
-        let crank_radius = pos[pivot].distance(pos[tip]);
-        if crank_radius <= 0.0 {
-            return Err(CompileError::ZeroCrank);
-        }
         known[tip] = true;
         let mut steps = Vec::new();
         while known.iter().any(|k| !k) {
             let before = steps.len();
-            // Rigid placement first: a part with two placed joints places the rest.
             for part in topo.parts.iter().filter(|p| p.kind != PartKind::Fixed) {
                 let placed: Vec<usize> = part.joints.iter().copied().filter(|&j| known[j]).collect();
                 if placed.len() < 2 || placed.len() == part.joints.len() {
                     continue;
                 }
                 let (a, b) = (placed[0], placed[1]);
-                let ab = pos[b] - pos[a];
-                if ab.norm() <= 0.0 {
-                    return Err(CompileError::Coincident(name(a), name(b)));
-                }
-                let e = ab.normalized();
-                let unplaced: Vec<usize> = part.joints.iter().copied().filter(|&j| !known[j]).collect();
-                for j in unplaced {
-                    let v = pos[j] - pos[a];
-                    steps.push(Step::Attach { joint: j, a, b, along: v.dot(e), across: e.cross(v) });
-                    known[j] = true;
+                for &joint in &part.joints {
+                    if !known[joint] {
+                        steps.push(Step::Attach { joint, a, b, along: 0.0, across: 0.0 });
+                        known[joint] = true;
+                    }
                 }
             }
             if steps.len() > before {
                 continue;
             }
-            // Then one dyad: an unplaced joint where two parts, each with a placed joint, meet.
-            for j in (0..n).filter(|&j| !known[j]) {
+            for joint in (0..n).filter(|&j| !known[j]) {
                 let anchors: Vec<usize> = topo
                     .parts
                     .iter()
-                    .filter(|p| p.joints.contains(&j))
+                    .filter(|p| p.joints.contains(&joint))
                     .filter_map(|p| p.joints.iter().copied().find(|&x| known[x]))
                     .collect();
-                if anchors.len() >= 2 {
-                    let (a, b) = (anchors[0], anchors[1]);
-                    if pos[a].distance(pos[b]) <= 0.0 {
-                        return Err(CompileError::Coincident(name(a), name(b)));
-                    }
-                    let branch = circle_circle_branch(pos[a], pos[b], pos[j]);
-                    steps.push(Step::Dyad {
-                        joint: j,
-                        a,
-                        ra: pos[a].distance(pos[j]),
-                        b,
-                        rb: pos[b].distance(pos[j]),
-                        branch,
-                    });
-                    known[j] = true;
-                    break;
-                }
-                if let (Some(line), [centre]) =
-                    (mechanism.slider.filter(|_| topo.slider_joint == Some(j)), anchors.as_slice())
-                {
-                    let branch = circle_line_branch(pos[*centre], line.point, line.direction, pos[j]);
-                    steps.push(Step::Slider {
-                        joint: j,
-                        centre: *centre,
-                        r: pos[*centre].distance(pos[j]),
-                        origin: line.point,
-                        direction: line.direction,
-                        branch,
-                    });
-                    known[j] = true;
-                    break;
-                }
+                let step = match anchors[..] {
+                    [a, b, ..] => Step::Dyad { joint, a, ra: 0.0, b, rb: 0.0, branch: Branch::Positive },
+                    [centre] if topo.slider_joint == Some(joint) => Step::Slider {
+                        joint,
+                        centre,
+                        r: 0.0,
+                        origin: Point::ORIGIN,
+                        direction: Vec2::new(1.0, 0.0),
+                        branch: Branch::Positive,
+                    },
+                    _ => continue,
+                };
+                steps.push(step);
+                known[joint] = true;
+                break;
             }
             if steps.len() == before {
                 let j = (0..n).find(|&j| !known[j]).expect("some joint is unplaced");
-                return Err(CompileError::NotDyadic(name(j)));
+                return Err(CompileError::NotDyadic(topo.joint_names[j].clone()));
             }
         }
-        Ok(Plan { joint_count: n, fixed, pivot, tip, crank_radius, steps })
+        let fixed = fixed_joints.iter().map(|&j| (j, Point::ORIGIN)).collect();
+        Ok(Plan { joint_count: n, fixed, pivot, tip, crank_radius: 0.0, steps })
+    }
+
+    /// The dyads of `topology`'s solving order, each as `[a, b, joint]`: `joint` is placed from `a`
+    /// and `b`, and the sign of `(b − a) × (joint − a)` is its branch, which a motion without a
+    /// branch or circuit defect keeps. Empty when the topology has no solving order.
+    pub fn dyad_triangles(topology: &Topology) -> Vec<[usize; 3]> {
+        let steps = Plan::order(topology).map(|plan| plan.steps).unwrap_or_default();
+        steps
+            .into_iter()
+            .filter_map(|s| match s {
+                Step::Dyad { joint, a, b, .. } => Some([a, b, joint]),
+                _ => None,
+            })
+            .collect()
     }
 
     /// This plan's solving order for another mechanism of the same topology: the order depends on the
-    /// topology alone, so only lengths, part frames and branches are read again (much cheaper than
-    /// [`Plan::compile`], which searches for the order).
+    /// topology alone, so only lengths, part frames and branches are read again (cheaper than
+    /// [`Plan::compile`], which searches for the order first).
     pub fn redimension(&self, mechanism: &Mechanism) -> Result<Plan, CompileError> {
         let mut plan = Plan { fixed: Vec::new(), steps: Vec::new(), ..*self };
         self.redimension_into(mechanism, &mut plan)?;

@@ -25,16 +25,31 @@
 //!   a multiple of `|q|²`), so `q` is that circle's point nearest the draw; for N ≥ 4 the same start
 //!   on the first three poses, then polished.
 //!
-//! A block whose solved joint lands far outside the region's box is drawn again a few times (the
-//! sample's own random stream, so results stay reproducible): such a joint would only be penalised
-//! by `E_loc` later.
+//! Blocks are built and polished one after the other, in chain order, each checked as soon as its
+//! joints are placed: the loop it closes keeps its branch at every pose, its ternary link is not
+//! turned over, its joints are apart from their parts' others ([`Constructor::construct`]). A block
+//! whose solved joint lands far outside the region's box, or a ternary link that fails a check, is
+//! drawn again a few times (the sample's own random stream, so results stay reproducible): such a
+//! joint would only be penalised by `E_loc` later.
 
 use crate::geom::{Aabb, Point, Rigid, Vec2};
-use crate::mechanism::{PartKind, Topology};
+use crate::kinematics::Plan;
+use crate::mechanism::{MechanismType, PartKind, Topology};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-/// How often a block is drawn again when a solved joint lands far outside the region's box.
+/// How often a block is drawn when a solved joint lands far outside the region's box, or a ternary
+/// link leaves a defect ([`Constructor::construct`]).
 const TRIES: usize = 4;
+/// The same for a ternary link through three poses in a chain of [`LONG_CHAIN`] bodies or more. Such
+/// a link has finitely many exact solutions (six equations in six unknowns), which fits from random
+/// starts find one at a time, and most of them are turned over or change a loop's branch; with
+/// three or more such links in a row, four tries each leave too few whole samples. Each try's fit
+/// is a quick one ([`Polish`]). Measured with `linkwright bench --known`: chains of five and six bodies
+/// through three poses found a design on 4 of 6 scenes with 4 tries, on 5 with 16; shorter chains
+/// took 3–6 times as long with 16 tries and came no closer to their poses.
+const LONG_CHAIN_TRIES: usize = 16;
+/// The bodies of a chain whose ternary links get [`LONG_CHAIN_TRIES`].
+const LONG_CHAIN: usize = 4;
 /// How far outside the region's box a solved joint may land, in box diagonals, before the block is
 /// drawn again.
 const BOX_MARGIN: f64 = 0.5;
@@ -53,15 +68,54 @@ enum Piece {
     Slider(usize),
 }
 
+impl Piece {
+    /// The joints the piece places, in its order.
+    fn joints(&self) -> &[usize] {
+        match self {
+            Piece::Binary(j) => j,
+            Piece::Ternary(j) => j,
+            Piece::Slider(q) => std::slice::from_ref(q),
+        }
+    }
+}
+
 /// The closed-form constructions of one topology, built once.
 #[derive(Clone, Debug)]
 pub struct Constructor {
     pieces: Vec<Piece>,
     /// The moving body carrying each joint, `None` for the ground.
     carriers: Vec<Option<usize>>,
-    /// How far a projected link's length may stray from pose to pose (a length).
-    tolerance: f64,
+    tolerances: Tolerances,
+    /// The dyads of the solving order, `[a, b, joint]` ([`Plan::dyad_triangles`]): each loop's
+    /// branch, which a block must keep through the poses once all three joints are placed.
+    dyads: Vec<[usize; 3]>,
+    /// Every pair of joints on one part.
+    part_pairs: Vec<(usize, usize)>,
+    /// A chain of [`LONG_CHAIN`] bodies or more.
+    long_chain: bool,
 }
+
+/// What a constructed block must meet.
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerances {
+    /// How far a projected link's length may stray from pose to pose (a length).
+    pub projection: f64,
+    /// The largest relative deviation a polished block may keep (see
+    /// [`super::rigidity::Fit::max_relative_deviation`]).
+    pub deviation: f64,
+    /// Twice the height below which a ternary link counts as straight, so turning it over is not a
+    /// defect (a length; see [`super::rigidity::RigidityModel::mirrored`]).
+    pub flip: f64,
+    /// How close two joints of one part may be (a length).
+    pub spacing: f64,
+    /// Whether a ternary link turned over at an intermediate pose is a defect: where the linkage
+    /// type can pass every pose exactly (else only the last pose is checked).
+    pub intermediate_turnover: bool,
+}
+
+/// Fits the block holding a joint (the second argument) in `x` and returns its relative deviation;
+/// a quick fit (the third argument) gives up sooner, where another draw is cheaper than a slow fit.
+pub type Polish<'a> = dyn FnMut(&mut [f64], usize, bool) -> f64 + 'a;
 
 /// Reusable buffers of [`Constructor::construct`].
 #[derive(Clone, Debug, Default)]
@@ -69,6 +123,8 @@ pub struct ConstructScratch {
     lines: Vec<Line>,
     /// The slider's direction, when the topology has one.
     slider_direction: Option<Vec2>,
+    /// Which joints the blocks built so far have placed.
+    placed: Vec<bool>,
 }
 
 impl ConstructScratch {
@@ -108,9 +164,8 @@ impl Region<'_> {
 }
 
 impl Constructor {
-    /// The constructions for `topology`: one per link, and one for the slider. A link is projected
-    /// until its length strays by at most `tolerance` from pose to pose.
-    pub fn new(topology: &Topology, tolerance: f64) -> Self {
+    /// The constructions for `topology`: one per link, and one for the slider.
+    pub fn new(topology: &Topology, tolerances: Tolerances) -> Self {
         let mut carriers = vec![None; topology.joint_count()];
         for part in &topology.parts {
             if let PartKind::Body(b) = part.kind {
@@ -130,66 +185,165 @@ impl Constructor {
             })
             .collect();
         pieces.extend(topology.slider_joint.map(Piece::Slider));
-        Constructor { pieces, carriers, tolerance }
+        let part_pairs = topology
+            .parts
+            .iter()
+            .flat_map(|p| {
+                p.joints.iter().enumerate().flat_map(|(i, &a)| p.joints[i + 1..].iter().map(move |&b| (a, b)))
+            })
+            .collect();
+        Constructor {
+            pieces,
+            carriers,
+            tolerances,
+            dyads: Plan::dyad_triangles(topology),
+            part_pairs,
+            long_chain: topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN,
+        }
     }
 
     /// Fills `x`'s joints with a linkage through `motions` (`motions[b][i]` carries body b from the
     /// first pose to pose i), drawing joints with `region`, and puts the slider's direction in
-    /// `scratch` ([`ConstructScratch::slider_direction`]; `x`'s slider angle is left as it was).
-    /// Joints of blocks that have no closed form for this many poses, or whose construction
-    /// degenerated, are flagged in `polish` (indexed by joint) and hold a start for the fit.
+    /// `scratch` ([`ConstructScratch::slider_direction`]; `x`'s slider angle is left unset). A block
+    /// with no closed form for this many poses, or whose construction degenerated, holds a start
+    /// that `polish` fits (it returns the block's relative deviation).
+    /// Returns the largest deviation of the blocks polished (0 when none was), infinite when some
+    /// block could not be built without a defect.
+    ///
+    /// Blocks are built in chain order, so each loop is closed by the block built last in it. A
+    /// ternary link that leaves a loop on another branch at some pose, turns over, puts two joints
+    /// of a part too close or cannot be fitted is drawn again right away: drawing the whole linkage
+    /// again instead made defect-free chains of five or six bodies as rare as the product of each
+    /// loop's chance (none in 10⁶ samples of a five-body chain through two poses). Any other block
+    /// with a defect ends the sample.
     pub fn construct(
         &self,
         x: &mut [f64],
         motions: &[Vec<Rigid>],
         rng: &mut Xoshiro256PlusPlus,
         region: &mut Region,
-        polish: &mut Vec<bool>,
+        polish: &mut Polish,
         scratch: &mut ConstructScratch,
-    ) {
+    ) -> f64 {
         let poses = motions.first().map_or(1, Vec::len);
+        let angle = 2 * self.carriers.len();
         scratch.slider_direction = None;
-        polish.clear();
-        polish.resize(self.carriers.len(), false);
+        scratch.placed.clear();
+        scratch.placed.resize(self.carriers.len(), false);
         let set = |x: &mut [f64], j: usize, p: Point| {
             x[2 * j] = p.x;
             x[2 * j + 1] = p.y;
         };
+        let mut worst = 0.0f64;
         for piece in &self.pieces {
-            // The first try that lands near the region, else the first exact one, else the first.
-            let mut best: Option<(Built, bool)> = None;
-            for _ in 0..TRIES {
-                let built = match *piece {
+            let joints = piece.joints();
+            // The first sound try that lands near the region, else the first sound one.
+            let mut best: Option<Built> = None;
+            let (tries, quick) = match piece {
+                Piece::Ternary(_) if poses == 3 && self.long_chain => (LONG_CHAIN_TRIES, true),
+                _ => (TRIES, false),
+            };
+            for _ in 0..tries {
+                let mut built = match *piece {
                     Piece::Binary(joints) => self.binary(joints, motions, poses, rng, region, scratch),
                     Piece::Ternary(joints) => self.ternary(joints, motions, poses, rng, region, scratch),
                     Piece::Slider(q) => slider(self.carriers[q], motions, poses, rng, region),
                 };
+                if built.polish {
+                    for (&j, &p) in joints.iter().zip(&built.points) {
+                        set(x, j, p);
+                    }
+                    if let Some(direction) = built.direction {
+                        x[angle] = direction.angle();
+                    }
+                    built.deviation = polish(x, joints[0], quick);
+                    for (k, &j) in joints.iter().enumerate() {
+                        built.points[k] = Point::new(x[2 * j], x[2 * j + 1]);
+                    }
+                    if built.direction.is_some() {
+                        built.direction = Some(Vec2::from_angle(x[angle]));
+                    }
+                }
+                let sound = built.deviation <= self.tolerances.deviation
+                    && self.keeps_branches(piece, &built, x, motions, &scratch.placed);
+                match (sound, piece) {
+                    (true, _) => {}
+                    (false, Piece::Ternary(_)) => continue,
+                    // A binary link's defect is as likely with any draw: the sample ends here,
+                    // before the work of the blocks after it and of its checks.
+                    (false, _) => return f64::INFINITY,
+                }
                 let kept = built.points[..built.len].iter().all(|&p| region.keeps(p));
-                let better = match &best {
-                    None => true,
-                    Some((b, _)) => kept || (b.polish && !built.polish),
-                };
-                if better {
-                    best = Some((built, kept));
+                if best.is_none() || kept {
+                    best = Some(built);
                 }
                 if kept {
                     break;
                 }
             }
-            let (built, _) = best.expect("at least one try");
-            let joints: &[usize] = match piece {
-                Piece::Binary(j) => j,
-                Piece::Ternary(j) => j,
-                Piece::Slider(q) => std::slice::from_ref(q),
-            };
+            let Some(built) = best else { return f64::INFINITY };
             for (&j, &p) in joints.iter().zip(&built.points) {
                 set(x, j, p);
-                polish[j] = built.polish;
+                scratch.placed[j] = true;
             }
             if let Some(direction) = built.direction {
                 scratch.slider_direction = Some(direction);
             }
+            worst = worst.max(built.deviation);
         }
+        worst
+    }
+
+    /// Whether `built`, the joints of `piece`, keeps every loop it closes on one branch through the
+    /// poses, its ternary link the right way round, and its joints apart from the others of their
+    /// parts (the joints of earlier blocks are in `x`, flagged in `placed`).
+    fn keeps_branches(&self, piece: &Piece, built: &Built, x: &[f64], motions: &[Vec<Rigid>], placed: &[bool]) -> bool {
+        if let Piece::Slider(_) = piece {
+            return true;
+        }
+        let joints = piece.joints();
+        let at = |j: usize| match joints.iter().position(|&k| k == j) {
+            Some(k) => Some(built.points[k]),
+            None => placed[j].then(|| Point::new(x[2 * j], x[2 * j + 1])),
+        };
+        let poses = motions.first().map_or(1, Vec::len);
+        // `(b − a) × (c − a)` at pose i, for a triangle of joints at `first` in the first pose.
+        let orientation = |triangle: [usize; 3], first: [Point; 3], i: usize| {
+            let [a, b, c] = [0, 1, 2].map(|k| carried(motions, self.carriers[triangle[k]], i, first[k]));
+            (b - a).cross(c - a)
+        };
+        let keeps = |triangle: [usize; 3], first: [Point; 3]| {
+            let sign = orientation(triangle, first, 0);
+            (1..poses).all(|i| orientation(triangle, first, i) * sign > 0.0)
+        };
+        let apart = self.part_pairs.iter().filter(|(a, b)| joints.contains(a) || joints.contains(b)).all(|&(a, b)| {
+            match (at(a), at(b)) {
+                (Some(p), Some(q)) => p.distance(q) >= self.tolerances.spacing,
+                _ => true,
+            }
+        });
+        let closed = self.dyads.iter().filter(|t| t.iter().any(|j| joints.contains(j))).all(|&t| {
+            match (at(t[0]), at(t[1]), at(t[2])) {
+                (Some(a), Some(b), Some(c)) => keeps(t, [a, b, c]),
+                _ => true,
+            }
+        });
+        let turned_over = match *piece {
+            Piece::Ternary(t) => {
+                let first = [built.points[0], built.points[1], built.points[2]];
+                let longest =
+                    (first[0].distance(first[1])).max(first[1].distance(first[2])).max(first[2].distance(first[0]));
+                // Twice the height over the longest side.
+                let straight = 2.0 * orientation(t, first, 0).abs() <= self.tolerances.flip * longest;
+                let sign = orientation(t, first, 0);
+                // A fit through more poses than it can pass keeps a residual at the intermediate
+                // ones; like the rest of the sampler, it answers for the end poses only.
+                let mut checked = if self.tolerances.intermediate_turnover { 1..poses } else { poses - 1..poses };
+                !straight && checked.any(|i| orientation(t, first, i) * sign <= 0.0)
+            }
+            _ => false,
+        };
+        apart && closed && !turned_over
     }
 
     /// A binary link `[a, b]`: projected from two draws for N ≤ 3, else the better of the two
@@ -208,7 +362,7 @@ impl Constructor {
         if poses <= 3 {
             let mut points = [da, db];
             // One equation per pose after the first: at most two.
-            if project_link(&mut points, [ca, cb], motions, poses, self.tolerance) {
+            if project_link(&mut points, [ca, cb], motions, poses, self.tolerances.projection) {
                 return Built::joints(&points, false);
             }
             return Built::joints(&[da, db], true);
@@ -242,7 +396,14 @@ impl Constructor {
         if poses == 2 {
             let mut points = draws;
             // Three pairs through two poses: three equations.
-            if project::<3, 3, 4>(&mut points, &c, &[(0, 1), (0, 2), (1, 2)], motions, poses, self.tolerance) {
+            if project::<3, 3, 4>(
+                &mut points,
+                &c,
+                &[(0, 1), (0, 2), (1, 2)],
+                motions,
+                poses,
+                self.tolerances.projection,
+            ) {
                 return Built::joints(&points, false);
             }
             return Built::joints(&draws, true);
@@ -267,13 +428,15 @@ struct Built {
     /// The slider's unit direction, for the slider piece.
     direction: Option<Vec2>,
     polish: bool,
+    /// The block's relative rigidity deviation once polished (0 for a closed form).
+    deviation: f64,
 }
 
 impl Built {
     fn joints(points: &[Point], polish: bool) -> Built {
         let mut all = [Point::ORIGIN; 3];
         all[..points.len()].copy_from_slice(points);
-        Built { points: all, len: points.len(), direction: None, polish }
+        Built { points: all, len: points.len(), direction: None, polish, deviation: 0.0 }
     }
 }
 

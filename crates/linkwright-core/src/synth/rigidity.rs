@@ -351,6 +351,30 @@ impl RigidityModel {
         self.report(x, motions, s, energy, iterations)
     }
 
+    /// [`RigidityModel::fit`] on the one block that holds `joint`, the others left as they are: the
+    /// block's own [`Fit::max_relative_deviation`] (its other joints and, for the slider, its angle
+    /// must be in `x`; the rest of `x` is not read). Infinite for non-finite inputs.
+    pub fn fit_block_of(
+        &self,
+        joint: usize,
+        x: &mut [f64],
+        motions: &[Vec<Rigid>],
+        scale: f64,
+        ws: &mut FitWorkspace,
+    ) -> f64 {
+        let s = usable_scale(scale);
+        let block = self.blocks.iter().find(|b| b.vars.contains(&(2 * joint))).expect("every joint is in a block");
+        let finite = block.vars.iter().all(|&v| x[v].is_finite())
+            && motions.iter().flatten().all(|m| m.angle().is_finite() && m.translation().is_finite());
+        if !finite {
+            return f64::INFINITY;
+        }
+        if self.poses(motions) >= 2 {
+            self.fit_block(block, x, motions, s, ws);
+        }
+        self.deviation_of(&block.pairs, block.slider, x, motions) / s
+    }
+
     /// Levenberg–Marquardt with geodesic acceleration on one block; returns the block's world energy
     /// and the iterations taken.
     fn fit_block(
@@ -667,16 +691,21 @@ impl RigidityModel {
     /// The largest change of a link's length, or of the slider joint's distance from its line, over
     /// the poses (world units).
     fn max_deviation(&self, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
+        self.deviation_of(&self.pairs, self.slider.is_some(), x, motions)
+    }
+
+    /// [`RigidityModel::max_deviation`] over `pairs` and, if `slider`, the slider joint.
+    fn deviation_of(&self, pairs: &[(usize, usize)], slider: bool, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
         let poses = self.poses(motions);
         let mut dev = 0.0f64;
-        for &(m, n) in &self.pairs {
+        for &(m, n) in pairs {
             let l0 = (x[2 * m] - x[2 * n]).hypot(x[2 * m + 1] - x[2 * n + 1]);
             for i in 1..poses {
                 let l = self.place(m, x, motions, i).0.distance(self.place(n, x, motions, i).0);
                 dev = dev.max((l - l0).abs());
             }
         }
-        if let Some(q) = self.slider {
+        if let Some(q) = self.slider.filter(|_| slider) {
             let u = Vec2::from_angle(x[2 * self.carriers.len()]);
             let q0 = Point::new(x[2 * q], x[2 * q + 1]);
             for i in 1..poses {

@@ -2,11 +2,11 @@
 //! region and solve the others in closed form where the poses allow it ([`super::construct`]), and
 //! pull the rest onto a rigid linkage by minimising E_rigid.
 
-use super::construct::{ConstructScratch, Constructor, Region};
+use super::construct::{ConstructScratch, Constructor, Region, Tolerances};
 use super::context::{Context, END_DEVIATION};
 use super::perturb::{PerturbationCells, Verdict};
 use super::random::{normal, rng, Stream};
-use super::rigidity::FitWorkspace;
+use super::rigidity::{FitWorkspace, RigidityModel, FLIP_TOLERANCE};
 use crate::geom::{penetrates_unchecked, Aabb, Obstacle, Point, Rigid, Vec2};
 use crate::mechanism::{Mechanism, SliderLine};
 use rand::RngExt;
@@ -18,6 +18,11 @@ pub const WARM_JITTER: f64 = 0.05;
 /// their lengths to this fraction of the deviation a sample may have. Projecting further, to rounding,
 /// took one more step in six (the folding table: 2.6% of its instructions).
 const UNPOLISHED_DEVIATION: f64 = 1e-4;
+/// Iterations of a quick fit ([`super::construct::Polish`]): a ternary link's fit through three poses
+/// that converges takes fewer; one that has not by then rarely ends exact, and drawing it again is
+/// cheaper (`linkwright bench --known`, chains through three poses: 100 iterations took 1.5–2× as
+/// long for no more designs).
+const QUICK_FIT_ITERATIONS: usize = 15;
 /// How often a perturbed pose that collides is drawn again before the input pose is used unperturbed.
 const PERTURB_TRIES: usize = 5;
 
@@ -30,6 +35,8 @@ pub struct Sampler<'c, 'p> {
     region_grid: Obstacle,
     family: u64,
     constructor: Constructor,
+    /// The rigidity fit with [`QUICK_FIT_ITERATIONS`], for blocks drawn again when they fail.
+    quick_rigidity: RigidityModel,
     /// Each body's first pose, inverted: perturbed motions start from it.
     first_inverse: Vec<Rigid>,
     /// The fixed bodies' verdicts on perturbed poses, by cell of the perturbation.
@@ -42,8 +49,6 @@ pub struct SampleScratch {
     motions: Vec<Vec<Rigid>>,
     x: Vec<f64>,
     fit: FitWorkspace,
-    /// Which joints the fit must still polish after the construction.
-    polish: Vec<bool>,
     construct: ConstructScratch,
     /// Each body's outline and its box at the pose being perturbed, once placed.
     outlines: Vec<Vec<Point>>,
@@ -72,8 +77,15 @@ impl<'c, 'p> Sampler<'c, 'p> {
             family,
             constructor: Constructor::new(
                 &ctx.topology,
-                UNPOLISHED_DEVIATION * ctx.accepted_deviation() * ctx.body_size,
+                Tolerances {
+                    projection: UNPOLISHED_DEVIATION * ctx.accepted_deviation() * ctx.body_size,
+                    deviation: ctx.accepted_deviation(),
+                    flip: FLIP_TOLERANCE * ctx.body_size,
+                    spacing: ctx.min_spacing,
+                    intermediate_turnover: !ctx.overdetermined,
+                },
             ),
+            quick_rigidity: ctx.rigidity.clone().with_max_iterations(QUICK_FIT_ITERATIONS),
             first_inverse: ctx.problem.bodies.iter().map(|b| b.poses[0].inverse()).collect(),
             cells: PerturbationCells::new(ctx),
         }
@@ -92,9 +104,9 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
         self.perturbed_motions(&mut rng, scratch);
         let n = ctx.topology.joint_count();
-        let SampleScratch { motions, x, fit, polish, construct, .. } = scratch;
+        let SampleScratch { motions, x, fit, construct, .. } = scratch;
         x.clear();
-        // The slider's direction when the construction leaves it final, else read from `x`.
+        // The slider's direction when no fit turns it afterwards, else read from `x`.
         let mut slider_direction = None;
         let deviation = match near {
             Some(start) => {
@@ -108,21 +120,16 @@ impl<'c, 'p> Sampler<'c, 'p> {
                 x.resize(ctx.rigidity.dim(), 0.0);
                 let mut draw = |rng: &mut Xoshiro256PlusPlus| self.point_in_region(rng);
                 let mut region = Region { draw: &mut draw, bounds: self.region_box };
-                self.constructor.construct(x, motions, &mut rng, &mut region, polish, construct);
-                if polish.iter().any(|&p| p) {
-                    if let Some(direction) = construct.slider_direction() {
-                        x[2 * n] = direction.angle();
-                    }
-                    ctx.rigidity.fit_where(x, motions, ctx.body_size, fit, |j| polish[j]).max_relative_deviation
-                } else if x.iter().all(|v| v.is_finite()) {
-                    // A construction that left nothing to polish keeps every link's length to a
-                    // [`UNPOLISHED_DEVIATION`] of the accepted deviation
-                    // (`constructions_left_unpolished_are_rigid`): measuring it, with `hypot` per link
-                    // and pose, took 3% of the folding table's time. Its slider's direction goes to the
-                    // mechanism as it is: an angle would only be turned back into it (an `atan2` and a
-                    // `sin_cos` per sample).
-                    slider_direction = construct.slider_direction();
-                    0.0
+                let mut polish = |x: &mut [f64], joint: usize, quick: bool| {
+                    let model = if quick { &self.quick_rigidity } else { &ctx.rigidity };
+                    model.fit_block_of(joint, x, motions, ctx.body_size, fit)
+                };
+                let deviation = self.constructor.construct(x, motions, &mut rng, &mut region, &mut polish, construct);
+                // The slider's direction goes to the mechanism as it is: an angle would only be
+                // turned back into it (an `atan2` and a `sin_cos` per sample).
+                slider_direction = construct.slider_direction();
+                if x[..2 * n].iter().all(|v| v.is_finite()) {
+                    deviation
                 } else {
                     f64::INFINITY
                 }
@@ -136,6 +143,10 @@ impl<'c, 'p> Sampler<'c, 'p> {
         // already rigid through them still needs its ternary links the right way round (`mirrored`),
         // which `keep_end_poses` checks too.
         let through_end_poses = if deviation > END_DEVIATION {
+            // The fit reads the slider's angle in `x` and may turn it.
+            if let Some(direction) = slider_direction.take() {
+                scratch.x[2 * n] = direction.angle();
+            }
             ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit)
         } else {
             !ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size)
@@ -360,16 +371,23 @@ mod tests {
                 let ctx = Context::new(&problem, family);
                 let sampler = Sampler::new(&ctx, 0);
                 let mut scratch = SampleScratch::default();
-                for i in 0..2000 {
+                // Constructions with a defect end early and are not counted.
+                for i in 0..3000 {
                     let mut rng = rng(2, Stream::Sample { family: 0 }, i);
                     sampler.perturbed_motions(&mut rng, &mut scratch);
-                    let SampleScratch { motions, x, polish, construct, .. } = &mut scratch;
+                    let SampleScratch { motions, x, construct, .. } = &mut scratch;
                     x.clear();
                     x.resize(ctx.rigidity.dim(), 0.0);
                     let mut draw = |rng: &mut Xoshiro256PlusPlus| sampler.point_in_region(rng);
                     let mut region = Region { draw: &mut draw, bounds: sampler.region_box };
-                    sampler.constructor.construct(x, motions, &mut rng, &mut region, polish, construct);
-                    if polish.iter().any(|&p| p) {
+                    let mut polished = false;
+                    let mut polish = |_: &mut [f64], _: usize, _: bool| {
+                        polished = true;
+                        f64::INFINITY
+                    };
+                    let built =
+                        sampler.constructor.construct(x, motions, &mut rng, &mut region, &mut polish, construct);
+                    if polished || built.is_infinite() {
                         continue;
                     }
                     if let Some(direction) = construct.slider_direction() {
