@@ -185,10 +185,6 @@ impl Mechanism {
     pub fn joint(&self, name: &str) -> Option<Point> {
         self.topology.joint(name).map(|j| self.joints[j])
     }
-    /// Length of every link pair, in the order of [`Topology::link_pairs`].
-    pub fn link_lengths(&self) -> Vec<f64> {
-        self.topology.link_pairs().iter().map(|&(a, b)| self.joints[a].distance(self.joints[b])).collect()
-    }
     /// The driver's angle at the first pose (radians, atan2 of tip − pivot).
     pub fn crank_start(&self) -> f64 {
         (self.joints[self.topology.driver_tip] - self.joints[self.topology.driver_pivot]).angle()

@@ -190,10 +190,6 @@ impl Polygon {
             self.boundary_distance(p)
         }
     }
-    /// True when `p` lies inside, farther than `tol` from the boundary.
-    pub fn contains_deeply(&self, p: Point, tol: f64) -> bool {
-        contains_deeply_raw(&self.vertices, p, tol)
-    }
 
     /// True when the interiors of the two polygons overlap by more than `tol` (a length): an edge of one
     /// crosses an edge of the other away from their ends, or a vertex or edge midpoint of one lies

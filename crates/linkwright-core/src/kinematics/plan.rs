@@ -224,10 +224,6 @@ impl Plan {
     pub fn steps(&self) -> &[Step] {
         &self.steps
     }
-    /// Number of steps that have a transmission angle (dyads and slider dyads).
-    pub fn dyad_count(&self) -> usize {
-        self.steps.iter().filter(|s| !matches!(s, Step::Attach { .. })).count()
-    }
 
     /// Places every joint with the crank at `theta` (radians). `out` must hold `joint_count` points.
     pub fn solve(&self, theta: f64, out: &mut [Point]) -> Result<(), (usize, DyadError)> {
