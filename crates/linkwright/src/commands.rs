@@ -12,7 +12,7 @@ use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{PoseMiss, Problem};
-use linkwright_core::synth::{synthesize_with, Observer, Options, Outcome, Progress, Reject, Stage, Start};
+use linkwright_core::synth::{synthesize_with, Acceptance, Observer, Options, Outcome, Progress, Reject, Stage, Start};
 use linkwright_core::verify::pose_misses;
 use std::path::{Path, PathBuf};
 
@@ -118,7 +118,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         None => Vec::new(),
     };
     let start = if previous.is_empty() { Start::Cold } else { Start::Warm(&previous) };
-    let options = Options { start, printable: printable.as_ref() };
+    let options = Options { start, printable: printable.as_ref().map(|c| c as &dyn Acceptance) };
     let outcome = pool.install(|| synthesize_with(&problem, &options, &observer)).expect("the CLI never cancels");
     observer.0.finish_and_clear();
 

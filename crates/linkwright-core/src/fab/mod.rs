@@ -408,6 +408,15 @@ pub struct FeasibilityCheck {
     bed: settings::Bed,
 }
 
+impl crate::synth::Acceptance for FeasibilityCheck {
+    fn min_joint_spacing(&self) -> f64 {
+        FeasibilityCheck::min_joint_spacing(self)
+    }
+    fn accepts(&self, mechanism: &Mechanism, trace: &Trace) -> bool {
+        self.check(mechanism, trace)
+    }
+}
+
 impl FeasibilityCheck {
     /// The check with the given settings in a scene of `mm_per_unit` millimetres per unit.
     pub fn new(problem: &Problem, settings: &PrintSettings, mm_per_unit: f64) -> FeasibilityCheck {

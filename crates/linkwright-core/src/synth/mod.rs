@@ -19,8 +19,8 @@ pub use context::{Context, CostWeights};
 pub use evaluate::{evaluate, Candidate, Reject, Scratch, SoftTerms};
 pub use pfo::FilterOptions;
 pub use pipeline::{
-    families, synthesize, synthesize_with, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent, Stage,
-    Start, WARM_SAMPLES,
+    families, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats,
+    Silent, Stage, Start, WARM_SAMPLES,
 };
 
 /// Fixtures shared by the synthesis unit tests.

@@ -8,7 +8,7 @@ use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
 use super::refine::{refine_design, RefineOptions};
 use super::sample::{x_from_mechanism, SampleScratch, Sampler};
-use crate::fab::FeasibilityCheck;
+use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, MechanismType};
 use crate::scene::{MechanismChoice, Problem};
 use crate::verify::{verify_travel, Travel};
@@ -145,15 +145,24 @@ pub enum Start<'a> {
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
 
+/// A test every design must also pass, beyond the synthesis' own hard constraints: fabrication's print
+/// check (paper §7.2) implements it, so the synthesis needs nothing of fabrication. What it refuses is
+/// counted as [`Reject::Unprintable`].
+pub trait Acceptance: Sync + std::fmt::Debug {
+    /// The least distance between two joints of one part the test needs (a length): samples whose
+    /// joints are closer are never drawn.
+    fn min_joint_spacing(&self) -> f64;
+    /// Whether `mechanism`, moving through `trace` (a candidate's own travel), passes.
+    fn accepts(&self, mechanism: &Mechanism, trace: &Trace) -> bool;
+}
+
 /// How a run starts and what its designs must also satisfy.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Options<'a> {
     pub start: Start<'a>,
-    /// When given, every design must be printable with these print settings (paper §7.2): the joints
-    /// of one part at least [`FeasibilityCheck::min_joint_spacing`] apart, connectors that fit, and a
-    /// depth ordering of links and connectors. Checked on the kept designs, cheapest first, so the
-    /// paper's stages run unchanged.
-    pub printable: Option<&'a FeasibilityCheck>,
+    /// When given, every design must pass it (printable with given print settings, say). Checked on
+    /// the kept designs, cheapest first, so the paper's stages run unchanged.
+    pub printable: Option<&'a dyn Acceptance>,
 }
 
 /// Runs the paper's synthesis from scratch (no fabrication check) on the current rayon pool.
@@ -241,7 +250,7 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
 fn pick_designs(
     problem: &Problem,
     valid: Vec<Candidate>,
-    printable: Option<&FeasibilityCheck>,
+    printable: Option<&dyn Acceptance>,
     rejected: &mut [usize; Reject::ALL.len()],
     observer: &dyn Observer,
 ) -> Result<Vec<Candidate>, Cancelled> {
@@ -285,7 +294,7 @@ fn finish_designs(
     problem: &Problem,
     contexts: &[Context],
     picked: Vec<Candidate>,
-    printable: Option<&FeasibilityCheck>,
+    printable: Option<&dyn Acceptance>,
     stats: &mut RunStats,
     observer: &dyn Observer,
 ) -> Result<Vec<Candidate>, Cancelled> {
@@ -301,7 +310,7 @@ fn finish_designs(
             let ctx = context_of(&c).expect("every design comes from one of the run's families");
             let mut refined = refine_design(ctx, &c, &options, &mut ctx.scratches.take());
             if let Some(check) = printable {
-                if !refined.printable && !check.check(&refined.mechanism, &refined.trace) {
+                if !refined.printable && !check.accepts(&refined.mechanism, &refined.trace) {
                     refined = c;
                 } else {
                     refined.printable = true;
@@ -326,8 +335,8 @@ fn finish_designs(
 }
 
 /// `c` marked printable, or why not (a candidate already found printable is not checked again).
-fn mark_printable(check: &FeasibilityCheck, mut c: Candidate) -> Result<Candidate, Reject> {
-    c.printable = c.printable || check.check(&c.mechanism, &c.trace);
+fn mark_printable(check: &dyn Acceptance, mut c: Candidate) -> Result<Candidate, Reject> {
+    c.printable = c.printable || check.accepts(&c.mechanism, &c.trace);
     if c.printable {
         Ok(c)
     } else {
@@ -356,7 +365,7 @@ fn run_family(
     ctx: &Context,
     family: MechanismType,
     seeds: &[Vec<f64>],
-    printable: Option<&FeasibilityCheck>,
+    printable: Option<&dyn Acceptance>,
     stats: &mut RunStats,
     rejected: &mut [usize; Reject::ALL.len()],
     observer: &dyn Observer,
@@ -561,7 +570,7 @@ fn check_in_order(
     candidates: Vec<Candidate>,
     enough: usize,
     batch_chunks: usize,
-    printable: Option<&FeasibilityCheck>,
+    printable: Option<&dyn Acceptance>,
     rejected: &mut [usize; Reject::ALL.len()],
     observer: &dyn Observer,
 ) -> Result<Vec<Candidate>, Cancelled> {

@@ -20,7 +20,7 @@ use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings
 use linkwright_core::mechanism::Mechanism;
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize_with, Options, Progress, Start};
+use linkwright_core::synth::{synthesize_with, Acceptance, Options, Progress, Start};
 use serde_json::{json, Map, Value};
 use std::convert::Infallible;
 use std::net::SocketAddr;
@@ -221,7 +221,7 @@ impl DesignInput {
         let printable =
             millimetres_per_unit(&self.units).map(|mm| FeasibilityCheck::new(&self.problem, &self.settings, mm));
         let start = if self.previous.is_empty() { Start::Cold } else { Start::Warm(&self.previous) };
-        let options = Options { start, printable: printable.as_ref() };
+        let options = Options { start, printable: printable.as_ref().map(|c| c as &dyn Acceptance) };
         let observer = JobObserver { flag: flag.clone(), on_progress };
         synthesize_with(&self.problem, &options, &observer)
             .map(|outcome| DesignFile::from_outcome(&self.problem, &outcome))
