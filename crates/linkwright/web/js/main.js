@@ -6,7 +6,7 @@ import * as F from './files.js';
 import { renderObjectTab, renderSettingsTab } from './panels.js';
 import { geometryKey, Results } from './result.js';
 import * as S from './scene.js';
-import { Store } from './store.js';
+import { newResult, Store } from './store.js';
 import { toolHint, Tools } from './tools.js';
 import { Viewport } from './viewport.js';
 
@@ -167,7 +167,7 @@ async function openFile(file) {
       fit();
       store.hint(`Opened ${file.name}. (Undo brings the previous scene back.)`);
     } else {
-      store.result = { design: got.design, scene: S.toFile(store.scene), key: geometryKey(store.scene), which: null };
+      store.result = newResult({ design: got.design, scene: S.toFile(store.scene), key: geometryKey(store.scene) });
       await results.select(null);
       store.setUi({ tab: 'result' });
       store.hint(`Opened the design ${file.name} for this scene.`);
@@ -294,7 +294,7 @@ if (saved) {
   else fit();
   store.hint('Welcome back: your last scene is restored.');
   if (saved.result?.design) {
-    store.result = { design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene), which: null };
+    store.result = newResult({ design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene) });
     results.select(saved.result.which ?? null).then(() => results.verify());
   }
 } else {

@@ -8,6 +8,7 @@ import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
 import { errorPlot, loopList, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
+import { newResult } from './store.js';
 import { clear, html, points, svg } from './svg.js';
 
 const STAGES = { sampling: 'Sampling linkages', collision: 'Checking collisions', refining: 'Refining the best' };
@@ -171,7 +172,7 @@ export class Results {
       const request = { scene, print_settings: savedPrintSettings() };
       const design = await api.designStream(request, (name, data) => this.onEvent(name, data), this.controller.signal);
       if (design) {
-        this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: this.warnings };
+        this.store.result = newResult({ design, scene, key, warnings: this.warnings });
         await this.select(null);
         this.store.setUi({ tab: 'result' });
         if (design.status === 'ok') {
@@ -235,7 +236,7 @@ export class Results {
     try {
       const design = await api.designStream({ scene, from: this.lastGood(), print_settings: savedPrintSettings() }, () => {});
       if (design?.status === 'ok') {
-        this.store.result = { design, scene, key, which: null, analysis: null, verified: null, warnings: [] };
+        this.store.result = newResult({ design, scene, key });
         await this.select(null, { keep: true });
         this.store.hint(`Live: redesigned for the moved pose (cost ${design.metrics.cost.toFixed(2)}).`);
       } else if (design) {

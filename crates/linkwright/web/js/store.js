@@ -3,6 +3,19 @@
 
 const HISTORY = 200;
 
+/**
+ * A design result, the one shape `store.result` holds:
+ * - `design`: the design/1 file the server answered; `scene`: the scene/1 file it was designed for;
+ * - `key`: the geometry key of the scene when it was designed (a result is fresh while it matches);
+ * - `warnings`: the scene's warnings the server accepted it with;
+ * - `which`: the mechanism shown (null: the best design, k: alternative k), `analysis`: its simulated
+ *   motion (null until simulated) and `verified`: the server's check of it (null until checked).
+ *   These three change as another mechanism is shown; the rest never changes.
+ */
+export function newResult({ design, scene, key, warnings = [] }) {
+  return { design, scene, key, warnings, which: null, analysis: null, verified: null };
+}
+
 export class Store {
   constructor(scene) {
     this.scene = scene;
@@ -16,7 +29,7 @@ export class Store {
       tab: 'object',
       hint: '',
     };
-    this.result = null; // {design, which, analysis, sceneKey, verified}
+    this.result = null; // a design result (see `newResult`), or null
     this.job = null; // {stage, fraction, bestCost, controller, queued}
     this.undoStack = [];
     this.redoStack = [];
