@@ -3,16 +3,12 @@
 //! rides on, where connector posts stand on the bodies ([`super::posts`]), and which joints are pins
 //! fused straight onto a body.
 
-use super::posts::{self, Pad, Pillar};
+use super::posts::{self, Pad, Pillar, SceneShapes};
 use super::settings::Dims;
-use super::shapes::Region;
 use super::FabError;
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::{BodyFrames, Trace};
 use crate::mechanism::{Mechanism, PartKind};
-use crate::scene::Problem;
-use i_overlay::core::fill_rule::FillRule;
-use i_overlay::float::simplify::SimplifyShape;
 
 /// A rigid thing the printed members ride on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -111,77 +107,6 @@ pub struct Layout {
     pub foot: Option<Pad>,
     pub dims: Dims,
     frames: BodyFrames,
-}
-
-/// Everything about a scene fabrication needs before any mechanism: the ground's region (the union
-/// of the fixed bodies), each body's outline, and the sizes. Build it once and reuse it for many
-/// mechanisms (the synthesis does).
-#[derive(Clone, Debug)]
-pub struct SceneShapes {
-    /// The union of the fixed bodies: one region per connected piece.
-    pub ground: Vec<Region>,
-    /// Each moving body's outline in its own frame, as a region.
-    pub bodies: Vec<Region>,
-    pub first_poses: Vec<Rigid>,
-    pub dims: Dims,
-    /// For each carrier (0 the ground, `1 + b` body `b`), its places for posts on thin stretches.
-    thin: Vec<posts::ThinSites>,
-}
-
-impl SceneShapes {
-    pub fn new(problem: &Problem, dims: Dims) -> SceneShapes {
-        let contours: Vec<Vec<[f64; 2]>> = problem
-            .fixed
-            .iter()
-            .map(|p| {
-                let mut c: Vec<[f64; 2]> = p.vertices().iter().map(|v| [v.x, v.y]).collect();
-                if p.signed_area() < 0.0 {
-                    c.reverse();
-                }
-                c
-            })
-            .collect();
-        let ground = if contours.is_empty() {
-            Vec::new()
-        } else {
-            contours
-                .simplify_shape(FillRule::NonZero)
-                .into_iter()
-                .map(|shape| Region {
-                    contours: shape
-                        .into_iter()
-                        .map(|c| c.into_iter().map(|[x, y]| Point::new(x, y)).collect())
-                        .collect(),
-                })
-                .filter(|r: &Region| !r.contours.is_empty())
-                .collect()
-        };
-        let bodies: Vec<Region> = problem
-            .bodies
-            .iter()
-            .map(|b| {
-                let mut c = b.outline.vertices().to_vec();
-                if b.outline.signed_area() < 0.0 {
-                    c.reverse();
-                }
-                Region { contours: vec![c] }
-            })
-            .collect();
-        let thin = std::iter::once(ground.as_slice())
-            .chain(bodies.iter().map(std::slice::from_ref))
-            .map(|regions| posts::ThinSites::new(regions, &dims))
-            .collect();
-        SceneShapes { ground, bodies, first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(), dims, thin }
-    }
-
-    /// The regions of carrier `k` (0 the ground, `1 + b` moving body `b`) that can hold posts and pins,
-    /// in the carrier's frame (empty for the ground of a scene without fixed bodies).
-    pub fn carrier_regions(&self, k: usize) -> &[Region] {
-        match k {
-            0 => &self.ground,
-            _ => std::slice::from_ref(&self.bodies[k - 1]),
-        }
-    }
 }
 
 impl Layout {

@@ -41,8 +41,9 @@ use crate::kinematics::{Plan, Trace};
 use crate::mechanism::Mechanism;
 use crate::scene::Problem;
 pub use depth::{Constraint, Face, Ordering, Recorded};
-pub use layout::{Layout, SceneShapes};
+pub use layout::Layout;
 pub use parts::{Part, PinSeat, Role};
+pub use posts::SceneShapes;
 pub use settings::{millimetres_per_unit, Dims, Faces, PrintSettings};
 use std::time::Instant;
 

@@ -9,7 +9,8 @@
 //! snap cap above the outermost member.
 
 use super::depth::{Face, Ordering};
-use super::layout::{Layout, MemberKind, SceneShapes};
+use super::layout::{Layout, MemberKind};
+use super::posts::SceneShapes;
 use super::settings::Dims;
 use super::shapes::{circle, rounded_outline, stadium};
 use super::solid::{ring_outline, Feature, Mesh, RingShape, Slab};

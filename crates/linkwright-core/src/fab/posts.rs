@@ -9,11 +9,84 @@
 //! Within each, places that no link sweeps over and whose connectors do not cover each other's posts
 //! are preferred (see [`Rules`]); the depth ordering decides whether a place works.
 
-use super::layout::SceneShapes;
 use super::settings::Dims;
 use super::shapes::Region;
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::{BodyFrames, Trace};
+use crate::scene::Problem;
+use i_overlay::core::fill_rule::FillRule;
+use i_overlay::float::simplify::SimplifyShape;
+
+/// Everything about a scene fabrication needs before any mechanism: the ground's region (the union
+/// of the fixed bodies), each body's outline, and the sizes. Build it once and reuse it for many
+/// mechanisms (the print check does, for every candidate).
+#[derive(Clone, Debug)]
+pub struct SceneShapes {
+    /// The union of the fixed bodies: one region per connected piece.
+    pub ground: Vec<Region>,
+    /// Each moving body's outline in its own frame, as a region.
+    pub bodies: Vec<Region>,
+    pub first_poses: Vec<Rigid>,
+    pub dims: Dims,
+    /// For each carrier (0 the ground, `1 + b` body `b`), its places for posts on thin stretches.
+    pub(super) thin: Vec<ThinSites>,
+}
+
+impl SceneShapes {
+    pub fn new(problem: &Problem, dims: Dims) -> SceneShapes {
+        let contours: Vec<Vec<[f64; 2]>> = problem
+            .fixed
+            .iter()
+            .map(|p| {
+                let mut c: Vec<[f64; 2]> = p.vertices().iter().map(|v| [v.x, v.y]).collect();
+                if p.signed_area() < 0.0 {
+                    c.reverse();
+                }
+                c
+            })
+            .collect();
+        let ground = if contours.is_empty() {
+            Vec::new()
+        } else {
+            contours
+                .simplify_shape(FillRule::NonZero)
+                .into_iter()
+                .map(|shape| Region {
+                    contours: shape
+                        .into_iter()
+                        .map(|c| c.into_iter().map(|[x, y]| Point::new(x, y)).collect())
+                        .collect(),
+                })
+                .filter(|r: &Region| !r.contours.is_empty())
+                .collect()
+        };
+        let bodies: Vec<Region> = problem
+            .bodies
+            .iter()
+            .map(|b| {
+                let mut c = b.outline.vertices().to_vec();
+                if b.outline.signed_area() < 0.0 {
+                    c.reverse();
+                }
+                Region { contours: vec![c] }
+            })
+            .collect();
+        let thin = std::iter::once(ground.as_slice())
+            .chain(bodies.iter().map(std::slice::from_ref))
+            .map(|regions| ThinSites::new(regions, &dims))
+            .collect();
+        SceneShapes { ground, bodies, first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(), dims, thin }
+    }
+
+    /// The regions of carrier `k` (0 the ground, `1 + b` moving body `b`) that can hold posts and pins,
+    /// in the carrier's frame (empty for the ground of a scene without fixed bodies).
+    pub fn carrier_regions(&self, k: usize) -> &[Region] {
+        match k {
+            0 => &self.ground,
+            _ => std::slice::from_ref(&self.bodies[k - 1]),
+        }
+    }
+}
 
 /// A pillar already standing on a carrier: position and radius.
 pub type Pillar = (Point, f64);
