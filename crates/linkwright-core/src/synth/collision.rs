@@ -13,11 +13,10 @@
 //! tests only where boxes come near; the sweep stops at the first collision, and four rows spread
 //! over the travel are tested before it, where most colliding linkages are caught first.
 
-use super::context::Context;
+use super::context::{Context, Pair};
 use super::evaluate::{Candidate, Reject, Scratch};
 use crate::geom::{outline_distance, penetrates_unchecked, Aabb, Isometry, Obstacle, Point, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
-use crate::scene::Problem;
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
@@ -27,17 +26,6 @@ const PROBES: [usize; 4] = [1, 3, 5, 7];
 /// Deepest bisection of one 1° interval (a sixteenth of a degree). At a quarter, a sharp corner of a
 /// fixed body could still poke through an edge sliding past it between two tests (the handle scene).
 const MAX_DEPTH: u32 = 4;
-
-/// One mover against one obstacle.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Pair {
-    /// Link segment `link` against avoid region `avoid`.
-    LinkAvoid { link: usize, avoid: usize },
-    /// Moving body `body` against fixed body `fixed`.
-    BodyFixed { body: usize, fixed: usize },
-    /// Moving body `body` against moving body `other` (`other < body`).
-    BodyBody { body: usize, other: usize },
-}
 
 /// Checks the whole travel of `candidate`: first the rows at [`PROBES`], then the sweep
 /// ([`sweep_travel`]).
@@ -252,20 +240,6 @@ pub(crate) struct SweepBuffers {
     body_motion: Vec<f64>,
     /// One per level of bisection.
     midpoints: Vec<Midpoint>,
-}
-
-/// Every pair the sweep watches, for a scene and `links` link segments (once per scene, in
-/// [`Context`]), links first (their verdict, an avoid region, is reported first).
-pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
-    let mut pairs = Vec::new();
-    for link in 0..links {
-        pairs.extend((0..problem.avoid.len()).map(|avoid| Pair::LinkAvoid { link, avoid }));
-    }
-    for body in 0..problem.bodies.len() {
-        pairs.extend((0..problem.fixed.len()).map(|fixed| Pair::BodyFixed { body, fixed }));
-        pairs.extend((0..body).map(|other| Pair::BodyBody { body, other }));
-    }
-    pairs
 }
 
 /// Every mover placed in one configuration: body outlines, then link segments.

@@ -1,6 +1,5 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
-use super::collision::{watched_pairs, Pair};
 use super::evaluate::Scratch;
 use super::rigidity::RigidityModel;
 use super::sample::SampleScratch;
@@ -258,4 +257,29 @@ impl<'a> Context<'a> {
             None => p,
         }
     }
+}
+
+/// One mover against one obstacle.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Pair {
+    /// Link segment `link` against avoid region `avoid`.
+    LinkAvoid { link: usize, avoid: usize },
+    /// Moving body `body` against fixed body `fixed`.
+    BodyFixed { body: usize, fixed: usize },
+    /// Moving body `body` against moving body `other` (`other < body`).
+    BodyBody { body: usize, other: usize },
+}
+
+/// Every pair the collision sweep watches, for a scene and `links` link segments (once per scene),
+/// links first (their verdict, an avoid region, is reported first).
+pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
+    let mut pairs = Vec::new();
+    for link in 0..links {
+        pairs.extend((0..problem.avoid.len()).map(|avoid| Pair::LinkAvoid { link, avoid }));
+    }
+    for body in 0..problem.bodies.len() {
+        pairs.extend((0..problem.fixed.len()).map(|fixed| Pair::BodyFixed { body, fixed }));
+        pairs.extend((0..body).map(|other| Pair::BodyBody { body, other }));
+    }
+    pairs
 }
