@@ -45,8 +45,9 @@ const TRIES: usize = 4;
 /// starts find one at a time, and most of them are turned over or change a loop's branch; with
 /// three or more such links in a row, four tries each leave too few whole samples. Each try's fit
 /// is a quick one ([`Polish`]). Measured with `linkwright bench --known`: chains of five and six bodies
-/// through three poses found a design on 4 of 6 scenes with 4 tries, on 5 with 16; shorter chains
-/// took 3–6 times as long with 16 tries and came no closer to their poses.
+/// through three poses found a design on 4 of 6 scenes with 4 tries, on 5 with 16; two- and
+/// three-body chains through three poses took 1.3–3.7 times as long with 16 tries and came no closer
+/// to their poses.
 const LONG_CHAIN_TRIES: usize = 16;
 /// The bodies of a chain whose ternary links get [`LONG_CHAIN_TRIES`].
 const LONG_CHAIN: usize = 4;
