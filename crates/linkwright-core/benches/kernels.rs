@@ -9,7 +9,9 @@ use linkwright_core::kinematics::Plan;
 use linkwright_core::mechanism::MechanismType;
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::rigidity::FitWorkspace;
-use linkwright_core::synth::{check_collisions, evaluate, synthesize, Candidate, Context, Scratch, Silent};
+use linkwright_core::synth::{
+    check_collisions, evaluate, synthesize, Candidate, Context, Scratch, Silent, SweepBuffers,
+};
 use std::sync::OnceLock;
 
 fn main() {
@@ -73,8 +75,8 @@ fn defect_check(bencher: divan::Bencher, k: usize) {
 fn collision_sweep(bencher: divan::Bencher, k: usize) {
     let (problem, best) = fixture(k);
     let ctx = Context::new(problem, MechanismType::Chain);
-    let mut scratch = Scratch::default();
-    bencher.bench_local(|| check_collisions(&ctx, divan::black_box(best), &mut scratch));
+    let mut buffers = SweepBuffers::default();
+    bencher.bench_local(|| check_collisions(&ctx, divan::black_box(best), &mut buffers));
 }
 
 /// One kinematic step: every joint placed at one crank angle.

@@ -14,7 +14,7 @@
 //! over the travel are tested before it, where most colliding linkages are caught first.
 
 use super::context::{Context, Pair};
-use super::evaluate::{Candidate, Reject, Scratch};
+use super::evaluate::{Candidate, Reject};
 use crate::geom::{outline_distance, penetrates_unchecked, Aabb, Isometry, Obstacle, Point, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 
@@ -35,11 +35,11 @@ const MAX_DEPTH: u32 = 4;
 /// penetration the sweep finds too (the sweep skips a row only where no point can have moved far
 /// enough to penetrate), so the probes change no verdict; for a linkage that collides in more than
 /// one way, they may change which reject is reported.
-pub fn check_collisions(ctx: &Context, candidate: &Candidate, scratch: &mut Scratch) -> Result<(), Reject> {
+pub fn check_collisions(ctx: &Context, candidate: &Candidate, buffers: &mut SweepBuffers) -> Result<(), Reject> {
     let frames = BodyFrames::new(&candidate.mechanism, &ctx.first_poses);
     let sweep = Sweep { ctx, frames: &frames, plan: &candidate.plan };
-    probe(&sweep, &candidate.trace, &mut scratch.sweep)?;
-    sweep_travel(&sweep, &candidate.trace, &mut scratch.sweep)
+    probe(&sweep, &candidate.trace, buffers)?;
+    sweep_travel(&sweep, &candidate.trace, buffers)
 }
 
 /// Exact tests of every pair at the rows at [`PROBES`] of `trace`.
@@ -224,9 +224,9 @@ struct Midpoint {
     placed: Placed,
 }
 
-/// The sweep's buffers, reused from candidate to candidate (in [`Scratch`]).
+/// The sweep's buffers, reused from candidate to candidate.
 #[derive(Debug, Default)]
-pub(crate) struct SweepBuffers {
+pub struct SweepBuffers {
     reaches: Vec<BodyReach>,
     /// Each body's frame at the last row seen.
     frames_at: Vec<Option<Frame>>,
@@ -462,15 +462,15 @@ mod tests {
             let problem = example(name);
             let ctx = Context::new(&problem, family);
             let sampler = Sampler::new(&ctx, 0);
-            let mut scratch = Scratch::default();
+            let mut buffers = SweepBuffers::default();
             let mut candidates = 0;
             for c in defect_free(&ctx, &sampler, 7, 0..200_000).take(300) {
                 let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
                 let sweep = Sweep { ctx: &ctx, frames: &frames, plan: &c.plan };
-                let by_probe = probe(&sweep, &c.trace, &mut scratch.sweep).is_err();
-                let by_sweep = sweep_travel(&sweep, &c.trace, &mut scratch.sweep).is_err();
+                let by_probe = probe(&sweep, &c.trace, &mut buffers).is_err();
+                let by_sweep = sweep_travel(&sweep, &c.trace, &mut buffers).is_err();
                 assert!(!by_probe || by_sweep, "{name}: a probe found a collision the sweep does not");
-                assert_eq!(check_collisions(&ctx, &c, &mut scratch).is_err(), by_sweep, "{name}");
+                assert_eq!(check_collisions(&ctx, &c, &mut buffers).is_err(), by_sweep, "{name}");
                 colliding += by_sweep as usize;
                 probed += by_probe as usize;
                 free += !by_sweep as usize;
@@ -537,7 +537,7 @@ mod tests {
             for &family in families {
                 let ctx = Context::new(&problem, family);
                 let sampler = Sampler::new(&ctx, 0);
-                let mut scratch = Scratch::default();
+                let mut buffers = SweepBuffers::default();
                 for c in defect_free(&ctx, &sampler, 13, 0..60_000).take(60) {
                     let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
                     let sweep = Sweep { ctx: &ctx, frames: &frames, plan: &c.plan };
@@ -555,7 +555,7 @@ mod tests {
                         }
                     };
                     let exact = fine.any(&mut collides);
-                    let swept = check_collisions(&ctx, &c, &mut scratch).is_err();
+                    let swept = check_collisions(&ctx, &c, &mut buffers).is_err();
                     assert_eq!(swept, exact, "{name}, {family:?}: the sweep says {swept}, the exact tests {exact}");
                     compared += 1;
                     colliding += exact as usize;

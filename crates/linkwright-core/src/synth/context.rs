@@ -1,9 +1,6 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
-use super::evaluate::Scratch;
 use super::rigidity::RigidityModel;
-use super::sample::SampleScratch;
-use super::scratch_pool::ScratchPool;
 use crate::geom::{Obstacle, Point, Polygon, Rigid};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
@@ -33,6 +30,15 @@ pub const END_DEVIATION: f64 = 1e-5;
 /// The same bound when every pose must be hit exactly (`pose_tolerance` 0).
 pub const EXACT_DEVIATION: f64 = 1e-8;
 
+/// The soft terms of paper eq. 10–13.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SoftTerms {
+    pub accuracy: f64,
+    pub smoothness: f64,
+    pub location: f64,
+    pub size: f64,
+}
+
 /// The soft-cost weights (paper eq. 14) as factors of the raw terms: the scene's weights apply to the
 /// scale-free terms E_acc / d², E_smooth, E_loc / d and E_size / d, so a weight means the same at any
 /// drawing scale (d: the smallest moving body's size).
@@ -58,7 +64,7 @@ impl CostWeights {
     }
 
     /// The weighted sum of the soft terms (eq. 14, scale-free).
-    pub fn cost(&self, soft: &super::SoftTerms) -> f64 {
+    pub fn cost(&self, soft: &SoftTerms) -> f64 {
         self.accuracy * soft.accuracy
             + self.smoothness * soft.smoothness
             + self.location * soft.location
@@ -124,9 +130,6 @@ pub struct Context<'a> {
     /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
     /// kept rigid through ([`END_DEVIATION`]).
     pub end_motions: Vec<Vec<Rigid>>,
-    /// The workers' buffers, kept from task to task.
-    pub(crate) scratches: ScratchPool<Scratch>,
-    pub(crate) sample_scratches: ScratchPool<SampleScratch>,
 }
 
 impl<'a> Context<'a> {
@@ -208,8 +211,6 @@ impl<'a> Context<'a> {
             overdetermined,
             noise_scale,
             topology,
-            scratches: ScratchPool::default(),
-            sample_scratches: ScratchPool::default(),
         }
     }
 

@@ -6,7 +6,7 @@
 //! configuration closest to the last pose. Order, branch and circuit defects, poor transmission and
 //! failures to assemble are all judged on that travel.
 
-use super::context::{Context, CRANK_STEP, END_SEARCH};
+use super::context::{Context, SoftTerms, CRANK_STEP, END_SEARCH};
 use crate::geom::Point;
 use crate::kinematics::{Branch, Plan, Trace};
 use crate::mechanism::{Mechanism, Topology};
@@ -49,15 +49,6 @@ impl Reject {
         Reject::Unprintable,
         Reject::Outclassed,
     ];
-}
-
-/// The soft terms of paper eq. 10–13.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SoftTerms {
-    pub accuracy: f64,
-    pub smoothness: f64,
-    pub location: f64,
-    pub size: f64,
 }
 
 /// A mechanism that passed the kinematic checks, with its motion.
@@ -104,8 +95,6 @@ pub struct Scratch {
     nominal: Vec<f64>,
     /// The screened travels (see [`Screening`]), reused from mechanism to mechanism.
     travels: Vec<f64>,
-    /// The collision sweep's buffers.
-    pub(crate) sweep: super::collision::SweepBuffers,
 }
 
 /// The kinematic checks and the soft costs of one mechanism; [`Reject::Outclassed`] when its cost is

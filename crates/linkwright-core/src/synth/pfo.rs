@@ -7,6 +7,7 @@ use super::context::Context;
 use super::evaluate::{evaluate, Candidate};
 use super::random::{normal, rng, Stream};
 use super::sample::{mechanism_from_x, x_from_mechanism};
+use super::workspace::Workspace;
 use rand::RngExt;
 use rayon::prelude::*;
 use std::sync::{Arc, Mutex};
@@ -49,8 +50,9 @@ const NEGLIGIBLE_WEIGHT: f64 = 1e-6;
 /// Runs the filter from the valid candidates `initial` (non-empty). Returns every valid candidate it
 /// produced (for alternatives) and calls `on_iteration(done, best_cost)` after each iteration; stops
 /// early when it returns false.
-pub fn refine(
+pub(crate) fn refine(
     ctx: &Context,
+    workspace: &Workspace,
     initial: &[Candidate],
     options: &FilterOptions,
     seed: u64,
@@ -60,7 +62,8 @@ pub fn refine(
     let max_cost = initial.iter().map(|c| c.cost).fold(f64::MIN_POSITIVE, f64::max);
     let weight = |c: &Candidate| (-options.lambda * c.cost / max_cost).exp();
     let mut resample_rng = rng(seed, Stream::Resample { family }, 0);
-    let mut particles = Pool::new(ctx, initial, initial.len()).resample(options.particles, &weight, &mut resample_rng);
+    let mut particles =
+        Pool::new(ctx, workspace, initial, initial.len()).resample(options.particles, &weight, &mut resample_rng);
     let mut produced = Vec::new();
     for iteration in 0..options.iterations {
         let t = if options.iterations > 1 { iteration as f64 / (options.iterations - 1) as f64 } else { 0.0 };
@@ -74,8 +77,9 @@ pub fn refine(
             .par_iter()
             .enumerate()
             .map_init(
-                || ctx.scratches.take(),
-                |scratch, (k, particle)| {
+                || workspace.judging.take(),
+                |buffers, (k, particle)| {
+                    let scratch = &mut buffers.evaluation;
                     let mut r = rng(seed, Stream::Perturb { family, iteration: iteration as u64 }, k as u64);
                     let mut x = Vec::new();
                     x_from_mechanism(&particle.mechanism, &mut x);
@@ -97,7 +101,7 @@ pub fn refine(
             .collect();
         let kept = particles.len();
         let candidates: Vec<Arc<Candidate>> = particles.into_iter().chain(proposals).collect();
-        let mut pool = Pool::new(ctx, &candidates, kept);
+        let mut pool = Pool::new(ctx, workspace, &candidates, kept);
         particles = pool.resample(options.particles, &weight, &mut resample_rng);
         produced.extend(pool.valid_proposals());
         let best = particles[0].cost;
@@ -115,6 +119,7 @@ pub fn refine(
 /// costly to be drawn, are never swept.
 struct Pool<'a, 'p, P> {
     ctx: &'a Context<'p>,
+    workspace: &'a Workspace,
     /// The particles (valid), then the proposals.
     candidates: &'a [P],
     /// Per candidate: valid, colliding, or not swept yet.
@@ -127,10 +132,10 @@ struct Pool<'a, 'p, P> {
 
 impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
     /// `candidates`: the first `particles` are valid, the rest proposals not swept yet.
-    fn new(ctx: &'a Context<'p>, candidates: &'a [P], particles: usize) -> Self {
+    fn new(ctx: &'a Context<'p>, workspace: &'a Workspace, candidates: &'a [P], particles: usize) -> Self {
         let mut valid = vec![Some(true); particles];
         valid.resize(candidates.len(), None);
-        Pool { ctx, candidates, valid, asked: vec![false; candidates.len()], first_proposal: particles }
+        Pool { ctx, workspace, candidates, valid, asked: vec![false; candidates.len()], first_proposal: particles }
     }
 
     /// Whether candidate `i` is valid, swept now if [`Pool::sweep_predicted`] did not sweep it.
@@ -138,7 +143,8 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
         self.asked[i] = true;
         if self.valid[i].is_none() {
             let valid =
-                check_collisions(self.ctx, self.candidates[i].candidate(), &mut self.ctx.scratches.take()).is_ok();
+                check_collisions(self.ctx, self.candidates[i].candidate(), &mut self.workspace.judging.take().sweep)
+                    .is_ok();
             self.valid[i] = Some(valid);
         }
         self.valid[i] == Some(true)
@@ -200,8 +206,12 @@ impl<'a, 'p, P: Particle> Pool<'a, 'p, P> {
             pending: 0,
             stale: false,
         });
-        let sweeps =
-            Sweeps { ctx: self.ctx, candidates: self.candidates, replay: Replay { by_cost, weights, count, r } };
+        let sweeps = Sweeps {
+            ctx: self.ctx,
+            workspace: self.workspace,
+            candidates: self.candidates,
+            replay: Replay { by_cost, weights, count, r },
+        };
         rayon::scope(|scope| sweeps.queue_unswept(scope, &ahead));
         self.valid = ahead.into_inner().expect("no sweep panics").valid;
     }
@@ -270,6 +280,7 @@ impl Replay<'_> {
 /// The sweeps of [`Pool::sweep_predicted`].
 struct Sweeps<'a, 'p, P> {
     ctx: &'a Context<'p>,
+    workspace: &'a Workspace,
     candidates: &'a [P],
     replay: Replay<'a>,
 }
@@ -287,8 +298,12 @@ impl<P: Particle> Sweeps<'_, '_, P> {
         };
         for k in unswept {
             scope.spawn(move |scope| {
-                let valid =
-                    check_collisions(self.ctx, self.candidates[k].candidate(), &mut self.ctx.scratches.take()).is_ok();
+                let valid = check_collisions(
+                    self.ctx,
+                    self.candidates[k].candidate(),
+                    &mut self.workspace.judging.take().sweep,
+                )
+                .is_ok();
                 let replay = {
                     let mut ahead = ahead.lock().expect("no sweep panics");
                     ahead.valid[k] = Some(valid);
@@ -349,6 +364,7 @@ fn draw(weights: &[f64], mut u: f64) -> usize {
 mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
+    use crate::synth::collision::SweepBuffers;
     use crate::synth::evaluate::Scratch;
     use crate::synth::sample::{SampleScratch, Sampler};
     use crate::synth::testing::example;
@@ -361,7 +377,7 @@ mod tests {
         for i in 0..20_000 {
             let Some(m) = sampler.sample(3, i, None, &mut sample_scratch) else { continue };
             let Ok(c) = evaluate(ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else { continue };
-            match check_collisions(ctx, &c, &mut scratch) {
+            match check_collisions(ctx, &c, &mut SweepBuffers::default()) {
                 Ok(()) if valid.len() < 12 => valid.push(c),
                 Err(_) if colliding.len() < 12 => colliding.push(c),
                 _ => {}
@@ -388,12 +404,13 @@ mod tests {
         let particles = 2;
         let cheapest_valid = candidates[..valid].iter().map(|c| c.cost).fold(f64::INFINITY, f64::min);
         candidates[particles..].sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        let is_valid = |c: &Candidate| check_collisions(&ctx, c, &mut Scratch::default()).is_ok();
+        let is_valid = |c: &Candidate| check_collisions(&ctx, c, &mut SweepBuffers::default()).is_ok();
 
         // Weights proportional to cost (any positive weights will do): each valid candidate drawn in
         // proportion to its weight among the valid ones, no colliding one ever.
         let by_cost = |c: &Candidate| c.cost;
-        let mut pool = Pool::new(&ctx, &candidates, particles);
+        let workspace = Workspace::default();
+        let mut pool = Pool::new(&ctx, &workspace, &candidates, particles);
         let mut r = rng(1, Stream::Resample { family: 0 }, 0);
         let draws = 24_000;
         let drawn = pool.resample(draws + 1, &by_cost, &mut r);
@@ -409,7 +426,7 @@ mod tests {
         // Steep weights: the heaviest proposals are swept, the lightest never are.
         let lightest = candidates.iter().map(|c| c.cost).fold(0.0, f64::max);
         let steep = |c: &Candidate| (-200.0 * c.cost / lightest).exp();
-        let mut pool = Pool::new(&ctx, &candidates, particles);
+        let mut pool = Pool::new(&ctx, &workspace, &candidates, particles);
         let drawn = pool.resample(100, &steep, &mut r);
         assert!(drawn.iter().all(|c| is_valid(c)));
         assert!(pool.valid.iter().any(Option::is_none), "every proposal was swept");

@@ -8,6 +8,7 @@ use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
 use super::refine::{refine_design, RefineOptions};
 use super::sample::{x_from_mechanism, SampleScratch, Sampler};
+use super::workspace::Workspace;
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, MechanismType};
 use crate::scene::{MechanismChoice, Problem};
@@ -188,7 +189,9 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
             ctx
         })
         .collect();
-    for (f, (&family, ctx)) in families.iter().zip(&contexts).enumerate() {
+    // One per family: a sample's buffers hold a mechanism of its family's topology.
+    let workspaces: Vec<Workspace> = families.iter().map(|_| Workspace::default()).collect();
+    for (f, ((&family, ctx), workspace)) in families.iter().zip(&contexts).zip(&workspaces).enumerate() {
         let share = |x: f64| (f as f64 + x) / families.len() as f64;
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
@@ -208,10 +211,30 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         };
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(ctx, family, &seeds, options.printable, &mut stats, &mut rejected, observer, &report)?;
+            found = run_family(
+                ctx,
+                workspace,
+                family,
+                &seeds,
+                options.printable,
+                &mut stats,
+                &mut rejected,
+                observer,
+                &report,
+            )?;
         }
         if found.is_empty() {
-            found = run_family(ctx, family, &[], options.printable, &mut stats, &mut rejected, observer, &report)?;
+            found = run_family(
+                ctx,
+                workspace,
+                family,
+                &[],
+                options.printable,
+                &mut stats,
+                &mut rejected,
+                observer,
+                &report,
+            )?;
         }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
@@ -224,7 +247,7 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let picked = pick_designs(problem, valid, options.printable, &mut rejected, observer)?;
     stats.seconds_printability = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let picked = finish_designs(problem, &contexts, picked, options.printable, &mut stats, observer)?;
+    let picked = finish_designs(problem, &contexts, &workspaces, picked, options.printable, &mut stats, observer)?;
     stats.seconds_refinement = t.elapsed().as_secs_f64();
     if let Some(best) = picked.first() {
         // The refinement lowers the best cost, and a design that fails verification may be dropped.
@@ -293,6 +316,7 @@ fn pick_designs(
 fn finish_designs(
     problem: &Problem,
     contexts: &[Context],
+    workspaces: &[Workspace],
     picked: Vec<Candidate>,
     printable: Option<&dyn Acceptance>,
     stats: &mut RunStats,
@@ -301,14 +325,15 @@ fn finish_designs(
     if observer.cancelled() {
         return Err(Cancelled);
     }
-    let context_of =
-        |c: &Candidate| contexts.iter().find(|ctx| ctx.topology.mechanism_type == c.mechanism.topology.mechanism_type);
+    let family_of = |c: &Candidate| {
+        contexts.iter().position(|ctx| ctx.topology.mechanism_type == c.mechanism.topology.mechanism_type)
+    };
     let options = RefineOptions::default();
     let finished: Vec<Option<Candidate>> = picked
         .into_par_iter()
         .map(|c| {
-            let ctx = context_of(&c).expect("every design comes from one of the run's families");
-            let mut refined = refine_design(ctx, &c, &options, &mut ctx.scratches.take());
+            let f = family_of(&c).expect("every design comes from one of the run's families");
+            let mut refined = refine_design(&contexts[f], &c, &options, &mut workspaces[f].judging.take());
             if let Some(check) = printable {
                 if !refined.printable && !check.accepts(&refined.mechanism, &refined.trace) {
                     refined = c;
@@ -363,6 +388,7 @@ fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
 #[allow(clippy::too_many_arguments)]
 fn run_family(
     ctx: &Context,
+    workspace: &Workspace,
     family: MechanismType,
     seeds: &[Vec<f64>],
     printable: Option<&dyn Acceptance>,
@@ -386,12 +412,13 @@ fn run_family(
         let near = (!seeds.is_empty()).then(|| seeds[i % seeds.len()].as_slice());
         sampler.draw(seed, i as u64, near, scratch)
     };
-    let mut floors = screen_samples(ctx, total, &draw, stats, rejected, observer, &|x| {
+    let mut floors = screen_samples(ctx, workspace, total, &draw, stats, rejected, observer, &|x| {
         report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None)
     })?;
-    let candidates = simulate_cheapest(ctx, &mut floors, CANDIDATE_CAP, &draw, stats, rejected, observer, &|x| {
-        report(Stage::Sampling, w_sample * (SCREENING_SHARE + (1.0 - SCREENING_SHARE) * x), None)
-    })?;
+    let candidates =
+        simulate_cheapest(ctx, workspace, &mut floors, CANDIDATE_CAP, &draw, stats, rejected, observer, &|x| {
+            report(Stage::Sampling, w_sample * (SCREENING_SHARE + (1.0 - SCREENING_SHARE) * x), None)
+        })?;
     stats.samples += total;
     stats.seconds_sampling += t.elapsed().as_secs_f64();
 
@@ -400,7 +427,8 @@ fn run_family(
     // of printable designs: that check costs milliseconds, and the particle filter stays near them.
     let per_particle = if warm || printable.is_some() { 1 } else { VALID_PER_PARTICLE };
     let enough = per_particle * settings.particles.max(1);
-    let mut valid = check_in_order(ctx, candidates, enough, COLLISION_BATCH_CHUNKS, printable, rejected, observer)?;
+    let mut valid =
+        check_in_order(ctx, workspace, candidates, enough, COLLISION_BATCH_CHUNKS, printable, rejected, observer)?;
     stats.valid += valid.len();
     stats.seconds_collision += t.elapsed().as_secs_f64();
     let best = valid.iter().map(|c| c.cost).reduce(f64::min);
@@ -410,7 +438,7 @@ fn run_family(
     if !valid.is_empty() && iterations > 0 && settings.particles > 0 {
         let options = FilterOptions { particles: settings.particles, iterations, ..FilterOptions::default() };
         let mut cancelled = false;
-        let produced = refine(ctx, &valid, &options, seed, family, |done, best| {
+        let produced = refine(ctx, workspace, &valid, &options, seed, family, |done, best| {
             let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;
             report(Stage::Refining, x, Some(best));
             cancelled = observer.cancelled();
@@ -428,8 +456,10 @@ fn run_family(
 /// Draws samples `0..total` and runs the checks that need no simulation: returns each passing
 /// sample's floor under its cost with its index, in no particular order (a NaN floor bounds nothing
 /// and is returned as −∞). Counts fitted samples and rejects.
+#[allow(clippy::too_many_arguments)]
 fn screen_samples(
     ctx: &Context,
+    workspace: &Workspace,
     total: usize,
     draw: &Draw,
     stats: &mut RunStats,
@@ -446,12 +476,17 @@ fn screen_samples(
         let results: Vec<Option<Result<f64, Reject>>> = (start..end)
             .into_par_iter()
             .map_init(
-                || (ctx.sample_scratches.take(), ctx.scratches.take()),
-                |(sample_scratch, scratch), i| {
+                || (workspace.sampling.take(), workspace.judging.take()),
+                |(sample_scratch, buffers), i| {
                     if !draw(i, sample_scratch) {
                         return None;
                     }
-                    Some(cost_floor(ctx, sample_scratch.mechanism(), Some(sample_scratch.motions()), scratch))
+                    Some(cost_floor(
+                        ctx,
+                        sample_scratch.mechanism(),
+                        Some(sample_scratch.motions()),
+                        &mut buffers.evaluation,
+                    ))
                 },
             )
             .collect();
@@ -505,6 +540,7 @@ fn sort_ahead(floors: &mut [(f64, usize)], sorted: &mut usize, upto: usize) {
 #[allow(clippy::too_many_arguments)]
 fn simulate_cheapest(
     ctx: &Context,
+    workspace: &Workspace,
     floors: &mut [(f64, usize)],
     cap: usize,
     draw: &Draw,
@@ -531,13 +567,13 @@ fn simulate_cheapest(
         let results: Vec<Option<(Result<Candidate, Reject>, usize)>> = floors[done..end]
             .par_iter()
             .map_init(
-                || (ctx.sample_scratches.take(), ctx.scratches.take()),
-                |(sample_scratch, scratch), &(_, i)| {
+                || (workspace.sampling.take(), workspace.judging.take()),
+                |(sample_scratch, buffers), &(_, i)| {
                     if !draw(i, sample_scratch) {
                         return None;
                     }
                     let mechanism = sample_scratch.mechanism().clone();
-                    Some((evaluate(ctx, mechanism, Some(sample_scratch.motions()), bar, scratch), i))
+                    Some((evaluate(ctx, mechanism, Some(sample_scratch.motions()), bar, &mut buffers.evaluation), i))
                 },
             )
             .collect();
@@ -565,8 +601,10 @@ fn simulate_cheapest(
 /// Up to `batch_chunks` chunks are swept in one parallel batch, as many as the valid rate so far says
 /// are still needed (fewer waits for a batch's last sweep); only the chunks the rule asks for are
 /// taken, so the batch's size changes no result.
+#[allow(clippy::too_many_arguments)]
 fn check_in_order(
     ctx: &Context,
+    workspace: &Workspace,
     candidates: Vec<Candidate>,
     enough: usize,
     batch_chunks: usize,
@@ -591,9 +629,9 @@ fn check_in_order(
         let mut checked = batch
             .into_par_iter()
             .map_init(
-                || ctx.scratches.take(),
-                |scratch, c| {
-                    check_collisions(ctx, &c, scratch)?;
+                || workspace.judging.take(),
+                |buffers, c| {
+                    check_collisions(ctx, &c, &mut buffers.sweep)?;
                     match printable {
                         Some(check) => mark_printable(check, c),
                         None => Ok(c),
@@ -687,7 +725,7 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synth::evaluate::Scratch;
+    use crate::synth::collision::SweepBuffers;
     use crate::synth::testing::{defect_free, example};
 
     /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
@@ -702,7 +740,7 @@ mod tests {
         let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
         let (mut valid, mut colliding): (Vec<Candidate>, Vec<Candidate>) =
             defect_free(&ctx, &sampler, problem.settings.seed, 0..problem.settings.samples as u64)
-                .partition(|c| check_collisions(&ctx, c, &mut Scratch::default()).is_ok());
+                .partition(|c| check_collisions(&ctx, c, &mut SweepBuffers::default()).is_ok());
         assert!(valid.len() > 100 && colliding.len() > 2 * COLLISION_CHUNK, "{} valid", valid.len());
         // A first chunk with one valid candidate, then the rest mixed.
         let mut candidates: Vec<Candidate> = colliding.drain(..COLLISION_CHUNK - 1).collect();
@@ -712,9 +750,17 @@ mod tests {
         for enough in [40, 100, usize::MAX] {
             let run = |batch_chunks| {
                 let mut rejected = [0; Reject::ALL.len()];
-                let valid =
-                    check_in_order(&ctx, candidates.clone(), enough, batch_chunks, None, &mut rejected, &Silent)
-                        .unwrap();
+                let valid = check_in_order(
+                    &ctx,
+                    &Workspace::default(),
+                    candidates.clone(),
+                    enough,
+                    batch_chunks,
+                    None,
+                    &mut rejected,
+                    &Silent,
+                )
+                .unwrap();
                 (valid.iter().map(key).collect::<Vec<_>>(), rejected)
             };
             let (one, many) = (run(1), run(8));
@@ -776,10 +822,29 @@ mod tests {
         all.truncate(cap);
 
         let (mut stats, mut rejected) = (RunStats::default(), [0; Reject::ALL.len()]);
-        let mut floors =
-            screen_samples(&ctx, problem.settings.samples, &draw, &mut stats, &mut rejected, &Silent, &|_| {}).unwrap();
-        let kept =
-            simulate_cheapest(&ctx, &mut floors, cap, &draw, &mut stats, &mut rejected, &Silent, &|_| {}).unwrap();
+        let mut floors = screen_samples(
+            &ctx,
+            &Workspace::default(),
+            problem.settings.samples,
+            &draw,
+            &mut stats,
+            &mut rejected,
+            &Silent,
+            &|_| {},
+        )
+        .unwrap();
+        let kept = simulate_cheapest(
+            &ctx,
+            &Workspace::default(),
+            &mut floors,
+            cap,
+            &draw,
+            &mut stats,
+            &mut rejected,
+            &Silent,
+            &|_| {},
+        )
+        .unwrap();
         assert_eq!(kept.len(), cap);
         for (k, c) in kept.iter().zip(&all) {
             assert_eq!(k.cost, c.cost);

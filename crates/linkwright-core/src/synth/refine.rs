@@ -15,6 +15,7 @@ use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{evaluate, Candidate, Scratch};
 use super::sample::{mechanism_from_x, x_from_mechanism};
+use super::workspace::Buffers;
 use nalgebra::{DMatrix, DVector};
 
 /// The refinement's constants.
@@ -70,7 +71,8 @@ fn judge(ctx: &Context, x: &mut [f64], scratch: &mut Scratch) -> Option<Candidat
 
 /// `start` refined to a nearby local optimum of the cost, every hard constraint kept; `start` itself
 /// when no step improves it. Deterministic: no randomness, and the same arithmetic on any thread.
-pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, scratch: &mut Scratch) -> Candidate {
+pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, buffers: &mut Buffers) -> Candidate {
+    let Buffers { evaluation: scratch, sweep } = buffers;
     let mut x = Vec::new();
     x_from_mechanism(&start.mechanism, &mut x);
     let joint_vars = 2 * ctx.topology.joint_count();
@@ -115,7 +117,7 @@ pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, 
             };
             let mut trial_x: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
             let accepted = judge(ctx, &mut trial_x, scratch)
-                .filter(|c| c.cost < best.cost && check_collisions(ctx, c, scratch).is_ok());
+                .filter(|c| c.cost < best.cost && check_collisions(ctx, c, sweep).is_ok());
             match accepted {
                 Some(c) => {
                     let gain = best.cost - c.cost;

@@ -320,7 +320,7 @@ mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
     use crate::synth::testing::example;
-    use crate::synth::{check_collisions, evaluate, Scratch};
+    use crate::synth::{check_collisions, evaluate, Scratch, SweepBuffers};
 
     /// The region's grid changes no drawn point: on every example scene, the draws are those of the
     /// even-odd test alone, bit for bit.
@@ -453,7 +453,7 @@ mod tests {
                     inside += m.joints.iter().filter(|&&p| problem.region.contains(p)).count();
                     if let Ok(c) = evaluate(&ctx, m, Some(scratch.motions()), f64::INFINITY, &mut eval) {
                         candidates += 1;
-                        if check_collisions(&ctx, &c, &mut eval).is_ok() {
+                        if check_collisions(&ctx, &c, &mut SweepBuffers::default()).is_ok() {
                             costs.push(c.cost);
                         }
                     }
