@@ -151,8 +151,15 @@ impl Topology {
     /// and the rigidity terms of eq. 3. Pairs within the ground or within a body are left out (they are
     /// not links).
     pub fn link_pairs(&self) -> Vec<(usize, usize)> {
+        self.pairs_of(|p| p.kind == PartKind::Link)
+    }
+    /// Every pair of joints on one part (links, bodies, ground), which must stay apart to be built.
+    pub fn part_pairs(&self) -> Vec<(usize, usize)> {
+        self.pairs_of(|_| true)
+    }
+    fn pairs_of(&self, keep: impl Fn(&Part) -> bool) -> Vec<(usize, usize)> {
         let mut out = Vec::new();
-        for part in self.parts.iter().filter(|p| p.kind == PartKind::Link) {
+        for part in self.parts.iter().filter(|p| keep(p)) {
             for (i, &a) in part.joints.iter().enumerate() {
                 for &b in &part.joints[i + 1..] {
                     out.push((a, b));

@@ -111,7 +111,7 @@ fn sweep_travel(sweep: &Sweep, trace: &Trace, buffers: &mut SweepBuffers) -> Res
         for (k, &pair) in pairs.iter().enumerate() {
             let moved = match pair {
                 Pair::LinkAvoid { link, .. } => {
-                    let (a, b) = ctx.link_segments[link];
+                    let (a, b) = ctx.link_pairs[link];
                     largest_motion(&[row_before[a], row_before[b]], &[row[a], row[b]])
                 }
                 Pair::BodyFixed { body, .. } => body_motion[body],
@@ -306,7 +306,7 @@ impl Sweep<'_, '_> {
             out.body_boxes.push(Aabb::around(outline.iter().copied()).expect("outlines have vertices"));
         }
         out.links.clear();
-        out.links.extend(self.ctx.link_segments.iter().map(|&(a, b)| [row[a], row[b]]));
+        out.links.extend(self.ctx.link_pairs.iter().map(|&(a, b)| [row[a], row[b]]));
     }
 
     /// The mover's outline and box in configuration `at`, what it must not penetrate, and the verdict

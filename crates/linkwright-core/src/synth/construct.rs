@@ -32,6 +32,7 @@
 //! drawn again a few times (the sample's own random stream, so results stay reproducible): such a
 //! joint would only be penalised by `E_loc` later.
 
+use super::rigidity::turns_over;
 use crate::geom::{Aabb, Point, Rigid, Vec2};
 use crate::kinematics::Plan;
 use crate::mechanism::{MechanismType, PartKind, Topology};
@@ -186,19 +187,12 @@ impl Constructor {
             })
             .collect();
         pieces.extend(topology.slider_joint.map(Piece::Slider));
-        let part_pairs = topology
-            .parts
-            .iter()
-            .flat_map(|p| {
-                p.joints.iter().enumerate().flat_map(|(i, &a)| p.joints[i + 1..].iter().map(move |&b| (a, b)))
-            })
-            .collect();
         Constructor {
             pieces,
             carriers,
             tolerances,
             dyads: Plan::dyad_triangles(topology),
-            part_pairs,
+            part_pairs: topology.part_pairs(),
             long_chain: topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN,
         }
     }
@@ -332,15 +326,11 @@ impl Constructor {
         let turned_over = match *piece {
             Piece::Ternary(t) => {
                 let first = [built.points[0], built.points[1], built.points[2]];
-                let longest =
-                    (first[0].distance(first[1])).max(first[1].distance(first[2])).max(first[2].distance(first[0]));
-                // Twice the height over the longest side.
-                let straight = 2.0 * orientation(t, first, 0).abs() <= self.tolerances.flip * longest;
-                let sign = orientation(t, first, 0);
                 // A fit through more poses than it can pass keeps a residual at the intermediate
                 // ones; like the rest of the sampler, it answers for the end poses only.
-                let mut checked = if self.tolerances.intermediate_turnover { 1..poses } else { poses - 1..poses };
-                !straight && checked.any(|i| orientation(t, first, i) * sign <= 0.0)
+                let checked = if self.tolerances.intermediate_turnover { 1..poses } else { poses - 1..poses };
+                let at = |i: usize| [0, 1, 2].map(|k| carried(motions, self.carriers[t[k]], i, first[k]));
+                turns_over(first, checked.map(at), self.tolerances.flip)
             }
             _ => false,
         };

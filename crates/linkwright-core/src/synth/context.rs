@@ -84,12 +84,11 @@ pub struct Context<'a> {
     /// `(moving, fixed)`: a body-carried joint and a fixed joint that a link holds at a fixed distance,
     /// so the moving joint stays on a circle around the fixed one in every configuration.
     pub tethers: Vec<(usize, usize)>,
-    /// Every pair of joints held at a fixed distance by a link.
+    /// Every pair of joints held at a fixed distance by a link: also the segments links draw, which
+    /// the collision sweep checks against avoid regions.
     pub link_pairs: Vec<(usize, usize)>,
     /// Every pair of joints on one part (links, bodies, ground), which must stay apart.
     pub part_pairs: Vec<(usize, usize)>,
-    /// Segments drawn by links (edges of each link part), checked against avoid regions.
-    pub link_segments: Vec<(usize, usize)>,
     /// `motions[b][i]`: the input motion of body b from the first pose to pose i.
     pub motions: Vec<Vec<Rigid>>,
     pub first_poses: Vec<Rigid>,
@@ -147,19 +146,7 @@ impl<'a> Context<'a> {
             }
         }
         let moving_joints = (0..topology.joint_count()).filter(|&j| carriers[j].is_some()).collect();
-        let mut part_pairs = Vec::new();
-        let mut link_segments = Vec::new();
-        for part in &topology.parts {
-            let js = &part.joints;
-            for (i, &a) in js.iter().enumerate() {
-                for &b in &js[i + 1..] {
-                    part_pairs.push((a, b));
-                    if part.kind == PartKind::Link {
-                        link_segments.push((a, b));
-                    }
-                }
-            }
-        }
+        let link_pairs = topology.link_pairs();
         let fixed = topology.fixed_joints();
         let tethers = topology
             .parts
@@ -174,7 +161,7 @@ impl<'a> Context<'a> {
         let body_size = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
         let contact_tolerance = problem.contact_tolerance();
         let obstacle = |p: &Polygon| Obstacle::new(p.vertices(), contact_tolerance);
-        let collision_pairs = watched_pairs(problem, link_segments.len());
+        let collision_pairs = watched_pairs(problem, link_pairs.len());
         let motions: Vec<Vec<Rigid>> =
             problem.bodies.iter().map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect()).collect();
         let end_motions = motions.iter().map(|m| vec![m[0], m[m.len() - 1]]).collect();
@@ -190,9 +177,8 @@ impl<'a> Context<'a> {
             carriers,
             moving_joints,
             tethers,
-            link_pairs: topology.link_pairs(),
-            part_pairs,
-            link_segments,
+            link_pairs,
+            part_pairs: topology.part_pairs(),
             motions,
             end_motions,
             first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(),

@@ -822,9 +822,10 @@ mod tests {
         all.truncate(cap);
 
         let (mut stats, mut rejected) = (RunStats::default(), [0; Reject::ALL.len()]);
+        let workspace = Workspace::default();
         let mut floors = screen_samples(
             &ctx,
-            &Workspace::default(),
+            &workspace,
             problem.settings.samples,
             &draw,
             &mut stats,
@@ -833,18 +834,9 @@ mod tests {
             &|_| {},
         )
         .unwrap();
-        let kept = simulate_cheapest(
-            &ctx,
-            &Workspace::default(),
-            &mut floors,
-            cap,
-            &draw,
-            &mut stats,
-            &mut rejected,
-            &Silent,
-            &|_| {},
-        )
-        .unwrap();
+        let kept =
+            simulate_cheapest(&ctx, &workspace, &mut floors, cap, &draw, &mut stats, &mut rejected, &Silent, &|_| {})
+                .unwrap();
         assert_eq!(kept.len(), cap);
         for (k, c) in kept.iter().zip(&all) {
             assert_eq!(k.cost, c.cost);

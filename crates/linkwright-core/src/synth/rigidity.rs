@@ -670,15 +670,10 @@ impl RigidityModel {
     pub fn mirrored(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> bool {
         let poses = self.poses(motions);
         let tolerance = FLIP_TOLERANCE * usable_scale(scale);
-        // Twice the triangle's height over its longest side, signed by its orientation.
-        let flip = |[a, b, c]: [Point; 3]| {
-            let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
-            2.0 * (b - a).cross(c - a) / longest.max(f64::MIN_POSITIVE)
-        };
         self.triangles.iter().any(|&t| {
             // `x` holds the first pose; `motions` carry it to the others.
-            let first = flip(t.map(|j| Point::new(x[2 * j], x[2 * j + 1])));
-            first.abs() > tolerance && (1..poses).any(|i| first * flip(t.map(|j| self.place(j, x, motions, i).0)) < 0.0)
+            let first = t.map(|j| Point::new(x[2 * j], x[2 * j + 1]));
+            turns_over(first, (1..poses).map(|i| t.map(|j| self.place(j, x, motions, i).0)), tolerance)
         })
     }
 
@@ -714,6 +709,19 @@ impl RigidityModel {
         }
         dev
     }
+}
+
+/// Whether a rigid triangle at `first` is the mirror image of itself at one of the placements
+/// `later`, unless it is nearly straight: turning it over moves a vertex by twice its height, and
+/// where that is at most `tolerance` it does not count.
+pub(crate) fn turns_over(first: [Point; 3], mut later: impl Iterator<Item = [Point; 3]>, tolerance: f64) -> bool {
+    // Twice the triangle's height over its longest side, signed by its orientation.
+    let flip = |[a, b, c]: [Point; 3]| {
+        let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+        2.0 * (b - a).cross(c - a) / longest.max(f64::MIN_POSITIVE)
+    };
+    let first = flip(first);
+    first.abs() > tolerance && later.any(|t| first * flip(t) < 0.0)
 }
 
 /// The length fits are normalised by: `scale`, or 1 when it is not a positive finite number.

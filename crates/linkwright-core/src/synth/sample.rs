@@ -141,7 +141,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
         // A fit that balanced its residual over every pose is moved onto one through the end poses
         // (a construction left unpolished already is: `constructions_left_unpolished_are_rigid`); one
         // already rigid through them still needs its ternary links the right way round (`mirrored`),
-        // which `keep_end_poses` checks too.
+        // which `keep_end_poses` checks too, and the construction did for its own links.
         let through_end_poses = if deviation > END_DEVIATION {
             // The fit reads the slider's angle in `x` and may turn it.
             if let Some(direction) = slider_direction.take() {
@@ -149,7 +149,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
             }
             ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit)
         } else {
-            !ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size)
+            near.is_none() || !ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size)
         };
         if !through_end_poses {
             return false;
