@@ -49,6 +49,13 @@ fn files_under(dir: &Path) -> Vec<String> {
     out
 }
 
+/// Fabricates `design` into `out`, which must succeed, and reads its fabrication.json.
+fn fabricated_report(design: &str, out: &Path) -> Value {
+    let run = fabricate(design, out);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    serde_json::from_str(&std::fs::read_to_string(out.join("fabrication.json")).unwrap()).unwrap()
+}
+
 /// `linkwright fabricate` of the truck with `design` into `out`.
 fn fabricate(design: &str, out: &Path) -> Output {
     linkwright(&["fabricate", &truck(), design, "-o", out.to_str().unwrap()])
@@ -113,13 +120,11 @@ fn a_part_named_to_escape_stays_inside_the_output_folder() {
     let dir = workdir("escape");
     let out = dir.join("a/b/out");
     let design = write_design(&dir, "escape.json", &corpus_design("escaped_part_name"));
-    let run = fabricate(&design, &out);
-    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let report = fabricated_report(&design, &out);
     assert!(out.join("parts/ESCAPED.stl").is_file(), "{:?}", files_under(&out));
     let everything = files_under(&dir);
     assert!(everything.iter().all(|f| f == "escape.json" || f.starts_with("a/b/out/")), "{everything:?}");
     assert!(!dir.join("a/ESCAPED.stl").exists() && !dir.join("ESCAPED.stl").exists());
-    let report: Value = serde_json::from_str(&std::fs::read_to_string(out.join("fabrication.json")).unwrap()).unwrap();
     for part in report["parts"].as_array().unwrap() {
         let file = part["file"].as_str().unwrap();
         assert!(file.starts_with("parts/") && !file.contains(".."), "{file}");
@@ -133,9 +138,7 @@ fn parts_with_the_same_name_do_not_overwrite_each_other() {
     let out = dir.join("out");
     // The crank renamed after the body part: two parts called `body1`.
     let design = write_design(&dir, "dup.json", &corpus_design("duplicate_part_name"));
-    let run = fabricate(&design, &out);
-    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
-    let report: Value = serde_json::from_str(&std::fs::read_to_string(out.join("fabrication.json")).unwrap()).unwrap();
+    let report = fabricated_report(&design, &out);
     let files: Vec<&str> = report["parts"].as_array().unwrap().iter().map(|p| p["file"].as_str().unwrap()).collect();
     let mut unique = files.clone();
     unique.sort();
