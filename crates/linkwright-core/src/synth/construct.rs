@@ -260,7 +260,7 @@ impl Constructor {
                     }
                 }
                 let sound = built.deviation <= self.tolerances.deviation
-                    && self.keeps_branches(piece, &built, x, motions, &scratch.placed);
+                    && self.free_of_defects(piece, &built, x, motions, &scratch.placed);
                 match (sound, piece) {
                     (true, _) => {}
                     (false, Piece::Ternary(_)) => continue,
@@ -292,7 +292,14 @@ impl Constructor {
     /// Whether `built`, the joints of `piece`, keeps every loop it closes on one branch through the
     /// poses, its ternary link the right way round, and its joints apart from the others of their
     /// parts (the joints of earlier blocks are in `x`, flagged in `placed`).
-    fn keeps_branches(&self, piece: &Piece, built: &Built, x: &[f64], motions: &[Vec<Rigid>], placed: &[bool]) -> bool {
+    fn free_of_defects(
+        &self,
+        piece: &Piece,
+        built: &Built,
+        x: &[f64],
+        motions: &[Vec<Rigid>],
+        placed: &[bool],
+    ) -> bool {
         if let Piece::Slider(_) = piece {
             return true;
         }
