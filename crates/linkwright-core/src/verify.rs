@@ -1,5 +1,5 @@
 //! An independent re-simulation of a mechanism's travel against its scene: every hard constraint and
-//! the accuracy (eq. 10), recomputed with plain polygon tests at finer steps (none of the engine's
+//! the accuracy, recomputed with plain polygon tests at finer steps (none of the engine's
 //! sweep code), so the engine's answers can be checked: by the `check` of a design file
 //! ([`crate::design::DesignFile::violations`]), and by the synthesis on every design it returns.
 
@@ -29,8 +29,8 @@ pub struct Travel<'a> {
 }
 
 /// Every violated hard constraint of `mechanism` moving along `travel` (empty when it is sound), and
-/// the accuracy (eq. 10) at the pose angles when the linkage assembles there.
-pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -> (Vec<Violation>, Option<f64>) {
+/// the accuracy at the pose angles when the linkage assembles there.
+pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -> (Vec<Violation>, Option<Accuracy>) {
     let mut out = Vec::new();
     let mut fail = |constraint, message: String| out.push(Violation { constraint, message });
     if mechanism.topology.body_count != problem.body_count() {
@@ -134,10 +134,13 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
         }
     }
 
-    // Accuracy (eq. 10) at the design's pose angles, against the input poses.
+    // Accuracy at the design's pose angles, against the input poses: the joints' part (eq. 10) and
+    // the outlines' part, vertex by vertex (the engine has it in closed form).
+    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+    let frames = BodyFrames::new(mechanism, &first_poses);
     let mut row = vec![Point::ORIGIN; plan.joint_count()];
-    let mut sum = 0.0;
-    let mut count = 0usize;
+    let (mut joints, mut joint_count) = (0.0, 0usize);
+    let mut outlines = 0.0;
     for (i, &theta) in poses.iter().enumerate() {
         if plan.solve(theta.to_radians(), &mut row).is_err() {
             fail("assembly", format!("the linkage does not assemble at pose {}", i + 1));
@@ -147,13 +150,35 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
             if let crate::mechanism::PartKind::Body(b) = part.kind {
                 let motion = problem.bodies[b].motion_from_first(i);
                 for &j in &part.joints {
-                    sum += (row[j] - motion.apply(mechanism.joints[j])).norm_sq();
-                    count += 1;
+                    joints += (row[j] - motion.apply(mechanism.joints[j])).norm_sq();
+                    joint_count += 1;
                 }
             }
         }
+        for (b, body) in problem.bodies.iter().enumerate() {
+            let (reached, wanted) = (frames.pose(b, &row), body.poses[i]);
+            let vertices = body.outline.vertices();
+            outlines += vertices.iter().map(|&v| (reached.apply(v) - wanted.apply(v)).norm_sq()).sum::<f64>()
+                / vertices.len().max(1) as f64;
+        }
     }
-    (out, Some(sum / count.max(1) as f64))
+    let joints = joints / joint_count.max(1) as f64;
+    let outlines = outlines / (poses.len() * problem.bodies.len()).max(1) as f64;
+    (out, Some(Accuracy { joints, outlines }))
+}
+
+/// E_acc of a design, recomputed: the mean squared miss of the body-carried joints over the poses
+/// (paper eq. 10) and that of the bodies' outline vertices; the engine's E_acc is their sum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accuracy {
+    pub joints: f64,
+    pub outlines: f64,
+}
+
+impl Accuracy {
+    pub fn total(&self) -> f64 {
+        self.joints + self.outlines
+    }
 }
 
 /// How far each body is from each input pose (`[pose][body]`) in the configurations of `trace` at

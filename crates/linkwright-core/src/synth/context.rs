@@ -1,7 +1,7 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
 use super::rigidity::RigidityModel;
-use crate::geom::{Obstacle, Point, Polygon, Rigid};
+use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
 use std::sync::Arc;
@@ -29,6 +29,10 @@ pub const OVERDETERMINED_DEVIATION: f64 = 0.5;
 pub const END_DEVIATION: f64 = 1e-5;
 /// The same bound when every pose must be hit exactly (`pose_tolerance` 0).
 pub const EXACT_DEVIATION: f64 = 1e-8;
+/// A design's bodies come to rest within this fraction of their size d of the last pose, and within
+/// [`LAST_POSE_ANGLE_DEG`]: the closed lid closes.
+pub const LAST_POSE_POSITION: f64 = 0.005;
+pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
 
 /// The soft terms of paper eq. 10–13.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -107,6 +111,9 @@ pub struct Context<'a> {
     /// Each moving body's outline in its own frame, prepared the same way: its grid tells most points
     /// deep inside the body or not at once (see [`Obstacle::penetrated_by_shape`]).
     pub body_shapes: Vec<Obstacle>,
+    /// Each moving body's outline, as E_acc reads it: the mean of its vertices (body frame) and their
+    /// mean squared distance from it ([`Context::outline_miss`]).
+    pub outline_moments: Vec<(Point, f64)>,
     /// Every mover–obstacle pair the collision sweep watches.
     pub(crate) collision_pairs: Vec<Pair>,
     /// The rigidity energy of this topology (paper eq. 3–5).
@@ -190,6 +197,7 @@ impl<'a> Context<'a> {
             fixed_obstacles: problem.fixed.iter().map(obstacle).collect(),
             avoid_obstacles: problem.avoid.iter().map(obstacle).collect(),
             body_shapes: problem.bodies.iter().map(|b| obstacle(&b.outline)).collect(),
+            outline_moments: problem.bodies.iter().map(|b| outline_moments(&b.outline)).collect(),
             collision_pairs,
             rigidity: RigidityModel::new(&topology),
             unperturbed,
@@ -237,6 +245,21 @@ impl<'a> Context<'a> {
         !self.rigidity.mirrored(x, &self.end_motions, self.body_size)
     }
 
+    /// How far body `b`'s outline is from input pose `i` when the body is at `reached`: the miss of
+    /// the outline's mean point, and the part its vertices add by turning (their spread times the
+    /// chord of the turn). The squares of the three numbers sum to the mean squared miss of the
+    /// outline's vertices, in closed form: a vertex at mean point c plus u misses by the mean point's
+    /// miss plus the turn's (R − I)·u, the u average out, and |(R − I)·u| = 2·|sin(Δθ/2)|·|u|.
+    pub fn outline_miss(&self, b: usize, i: usize, reached: &Isometry) -> [f64; 3] {
+        let (mean, spread) = self.outline_moments[b];
+        let wanted = self.problem.bodies[b].poses[i].isometry();
+        let shift = reached.apply(mean) - wanted.apply(mean);
+        // The turn between the two, as a unit vector: its chord is |(cos − 1, sin)|.
+        let turn = wanted.unrotate(reached.rotate(Vec2::new(1.0, 0.0)));
+        let chord = ((turn.x - 1.0).powi(2) + turn.y * turn.y).sqrt();
+        [shift.x, shift.y, spread.sqrt() * chord]
+    }
+
     /// Where joint `j`, at `p` in the first pose, should be at pose `i` (it rides on its carrier).
     pub fn target(&self, j: usize, p: Point, i: usize) -> Point {
         match self.carriers[j] {
@@ -244,6 +267,16 @@ impl<'a> Context<'a> {
             None => p,
         }
     }
+}
+
+/// The mean of `outline`'s vertices and their mean squared distance from it.
+fn outline_moments(outline: &Polygon) -> (Point, f64) {
+    let vertices = outline.vertices();
+    let count = vertices.len().max(1) as f64;
+    let sum = vertices.iter().fold(Vec2::new(0.0, 0.0), |s, v| s + v.to_vec2());
+    let mean = Point::ORIGIN + sum * (1.0 / count);
+    let spread = vertices.iter().map(|v| (*v - mean).norm_sq()).sum::<f64>() / count;
+    (mean, spread)
 }
 
 /// One mover against one obstacle.
@@ -269,4 +302,30 @@ pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
         pairs.extend((0..body).map(|other| Pair::BodyBody { body, other }));
     }
     pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synth::testing::example;
+
+    /// The closed form of an outline's mean squared miss is the mean over its vertices, for any
+    /// reached pose: turned either way, by up to a half turn, and shifted.
+    #[test]
+    fn outline_miss_is_the_mean_squared_miss_of_the_vertices() {
+        let problem = example("k2_wall_bed");
+        let ctx = Context::new(&problem, MechanismType::Chain);
+        for (b, body) in problem.bodies.iter().enumerate() {
+            for (i, wanted) in body.poses.iter().enumerate() {
+                for (turn, shift) in [(0.0, (0.0, 0.0)), (0.3, (0.0, 0.0)), (-2.9, (5.0, -7.0)), (1.0, (-3.0, 2.0))] {
+                    let reached = Rigid::new(wanted.angle() + turn, wanted.translation() + Vec2::new(shift.0, shift.1));
+                    let closed: f64 = ctx.outline_miss(b, i, &reached.isometry()).iter().map(|m| m * m).sum();
+                    let vertices = body.outline.vertices();
+                    let mean = vertices.iter().map(|&v| (reached.apply(v) - wanted.apply(v)).norm_sq()).sum::<f64>()
+                        / vertices.len() as f64;
+                    assert!((closed - mean).abs() <= 1e-9 * (1.0 + mean), "body {b} pose {i}: {closed} vs {mean}");
+                }
+            }
+        }
+    }
 }

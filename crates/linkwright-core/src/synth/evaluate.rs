@@ -6,9 +6,9 @@
 //! configuration closest to the last pose. Order, branch and circuit defects, poor transmission and
 //! failures to assemble are all judged on that travel.
 
-use super::context::{Context, SoftTerms, CRANK_STEP, END_SEARCH};
+use super::context::{Context, SoftTerms, CRANK_STEP, END_SEARCH, LAST_POSE_ANGLE_DEG, LAST_POSE_POSITION};
 use crate::geom::Point;
-use crate::kinematics::{Branch, Plan, Trace};
+use crate::kinematics::{BodyFrames, Branch, Plan, Trace};
 use crate::mechanism::{Mechanism, Topology};
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -26,6 +26,10 @@ pub enum Reject {
     Assembly,
     /// A transmission angle comes closer to 0° or 180° than allowed (§5.4).
     Transmission,
+    /// A body ends its travel away from its last pose (a link that turns over on the way, say),
+    /// though the linkage is rigid through the first and last poses: the object would not come to
+    /// rest where it was drawn.
+    LastPose,
     /// A link enters an avoid region.
     AvoidRegion,
     /// A moving body penetrates a fixed body or another moving body (§5.5).
@@ -38,12 +42,13 @@ pub enum Reject {
 }
 
 impl Reject {
-    pub const ALL: [Reject; 9] = [
+    pub const ALL: [Reject; 10] = [
         Reject::JointsTooClose,
         Reject::Order,
         Reject::Branch,
         Reject::Assembly,
         Reject::Transmission,
+        Reject::LastPose,
         Reject::AvoidRegion,
         Reject::Collision,
         Reject::Unprintable,
@@ -281,8 +286,12 @@ fn simulate(
     let travels = scratch.travels.clone();
     for angles in travels.chunks_exact(poses) {
         match travel(ctx, &plan, angles, scratch) {
+            Ok((trace, pose_rows)) if misses_last_pose(ctx, &mechanism, &trace, &pose_rows) => {
+                first_failure.get_or_insert(Reject::LastPose);
+            }
             Ok((trace, pose_rows)) => {
-                let (accuracy, smoothness) = simulated_terms(ctx, &trace, &pose_rows, &scratch.targets);
+                let frames = BodyFrames::new(&mechanism, &ctx.first_poses);
+                let (accuracy, smoothness) = simulated_terms(ctx, &frames, &trace, &pose_rows, &scratch.targets);
                 let soft = SoftTerms { accuracy, smoothness, location, size };
                 let cost = ctx.weights.cost(&soft);
                 return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
@@ -293,6 +302,18 @@ fn simulate(
         }
     }
     Err(first_failure.unwrap_or(Reject::Assembly))
+}
+
+/// True when some body, in the configuration `trace` offers for the last pose, is farther from that
+/// pose than [`LAST_POSE_POSITION`] of its size d or [`LAST_POSE_ANGLE_DEG`].
+fn misses_last_pose(ctx: &Context, mechanism: &Mechanism, trace: &Trace, pose_rows: &[usize]) -> bool {
+    let last = pose_rows.len() - 1;
+    let row = trace.row(pose_rows[last]);
+    let frames = BodyFrames::new(mechanism, &ctx.first_poses);
+    ctx.problem.bodies.iter().enumerate().any(|(b, body)| {
+        let miss = body.miss(last, &frames.pose(b, row));
+        miss.position_rel_d > LAST_POSE_POSITION || miss.angle_deg > LAST_POSE_ANGLE_DEG
+    })
 }
 
 /// Simulates the travel through nominal crank `angles`, finds the configuration closest to each pose,
@@ -524,19 +545,33 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
     (floor * (1.0 - 1e-9)).max(0.0)
 }
 
-/// Paper eq. 10–11: accuracy and smoothness, on a simulated travel.
-fn simulated_terms(ctx: &Context, trace: &Trace, pose_rows: &[usize], targets: &[Point]) -> (f64, f64) {
+/// Paper eq. 10–11: accuracy and smoothness, on a simulated travel. E_acc is the paper's mean squared
+/// miss of the body-carried joints plus the mean squared miss of the bodies' outline vertices
+/// ([`Context::outline_miss`]): joints close together on a large body can all be near their targets
+/// while the body is turned well away from its pose, and the outline is what the person drew.
+fn simulated_terms(
+    ctx: &Context,
+    frames: &BodyFrames,
+    trace: &Trace,
+    pose_rows: &[usize],
+    targets: &[Point],
+) -> (f64, f64) {
     let n = trace.joint_count;
     let poses = pose_rows.len();
     let moving = &ctx.moving_joints;
     let target = |i: usize, j: usize| targets[i * n + j];
     let count = moving.len() as f64;
 
-    let mut accuracy = 0.0;
+    let mut joints_miss = 0.0;
+    let mut outlines_miss = 0.0;
     for (i, &r) in pose_rows.iter().enumerate() {
-        accuracy += moving.iter().map(|&j| (trace.row(r)[j] - target(i, j)).norm_sq()).sum::<f64>();
+        let row = trace.row(r);
+        joints_miss += moving.iter().map(|&j| (row[j] - target(i, j)).norm_sq()).sum::<f64>();
+        outlines_miss += (0..frames.body_count())
+            .map(|b| ctx.outline_miss(b, i, &frames.isometry(b, row)).iter().map(|m| m * m).sum::<f64>())
+            .sum::<f64>();
     }
-    accuracy /= poses as f64 * count;
+    let accuracy = joints_miss / (poses as f64 * count) + outlines_miss / (poses * frames.body_count().max(1)) as f64;
 
     // Eq. 11's ratio path / chord, with a small length f added to both: the same for joints that move
     // (f is a twentieth of the body size), still at least 1, and bounded for a joint that hardly moves

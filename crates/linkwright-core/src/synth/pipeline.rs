@@ -699,6 +699,9 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
              or lower settings.min_transmission_deg",
             problem.settings.min_transmission_deg
         ),
+        Reject::LastPose => "linkages ended away from the last pose (a link turned over on the way): add an \
+                             intermediate pose where the body turns most, or move the linkage_region"
+            .to_string(),
         Reject::AvoidRegion => "links crossed an avoid region: shrink the avoid_regions or move the \
                                 linkage_region away from them"
             .to_string(),

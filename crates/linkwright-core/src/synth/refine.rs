@@ -3,7 +3,8 @@
 //! draw of the particle filter.
 //!
 //! Levenberg–Marquardt over the joint coordinates (and the slider's angle). The cost is a sum of
-//! squares of residuals: one per pose, moving joint and axis for E_acc (the joint's miss, scaled), and
+//! squares of residuals: one per pose, moving joint and axis for E_acc (the joint's miss, scaled) and three per
+//! pose and body for its outline's miss ([`Context::outline_miss`]), and
 //! the square roots of the other three terms, which are never negative. Their Jacobian is taken by
 //! forward differences: each residual comes from a simulation (the pose configurations are searched
 //! along the travel), so no closed form exists. Every point the optimiser looks at is first projected
@@ -16,6 +17,7 @@ use super::context::Context;
 use super::evaluate::{evaluate, Candidate, Scratch};
 use super::sample::{mechanism_from_x, x_from_mechanism};
 use super::workspace::Buffers;
+use crate::kinematics::BodyFrames;
 use nalgebra::{DMatrix, DVector};
 
 /// The refinement's constants.
@@ -48,11 +50,16 @@ fn residuals(ctx: &Context, c: &Candidate, out: &mut Vec<f64>) {
     let poses = c.pose_rows.len();
     let moving = &ctx.moving_joints;
     let scale = (w.accuracy / (poses * moving.len()) as f64).sqrt();
+    let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
+    let outline_scale = (w.accuracy / (poses * frames.body_count().max(1)) as f64).sqrt();
     for (i, &r) in c.pose_rows.iter().enumerate() {
         let row = c.trace.row(r);
         for &j in moving {
             let miss = row[j] - ctx.target(j, c.mechanism.joints[j], i);
             out.extend([scale * miss.x, scale * miss.y]);
+        }
+        for b in 0..frames.body_count() {
+            out.extend(ctx.outline_miss(b, i, &frames.isometry(b, row)).map(|m| outline_scale * m));
         }
     }
     out.push((w.smoothness * c.soft.smoothness).max(0.0).sqrt());
