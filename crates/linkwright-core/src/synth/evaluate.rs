@@ -284,13 +284,13 @@ fn simulate(
     let poses = ctx.problem.pose_count;
     // A copy: the simulation uses the scratch (one allocation against a whole simulation).
     let travels = scratch.travels.clone();
+    let frames = BodyFrames::new(&mechanism, &ctx.first_poses);
     for angles in travels.chunks_exact(poses) {
         match travel(ctx, &plan, angles, scratch) {
-            Ok((trace, pose_rows)) if misses_last_pose(ctx, &mechanism, &trace, &pose_rows) => {
+            Ok((trace, pose_rows)) if misses_last_pose(ctx, &frames, &trace, &pose_rows) => {
                 first_failure.get_or_insert(Reject::LastPose);
             }
             Ok((trace, pose_rows)) => {
-                let frames = BodyFrames::new(&mechanism, &ctx.first_poses);
                 let (accuracy, smoothness) = simulated_terms(ctx, &frames, &trace, &pose_rows, &scratch.targets);
                 let soft = SoftTerms { accuracy, smoothness, location, size };
                 let cost = ctx.weights.cost(&soft);
@@ -306,10 +306,9 @@ fn simulate(
 
 /// True when some body, in the configuration `trace` offers for the last pose, is farther from that
 /// pose than [`LAST_POSE_POSITION`] of its size d or [`LAST_POSE_ANGLE_DEG`].
-fn misses_last_pose(ctx: &Context, mechanism: &Mechanism, trace: &Trace, pose_rows: &[usize]) -> bool {
+fn misses_last_pose(ctx: &Context, frames: &BodyFrames, trace: &Trace, pose_rows: &[usize]) -> bool {
     let last = pose_rows.len() - 1;
     let row = trace.row(pose_rows[last]);
-    let frames = BodyFrames::new(mechanism, &ctx.first_poses);
     ctx.problem.bodies.iter().enumerate().any(|(b, body)| {
         let miss = body.miss(last, &frames.pose(b, row));
         miss.position_rel_d > LAST_POSE_POSITION || miss.angle_deg > LAST_POSE_ANGLE_DEG
@@ -504,6 +503,11 @@ fn static_terms(ctx: &Context, mechanism: &Mechanism) -> (f64, f64) {
 /// so each smoothness ratio is at least 1 − (e(i, j) + e(i + 1, j)) / (chord + f). The weighted sum is
 /// then at least w_smooth plus one term β·e² − α·e per (pose, joint) (β from accuracy, α from the
 /// intervals next to the pose), each minimised over e at or beyond its locus distance.
+///
+/// The outlines' part of E_acc adds a floor of its own. A body's miss is a rigid displacement u
+/// with u(p) = u(c) + (R − I)(p − c) about the outline's mean point c, whose vertices miss by
+/// |u(c)|² + s²·J on average (s = |R − I|, J their spread): a joint r from c misses by at most
+/// |u(c)| + s·r, so by Cauchy–Schwarz that mean is at least e²·J / (J + r²) for each of its joints.
 fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f64 {
     let w = &ctx.weights;
     let n = ctx.topology.joint_count();
@@ -539,6 +543,20 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
             let alpha = per_ratio * (before + after);
             let e = (alpha / (2.0 * beta)).max(locus_distance(i, j));
             floor += beta * e * e - alpha * e;
+        }
+    }
+    let bodies = ctx.outline_moments.len();
+    let outline_beta = w.accuracy / (poses * bodies.max(1)) as f64;
+    for (b, &(mean, spread)) in ctx.outline_moments.iter().enumerate() {
+        let centre = ctx.first_poses[b].apply(mean);
+        let share = |j: usize| spread / (spread + (joints[j] - centre).norm_sq());
+        for i in 0..poses {
+            let bound = moving
+                .iter()
+                .filter(|&&j| ctx.carriers[j] == Some(b))
+                .map(|&j| share(j) * locus_distance(i, j).powi(2))
+                .fold(0.0, f64::max);
+            floor += outline_beta * bound;
         }
     }
     // Rounding in the simulated terms must never push a candidate under its own floor.
