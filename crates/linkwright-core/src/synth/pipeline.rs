@@ -175,8 +175,8 @@ pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome,
 pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();
     let families = families(problem);
-    let mut stats = RunStats::default();
-    let mut rejected = [0usize; Reject::ALL.len()];
+    let mut run =
+        Run { printable: options.printable, observer, stats: RunStats::default(), rejected: [0; Reject::ALL.len()] };
     let mut valid: Vec<Candidate> = Vec::new();
     let mut best_cost: Option<f64> = None;
     let contexts: Vec<Context> = families
@@ -192,6 +192,7 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     // One per family: a sample's buffers hold a mechanism of its family's topology.
     let workspaces: Vec<Workspace> = families.iter().map(|_| Workspace::default()).collect();
     for (f, ((&family, ctx), workspace)) in families.iter().zip(&contexts).zip(&workspaces).enumerate() {
+        let stage = FamilyStage { ctx, workspace };
         let share = |x: f64| (f as f64 + x) / families.len() as f64;
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
@@ -211,30 +212,10 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         };
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(
-                ctx,
-                workspace,
-                family,
-                &seeds,
-                options.printable,
-                &mut stats,
-                &mut rejected,
-                observer,
-                &report,
-            )?;
+            found = run_family(&mut run, stage, family, &seeds, &report)?;
         }
         if found.is_empty() {
-            found = run_family(
-                ctx,
-                workspace,
-                family,
-                &[],
-                options.printable,
-                &mut stats,
-                &mut rejected,
-                observer,
-                &report,
-            )?;
+            found = run_family(&mut run, stage, family, &[], &report)?;
         }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
@@ -244,10 +225,11 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let t = Instant::now();
-    let picked = pick_designs(problem, valid, options.printable, &mut rejected, observer)?;
-    stats.seconds_printability = t.elapsed().as_secs_f64();
+    let picked = pick_designs(problem, valid, &mut run)?;
+    run.stats.seconds_printability = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let picked = finish_designs(problem, &contexts, &workspaces, picked, options.printable, &mut stats, observer)?;
+    let picked = finish_designs(problem, &contexts, &workspaces, picked, &mut run)?;
+    let Run { mut stats, rejected, .. } = run;
     stats.seconds_refinement = t.elapsed().as_secs_f64();
     if let Some(best) = picked.first() {
         // The refinement lowers the best cost, and a design that fails verification may be dropped.
@@ -270,21 +252,13 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
 /// distinct from those picked before it and, with a `printable` check, printable. Printability is
 /// checked in parallel batches in order of cost (a few milliseconds each), so only as many designs
 /// are checked as the picking needs.
-fn pick_designs(
-    problem: &Problem,
-    valid: Vec<Candidate>,
-    printable: Option<&dyn Acceptance>,
-    rejected: &mut [usize; Reject::ALL.len()],
-    observer: &dyn Observer,
-) -> Result<Vec<Candidate>, Cancelled> {
+fn pick_designs(problem: &Problem, valid: Vec<Candidate>, run: &mut Run) -> Result<Vec<Candidate>, Cancelled> {
     let min_shift = min_shift(problem);
     let wanted = MAX_ALTERNATIVES + 1;
     let mut picked: Vec<Candidate> = Vec::new();
     let mut queue = valid.into_iter().peekable();
     while picked.len() < wanted && queue.peek().is_some() {
-        if observer.cancelled() {
-            return Err(Cancelled);
-        }
+        run.go_on()?;
         // Only designs distinct from every one picked so far need the (costly) printability check. The
         // batch's size changes how many are checked, never which are picked.
         let mut batch: Vec<Candidate> = Vec::new();
@@ -294,13 +268,13 @@ fn pick_designs(
                 batch.push(c);
             }
         }
-        let checked: Vec<Result<Candidate, Reject>> = match printable {
+        let checked: Vec<Result<Candidate, Reject>> = match run.printable {
             Some(check) => batch.into_par_iter().map(|c| mark_printable(check, c)).collect(),
             None => batch.into_iter().map(Ok).collect(),
         };
         for r in checked {
             match r {
-                Err(reject) => rejected[reject as usize] += 1,
+                Err(reject) => run.reject(reject),
                 Ok(c) if picked.len() < wanted && picked.iter().all(|p| distinct(p, &c, min_shift)) => picked.push(c),
                 Ok(_) => {}
             }
@@ -318,13 +292,10 @@ fn finish_designs(
     contexts: &[Context],
     workspaces: &[Workspace],
     picked: Vec<Candidate>,
-    printable: Option<&dyn Acceptance>,
-    stats: &mut RunStats,
-    observer: &dyn Observer,
+    run: &mut Run,
 ) -> Result<Vec<Candidate>, Cancelled> {
-    if observer.cancelled() {
-        return Err(Cancelled);
-    }
+    run.go_on()?;
+    let printable = run.printable;
     let family_of = |c: &Candidate| {
         contexts.iter().position(|ctx| ctx.topology.mechanism_type == c.mechanism.topology.mechanism_type)
     };
@@ -346,7 +317,7 @@ fn finish_designs(
             verify_travel(problem, &refined.mechanism, travel).0.is_empty().then_some(refined)
         })
         .collect();
-    stats.failed_verification = finished.iter().filter(|c| c.is_none()).count();
+    run.stats.failed_verification = finished.iter().filter(|c| c.is_none()).count();
     let mut finished: Vec<Candidate> = finished.into_iter().flatten().collect();
     finished.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let min_shift = min_shift(problem);
@@ -384,19 +355,47 @@ fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     }
 }
 
+/// What a run carries from stage to stage: the check its designs must also pass, who follows it,
+/// and what it counts.
+struct Run<'a> {
+    printable: Option<&'a dyn Acceptance>,
+    observer: &'a dyn Observer,
+    stats: RunStats,
+    /// Candidates rejected, per [`Reject`].
+    rejected: [usize; Reject::ALL.len()],
+}
+
+impl Run<'_> {
+    fn reject(&mut self, reject: Reject) {
+        self.rejected[reject as usize] += 1;
+    }
+
+    /// `Err` once the person has cancelled the run.
+    fn go_on(&self) -> Result<(), Cancelled> {
+        if self.observer.cancelled() {
+            Err(Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// One family's context and the buffers its stages share.
+#[derive(Clone, Copy)]
+struct FamilyStage<'r, 'p> {
+    ctx: &'r Context<'p>,
+    workspace: &'r Workspace,
+}
+
 /// Sampling, checks and the particle filter for one family; returns every valid candidate.
-#[allow(clippy::too_many_arguments)]
 fn run_family(
-    ctx: &Context,
-    workspace: &Workspace,
+    run: &mut Run,
+    stage: FamilyStage,
     family: MechanismType,
     seeds: &[Vec<f64>],
-    printable: Option<&dyn Acceptance>,
-    stats: &mut RunStats,
-    rejected: &mut [usize; Reject::ALL.len()],
-    observer: &dyn Observer,
     report: &dyn Fn(Stage, f64, Option<f64>),
 ) -> Result<Vec<Candidate>, Cancelled> {
+    let FamilyStage { ctx, workspace } = stage;
     let settings = &ctx.problem.settings;
     let seed = settings.seed;
     let family = family_id(family);
@@ -412,25 +411,22 @@ fn run_family(
         let near = (!seeds.is_empty()).then(|| seeds[i % seeds.len()].as_slice());
         sampler.draw(seed, i as u64, near, scratch)
     };
-    let mut floors = screen_samples(ctx, workspace, total, &draw, stats, rejected, observer, &|x| {
-        report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None)
+    let mut floors =
+        screen_samples(run, stage, total, &draw, &|x| report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None))?;
+    let candidates = simulate_cheapest(run, stage, &mut floors, CANDIDATE_CAP, &draw, &|x| {
+        report(Stage::Sampling, w_sample * (SCREENING_SHARE + (1.0 - SCREENING_SHARE) * x), None)
     })?;
-    let candidates =
-        simulate_cheapest(ctx, workspace, &mut floors, CANDIDATE_CAP, &draw, stats, rejected, observer, &|x| {
-            report(Stage::Sampling, w_sample * (SCREENING_SHARE + (1.0 - SCREENING_SHARE) * x), None)
-        })?;
-    stats.samples += total;
-    stats.seconds_sampling += t.elapsed().as_secs_f64();
+    run.stats.samples += total;
+    run.stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
     // A warm start begins near good designs: one particle set of valid ones is enough. So is one set
     // of printable designs: that check costs milliseconds, and the particle filter stays near them.
-    let per_particle = if warm || printable.is_some() { 1 } else { VALID_PER_PARTICLE };
+    let per_particle = if warm || run.printable.is_some() { 1 } else { VALID_PER_PARTICLE };
     let enough = per_particle * settings.particles.max(1);
-    let mut valid =
-        check_in_order(ctx, workspace, candidates, enough, COLLISION_BATCH_CHUNKS, printable, rejected, observer)?;
-    stats.valid += valid.len();
-    stats.seconds_collision += t.elapsed().as_secs_f64();
+    let mut valid = check_in_order(run, stage, candidates, enough, COLLISION_BATCH_CHUNKS)?;
+    run.stats.valid += valid.len();
+    run.stats.seconds_collision += t.elapsed().as_secs_f64();
     let best = valid.iter().map(|c| c.cost).reduce(f64::min);
     report(Stage::Collision, w_sample + w_collide, best);
 
@@ -441,7 +437,7 @@ fn run_family(
         let produced = refine(ctx, workspace, &valid, &options, seed, family, |done, best| {
             let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;
             report(Stage::Refining, x, Some(best));
-            cancelled = observer.cancelled();
+            cancelled = run.observer.cancelled();
             !cancelled
         });
         if cancelled {
@@ -449,29 +445,24 @@ fn run_family(
         }
         valid.extend(produced);
     }
-    stats.seconds_pfo += t.elapsed().as_secs_f64();
+    run.stats.seconds_pfo += t.elapsed().as_secs_f64();
     Ok(valid)
 }
 
 /// Draws samples `0..total` and runs the checks that need no simulation: returns each passing
 /// sample's floor under its cost with its index, in no particular order (a NaN floor bounds nothing
 /// and is returned as −∞). Counts fitted samples and rejects.
-#[allow(clippy::too_many_arguments)]
 fn screen_samples(
-    ctx: &Context,
-    workspace: &Workspace,
+    run: &mut Run,
+    stage: FamilyStage,
     total: usize,
     draw: &Draw,
-    stats: &mut RunStats,
-    rejected: &mut [usize; Reject::ALL.len()],
-    observer: &dyn Observer,
     report: &dyn Fn(f64),
 ) -> Result<Vec<(f64, usize)>, Cancelled> {
+    let FamilyStage { ctx, workspace } = stage;
     let mut floors = Vec::new();
     for start in (0..total).step_by(CHUNK) {
-        if observer.cancelled() {
-            return Err(Cancelled);
-        }
+        run.go_on()?;
         let end = (start + CHUNK).min(total);
         let results: Vec<Option<Result<f64, Reject>>> = (start..end)
             .into_par_iter()
@@ -492,10 +483,10 @@ fn screen_samples(
             .collect();
         for (i, r) in (start..end).zip(results) {
             let Some(r) = r else { continue };
-            stats.fitted += 1;
+            run.stats.fitted += 1;
             match r {
                 Ok(floor) => floors.push((if floor.is_nan() { f64::NEG_INFINITY } else { floor }, i)),
-                Err(reject) => rejected[reject as usize] += 1,
+                Err(reject) => run.reject(reject),
             }
         }
         report(end as f64 / total as f64);
@@ -537,25 +528,20 @@ fn sort_ahead(floors: &mut [(f64, usize)], sorted: &mut usize, upto: usize) {
 ///
 /// Each sample is drawn again rather than kept from the screening: keeping every screened mechanism
 /// cost more (sofa bed +30 ms) than redrawing the few simulated.
-#[allow(clippy::too_many_arguments)]
 fn simulate_cheapest(
-    ctx: &Context,
-    workspace: &Workspace,
+    run: &mut Run,
+    stage: FamilyStage,
     floors: &mut [(f64, usize)],
     cap: usize,
     draw: &Draw,
-    stats: &mut RunStats,
-    rejected: &mut [usize; Reject::ALL.len()],
-    observer: &dyn Observer,
     report: &dyn Fn(f64),
 ) -> Result<Vec<Candidate>, Cancelled> {
+    let FamilyStage { ctx, workspace } = stage;
     // Boxed, so that sorting after each chunk moves pointers, not whole candidates.
     let mut candidates: Vec<(f64, usize, Box<Candidate>)> = Vec::new();
     let (mut done, mut sorted) = (0, 0);
     while done < floors.len() {
-        if observer.cancelled() {
-            return Err(Cancelled);
-        }
+        run.go_on()?;
         let bar = if candidates.len() >= cap { candidates[cap - 1].0 } else { f64::INFINITY };
         // The floors ascend: everything from the first one above the bar on is outclassed.
         sort_ahead(floors, &mut sorted, done + SIMULATION_CHUNK);
@@ -580,10 +566,10 @@ fn simulate_cheapest(
         for (r, i) in results.into_iter().flatten() {
             match r {
                 Ok(c) => {
-                    stats.candidates += 1;
+                    run.stats.candidates += 1;
                     candidates.push((c.cost, i, Box::new(c)));
                 }
-                Err(reject) => rejected[reject as usize] += 1,
+                Err(reject) => run.reject(reject),
             }
         }
         candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -591,7 +577,7 @@ fn simulate_cheapest(
         done = end;
         report(done as f64 / floors.len() as f64);
     }
-    rejected[Reject::Outclassed as usize] += floors.len() - done;
+    run.rejected[Reject::Outclassed as usize] += floors.len() - done;
     Ok(candidates.into_iter().map(|(_, _, c)| *c).collect())
 }
 
@@ -601,24 +587,20 @@ fn simulate_cheapest(
 /// Up to `batch_chunks` chunks are swept in one parallel batch, as many as the valid rate so far says
 /// are still needed (fewer waits for a batch's last sweep); only the chunks the rule asks for are
 /// taken, so the batch's size changes no result.
-#[allow(clippy::too_many_arguments)]
 fn check_in_order(
-    ctx: &Context,
-    workspace: &Workspace,
+    run: &mut Run,
+    stage: FamilyStage,
     candidates: Vec<Candidate>,
     enough: usize,
     batch_chunks: usize,
-    printable: Option<&dyn Acceptance>,
-    rejected: &mut [usize; Reject::ALL.len()],
-    observer: &dyn Observer,
 ) -> Result<Vec<Candidate>, Cancelled> {
+    let FamilyStage { ctx, workspace } = stage;
+    let printable = run.printable;
     let mut valid = Vec::new();
     let mut queue = candidates.into_iter().peekable();
     let mut swept = 0;
     while queue.peek().is_some() && valid.len() < enough {
-        if observer.cancelled() {
-            return Err(Cancelled);
-        }
+        run.go_on()?;
         let chunks = if swept == 0 {
             1
         } else {
@@ -646,7 +628,7 @@ fn check_in_order(
                 swept += 1;
                 match r {
                     Ok(c) => valid.push(c),
-                    Err(reject) => rejected[reject as usize] += 1,
+                    Err(reject) => run.reject(reject),
                 }
             }
         }
@@ -731,6 +713,13 @@ mod tests {
     use crate::synth::collision::SweepBuffers;
     use crate::synth::testing::{defect_free, example};
 
+    impl Run<'static> {
+        /// A run with no printability check, that nobody follows.
+        fn quiet() -> Self {
+            Run { printable: None, observer: &Silent, stats: RunStats::default(), rejected: [0; Reject::ALL.len()] }
+        }
+    }
+
     /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
     /// exactly the rejects, of checking one chunk at a time: where a first chunk poor in valid
     /// candidates makes the batch reach far past where the stopping rule ends, and where every
@@ -752,19 +741,11 @@ mod tests {
         let key = |c: &Candidate| (c.cost.to_bits(), c.mechanism.joints.clone());
         for enough in [40, 100, usize::MAX] {
             let run = |batch_chunks| {
-                let mut rejected = [0; Reject::ALL.len()];
-                let valid = check_in_order(
-                    &ctx,
-                    &Workspace::default(),
-                    candidates.clone(),
-                    enough,
-                    batch_chunks,
-                    None,
-                    &mut rejected,
-                    &Silent,
-                )
-                .unwrap();
-                (valid.iter().map(key).collect::<Vec<_>>(), rejected)
+                let mut run = Run::quiet();
+                let workspace = Workspace::default();
+                let stage = FamilyStage { ctx: &ctx, workspace: &workspace };
+                let valid = check_in_order(&mut run, stage, candidates.clone(), enough, batch_chunks).unwrap();
+                (valid.iter().map(key).collect::<Vec<_>>(), run.rejected)
             };
             let (one, many) = (run(1), run(8));
             assert!(one.0.len() >= enough.min(100), "{} valid", one.0.len());
@@ -824,22 +805,12 @@ mod tests {
         all.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         all.truncate(cap);
 
-        let (mut stats, mut rejected) = (RunStats::default(), [0; Reject::ALL.len()]);
+        let mut run = Run::quiet();
         let workspace = Workspace::default();
-        let mut floors = screen_samples(
-            &ctx,
-            &workspace,
-            problem.settings.samples,
-            &draw,
-            &mut stats,
-            &mut rejected,
-            &Silent,
-            &|_| {},
-        )
-        .unwrap();
-        let kept =
-            simulate_cheapest(&ctx, &workspace, &mut floors, cap, &draw, &mut stats, &mut rejected, &Silent, &|_| {})
-                .unwrap();
+        let stage = FamilyStage { ctx: &ctx, workspace: &workspace };
+        let mut floors = screen_samples(&mut run, stage, problem.settings.samples, &draw, &|_| {}).unwrap();
+        let kept = simulate_cheapest(&mut run, stage, &mut floors, cap, &draw, &|_| {}).unwrap();
+        let rejected = run.rejected;
         assert_eq!(kept.len(), cap);
         for (k, c) in kept.iter().zip(&all) {
             assert_eq!(k.cost, c.cost);
