@@ -208,6 +208,12 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// This context for a run whose joints of one part must also be at least `spacing` apart (a
+    /// length): the print check's pins need room, so samples closer than that are never drawn.
+    pub fn spaced_at_least(self, spacing: f64) -> Self {
+        Context { min_spacing: self.min_spacing.max(spacing), ..self }
+    }
+
     /// The largest accepted rigidity deviation of a fit (relative to d).
     pub fn accepted_deviation(&self) -> f64 {
         if self.exact {

@@ -182,11 +182,11 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let contexts: Vec<Context> = families
         .iter()
         .map(|&family| {
-            let mut ctx = Context::new(problem, family);
-            if let Some(check) = options.printable {
-                ctx.min_spacing = ctx.min_spacing.max(check.min_joint_spacing());
+            let ctx = Context::new(problem, family);
+            match options.printable {
+                Some(check) => ctx.spaced_at_least(check.min_joint_spacing()),
+                None => ctx,
             }
-            ctx
         })
         .collect();
     // One per family: a sample's buffers hold a mechanism of its family's topology.
