@@ -51,7 +51,7 @@ const TRIES: usize = 4;
 /// to their poses.
 const LONG_CHAIN_TRIES: usize = 16;
 /// The bodies of a chain whose ternary links get [`LONG_CHAIN_TRIES`].
-const LONG_CHAIN: usize = 4;
+pub(crate) const LONG_CHAIN: usize = 4;
 /// How far outside the region's box a solved joint may land, in box diagonals, before the block is
 /// drawn again.
 const BOX_MARGIN: f64 = 0.5;

@@ -1,5 +1,6 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
+use super::construct::LONG_CHAIN;
 use super::rigidity::RigidityModel;
 use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
 use crate::mechanism::{MechanismType, PartKind, Topology};
@@ -33,6 +34,16 @@ pub const EXACT_DEVIATION: f64 = 1e-8;
 /// [`LAST_POSE_ANGLE_DEG`]: the closed lid closes.
 pub const LAST_POSE_POSITION: f64 = 0.005;
 pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
+
+/// The factor on the pose noise of chains of [`LONG_CHAIN`] bodies or more. Every body's
+/// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
+/// relative motion of two perturbed bodies, so the more bodies, the farther the fits land from any
+/// linkage through the drawn poses: their loops lock up between the poses. Chains of four to six
+/// bodies through three poses (`linkwright bench --known`, the K = 4–6, N = 3 rows) found a design
+/// on 7 of 9 scenes at the paper's 0.5·d, worst pose error up to 0.67·d; with this factor on 9 of 9,
+/// worst 0.12·d. Shorter chains gain nothing from it (K = 2 and 3 through three poses: costs higher
+/// on three of six scenes at a factor of 0.44).
+pub const LONG_CHAIN_NOISE: f64 = 0.1;
 
 /// The soft terms of paper eq. 10–13.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -131,7 +142,8 @@ pub struct Context<'a> {
     /// a fit finds; it pulls the fit away from every linkage, towards collapsed links (a four-bar
     /// through nine poses of a known four-bar, 100,000 samples: at the paper's 0.5·d no valid design,
     /// at 0.2·d three, at 0.1·d 424; this factor gives 0.09·d. Measured on `chain_k1_n9_seed0` of
-    /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited).
+    /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited). Chains of
+    /// [`LONG_CHAIN`] bodies or more take [`LONG_CHAIN_NOISE`] on top.
     pub noise_scale: f64,
     /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
     /// kept rigid through ([`END_DEVIATION`]).
@@ -173,11 +185,13 @@ impl<'a> Context<'a> {
             problem.bodies.iter().map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect()).collect();
         let end_motions = motions.iter().map(|m| vec![m[0], m[m.len() - 1]]).collect();
         let overdetermined = problem.pose_count > topology.max_exact_poses();
-        let noise_scale = if overdetermined {
+        let overdetermined_noise = if overdetermined {
             ((topology.max_exact_poses() - 2) as f64 / (problem.pose_count - 2) as f64).powi(2)
         } else {
             1.0
         };
+        let long_chain = topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN;
+        let noise_scale = overdetermined_noise * if long_chain { LONG_CHAIN_NOISE } else { 1.0 };
         let unperturbed = problem.settings.pose_tolerance == 0.0;
         Context {
             problem,
