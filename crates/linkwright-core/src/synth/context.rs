@@ -228,6 +228,11 @@ impl<'a> Context<'a> {
         Context { min_spacing: self.min_spacing.max(spacing), ..self }
     }
 
+    /// This context with its pose noise scaled by `factor`.
+    pub fn perturbed_less(self, factor: f64) -> Self {
+        Context { noise_scale: self.noise_scale * factor, ..self }
+    }
+
     /// The largest accepted rigidity deviation of a fit (relative to d).
     pub fn accepted_deviation(&self) -> f64 {
         if self.exact {

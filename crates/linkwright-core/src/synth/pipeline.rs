@@ -16,6 +16,11 @@ use crate::verify::{verify_travel, Travel};
 use rayon::prelude::*;
 use std::time::Instant;
 
+/// The factor on the pose noise of a second search, when the first found no design: poses
+/// perturbed as far as the scene allows can leave every fitted linkage locking up between them or
+/// hitting something, where linkages fitted closer to the drawn poses pass (reference scenes: the
+/// three-pose power shovel and the peg in its hole get a design this way).
+const RETRY_NOISE: f64 = 0.1;
 /// Samples drawn between two progress reports (and cancellation checks).
 const CHUNK: usize = 2048;
 /// Samples simulated between two updates of the bar a sample's cost floor must pass.
@@ -177,8 +182,6 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let families = families(problem);
     let mut run =
         Run { printable: options.printable, observer, stats: RunStats::default(), rejected: [0; Reject::ALL.len()] };
-    let mut valid: Vec<Candidate> = Vec::new();
-    let mut best_cost: Option<f64> = None;
     let contexts: Vec<Context> = families
         .iter()
         .map(|&family| {
@@ -191,9 +194,45 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         .collect();
     // One per family: a sample's buffers hold a mechanism of its family's topology.
     let workspaces: Vec<Workspace> = families.iter().map(|_| Workspace::default()).collect();
-    for (f, ((&family, ctx), workspace)) in families.iter().zip(&contexts).zip(&workspaces).enumerate() {
+    let mut picked = design_round(problem, options, &contexts, &workspaces, &mut run)?;
+    if picked.is_empty() && contexts.iter().any(|ctx| !ctx.unperturbed) {
+        let closer: Vec<Context> = contexts.into_iter().map(|ctx| ctx.perturbed_less(RETRY_NOISE)).collect();
+        picked = design_round(problem, options, &closer, &workspaces, &mut run)?;
+    }
+    let Run { mut stats, rejected, .. } = run;
+    if let Some(best) = picked.first() {
+        // The refinement lowers the best cost, and a design that fails verification may be dropped.
+        observer.progress(&Progress {
+            stage: Stage::Refining,
+            mechanism: best.mechanism.topology.mechanism_type,
+            fraction: 1.0,
+            best_cost: Some(best.cost),
+        });
+    }
+    stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
+    stats.seconds_total = started.elapsed().as_secs_f64();
+    let mut picked = picked.into_iter();
+    let best = picked.next();
+    let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
+    Ok(Outcome { best, alternatives: picked.collect(), stats, reason })
+}
+
+/// One search over every family (`contexts`, with their `workspaces`): sampling, checks and the
+/// particle filter per family, then the designs picked from all of them and finished, best first.
+fn design_round(
+    problem: &Problem,
+    options: &Options,
+    contexts: &[Context],
+    workspaces: &[Workspace],
+    run: &mut Run,
+) -> Result<Vec<Candidate>, Cancelled> {
+    let mut valid: Vec<Candidate> = Vec::new();
+    let mut best_cost: Option<f64> = None;
+    let observer = run.observer;
+    for (f, (ctx, workspace)) in contexts.iter().zip(workspaces).enumerate() {
+        let family = ctx.topology.mechanism_type;
         let stage = FamilyStage { ctx, workspace };
-        let share = |x: f64| (f as f64 + x) / families.len() as f64;
+        let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
         };
@@ -212,10 +251,10 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         };
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(&mut run, stage, family, &seeds, &report)?;
+            found = run_family(run, stage, family, &seeds, &report)?;
         }
         if found.is_empty() {
-            found = run_family(&mut run, stage, family, &[], &report)?;
+            found = run_family(run, stage, family, &[], &report)?;
         }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
@@ -225,27 +264,12 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let t = Instant::now();
-    let picked = pick_designs(problem, valid, &mut run)?;
-    run.stats.seconds_printability = t.elapsed().as_secs_f64();
+    let picked = pick_designs(problem, valid, run)?;
+    run.stats.seconds_printability += t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let picked = finish_designs(problem, &contexts, &workspaces, picked, &mut run)?;
-    let Run { mut stats, rejected, .. } = run;
-    stats.seconds_refinement = t.elapsed().as_secs_f64();
-    if let Some(best) = picked.first() {
-        // The refinement lowers the best cost, and a design that fails verification may be dropped.
-        observer.progress(&Progress {
-            stage: Stage::Refining,
-            mechanism: best.mechanism.topology.mechanism_type,
-            fraction: 1.0,
-            best_cost: Some(best.cost),
-        });
-    }
-    stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
-    stats.seconds_total = started.elapsed().as_secs_f64();
-    let mut picked = picked.into_iter();
-    let best = picked.next();
-    let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
-    Ok(Outcome { best, alternatives: picked.collect(), stats, reason })
+    let picked = finish_designs(problem, contexts, workspaces, picked, run)?;
+    run.stats.seconds_refinement += t.elapsed().as_secs_f64();
+    Ok(picked)
 }
 
 /// The best design and up to [`MAX_ALTERNATIVES`] alternatives from `valid` (sorted by cost): each
