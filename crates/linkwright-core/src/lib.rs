@@ -5,7 +5,7 @@
 //! paper "Multi-Pose Interactive Linkage Design". All computation, no I/O.
 //!
 //! Modules, in the order data flows through them:
-//! - [`geom`]: points, vectors, rigid transforms, polygons.
+//! - [`geom`]: points, vectors, rigid transforms, polygons; [`xml`]: escaping text for XML files.
 //! - [`scene`]: the `scene/1` format and its validation, and the [`scene::Problem`] derived from it.
 //! - [`mechanism`]: linkage topologies (the K-body chain, the slider-crank) as joints + rigid parts.
 //! - [`kinematics`]: a dyad plan compiled once per topology, evaluated per crank angle.
@@ -31,3 +31,4 @@ pub mod scene;
 pub mod synth;
 pub mod testbed;
 pub mod verify;
+pub mod xml;

@@ -44,7 +44,7 @@ pub fn stl_bytes(mesh: &Mesh, scale: f64, header: &str) -> Vec<u8> {
 }
 
 fn xml_escape(s: &str) -> std::borrow::Cow<'_, str> {
-    crate::render::escape(s)
+    crate::xml::escape(s)
 }
 
 /// The 3MF model XML of named objects (each a mesh already in place), millimetres.

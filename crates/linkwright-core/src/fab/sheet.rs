@@ -200,5 +200,5 @@ pub fn assembly_svg(fab: &Fabrication) -> String {
 }
 
 fn esc(s: &str) -> std::borrow::Cow<'_, str> {
-    crate::render::escape(s)
+    crate::xml::escape(s)
 }

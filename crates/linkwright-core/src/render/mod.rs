@@ -21,7 +21,6 @@ mod tests;
 
 pub use animation::{animation_svg, MAX_FRAMES};
 pub use design::design_svg;
-pub use svg::escape;
 
 use crate::kinematics::Trace;
 use crate::mechanism::Mechanism;

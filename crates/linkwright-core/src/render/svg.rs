@@ -1,40 +1,8 @@
-//! A tiny SVG text writer: elements with escaped attributes, compact numbers, XML escaping.
+//! A tiny SVG text writer: elements with escaped attributes ([`crate::xml::escape`]), compact numbers.
 
 use crate::geom::Point;
-use std::borrow::Cow;
+use crate::xml::escape;
 use std::fmt::Write;
-
-/// Escapes text for XML content and attribute values (`&`, `<`, `>`, `"`, `'`), and drops the
-/// characters XML 1.0 forbids even escaped (the C0 controls but tab, line feed and carriage return,
-/// and U+FFFE, U+FFFF), so a name holding them still gives a well-formed document.
-pub fn escape(text: &str) -> Cow<'_, str> {
-    // A byte scan: every character escaped or dropped is ASCII or starts with the byte 0xEF (U+F000 to
-    // U+FFFF), and UTF-8 never uses ASCII bytes inside others.
-    let special = |b: u8| {
-        matches!(b, b'&' | b'<' | b'>' | b'"' | b'\'' | 0xEF) || (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r'))
-    };
-    if !text.bytes().any(special) {
-        return Cow::Borrowed(text);
-    }
-    let mut out = String::with_capacity(text.len() + 8);
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if !allowed_in_xml(c) => {}
-            c => out.push(c),
-        }
-    }
-    Cow::Owned(out)
-}
-
-/// Whether XML 1.0 allows `c` in a document (its production `Char`; Rust strings hold no surrogates).
-fn allowed_in_xml(c: char) -> bool {
-    !matches!(c, '\u{0}'..='\u{8}' | '\u{b}' | '\u{c}' | '\u{e}'..='\u{1f}' | '\u{fffe}' | '\u{ffff}')
-}
 
 /// Writes numbers with a fixed number of decimals, trailing zeros dropped (`1.50` → `1.5`, `-0` → `0`).
 #[derive(Clone, Copy, Debug)]
@@ -300,9 +268,6 @@ mod tests {
 
     #[test]
     fn escaping() {
-        assert_eq!(escape("a<b & 'c' \"d\">"), "a&lt;b &amp; &apos;c&apos; &quot;d&quot;&gt;");
-        assert!(matches!(escape("plain"), Cow::Borrowed(_)));
-        assert_eq!(escape("a\0b\u{1}\u{1b}c\td\u{fffe}"), "abc\td");
         let mut out = String::new();
         Element::new("text").attr("x", 1).text("<&>", &mut out);
         assert_eq!(out, "<text x=\"1\">&lt;&amp;&gt;</text>\n");
