@@ -256,15 +256,21 @@ impl MechanismJson {
     }
 }
 
+/// Why a design file could not be read at all (before validation).
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct DesignParseError {
+    /// Where in the document the problem is, e.g. `mechanism.joints[2]`, or `.` for the root.
+    pub path: String,
+    pub message: String,
+}
+
 impl DesignFile {
     /// Parses a design file, naming the offending field on failure.
-    pub fn from_json(text: &str) -> Result<DesignFile, crate::scene::ParseError> {
+    pub fn from_json(text: &str) -> Result<DesignFile, DesignParseError> {
         let de = &mut serde_json::Deserializer::from_str(text);
-        let file: DesignFile = serde_path_to_error::deserialize(de).map_err(|e| crate::scene::ParseError {
-            path: e.path().to_string(),
-            message: e.into_inner().to_string(),
-        })?;
-        Ok(file)
+        serde_path_to_error::deserialize(de)
+            .map_err(|e| DesignParseError { path: e.path().to_string(), message: e.into_inner().to_string() })
     }
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a design always serializes")

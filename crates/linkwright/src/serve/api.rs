@@ -134,7 +134,7 @@ fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
 
 /// Parses and validates a scene; `prefix` is the request field it sits in (empty for a bare scene).
 fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
-    let scene = Scene::from_json(text).map_err(|e| ApiError::parse("the scene", prefix, &e))?;
+    let scene = Scene::from_json(text).map_err(|e| ApiError::parse("the scene", prefix, &e.path, &e.message))?;
     let problem = Problem::new(&scene).map_err(|issues| ApiError::invalid_scene(prefix, &issues))?;
     Ok((scene, problem))
 }
@@ -204,7 +204,7 @@ impl DesignInput {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
                 let file = DesignFile::from_json(&from.to_string())
-                    .map_err(|e| ApiError::parse("the earlier design", "from", &e))?;
+                    .map_err(|e| ApiError::parse("the earlier design", "from", &e.path, &e.message))?;
                 // Mechanisms that do not fit the scene are left out by the engine; unusable ones here.
                 file.usable_mechanisms()
             }
@@ -252,7 +252,7 @@ impl Compound {
         };
         let (scene, problem) = scene_of(&member("scene")?.to_string(), "scene")?;
         let design = DesignFile::from_json(&member("design")?.to_string())
-            .map_err(|e| ApiError::parse("the design", "design", &e))?;
+            .map_err(|e| ApiError::parse("the design", "design", &e.path, &e.message))?;
         let issues = design.validate(&problem);
         if let Some(first) = issues.first() {
             let error = format!("the design is not valid: design.{first}");

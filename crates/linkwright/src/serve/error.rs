@@ -3,7 +3,7 @@
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use linkwright_core::scene::{Issue, ParseError, Severity};
+use linkwright_core::scene::{Issue, Severity};
 use serde::Serialize;
 
 /// One finding about a request, naming the field (a path such as `scene.moving_bodies[0].poses`).
@@ -52,9 +52,9 @@ impl ApiError {
 
     /// A document that is not what the field needs (bad JSON, a missing field, a wrong type).
     /// `prefix` is the request field the document sits in (`scene`, `design`), or empty.
-    pub fn parse(what: &str, prefix: &str, e: &ParseError) -> ApiError {
-        let field = join_field(prefix, &e.path);
-        ApiError::bad_request(format!("{what} cannot be read: {field}: {}", e.message)).with_issue(field, &e.message)
+    pub fn parse(what: &str, prefix: &str, path: &str, message: &str) -> ApiError {
+        let field = join_field(prefix, path);
+        ApiError::bad_request(format!("{what} cannot be read: {field}: {message}")).with_issue(field, message)
     }
 
     /// A scene that fails validation: every issue, errors and warnings.
