@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 pub struct DesignArgs {
     /// The scene file (scene/1).
     scene: PathBuf,
-    /// Output directory (created if needed). Default: out/<scene file name>.
+    /// Output directory (created if needed). Default: the scene file's name without .json, under out/ (out/k1_table for k1_table.json).
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Seed of the random search (overrides the scene's settings.seed).
@@ -39,7 +39,7 @@ pub struct DesignArgs {
     /// design and alternatives seed the search, which then takes a fraction of the time.
     #[arg(long, value_name = "PREVIOUS.json")]
     from: Option<PathBuf>,
-    /// After a successful design, also fabricate it into <output>/fabrication (as `fabricate` does).
+    /// After a successful design, also fabricate it into the output directory's fabrication/ (as `fabricate` does).
     #[arg(long)]
     fabricate: bool,
     /// Print settings the design must be printable with, and --fabricate uses (JSON, millimetres;

@@ -27,8 +27,8 @@ const PROBES: [usize; 4] = [1, 3, 5, 7];
 /// fixed body could still poke through an edge sliding past it between two tests (the handle scene).
 const MAX_DEPTH: u32 = 4;
 
-/// Checks the whole travel of `candidate`: first the rows at [`PROBES`], then the sweep
-/// ([`sweep_travel`]).
+/// Checks the whole travel of `candidate`: first the rows at `PROBES`, then the sweep
+/// (`sweep_travel`).
 ///
 /// A linkage that collides usually does so over a span of rows, and a few exact tests spread over the
 /// travel find most such spans without proving the rows before them free first. A probe only finds a

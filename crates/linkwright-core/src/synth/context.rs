@@ -143,10 +143,10 @@ pub struct Context<'a> {
     /// through nine poses of a known four-bar, 100,000 samples: at the paper's 0.5·d no valid design,
     /// at 0.2·d three, at 0.1·d 424; this factor gives 0.09·d. Measured on `chain_k1_n9_seed0` of
     /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited). Chains of
-    /// [`LONG_CHAIN`] bodies or more take [`LONG_CHAIN_NOISE`] on top.
+    /// `LONG_CHAIN` bodies or more take `LONG_CHAIN_NOISE` on top.
     pub noise_scale: f64,
     /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
-    /// kept rigid through ([`END_DEVIATION`]).
+    /// kept rigid through (`END_DEVIATION`).
     pub end_motions: Vec<Vec<Rigid>>,
 }
 
@@ -257,7 +257,7 @@ impl<'a> Context<'a> {
     }
 
     /// Moves parameter vector `x` to a nearby linkage that is rigid through the first and last input
-    /// poses ([`END_DEVIATION`]) with no ternary link turned over, so its body reaches the last pose;
+    /// poses (`END_DEVIATION`) with no ternary link turned over, so its body reaches the last pose;
     /// false when no such linkage is near.
     /// Two poses leave a link one equation to meet, so from a start close to rigid the fit ends close by.
     pub fn keep_end_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
