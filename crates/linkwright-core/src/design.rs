@@ -51,6 +51,9 @@ pub struct MechanismJson {
     pub parts: Vec<PartJson>,
     pub driver: DriverJson,
     pub slider: Option<SliderJson>,
+    /// What a person calls the linkage ("four-bar linkage"); written for display, never read.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -187,6 +190,7 @@ impl MechanismJson {
                 .collect(),
             driver: DriverJson { pivot: name(t.driver_pivot), tip: name(t.driver_tip) },
             slider: None,
+            label: Some(t.mechanism_type.linkage_label(t.body_count)),
         }
     }
 

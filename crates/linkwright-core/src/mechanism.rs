@@ -19,6 +19,53 @@ pub enum MechanismType {
     SliderCrank,
 }
 
+impl MechanismType {
+    /// Every family, in the order an automatic choice tries them.
+    pub const ALL: [MechanismType; 2] = [MechanismType::Chain, MechanismType::SliderCrank];
+
+    /// The family's word in scene and design files.
+    pub fn id(self) -> &'static str {
+        match self {
+            MechanismType::Chain => "chain",
+            MechanismType::SliderCrank => "slider_crank",
+        }
+    }
+
+    /// What a person calls the family.
+    pub fn label(self) -> &'static str {
+        match self {
+            MechanismType::Chain => "bar chain",
+            MechanismType::SliderCrank => "slider-crank",
+        }
+    }
+
+    /// The family in a few words, for a menu.
+    pub fn description(self) -> &'static str {
+        match self {
+            MechanismType::Chain => "Bar chain (four-bar for one moving body, six-bar for two, …)",
+            MechanismType::SliderCrank => "Slider-crank (one moving body)",
+        }
+    }
+
+    /// The most moving bodies a linkage of this family carries (`None`: any number).
+    pub fn max_bodies(self) -> Option<usize> {
+        match self {
+            MechanismType::Chain => None,
+            MechanismType::SliderCrank => Some(1),
+        }
+    }
+
+    /// What a person calls this family's linkage for `bodies` moving bodies.
+    pub fn linkage_label(self, bodies: usize) -> String {
+        match (self, bodies) {
+            (MechanismType::Chain, 1) => "four-bar linkage".to_string(),
+            (MechanismType::Chain, 2) => "Watt-I six-bar linkage".to_string(),
+            (MechanismType::Chain, k) => format!("{}-bar chain", 2 * k + 2),
+            (MechanismType::SliderCrank, _) => "slider-crank".to_string(),
+        }
+    }
+}
+
 /// What a rigid part is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PartKind {

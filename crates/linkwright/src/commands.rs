@@ -64,11 +64,7 @@ impl Observer for Bar {
         };
         let best = p.best_cost.map_or(String::new(), |c| format!(", best cost {c:.3}"));
         self.0.set_position((p.fraction * 1000.0) as u64);
-        let family = match p.mechanism {
-            linkwright_core::mechanism::MechanismType::Chain => "chain",
-            linkwright_core::mechanism::MechanismType::SliderCrank => "slider-crank",
-        };
-        self.0.set_message(format!("{family}: {stage}{best}"));
+        self.0.set_message(format!("{}: {stage}{best}", p.mechanism.label()));
     }
 }
 
@@ -241,18 +237,8 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
 }
 
 fn kind_name(m: &linkwright_core::design::MechanismJson) -> String {
-    use linkwright_core::mechanism::MechanismType;
-    match m.mechanism_type {
-        MechanismType::SliderCrank => "slider-crank".into(),
-        MechanismType::Chain => {
-            let bodies = m.parts.iter().filter(|p| p.body.is_some()).count();
-            match bodies {
-                1 => "four-bar".into(),
-                2 => "Watt-I six-bar".into(),
-                k => format!("{}-bar chain", 2 * k + 2),
-            }
-        }
-    }
+    let bodies = m.parts.iter().filter(|p| p.body.is_some()).count();
+    m.mechanism_type.linkage_label(bodies)
 }
 
 pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {

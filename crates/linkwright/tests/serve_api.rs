@@ -49,6 +49,26 @@ fn assert_error(status: u16, body: &Value, expected: u16) {
     assert!(body["issues"].is_array(), "{body}");
 }
 
+/// The families the app offers are the engine's, each with the word a scene file uses for it.
+#[test]
+fn families_are_the_engines() {
+    let server = Server::start(&[]);
+    let (status, list) = get(&server, "/api/families");
+    assert_eq!(status, 200);
+    let list = list.as_array().unwrap();
+    let ids: Vec<&str> = list.iter().filter_map(|f| f["id"].as_str()).collect();
+    assert_eq!(ids, ["chain", "slider_crank"]);
+    assert_eq!(list[0]["max_bodies"], Value::Null);
+    assert_eq!(list[1]["max_bodies"], 1);
+    assert!(list.iter().all(|f| f["label"].is_string() && f["description"].is_string()), "{list:?}");
+    for id in ids {
+        let mut scene: Value = serde_json::from_str(&example_text("k1_garbage_truck")).unwrap();
+        scene["mechanism"] = json!(id);
+        let scene: Scene = serde_json::from_value(scene).expect("the family's id is a scene's mechanism word");
+        assert_eq!(serde_json::to_value(scene.mechanism).unwrap(), id);
+    }
+}
+
 #[test]
 fn examples_are_listed_and_served() {
     let server = Server::start(&[]);

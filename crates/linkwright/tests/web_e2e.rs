@@ -315,6 +315,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
 
     // A quick design: few samples (Settings tab), then Design.
     click(page, "[data-tab=settings]").await?;
+    // The Type menu offers the engine's families (GET /api/families) after the automatic choice.
+    let options = "[...document.querySelectorAll('select[data-key=mechanism] option')].map((o) => o.value).join(' ')";
+    until(page, &format!("{options} === 'auto chain slider_crank'"), Duration::from_secs(5)).await?;
     click(page, "button[title='5000 samples']").await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.settings.samples").await?, 5000);
     // Pose tolerance 0 asks for every pose to be hit exactly (three poses of a four-bar can be), so the
@@ -324,6 +327,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(40)).await?;
     let design = eval(page, "window.linkwright.store.result.design.status").await?;
     assert_eq!(design, "ok");
+    // The Result tab names the linkage as the engine labels it.
+    let label = eval(page, "window.linkwright.store.result.design.mechanism.label").await?;
+    assert!(label == "four-bar linkage" || label == "slider-crank", "{label}");
     // It animates: the crank angle shown changes over time.
     let first = eval(page, "document.getElementById('canvas').dataset.crank").await?;
     tokio::time::sleep(Duration::from_millis(400)).await;
@@ -332,6 +338,8 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert!(eval(page, "document.querySelectorAll('.layer-resultDynamic .link').length").await?.as_u64() >= Some(1));
     assert!(eval(page, "document.querySelectorAll('.layer-resultDynamic .joint').length").await?.as_u64() >= Some(3));
     until(page, "document.querySelector('#tab-result .verified') !== null", Duration::from_secs(10)).await?;
+    let heading = eval(page, "document.querySelector('#tab-result h3')?.textContent ?? ''").await?;
+    assert_eq!(heading, format!("Best design: {}", label.as_str().unwrap_or_default()));
     assert!(eval(page, "document.querySelectorAll('#tab-result .plot').length").await?.as_u64() >= Some(2));
     check_pose_errors(page, Some(true)).await?;
     eval(page, "window.linkwright.store.edit('tolerance', (s) => { s.settings.pose_tolerance = 0.5; }) && true")

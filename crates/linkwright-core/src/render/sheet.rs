@@ -5,7 +5,7 @@ use super::svg::Num;
 use super::RenderInput;
 use crate::geom::{Aabb, Point, Rigid, Vec2};
 use crate::kinematics::BodyFrames;
-use crate::mechanism::{MechanismType, PartKind, Topology};
+use crate::mechanism::{PartKind, Topology};
 
 /// A drawing in the making: the input and everything derived from it once.
 pub struct Sheet<'a> {
@@ -123,7 +123,7 @@ impl<'a> Sheet<'a> {
     pub fn title(&self) -> Title {
         let problem = self.input.problem;
         let name = if problem.name.trim().is_empty() { "untitled scene".to_string() } else { problem.name.clone() };
-        let mut subtitle = mechanism_label(self.topology());
+        let mut subtitle = self.topology().mechanism_type.linkage_label(self.topology().body_count);
         let thetas = &self.input.trace.thetas;
         if let (Some(a), Some(b)) = (thetas.first(), thetas.last()) {
             subtitle.push_str(&format!(" · crank {:.1}° → {:.1}°", a.to_degrees(), b.to_degrees()));
@@ -245,18 +245,6 @@ pub const PIXELS: f64 = 1000.0;
 
 /// Formats picture coordinates (pixels).
 pub const SCREEN: Num = Num::with_decimals(2);
-
-/// What a person calls the mechanism.
-pub fn mechanism_label(topology: &Topology) -> String {
-    match topology.mechanism_type {
-        MechanismType::Chain => match topology.body_count {
-            1 => "four-bar linkage".to_string(),
-            2 => "Watt-I six-bar linkage".to_string(),
-            _ => format!("{}-bar chain", topology.parts.len()),
-        },
-        MechanismType::SliderCrank => "slider-crank".to_string(),
-    }
-}
 
 /// At most `max` indices spread evenly over `0..len`, always with the first and the last.
 pub fn sample(len: usize, max: usize) -> Vec<usize> {

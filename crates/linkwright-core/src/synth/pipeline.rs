@@ -130,8 +130,10 @@ pub fn families(problem: &Problem) -> Vec<MechanismType> {
     match problem.mechanism {
         MechanismChoice::Chain => vec![MechanismType::Chain],
         MechanismChoice::SliderCrank => vec![MechanismType::SliderCrank],
-        MechanismChoice::Auto if problem.body_count() == 1 => vec![MechanismType::Chain, MechanismType::SliderCrank],
-        MechanismChoice::Auto => vec![MechanismType::Chain],
+        MechanismChoice::Auto => MechanismType::ALL
+            .into_iter()
+            .filter(|family| family.max_bodies().is_none_or(|max| problem.body_count() <= max))
+            .collect(),
     }
 }
 

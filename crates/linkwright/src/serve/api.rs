@@ -17,7 +17,7 @@ use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
 use linkwright_core::design::DesignFile;
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
-use linkwright_core::mechanism::Mechanism;
+use linkwright_core::mechanism::{Mechanism, MechanismType};
 use linkwright_core::render::{animation_svg, design_svg, RenderInput};
 use linkwright_core::scene::{Problem, Scene};
 use linkwright_core::synth::{synthesize_with, Acceptance, Options, Progress, Start};
@@ -84,6 +84,20 @@ pub async fn example(name: Result<Path<String>, PathRejection>) -> Result<Respon
     let text = example_text(&name)
         .ok_or_else(|| ApiError::not_found(format!("no example called \"{name}\"; GET /api/examples lists them")))?;
     Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// `GET /api/families`: the mechanism families the engine designs, in the order an automatic choice
+/// tries them: each one's `id` (the scene's `mechanism` word), `label`, a menu `description` and
+/// `max_bodies` (null: any number of moving bodies).
+pub async fn families() -> Json<Value> {
+    Json(Value::Array(
+        MechanismType::ALL
+            .iter()
+            .map(|f| {
+                json!({"id": f.id(), "label": f.label(), "description": f.description(), "max_bodies": f.max_bodies()})
+            })
+            .collect(),
+    ))
 }
 
 /// `GET /api/status`: the job table and the limits.

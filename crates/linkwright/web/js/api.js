@@ -50,6 +50,7 @@ async function request(method, path, body, { as = 'json', signal } = {}) {
 }
 
 export const examples = () => request('GET', '/api/examples');
+export const families = () => request('GET', '/api/families');
 export const example = (name) => request('GET', `/api/examples/${encodeURIComponent(name)}`);
 export const check = (scene, design) => request('POST', '/api/check', { scene, design });
 export const simulate = (scene, design, alternative = null, steps = 240) =>

@@ -1,5 +1,6 @@
 // The app: wires the store, the canvas, the tools, the panels, the results and the files together.
 
+import * as api from './api.js';
 import { Canvas } from './canvas.js';
 import { Fabricator } from './fabricate.js';
 import * as F from './files.js';
@@ -151,7 +152,7 @@ function renderTabs(what) {
   const switched = tab !== shownTab;
   shownTab = tab;
   if (tab === 'object') renderObjectTab($('tab-object'), store);
-  if (tab === 'settings' && (switched || what.has('scene'))) renderSettingsTab($('tab-settings'), store);
+  if (tab === 'settings' && (switched || what.has('scene') || what.has('families'))) renderSettingsTab($('tab-settings'), store);
   if (tab === 'result' && (switched || what.has('result') || what.has('scene'))) results.renderTab($('tab-result'));
 }
 
@@ -254,6 +255,12 @@ function resize() {
   canvas.render();
 }
 new ResizeObserver(resize).observe(root);
+
+// The Type menu and the progress labels name the engine's families.
+api.families().then((families) => {
+  store.families = families;
+  store.changed('families');
+}, (e) => store.hint(`Cannot reach the engine: ${e.message}`));
 
 let saveTimer = null;
 store.subscribe((what) => {

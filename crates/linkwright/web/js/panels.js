@@ -121,8 +121,7 @@ export function renderSettingsTab(host, store) {
     onchange: (e) => store.edit('mechanism', (s) => { s.mechanism = e.target.value; }),
   }, [
     ['auto', 'Automatic (best of all types)'],
-    ['chain', 'Bar linkage (four-bar, six-bar, …)'],
-    ['slider_crank', 'Slider-crank (one moving body)'],
+    ...store.families.map((f) => [f.id, f.description]),
   ].map(([v, t]) => html('option', { value: v, text: t, selected: scene.mechanism === v })));
   const samples = html('div', { class: 'inline' }, [
     number(st.samples, 'samples', (v) => setSetting('samples', Math.min(1000000, Math.max(1, Math.round(v)))), { min: 1, max: 1000000, step: 1000 }),

@@ -12,7 +12,12 @@ import { newResult } from './store.js';
 import { clear, html, points, svg } from './svg.js';
 
 const STAGES = { sampling: 'Sampling linkages', collision: 'Checking collisions', refining: 'Refining the best' };
-const FAMILIES = { chain: 'bar linkage', slider_crank: 'slider-crank' };
+/** A family's label from the engine's list (its file word until the list is loaded). */
+function familyLabel(store, id) {
+  const family = store.families.find((f) => f.id === id);
+  return family ? family.label : id;
+}
+
 /** Seconds one way through the motion at speed 1. */
 const TRAVEL_SECONDS = 3;
 
@@ -21,11 +26,10 @@ export function geometryKey(scene) {
   return JSON.stringify([scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || []]);
 }
 
+/** What a person calls a design's linkage: the engine writes it (older files name the family only). */
 export function mechanismName(m) {
   if (!m) return '';
-  if (m.type === 'slider_crank') return 'slider-crank';
-  const k = m.parts.filter((p) => p.kind === 'body').length;
-  return k === 1 ? 'four-bar linkage' : k === 2 ? 'Watt-I six-bar linkage' : `${2 * k + 2}-bar linkage`;
+  return m.label || m.type.replace('_', '-');
 }
 
 export class Results {
@@ -260,7 +264,7 @@ export class Results {
     if (name === 'progress') {
       const pct = Math.round(data.fraction * 100);
       const best = data.best_cost == null ? '' : ` · best cost ${data.best_cost.toFixed(3)}`;
-      this.progress({ fraction: data.fraction, text: `${STAGES[data.stage] || data.stage} (${FAMILIES[data.mechanism] || data.mechanism}) ${pct}%${best}` });
+      this.progress({ fraction: data.fraction, text: `${STAGES[data.stage] || data.stage} (${familyLabel(this.store, data.mechanism)}) ${pct}%${best}` });
     }
   }
 

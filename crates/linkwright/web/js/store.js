@@ -29,6 +29,7 @@ export class Store {
       tab: 'object',
       hint: '',
     };
+    this.families = []; // the engine's mechanism families (GET /api/families), once loaded
     this.result = null; // a design result (see `newResult`), or null
     this.job = null; // {stage, fraction, bestCost, controller, queued}
     this.undoStack = [];
