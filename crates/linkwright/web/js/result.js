@@ -180,7 +180,7 @@ export class Results {
         await this.select(null);
         this.store.setUi({ tab: 'result' });
         if (design.status === 'ok') {
-          this.store.hint(`Done: a ${mechanismName(design.mechanism)}. Press Pause or drag the slider to study it; try an alternative on the right.`);
+          this.store.hint(`Done. Best design: ${mechanismName(design.mechanism)}. Press Pause or drag the slider to study it; try an alternative on the right.`);
           this.verify();
         } else {
           this.store.hint('No linkage found: the Result tab says why and what to change.');
