@@ -398,6 +398,16 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     )
     .await?;
 
+    // "New" starts over the way the welcome's "Start drawing" does: with Moving body chosen before,
+    // the first shape drawn is still a fixed body.
+    click(page, "[data-kind-choice=moving]").await?;
+    click(page, "#btn-new").await?;
+    until(page, "window.linkwright.store.ui.kind === 'fixed'", Duration::from_secs(2)).await?;
+    drag(page, at(page, 20.0, 0.0).await?, at(page, 200.0, 30.0).await?).await?;
+    let s = scene(page).await?;
+    assert_eq!(s["fixed_bodies"].as_array().map(Vec::len), Some(1), "{s}");
+    assert_eq!(s["moving_bodies"].as_array().map(Vec::len), Some(0), "{s}");
+
     garbage_truck(page, downloads, shots).await
 }
 

@@ -192,6 +192,9 @@ $('btn-new').addEventListener('click', () => {
   results.leave();
   store.replace(S.newScene(), 'new scene');
   results.clear();
+  // As "Start drawing" does: the hint below tells the person to draw the fixed part first.
+  store.setUi({ kind: 'fixed' });
+  tools.setTool('rect');
   fit();
   store.hint(`New scene. (Undo brings the previous one back.) ${WELCOME_HINT}`);
 });
