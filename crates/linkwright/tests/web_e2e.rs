@@ -407,6 +407,12 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     let s = scene(page).await?;
     assert_eq!(s["fixed_bodies"].as_array().map(Vec::len), Some(1), "{s}");
     assert_eq!(s["moving_bodies"].as_array().map(Vec::len), Some(0), "{s}");
+    // Nothing moves yet, so there is nothing to design: the button says so instead of asking the
+    // server for a refusal.
+    until(page, "document.getElementById('btn-design').disabled", Duration::from_secs(2)).await?;
+    click(page, "[data-kind-choice=moving]").await?;
+    drag(page, at(page, 40.0, 40.0).await?, at(page, 100.0, 60.0).await?).await?;
+    until(page, "!document.getElementById('btn-design').disabled", Duration::from_secs(2)).await?;
 
     garbage_truck(page, downloads, shots).await
 }
@@ -433,7 +439,8 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     // A quick search for the test; the README's pictures show a fuller one.
     let samples = if shots.is_some() { 20000 } else { 5000 };
     click(page, &format!("button[title='{samples} samples']")).await?;
-    click(page, "#btn-design").await?;
+    // Enter designs, as the Design button does.
+    key(page, "Enter", "Enter", 13, 0).await?;
     screenshot(page, shots, "progress.png").await?;
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
     click(page, "[data-tab=result]").await?;

@@ -246,6 +246,7 @@ window.addEventListener('keydown', (e) => {
     canvas.render();
   }
   else if (key === 'g') { store.setUi({ grid: !store.ui.grid }); $('opt-grid').checked = store.ui.grid; }
+  else if (key === 'enter') { e.preventDefault(); results.run(); }
   else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) { results.leave(); store.setUi({ pose: Number(key) - 1 }); }
 });
 window.addEventListener('keyup', (e) => { if (e.key === ' ') tools.space = false; });

@@ -48,6 +48,7 @@ export class Results {
     this.plot = null;
     this.fab = null; // the Fabricator, which adds its part to the Result tab and follows the animation
     els.design.addEventListener('click', () => this.run());
+    this.designTitle = els.design.title;
     els.cancel.addEventListener('click', () => this.cancel());
     els.play.addEventListener('click', () => this.setPlaying(!this.playing));
     els.scrub.addEventListener('input', () => {
@@ -107,6 +108,9 @@ export class Results {
     this.fab?.sync(show);
     // While a design runs, its progress bar and Cancel take the Design button's place.
     this.els.design.hidden = !!this.controller;
+    const nothingMoves = this.store.scene.moving_bodies.length === 0;
+    this.els.design.disabled = nothingMoves;
+    this.els.design.title = nothingMoves ? 'Draw a moving body first: a linkage needs something to move' : this.designTitle;
   }
 
   setPlaying(on) {
@@ -165,7 +169,7 @@ export class Results {
 
   /** The Design button: streams progress, then shows the design. */
   async run() {
-    if (this.controller) return;
+    if (this.controller || this.store.scene.moving_bodies.length === 0) return;
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
     this.controller = new AbortController();
