@@ -342,6 +342,15 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert_eq!(heading, format!("Best design: {}", label.as_str().unwrap_or_default()));
     assert!(eval(page, "document.querySelectorAll('#tab-result .plot').length").await?.as_u64() >= Some(2));
     check_pose_errors(page, Some(true)).await?;
+    // A pose in the pose bar, clicked while the result plays, moves the animation to that pose and
+    // pauses there; the result stays on screen.
+    click(page, "#pose-buttons button:nth-child(2)").await?;
+    until(page, "document.getElementById('btn-play').getAttribute('aria-pressed') === 'false'", Duration::from_secs(2))
+        .await?;
+    assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
+    let want = eval(page, "window.linkwright.store.result.analysis.poses[1].crank_deg.toFixed(3)").await?;
+    assert_eq!(eval(page, "document.getElementById('canvas').dataset.crank").await?, want);
+    click(page, "#btn-play").await?;
     eval(page, "window.linkwright.store.edit('tolerance', (s) => { s.settings.pose_tolerance = 0.5; }) && true")
         .await?;
 

@@ -128,7 +128,10 @@ function renderPoseBar() {
     b.textContent = `Pose ${i + 1}`;
     b.className = i === store.ui.pose ? 'on' : '';
     b.setAttribute('aria-pressed', String(i === store.ui.pose));
-    b.addEventListener('click', () => { results.leave(); store.setUi({ pose: i }); });
+    b.addEventListener('click', () => {
+      if (results.showPose(i)) return;
+      store.setUi({ pose: i });
+    });
     return b;
   }));
   $('btn-pose-delete').disabled = n <= 2;

@@ -89,6 +89,19 @@ export class Results {
     this.setPlaying(true);
   }
 
+  /** While the result is shown, moves its animation to input pose `i` and pauses there; false when
+   * no result is shown (the pose bar then selects the pose for editing). */
+  showPose(i) {
+    const poses = this.result?.analysis?.poses;
+    if (!this.store.ui.showResult || !poses?.[i]) return false;
+    this.setPlaying(false);
+    this.pos = poses[i].frame;
+    this.drawFrame();
+    this.store.setUi({ pose: i });
+    this.store.hint(`Pose ${i + 1}, as the design reaches it. Press Play to move on, or Edit drawing to change the poses.`);
+    return true;
+  }
+
   /** Back to editing: the animation stops and the poses are editable again. */
   leave() {
     if (!this.store.ui.showResult) return;
