@@ -406,6 +406,12 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
         Duration::from_secs(20),
     )
     .await?;
+    // Undo brings back the scene before that edit: the error was about the other scene and goes; redo
+    // brings both back.
+    key(page, "z", "KeyZ", 90, 2).await?;
+    until(page, "document.querySelector('#tab-result .callout.error') === null", Duration::from_secs(2)).await?;
+    key(page, "Z", "KeyZ", 90, 2 | 8).await?;
+    until(page, "document.querySelector('#tab-result .callout.error') !== null", Duration::from_secs(2)).await?;
 
     // "New" starts over the way the welcome's "Start drawing" does: with Moving body chosen before,
     // the first shape drawn is still a fixed body.

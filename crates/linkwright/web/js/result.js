@@ -39,7 +39,7 @@ export class Results {
     this.els = els; // {job, jobFill, jobText, design, cancel, player, play, scrub, readout, speed, paths, edit, tab}
     this.save = save; // (blob, filename) => void
     this.controller = null;
-    this.error = null; // {message, issues}
+    this.error = null; // {message, issues, scene}: why the last design failed, and for which scene
     this.pos = 0;
     this.dir = 1;
     this.playing = false;
@@ -206,7 +206,7 @@ export class Results {
         this.store.hint('Design cancelled.');
       }
     } catch (e) {
-      this.error = { message: e.message, issues: e.issues || [] };
+      this.error = { message: e.message, issues: e.issues || [], scene: JSON.stringify(scene) };
       this.store.setUi({ tab: 'result' });
       this.store.hint(`Cannot design: ${e.message}`);
     } finally {
@@ -370,16 +370,18 @@ export class Results {
   renderTab(host) {
     clear(host);
     const r = this.result;
-    if (this.error) {
+    // An error speaks of the scene it came from: after an edit or an undo it may not hold.
+    const error = this.error && (!this.error.scene || this.error.scene === JSON.stringify(toFile(this.store.scene))) ? this.error : null;
+    if (error) {
       host.append(html('div', { class: 'callout error' }, [
         html('b', { text: 'Cannot design this yet' }),
-        html('p', { text: this.error.message }),
-        this.error.issues.length ? html('ul', {}, this.error.issues.map((i) =>
+        html('p', { text: error.message }),
+        error.issues.length ? html('ul', {}, error.issues.map((i) =>
           html('li', { class: i.severity }, [html('code', { text: i.field }), ` ${i.message}`]))) : null,
       ]));
     }
     if (!r) {
-      if (!this.error) host.append(html('p', { class: 'empty', text: 'No design yet. Draw a fixed body, a moving body and its poses, then press “Design linkage”.' }));
+      if (!error) host.append(html('p', { class: 'empty', text: 'No design yet. Draw a fixed body, a moving body and its poses, then press “Design linkage”.' }));
       return;
     }
     const d = r.design;
