@@ -402,10 +402,18 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     click(page, "#btn-design").await?;
     until(
         page,
-        "/settings.min_transmission_deg/.test(document.querySelector('#tab-result .callout.error')?.textContent)",
+        "/Settings › Min\\. transmission: /.test(document.querySelector('#tab-result .callout.error')?.textContent)",
         Duration::from_secs(20),
     )
     .await?;
+    // In the screen's words, once: not as the file's field, nor again in the status line.
+    assert_eq!(eval(page, "document.body.innerText.includes('min_transmission_deg')").await?, false);
+    assert_eq!(eval(page, "document.body.innerText.split('Min. transmission').length - 1").await?, 1);
+    let words = "import('/js/fields.js').then((m) => ['scene.moving_bodies[0].poses[1]', 'fixed_bodies[1].polygon[3]',                  'weights.size', 'avoid_regions[0]'].map((f) => m.screenField(f, { moving_bodies: [{ name: 'lid' }],                  fixed_bodies: [{}, { name: 'wall' }] }).text).join(' | '))";
+    assert_eq!(
+        eval(page, words).await?,
+        "Moving body “lid”, pose 2 | Fixed body “wall”, its outline | Settings › Size weight | Avoid region 1"
+    );
     // Undo brings back the scene before that edit: the error was about the other scene and goes; redo
     // brings both back.
     key(page, "z", "KeyZ", 90, 2).await?;

@@ -8,6 +8,7 @@ import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
 import { errorPlot, loopList, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
+import { screenField } from './fields.js';
 import { newResult } from './store.js';
 import { clear, html, points, svg } from './svg.js';
 
@@ -208,7 +209,7 @@ export class Results {
     } catch (e) {
       this.error = { message: e.message, issues: e.issues || [], scene: JSON.stringify(scene) };
       this.store.setUi({ tab: 'result' });
-      this.store.hint(`Cannot design: ${e.message}`);
+      this.store.hint(e.issues?.length ? 'Cannot design this yet: the Result tab lists what to change.' : `Cannot design: ${e.message}`);
     } finally {
       this.controller = null;
       this.progress(null);
@@ -373,11 +374,18 @@ export class Results {
     // An error speaks of the scene it came from: after an edit or an undo it may not hold.
     const error = this.error && (!this.error.scene || this.error.scene === JSON.stringify(toFile(this.store.scene))) ? this.error : null;
     if (error) {
+      // Each problem once, where it is on screen; clicking one that names a shape selects it.
+      const item = (i) => {
+        const at = screenField(i.field, this.store.scene);
+        const select = at.selection ? () => this.store.setUi({ selection: at.selection, pose: at.pose ?? this.store.ui.pose, tab: 'object' }) : null;
+        return html('li', { class: i.severity }, [
+          select ? html('a', { href: '#', text: at.text, onclick: (e) => { e.preventDefault(); select(); } }) : html('b', { text: at.text }),
+          `: ${i.message}`,
+        ]);
+      };
       host.append(html('div', { class: 'callout error' }, [
         html('b', { text: 'Cannot design this yet' }),
-        html('p', { text: error.message }),
-        error.issues.length ? html('ul', {}, error.issues.map((i) =>
-          html('li', { class: i.severity }, [html('code', { text: i.field }), ` ${i.message}`]))) : null,
+        error.issues.length ? html('ul', {}, error.issues.map(item)) : html('p', { text: error.message }),
       ]));
     }
     if (!r) {
