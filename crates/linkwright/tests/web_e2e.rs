@@ -369,9 +369,35 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     // Download the design JSON.
     click(page, "#tab-result button[title='the design/1 file']").await?;
     let file = wait_for_file(downloads, ".design.json", Duration::from_secs(10)).await?;
-    let downloaded: Value = serde_json::from_str(&std::fs::read_to_string(file)?)?;
+    let downloaded: Value = serde_json::from_str(&std::fs::read_to_string(&file)?)?;
     assert_eq!(downloaded["linkwright"], "design/1");
     assert_eq!(downloaded["status"], "ok");
+    std::fs::remove_file(file)?;
+    // With an alternative shown and the scene renamed, the download is that alternative, under the
+    // new name, and the server's check passes it.
+    let alternatives = eval(page, "window.linkwright.store.result.design.alternatives.length").await?;
+    assert!(alternatives.as_u64() >= Some(1), "the quick design has alternatives to show");
+    click(page, "#tab-result .thumb[data-which='0']").await?;
+    until(
+        page,
+        "window.linkwright.store.result.which === 0 && window.linkwright.store.result.analysis !== null",
+        Duration::from_secs(10),
+    )
+    .await?;
+    eval(page, "window.linkwright.store.edit('rename', (s) => { s.name = 'renamed'; }) && true").await?;
+    click(page, "#tab-result button[title='the design/1 file']").await?;
+    let file = wait_for_file(downloads, "renamed.design.json", Duration::from_secs(10)).await?;
+    let shown: Value = serde_json::from_str(&std::fs::read_to_string(&file)?)?;
+    assert_eq!(shown["mechanism"], downloaded["alternatives"][0]["mechanism"]);
+    assert_eq!(shown["alternatives"][0]["mechanism"], downloaded["mechanism"]);
+    let checked = eval(
+        page,
+        &format!("fetch('/api/check', {{method: 'POST', headers: {{'content-type': 'application/json'}},                   body: JSON.stringify({{scene: window.linkwright.store.result.scene, design: {shown}}})}}).then((r) => r.json())"),
+    )
+    .await?;
+    assert_eq!(checked["ok"], true, "{checked}");
+    std::fs::remove_file(file)?;
+    click(page, "#tab-result .thumb[data-which='best']").await?;
 
     // Reload: the scene (and the design) come back.
     let before = scene(page).await?;

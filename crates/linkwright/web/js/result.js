@@ -354,9 +354,11 @@ export class Results {
   async download(kind) {
     const r = this.result;
     if (!r) return;
-    const base = (r.scene.name || 'design').replace(/[^\w.-]+/g, '_');
+    // Named as the scene is now (it may have been renamed since it was designed).
+    const base = (this.store.scene.name || 'design').replace(/[^\w.-]+/g, '_');
     if (kind === 'json') {
-      this.save(new Blob([JSON.stringify(r.design, null, 2)], { type: 'application/json' }), `${base}.design.json`);
+      const file = JSON.stringify(designShown(r.design, r.which), null, 2);
+      this.save(new Blob([file], { type: 'application/json' }), `${base}.design.json`);
       return;
     }
     try {
@@ -485,6 +487,15 @@ export class Results {
       },
     }, [pic, html('span', { text: `${label} · ${metrics.cost.toFixed(2)}` })]);
   }
+}
+
+/** The design file with the mechanism shown (`which`: null for the best) as its design, the others
+ * after it as alternatives, the former best first: what a person viewing an alternative downloads. */
+function designShown(d, which) {
+  const shown = which === null ? null : d.alternatives?.[which];
+  if (!shown) return d;
+  const best = { mechanism: d.mechanism, motion: d.motion, metrics: d.metrics };
+  return { ...d, ...shown, alternatives: [best, ...d.alternatives.filter((_, i) => i !== which)] };
 }
 
 /** The largest pose miss a design file states for a mechanism (files before it was added do not). */
