@@ -42,7 +42,7 @@ impl MechanismType {
     /// The family in a few words, for a menu.
     pub fn description(self) -> &'static str {
         match self {
-            MechanismType::Chain => "Bar chain (four-bar for one moving body, six-bar for two, …)",
+            MechanismType::Chain => "Bar chain (four-bar, six-bar, …)",
             MechanismType::SliderCrank => "Slider-crank (one moving body)",
         }
     }

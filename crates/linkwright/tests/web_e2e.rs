@@ -318,6 +318,13 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     // The Type menu offers the engine's families (GET /api/families) after the automatic choice.
     let options = "[...document.querySelectorAll('select[data-key=mechanism] option')].map((o) => o.value).join(' ')";
     until(page, &format!("{options} === 'auto chain slider_crank'"), Duration::from_secs(5)).await?;
+    // Each of its entries fits the menu's box (text plus the arrow), not cut off.
+    let fits = "(() => { const s = document.querySelector('select[data-key=mechanism]'); \
+                const g = document.createElement('canvas').getContext('2d'); g.font = getComputedStyle(s).font; \
+                const widest = Math.max(...[...s.options].map((o) => g.measureText(o.text).width)); \
+                return [Math.round(widest), Math.round(s.getBoundingClientRect().width)]; })()";
+    let [text, width] = serde_json::from_value::<[f64; 2]>(eval(page, fits).await?)?;
+    assert!(text + 28.0 <= width, "the Type menu's widest entry, {text} px, does not fit its {width} px");
     click(page, "button[title='5000 samples']").await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.settings.samples").await?, 5000);
     // Pose tolerance 0 asks for every pose to be hit exactly (three poses of a four-bar can be), so the

@@ -134,7 +134,7 @@ export function renderSettingsTab(host, store) {
   ]);
   rebuild(host, [
     html('h3', { text: 'Mechanism' }),
-    row('Type', mechanism),
+    html('div', { class: 'field wide' }, [html('label', { text: 'Type' }), mechanism]),
     html('h3', { text: 'What matters most' }),
     ...WEIGHTS.map(([k, l, h]) => weightControl(store, k, l, h)),
     html('h3', { text: 'Tolerances' }),
