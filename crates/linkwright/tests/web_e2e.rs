@@ -371,6 +371,25 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
         Duration::from_secs(20),
     )
     .await?;
+    // A longer live drag: the first redesign arrives while the button is still down, and the pose
+    // keeps following the mouse; where it is let go is designed last, and checked.
+    let moved = |y: i32| {
+        format!(
+            "window.linkwright.store.scene.moving_bodies[0].poses[2][1] === {y} && \
+             window.linkwright.store.result.scene.moving_bodies[0].poses[2][1] === {y}"
+        )
+    };
+    let start = at(page, 140.0, 130.0).await?;
+    mouse(page, DispatchMouseEventType::MouseMoved, start.0, start.1, 0).await?;
+    mouse(page, DispatchMouseEventType::MousePressed, start.0, start.1, 1).await?;
+    let middle = at(page, 140.0, 135.0).await?;
+    mouse(page, DispatchMouseEventType::MouseMoved, middle.0, middle.1, 1).await?;
+    until(page, &moved(135), Duration::from_secs(20)).await?;
+    let end = at(page, 140.0, 140.0).await?;
+    mouse(page, DispatchMouseEventType::MouseMoved, end.0, end.1, 1).await?;
+    mouse(page, DispatchMouseEventType::MouseReleased, end.0, end.1, 0).await?;
+    until(page, &moved(140), Duration::from_secs(20)).await?;
+    until(page, "document.querySelector('#tab-result .verified') !== null", Duration::from_secs(10)).await?;
     click(page, "#opt-live").await?;
 
     // Download the design JSON.

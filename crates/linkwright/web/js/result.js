@@ -260,6 +260,7 @@ export class Results {
       if (design?.status === 'ok') {
         this.store.result = newResult({ design, scene, key });
         await this.select(null, { keep: true });
+        this.verify();
         this.store.hint(`Live: redesigned for the moved pose (cost ${design.metrics.cost.toFixed(2)}).`);
       } else if (design) {
         this.store.hint('Live: no linkage reaches the poses as they are now; move the pose back a little, or press Design linkage.');
@@ -320,7 +321,8 @@ export class Results {
         this.dir = 1;
       }
       this.store.ui.showResult = true;
-      this.store.ui.selection = null;
+      // A live result arrives while a pose is being dragged: that drag keeps its pose.
+      if (!keep) this.store.ui.selection = null;
       this.sync();
       this.drawFrame();
       this.setPlaying(true);
