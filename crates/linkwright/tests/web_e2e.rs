@@ -519,6 +519,25 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     screenshot(page, shots, "progress.png").await?;
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
     click(page, "[data-tab=result]").await?;
+    // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
+    // truck carries the pivot), and the design stays on screen.
+    let fixed = scene(page).await?["fixed_bodies"].clone();
+    let pivot = eval(
+        page,
+        "(() => { const j = document.querySelector('.layer-resultDynamic .joint[data-joint=q0]'); \
+         const r = j.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()",
+    )
+    .await?;
+    let pivot = (pivot[0].as_f64().ok_or("pivot")?, pivot[1].as_f64().ok_or("pivot")?);
+    let on_truck = format!(
+        "window.linkwright.store.scene.fixed_bodies.some((_, i) => document.elementsFromPoint({}, {}).some((e) => \
+         e.dataset?.kind === 'fixed' && Number(e.dataset.index) === i))",
+        pivot.0, pivot.1
+    );
+    assert_eq!(eval(page, &on_truck).await?, true, "the pivot lies on a fixed body");
+    drag(page, pivot, (pivot.0 + 30.0, pivot.1 + 20.0)).await?;
+    assert_eq!(scene(page).await?["fixed_bodies"], fixed);
+    assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
     if shots.is_some() {
         tokio::time::sleep(Duration::from_millis(1300)).await;
         screenshot(page, shots, "garbage_truck.png").await?;

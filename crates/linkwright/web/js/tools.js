@@ -112,6 +112,13 @@ export class Tools {
       }
       return;
     }
+    const joint = e.target.closest?.('[data-joint]');
+    if (joint) {
+      // The linkage cannot be edited by its joints yet: the press pans, and says how to change it.
+      this.store.hint(`Joint ${joint.dataset.joint} of the design: its place comes from the poses. To change the linkage, press Edit drawing, move the poses, and design again.`);
+      this.drag = { type: 'pan', last: s };
+      return;
+    }
     const shape = e.target.closest?.('[data-kind]');
     if (shape) {
       // In live mode the linkage keeps moving while a pose is dragged (and is redesigned).
