@@ -608,6 +608,35 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     // Back to the drawing.
     click(page, "#btn-3d").await?;
     assert_eq!(eval(page, "document.getElementById('view3d').hidden").await?, Value::Bool(true));
+    folding_roof(page).await
+}
+
+/// The folding roof, whose roof swings far outside its drawn poses: Fit (F) frames the whole motion
+/// of the design shown.
+async fn folding_roof(page: &Page) -> Result<()> {
+    click(page, "#btn-examples").await?;
+    until(page, "document.querySelector('[data-example=k2_folding_roof2] svg') !== null", Duration::from_secs(10))
+        .await?;
+    click(page, "[data-example=k2_folding_roof2]").await?;
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    key(page, "Enter", "Enter", 13, 0).await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    // Every joint and body corner of every frame is on the canvas.
+    let outside = "(() => { const lw = window.linkwright, r = lw.store.result, c = document.getElementById('canvas').getBoundingClientRect(); \
+                   const pts = r.analysis.frames.flatMap((f) => [...f.joints, ...f.bodies.flatMap((p, k) => \
+                     r.scene.moving_bodies[k].polygon.map(([x, y]) => { const a = p[2] * Math.PI / 180; \
+                       return [p[0] + x * Math.cos(a) - y * Math.sin(a), p[1] + x * Math.sin(a) + y * Math.cos(a)]; }))]); \
+                   return pts.map((p) => lw.screenOf(p)).filter(([x, y]) => x < c.left || x > c.right || y < c.top || y > c.bottom).length; })()";
+    assert_eq!(eval(page, outside).await?, 0, "points of the motion outside the canvas once designed");
+    // Zoomed in, then Fit (F): the whole motion again.
+    for _ in 0..3 {
+        key(page, "+", "Equal", 187, 0).await?;
+    }
+    assert!(eval(page, outside).await?.as_u64() > Some(0), "zoomed in, the motion leaves the canvas");
+    key(page, "f", "KeyF", 70, 0).await?;
+    settle(page).await?;
+    assert_eq!(eval(page, outside).await?, 0, "points of the motion outside the canvas after Fit");
     Ok(())
 }
 

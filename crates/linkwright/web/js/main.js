@@ -76,10 +76,12 @@ $('btn-undo').addEventListener('click', undo);
 $('btn-redo').addEventListener('click', redo);
 $('scene-name').addEventListener('change', (e) => store.edit('rename the scene', (s) => { s.name = e.target.value || 'untitled'; }));
 
+/** Frames the drawing and, while a design is shown, its whole motion. */
 function fit() {
-  view.fit(S.allPoints(store.scene));
+  view.fit([...S.allPoints(store.scene), ...results.motionPoints()]);
   canvas.render();
 }
+results.fitView = fit;
 
 function undo() {
   const label = store.undo();

@@ -39,6 +39,7 @@ export class Results {
     this.canvas = canvas;
     this.els = els; // {job, jobFill, jobText, design, cancel, player, play, scrub, readout, speed, paths, edit, tab}
     this.save = save; // (blob, filename) => void
+    this.fitView = () => {}; // frames the view (set by the app)
     this.controller = null;
     this.error = null; // {message, issues, scene}: why the last design failed, and for which scene
     this.pos = 0;
@@ -101,6 +102,15 @@ export class Results {
     this.store.setUi({ pose: i });
     this.store.hint(`Pose ${i + 1}, as the design reaches it. Press Play to move on, or Edit drawing to change the poses.`);
     return true;
+  }
+
+  /** Every point the motion shown passes (its bodies and joints at each frame), to frame the view by;
+   * none when no design is shown. */
+  motionPoints() {
+    const r = this.result;
+    if (!this.store.ui.showResult || !r?.analysis) return [];
+    const bodies = r.scene.moving_bodies;
+    return r.analysis.frames.flatMap((f) => [...f.joints, ...f.bodies.flatMap((pose, k) => placed(bodies[k].polygon, pose))]);
   }
 
   /** Back to editing: the animation stops and the poses are editable again. */
@@ -198,6 +208,7 @@ export class Results {
         await this.select(null);
         this.store.setUi({ tab: 'result' });
         if (design.status === 'ok') {
+          this.fitView();
           this.store.hint(`Done. Best design: ${mechanismName(design.mechanism)}. Press Pause or drag the slider to study it; try an alternative on the right.`);
           this.verify();
         } else {
