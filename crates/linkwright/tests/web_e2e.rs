@@ -357,7 +357,19 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
     let want = eval(page, "window.linkwright.store.result.analysis.poses[1].crank_deg.toFixed(3)").await?;
     assert_eq!(eval(page, "document.getElementById('canvas').dataset.crank").await?, want);
-    click(page, "#btn-play").await?;
+    // Space plays it again; `?` lists every shortcut, Esc closes the list.
+    key(page, " ", "Space", 32, 0).await?;
+    until(page, "document.getElementById('btn-play').getAttribute('aria-pressed') === 'true'", Duration::from_secs(2))
+        .await?;
+    key(page, "?", "Slash", 191, 8).await?;
+    until(page, "document.getElementById('shortcuts').open", Duration::from_secs(2)).await?;
+    assert_eq!(
+        eval(page, "/Enter[\\s\\S]*Space[\\s\\S]*Ctrl\\+Z/.test(document.getElementById('shortcuts').textContent)")
+            .await?,
+        true
+    );
+    key(page, "Escape", "Escape", 27, 0).await?;
+    until(page, "!document.getElementById('shortcuts').open", Duration::from_secs(2)).await?;
     eval(page, "window.linkwright.store.edit('tolerance', (s) => { s.settings.pose_tolerance = 0.5; }) && true")
         .await?;
 

@@ -228,6 +228,7 @@ $('welcome-start').addEventListener('click', () => {
 // ---- Keyboard ----------------------------------------------------------------------------------
 
 window.addEventListener('keydown', (e) => {
+  if (e.key === 'Escape' && $('shortcuts').open) { $('shortcuts').close(); return; }
   const typing = e.target.closest?.('input, select, textarea') && e.target.type !== 'checkbox' && e.target.type !== 'range';
   const mod = e.ctrlKey || e.metaKey;
   if (mod && e.key.toLowerCase() === 'z') {
@@ -240,7 +241,14 @@ window.addEventListener('keydown', (e) => {
   if (mod && e.key.toLowerCase() === 's') { e.preventDefault(); $('btn-save').click(); return; }
   if (mod && e.key.toLowerCase() === 'o') { e.preventDefault(); $('btn-open').click(); return; }
   if (typing || mod || e.altKey) return;
-  if (e.key === ' ') { tools.space = true; e.preventDefault(); return; }
+  if (e.key === ' ') {
+    // A tap plays or pauses the design shown; held, it pans while dragging (see keyup).
+    if (!e.repeat) tools.spacePanned = false;
+    tools.space = true;
+    e.preventDefault();
+    return;
+  }
+  if (e.key === '?') { $('shortcuts').showModal(); return; }
   if (tools.key(e)) { e.preventDefault(); return; }
   const shortcuts = { v: 'select', h: 'pan', r: 'rect', p: 'polygon', e: 'ellipse' };
   const key = e.key.toLowerCase();
@@ -254,7 +262,12 @@ window.addEventListener('keydown', (e) => {
   else if (key === 'enter') { e.preventDefault(); results.run(); }
   else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) { results.leave(); store.setUi({ pose: Number(key) - 1 }); }
 });
-window.addEventListener('keyup', (e) => { if (e.key === ' ') tools.space = false; });
+window.addEventListener('keyup', (e) => {
+  if (e.key !== ' ' || !tools.space) return;
+  tools.space = false;
+  if (!tools.spacePanned) results.togglePlaying();
+});
+$('btn-shortcuts-close').addEventListener('click', () => $('shortcuts').close());
 
 // ---- Rendering ---------------------------------------------------------------------------------
 

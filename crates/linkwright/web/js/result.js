@@ -137,6 +137,11 @@ export class Results {
     this.els.design.title = nothingMoves ? 'Draw a moving body first: a linkage needs something to move' : this.designTitle;
   }
 
+  /** Plays or pauses the design shown (nothing when none is). */
+  togglePlaying() {
+    if (this.store.ui.showResult && this.result?.analysis) this.setPlaying(!this.playing);
+  }
+
   setPlaying(on) {
     if (on && this.frameCount() < 2) on = false;
     this.playing = on;

@@ -33,7 +33,8 @@ export class Tools {
     this.actions = actions; // {redraw(), leaveResult(), fit(), deleteSelection()}
     this.drag = null;
     this.polygon = [];
-    this.space = false;
+    this.space = false; // Space is held: a drag pans
+    this.spacePanned = false; // and one did, so letting Space go does not also play or pause
     root.addEventListener('pointerdown', (e) => this.down(e));
     root.addEventListener('pointermove', (e) => this.move(e));
     root.addEventListener('pointerup', (e) => this.up(e));
@@ -73,6 +74,7 @@ export class Tools {
     const s = this.screen(e);
     const ui = this.store.ui;
     if (e.button === 1 || e.button === 2 || this.space || ui.tool === 'pan') {
+      if (this.space) this.spacePanned = true;
       this.drag = { type: 'pan', last: s };
       return;
     }
