@@ -325,6 +325,16 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
                 return [Math.round(widest), Math.round(s.getBoundingClientRect().width)]; })()";
     let [text, width] = serde_json::from_value::<[f64; 2]>(eval(page, fits).await?)?;
     assert!(text + 28.0 <= width, "the Type menu's widest entry, {text} px, does not fit its {width} px");
+    // The largest sample count a scene may ask for is shown whole in its field.
+    eval(page, "window.linkwright.store.edit('samples', (s) => { s.settings.samples = 1000000; }) && true").await?;
+    settle(page).await?;
+    let shown = "(() => { const f = document.querySelector('input[data-key=samples]'); \
+                 const g = document.createElement('canvas').getContext('2d'); g.font = getComputedStyle(f).font; \
+                 return [f.value, Math.round(g.measureText(f.value).width), f.clientWidth]; })()";
+    let shown = eval(page, shown).await?;
+    assert_eq!(shown[0], "1000000");
+    let (text, width) = (shown[1].as_f64().ok_or("text")?, shown[2].as_f64().ok_or("width")?);
+    assert!(text + 24.0 <= width, "1000000 takes {text} px of its field's {width} px (with the spinner)");
     click(page, "button[title='5000 samples']").await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.settings.samples").await?, 5000);
     // Pose tolerance 0 asks for every pose to be hit exactly (three poses of a four-bar can be), so the
