@@ -425,6 +425,14 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     // new name, and the server's check passes it.
     let alternatives = eval(page, "window.linkwright.store.result.design.alternatives.length").await?;
     assert!(alternatives.as_u64() >= Some(1), "the quick design has alternatives to show");
+    // Each thumbnail is framed on its linkage: its joints span at least half the picture one way.
+    let spans = "[...document.querySelectorAll('#tab-result .thumb svg')].map((pic) => { \
+                 const c = [...pic.querySelectorAll('circle.joint')]; \
+                 const xs = c.map((e) => Number(e.getAttribute('cx'))), ys = c.map((e) => Number(e.getAttribute('cy'))); \
+                 return Math.max((Math.max(...xs) - Math.min(...xs)) / 84, (Math.max(...ys) - Math.min(...ys)) / 54); })";
+    let spans = eval(page, spans).await?;
+    let spans: Vec<f64> = spans.as_array().ok_or("spans")?.iter().filter_map(Value::as_f64).collect();
+    assert!(!spans.is_empty() && spans.iter().all(|&f| f >= 0.5), "joint spans of the thumbnails: {spans:?}");
     click(page, "#tab-result .thumb[data-which='0']").await?;
     until(
         page,
@@ -541,6 +549,14 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     screenshot(page, shots, "progress.png").await?;
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
     click(page, "[data-tab=result]").await?;
+    if shots.is_some() {
+        tokio::time::sleep(Duration::from_millis(1300)).await;
+        screenshot(page, shots, "garbage_truck.png").await?;
+        eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
+        tokio::time::sleep(Duration::from_millis(700)).await;
+        screenshot(page, shots, "analysis.png").await?;
+        eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
+    }
     // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
     // truck carries the pivot), and the design stays on screen.
     let fixed = scene(page).await?["fixed_bodies"].clone();
@@ -560,14 +576,6 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     drag(page, pivot, (pivot.0 + 30.0, pivot.1 + 20.0)).await?;
     assert_eq!(scene(page).await?["fixed_bodies"], fixed);
     assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
-    if shots.is_some() {
-        tokio::time::sleep(Duration::from_millis(1300)).await;
-        screenshot(page, shots, "garbage_truck.png").await?;
-        eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
-        tokio::time::sleep(Duration::from_millis(700)).await;
-        screenshot(page, shots, "analysis.png").await?;
-        eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
-    }
     check_pose_errors(page, None).await?;
     // An alternative shows its own errors, then the best design again.
     if eval(page, "document.querySelector(\"#tab-result .thumb[data-which='0']\") !== null").await? == Value::Bool(true)

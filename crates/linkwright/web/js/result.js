@@ -478,11 +478,16 @@ export class Results {
     const scene = r.scene;
     const bodies = scene.moving_bodies.map((b) => placed(b.polygon, b.poses[0]));
     const joints = m.joints;
-    const all = [...scene.fixed_bodies.flatMap((b) => b.polygon), ...bodies.flat(), ...Object.values(joints)];
-    const bb = bounds(all);
-    const w = 84, h = 54, pad = 3;
-    const k = Math.min((w - 2 * pad) / Math.max(bb.maxX - bb.minX, 1e-9), (h - 2 * pad) / Math.max(bb.maxY - bb.minY, 1e-9));
-    const s = (p) => [pad + (p[0] - bb.minX) * k, h - pad - (p[1] - bb.minY) * k];
+    // Framed on the linkage, with a quarter of its extent around it: next to a large body a small
+    // linkage would be a few pixels, and the alternatives would all look alike. The bodies are cut.
+    const jb = bounds(Object.values(joints));
+    const margin = 0.25 * Math.max(jb.maxX - jb.minX, jb.maxY - jb.minY, 1e-9);
+    const bb = { minX: jb.minX - margin, maxX: jb.maxX + margin, minY: jb.minY - margin, maxY: jb.maxY + margin };
+    const w = 84, h = 54;
+    const k = Math.min(w / (bb.maxX - bb.minX), h / (bb.maxY - bb.minY));
+    // Centred both ways.
+    const [cx, cy] = [(bb.minX + bb.maxX) / 2, (bb.minY + bb.maxY) / 2];
+    const s = (p) => [w / 2 + (p[0] - cx) * k, h / 2 - (p[1] - cy) * k];
     const pic = svg('svg', { viewBox: `0 0 ${w} ${h}`, width: w, height: h });
     for (const b of scene.fixed_bodies) pic.append(svg('polygon', { class: 'fixed', points: points(b.polygon.map(s)) }));
     bodies.forEach((b, i) => pic.append(svg('polygon', { class: 'moving', style: `--c:${bodyColour(i)}`, points: points(b.map(s)) })));
