@@ -532,6 +532,18 @@ const PREVIEW_PIXELS: &str = "(() => { const c = document.getElementById('view3d
       if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 30) n++; \
     return n; })()";
 
+/// Counts the pixels in a 2-pixel frame around the 3D preview that differ from its background (a part
+/// cut off by the view's edge shows there).
+const PREVIEW_EDGE_PIXELS: &str = "(() => { const c = document.getElementById('view3d-canvas'); \
+    const copy = document.createElement('canvas'); copy.width = c.width; copy.height = c.height; \
+    const g = copy.getContext('2d'); g.drawImage(c, 0, 0); \
+    const d = g.getImageData(0, 0, copy.width, copy.height).data; let n = 0; \
+    for (let y = 0; y < copy.height; y++) for (let x = 0; x < copy.width; x++) { \
+      if (x > 1 && y > 1 && x < copy.width - 2 && y < copy.height - 2) continue; \
+      const i = 4 * (y * copy.width + x); \
+      if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 30) n++; } \
+    return n; })()";
+
 /// The garbage truck example: designed, made into parts, an STL downloaded and the parts seen moving
 /// in 3D (and, with screenshots on, the README's pictures of the app).
 async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> Result<()> {
@@ -630,6 +642,14 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     let frames = "Number(document.getElementById('view3d-canvas').dataset.frames)";
     let before = eval(page, frames).await?.as_u64().unwrap_or(0);
     until(page, &format!("{frames} > {before}"), Duration::from_secs(5)).await?;
+    // No part leaves the view anywhere along the motion (one travel takes 3 s as it plays): the
+    // canvas's edges show only background.
+    for _ in 0..14 {
+        tokio::time::sleep(Duration::from_millis(250)).await;
+        let crank = eval(page, "document.getElementById('canvas').dataset.crank").await?;
+        let edge = eval(page, PREVIEW_EDGE_PIXELS).await?;
+        assert_eq!(edge, 0, "pixels of parts on the edge of the 3D view at crank {crank}°");
+    }
     if shots.is_some() {
         eval(page, "document.getElementById('fab-heading').scrollIntoView() || true").await?;
         tokio::time::sleep(Duration::from_millis(700)).await;

@@ -137,7 +137,7 @@ export class Preview3D {
       return { vao, buffers: [positions, indices], count: part.indices.length, carrier: part.carrier, colour: rgb(partColour(part)) };
     });
     this.poses = preview.poses;
-    this.bounds = firstPoseBounds(preview);
+    this.bounds = motionBounds(preview);
     this.reset();
   }
 
@@ -155,8 +155,8 @@ export class Preview3D {
     this.camera = {
       target: [0, 1, 2].map((k) => (b.min[k] + b.max[k]) / 2),
       radius,
-      // The bounding sphere just fits; the parts, flatter than a ball, then fill most of the view.
-      distance: (radius / Math.sin(FOV / 2)) * 0.85,
+      // The sphere around every configuration of the motion just fits, so no part leaves the view.
+      distance: radius / Math.sin(FOV / 2),
       yaw: -0.45,
       pitch: 0.35,
     };
@@ -253,19 +253,20 @@ export class Preview3D {
   }
 }
 
-/** The box around every part at the first pose. */
-function firstPoseBounds(preview) {
+/** The box around every part in every configuration of the motion. */
+function motionBounds(preview) {
   const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
-  const row = preview.poses[0] || [];
-  for (const part of preview.parts) {
-    const [x, y, deg] = row.slice(3 * part.carrier, 3 * part.carrier + 3);
-    const a = ((deg || 0) * Math.PI) / 180, cos = Math.cos(a), sin = Math.sin(a);
-    const p = part.positions;
-    for (let i = 0; i + 2 < p.length; i += 3) {
-      const q = [(x || 0) + cos * p[i] - sin * p[i + 1], (y || 0) + sin * p[i] + cos * p[i + 1], p[i + 2]];
-      for (let k = 0; k < 3; k++) {
-        min[k] = Math.min(min[k], q[k]);
-        max[k] = Math.max(max[k], q[k]);
+  for (const row of preview.poses.length ? preview.poses : [[]]) {
+    for (const part of preview.parts) {
+      const [x, y, deg] = row.slice(3 * part.carrier, 3 * part.carrier + 3);
+      const a = ((deg || 0) * Math.PI) / 180, cos = Math.cos(a), sin = Math.sin(a);
+      const p = part.positions;
+      for (let i = 0; i + 2 < p.length; i += 3) {
+        const q = [(x || 0) + cos * p[i] - sin * p[i + 1], (y || 0) + sin * p[i] + cos * p[i + 1], p[i + 2]];
+        for (let k = 0; k < 3; k++) {
+          min[k] = Math.min(min[k], q[k]);
+          max[k] = Math.max(max[k], q[k]);
+        }
       }
     }
   }
