@@ -367,6 +367,11 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
     let want = eval(page, "window.linkwright.store.result.analysis.poses[1].crank_deg.toFixed(3)").await?;
     assert_eq!(eval(page, "document.getElementById('canvas').dataset.crank").await?, want);
+    // Key 3 goes to pose 3 the same way.
+    key(page, "3", "Digit3", 51, 0).await?;
+    let want = eval(page, "window.linkwright.store.result.analysis.poses[2].crank_deg.toFixed(3)").await?;
+    until(page, &format!("document.getElementById('canvas').dataset.crank === {want}"), Duration::from_secs(2)).await?;
+    assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
     // Space plays it again; `?` lists every shortcut, Esc closes the list.
     key(page, " ", "Space", 32, 0).await?;
     until(page, "document.getElementById('btn-play').getAttribute('aria-pressed') === 'true'", Duration::from_secs(2))

@@ -260,7 +260,10 @@ window.addEventListener('keydown', (e) => {
   }
   else if (key === 'g') { store.setUi({ grid: !store.ui.grid }); $('opt-grid').checked = store.ui.grid; }
   else if (key === 'enter') { e.preventDefault(); results.run(); }
-  else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) { results.leave(); store.setUi({ pose: Number(key) - 1 }); }
+  else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) {
+    // As the pose bar does: with a design shown, its animation goes to that pose.
+    if (!results.showPose(Number(key) - 1)) store.setUi({ pose: Number(key) - 1 });
+  }
 });
 window.addEventListener('keyup', (e) => {
   if (e.key !== ' ' || !tools.space) return;
