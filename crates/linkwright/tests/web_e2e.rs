@@ -264,6 +264,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     click(page, "[data-tool=ellipse]").await?;
     drag(page, at(page, 150.0, 40.0).await?, at(page, 190.0, 60.0).await?).await?;
     assert_eq!(scene(page).await?["fixed_bodies"][1]["polygon"].as_array().map(Vec::len), Some(32));
+    // Selected, the curve has no corner handles (32 of them would bury it); the rectangle below does.
+    assert_eq!(eval(page, "window.linkwright.store.ui.selection?.index").await?, 1);
+    assert_eq!(eval(page, "document.querySelectorAll('[data-handle=vertex]').length").await?, 0);
     key(page, "Delete", "Delete", 46, 0).await?;
     until(page, "window.linkwright.store.scene.fixed_bodies.length === 1", Duration::from_secs(2)).await?;
 

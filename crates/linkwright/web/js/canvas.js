@@ -13,6 +13,8 @@ export const bodyColour = (b) => BODY_COLOURS[b % BODY_COLOURS.length];
 export const GRAB_PX = 9;
 /** Distance of the rotate handle beyond the body, pixels. */
 const ROTATE_PX = 28;
+/** Outlines with more corners than this (curves) get no corner handles. */
+const MAX_VERTEX_HANDLES = 16;
 
 export class Canvas {
   constructor(root, store, viewport) {
@@ -208,7 +210,9 @@ export class Canvas {
     if (!world) return;
     const scr = world.map((p) => this.s(p));
     g.append(svg('polygon', { class: 'selection', points: points(scr) }));
-    scr.forEach((p, v) => {
+    // A curve (an ellipse is 32 corners) would bristle with handles: it moves and turns as a whole.
+    const corners = scr.length <= MAX_VERTEX_HANDLES ? scr : [];
+    corners.forEach((p, v) => {
       const active = sel.vertex === v;
       g.append(svg('rect', {
         class: active ? 'vertex active' : 'vertex', x: p[0] - 5, y: p[1] - 5, width: 10, height: 10,
