@@ -276,9 +276,14 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     drag(page, at(page, 200.0, 30.0).await?, at(page, 200.0, 35.0).await?).await?;
     assert_eq!(floats(&scene(page).await?["fixed_bodies"][0]["polygon"][2]), [200.0, 35.0]);
 
-    // A moving body: it gets two poses, the second beside the first, and the select tool.
+    // A moving body: it gets two poses, the second beside the first, and the select tool. The pose
+    // bar appears above the canvas, and the drawing stays where it was on the page.
+    let corner = at(page, 20.0, 0.0).await?;
     click(page, "[data-kind-choice=moving]").await?;
     drag(page, at(page, 40.0, 40.0).await?, at(page, 100.0, 60.0).await?).await?;
+    settle(page).await?;
+    let moved = at(page, 20.0, 0.0).await?;
+    assert!((moved.0 - corner.0).abs() < 0.5 && (moved.1 - corner.1).abs() < 0.5, "{corner:?} moved to {moved:?}");
     let s = scene(page).await?;
     let body = &s["moving_bodies"][0];
     assert_eq!(body["poses"].as_array().map(Vec::len), Some(2), "{s}");
@@ -463,11 +468,15 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     std::fs::remove_file(file)?;
     click(page, "#tab-result .thumb[data-which='best']").await?;
 
-    // Reload: the scene (and the design) come back.
+    // Reload: the scene (and the design) come back, where they were on the page.
     let before = scene(page).await?;
+    let corner = at(page, 20.0, 0.0).await?;
     page.reload().await?;
     until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
     assert_eq!(scene(page).await?, before);
+    settle(page).await?;
+    let moved = at(page, 20.0, 0.0).await?;
+    assert!((moved.0 - corner.0).abs() < 0.5 && (moved.1 - corner.1).abs() < 0.5, "{corner:?} moved to {moved:?}");
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(10)).await?;
 
     // When no linkage can exist (every link would enter an avoid region), the app says so, and why.

@@ -274,8 +274,13 @@ $('btn-shortcuts-close').addEventListener('click', () => $('shortcuts').close())
 
 // ---- Rendering ---------------------------------------------------------------------------------
 
+// Where the canvas was on the page at the last resize: when it moves (the pose bar appears above
+// it, say), the view moves back by as much, so the drawing stays where it was on the page.
+let canvasAt = null;
 function resize() {
   const r = root.getBoundingClientRect();
+  if (canvasAt) view.pan(canvasAt.left - r.left, canvasAt.top - r.top);
+  canvasAt = { left: r.left, top: r.top };
   view.resize(r.width, r.height);
   canvas.render();
 }
@@ -310,7 +315,7 @@ function persist() {
   F.autosave({
     scene: store.scene,
     pose: store.ui.pose,
-    view: { ox: view.ox, oy: view.oy, k: view.k },
+    view: { ox: view.ox, oy: view.oy, k: view.k, left: canvasAt?.left, top: canvasAt?.top },
     result: r && results.fresh() ? { design: r.design, scene: r.scene, which: r.which } : null,
   });
 }
@@ -322,8 +327,13 @@ resize();
 if (saved) {
   store.ui.pose = saved.pose || 0;
   store.clampSelection();
-  if (saved.view && Number.isFinite(saved.view.k)) Object.assign(view, saved.view);
-  else fit();
+  if (saved.view && Number.isFinite(saved.view.k)) {
+    const { ox, oy, k, left, top } = saved.view;
+    Object.assign(view, { ox, oy, k });
+    // Saved where the canvas was then: the next resize moves the view by where it is now.
+    if (Number.isFinite(left) && Number.isFinite(top)) canvasAt = { left, top };
+    resize();
+  } else fit();
   store.hint('Welcome back: your last scene is restored.');
   if (saved.result?.design) {
     store.result = newResult({ design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene) });
