@@ -94,8 +94,7 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
         );
     }
 
-    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
-    let frames = BodyFrames::new(mechanism, &first_poses);
+    let frames = body_frames(problem, mechanism);
     let tol = problem.contact_tolerance();
     let link_segments: Vec<(usize, usize)> = mechanism.topology.link_pairs();
     'rows: for r in 0..trace.len() {
@@ -136,8 +135,6 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
 
     // Accuracy at the design's pose angles, against the input poses: the joints' part (eq. 10) and
     // the outlines' part, vertex by vertex (the engine has it in closed form).
-    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
-    let frames = BodyFrames::new(mechanism, &first_poses);
     let mut row = vec![Point::ORIGIN; plan.joint_count()];
     let (mut joints, mut joint_count) = (0.0, 0usize);
     let mut outlines = 0.0;
@@ -184,8 +181,7 @@ impl Accuracy {
 /// How far each body is from each input pose (`[pose][body]`) in the configurations of `trace` at
 /// `pose_rows`, the rows a design offers for the poses.
 pub fn pose_misses(problem: &Problem, mechanism: &Mechanism, trace: &Trace, pose_rows: &[usize]) -> Vec<Vec<PoseMiss>> {
-    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
-    let frames = BodyFrames::new(mechanism, &first_poses);
+    let frames = body_frames(problem, mechanism);
     pose_rows
         .iter()
         .enumerate()
@@ -194,4 +190,10 @@ pub fn pose_misses(problem: &Problem, mechanism: &Mechanism, trace: &Trace, pose
             problem.bodies.iter().enumerate().map(|(b, body)| body.miss(i, &frames.pose(b, row))).collect()
         })
         .collect()
+}
+
+/// How to read each moving body's pose off a configuration of `mechanism` in `problem`.
+fn body_frames(problem: &Problem, mechanism: &Mechanism) -> BodyFrames {
+    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+    BodyFrames::new(mechanism, &first_poses)
 }

@@ -130,6 +130,34 @@ async fn key(page: &Page, key: &str, code: &str, key_code: i64, modifiers: i64) 
     Ok(())
 }
 
+/// Ctrl+Z.
+async fn undo(page: &Page) -> Result<()> {
+    key(page, "z", "KeyZ", 90, 2).await
+}
+
+/// Ctrl+Shift+Z.
+async fn redo(page: &Page) -> Result<()> {
+    key(page, "Z", "KeyZ", 90, 2 | 8).await
+}
+
+/// Panics unless page positions `a` and `b` are the same to half a pixel.
+fn assert_same_place(a: (f64, f64), b: (f64, f64)) {
+    assert!((a.0 - b.0).abs() < 0.5 && (a.1 - b.1).abs() < 0.5, "{a:?} moved to {b:?}");
+}
+
+/// The widest text the control at `selector` shows (a menu's entries, a field's value) and the width
+/// of the box it has for it, in pixels.
+async fn text_and_room(page: &Page, selector: &str) -> Result<(f64, f64)> {
+    let js = format!(
+        "(() => {{ const e = document.querySelector('{selector}'); \
+         const g = document.createElement('canvas').getContext('2d'); g.font = getComputedStyle(e).font; \
+         const texts = e.options ? [...e.options].map((o) => o.text) : [e.value]; \
+         return [Math.round(Math.max(...texts.map((t) => g.measureText(t).width))), e.clientWidth]; }})()"
+    );
+    let [text, room] = serde_json::from_value::<[f64; 2]>(eval(page, &js).await?)?;
+    Ok((text, room))
+}
+
 /// The screen position of world point (x, y) on the canvas.
 async fn at(page: &Page, x: f64, y: f64) -> Result<(f64, f64)> {
     let v = eval(page, &format!("window.linkwright.screenOf([{x}, {y}])")).await?;
@@ -246,9 +274,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert_eq!(floats(&s["fixed_bodies"][0]["polygon"][2]), [200.0, 30.0], "snapped to the grid");
 
     // Undo and redo with the keyboard.
-    key(page, "z", "KeyZ", 90, 2).await?;
+    undo(page).await?;
     until(page, "window.linkwright.store.scene.fixed_bodies.length === 0", Duration::from_secs(2)).await?;
-    key(page, "Z", "KeyZ", 90, 2 | 8).await?;
+    redo(page).await?;
     until(page, "window.linkwright.store.scene.fixed_bodies.length === 1", Duration::from_secs(2)).await?;
 
     // A linkage region as a polygon: click the corners, then the first corner again to close it.
@@ -283,7 +311,7 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     drag(page, at(page, 40.0, 40.0).await?, at(page, 100.0, 60.0).await?).await?;
     settle(page).await?;
     let moved = at(page, 20.0, 0.0).await?;
-    assert!((moved.0 - corner.0).abs() < 0.5 && (moved.1 - corner.1).abs() < 0.5, "{corner:?} moved to {moved:?}");
+    assert_same_place(corner, moved);
     let s = scene(page).await?;
     let body = &s["moving_bodies"][0];
     assert_eq!(body["poses"].as_array().map(Vec::len), Some(2), "{s}");
@@ -327,21 +355,13 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     let options = "[...document.querySelectorAll('select[data-key=mechanism] option')].map((o) => o.value).join(' ')";
     until(page, &format!("{options} === 'auto chain slider_crank'"), Duration::from_secs(5)).await?;
     // Each of its entries fits the menu's box (text plus the arrow), not cut off.
-    let fits = "(() => { const s = document.querySelector('select[data-key=mechanism]'); \
-                const g = document.createElement('canvas').getContext('2d'); g.font = getComputedStyle(s).font; \
-                const widest = Math.max(...[...s.options].map((o) => g.measureText(o.text).width)); \
-                return [Math.round(widest), Math.round(s.getBoundingClientRect().width)]; })()";
-    let [text, width] = serde_json::from_value::<[f64; 2]>(eval(page, fits).await?)?;
+    let (text, width) = text_and_room(page, "select[data-key=mechanism]").await?;
     assert!(text + 28.0 <= width, "the Type menu's widest entry, {text} px, does not fit its {width} px");
     // The largest sample count a scene may ask for is shown whole in its field.
     eval(page, "window.linkwright.store.edit('samples', (s) => { s.settings.samples = 1000000; }) && true").await?;
     settle(page).await?;
-    let shown = "(() => { const f = document.querySelector('input[data-key=samples]'); \
-                 const g = document.createElement('canvas').getContext('2d'); g.font = getComputedStyle(f).font; \
-                 return [f.value, Math.round(g.measureText(f.value).width), f.clientWidth]; })()";
-    let shown = eval(page, shown).await?;
-    assert_eq!(shown[0], "1000000");
-    let (text, width) = (shown[1].as_f64().ok_or("text")?, shown[2].as_f64().ok_or("width")?);
+    assert_eq!(eval(page, "document.querySelector('input[data-key=samples]').value").await?, "1000000");
+    let (text, width) = text_and_room(page, "input[data-key=samples]").await?;
     assert!(text + 24.0 <= width, "1000000 takes {text} px of its field's {width} px (with the spinner)");
     click(page, "button[title='5000 samples']").await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.settings.samples").await?, 5000);
@@ -476,7 +496,7 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     assert_eq!(scene(page).await?, before);
     settle(page).await?;
     let moved = at(page, 20.0, 0.0).await?;
-    assert!((moved.0 - corner.0).abs() < 0.5 && (moved.1 - corner.1).abs() < 0.5, "{corner:?} moved to {moved:?}");
+    assert_same_place(corner, moved);
     until(page, "!document.getElementById('player').hidden", Duration::from_secs(10)).await?;
 
     // When no linkage can exist (every link would enter an avoid region), the app says so, and why.
@@ -515,9 +535,9 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     );
     // Undo brings back the scene before that edit: the error was about the other scene and goes; redo
     // brings both back.
-    key(page, "z", "KeyZ", 90, 2).await?;
+    undo(page).await?;
     until(page, "document.querySelector('#tab-result .callout.error') === null", Duration::from_secs(2)).await?;
-    key(page, "Z", "KeyZ", 90, 2 | 8).await?;
+    redo(page).await?;
     until(page, "document.querySelector('#tab-result .callout.error') !== null", Duration::from_secs(2)).await?;
 
     // "New" starts over the way the welcome's "Start drawing" does: with Moving body chosen before,

@@ -50,8 +50,14 @@ const TRIES: usize = 4;
 /// three-body chains through three poses took 1.3–3.7 times as long with 16 tries and came no closer
 /// to their poses.
 const LONG_CHAIN_TRIES: usize = 16;
-/// The bodies of a chain whose ternary links get [`LONG_CHAIN_TRIES`].
-pub(crate) const LONG_CHAIN: usize = 4;
+/// The bodies of a chain whose ternary links get [`LONG_CHAIN_TRIES`] (and whose poses are perturbed
+/// less, see `context::LONG_CHAIN_NOISE`).
+const LONG_CHAIN: usize = 4;
+
+/// Whether `topology` is a chain of [`LONG_CHAIN`] bodies or more.
+pub(crate) fn is_long_chain(topology: &Topology) -> bool {
+    topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN
+}
 /// How far outside the region's box a solved joint may land, in box diagonals, before the block is
 /// drawn again.
 const BOX_MARGIN: f64 = 0.5;
@@ -193,7 +199,7 @@ impl Constructor {
             tolerances,
             dyads: Plan::dyad_triangles(topology),
             part_pairs: topology.part_pairs(),
-            long_chain: topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN,
+            long_chain: is_long_chain(topology),
         }
     }
 

@@ -1,6 +1,6 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
-use super::construct::LONG_CHAIN;
+use super::construct::is_long_chain;
 use super::rigidity::RigidityModel;
 use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
 use crate::mechanism::{MechanismType, PartKind, Topology};
@@ -35,7 +35,7 @@ pub const EXACT_DEVIATION: f64 = 1e-8;
 pub const LAST_POSE_POSITION: f64 = 0.005;
 pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
 
-/// The factor on the pose noise of chains of [`LONG_CHAIN`] bodies or more. Every body's
+/// The factor on the pose noise of long chains (four bodies or more, `construct::is_long_chain`). Every body's
 /// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
 /// relative motion of two perturbed bodies, so the more bodies, the farther the fits land from any
 /// linkage through the drawn poses: their loops lock up between the poses. Chains of four to six
@@ -122,9 +122,8 @@ pub struct Context<'a> {
     /// Each moving body's outline in its own frame, prepared the same way: its grid tells most points
     /// deep inside the body or not at once (see [`Obstacle::penetrated_by_shape`]).
     pub body_shapes: Vec<Obstacle>,
-    /// Each moving body's outline, as E_acc reads it: the mean of its vertices (body frame) and their
-    /// mean squared distance from it ([`Context::outline_miss`]).
-    pub outline_moments: Vec<(Point, f64)>,
+    /// Each moving body's outline as E_acc reads it ([`Context::outline_miss`]).
+    pub outlines: Vec<OutlineMoments>,
     /// Every mover–obstacle pair the collision sweep watches.
     pub(crate) collision_pairs: Vec<Pair>,
     /// The rigidity energy of this topology (paper eq. 3–5).
@@ -142,8 +141,8 @@ pub struct Context<'a> {
     /// a fit finds; it pulls the fit away from every linkage, towards collapsed links (a four-bar
     /// through nine poses of a known four-bar, 100,000 samples: at the paper's 0.5·d no valid design,
     /// at 0.2·d three, at 0.1·d 424; this factor gives 0.09·d. Measured on `chain_k1_n9_seed0` of
-    /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited). Chains of
-    /// `LONG_CHAIN` bodies or more take `LONG_CHAIN_NOISE` on top.
+    /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited). Long chains
+    /// take `LONG_CHAIN_NOISE` on top.
     pub noise_scale: f64,
     /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
     /// kept rigid through (`END_DEVIATION`).
@@ -190,8 +189,7 @@ impl<'a> Context<'a> {
         } else {
             1.0
         };
-        let long_chain = topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN;
-        let noise_scale = overdetermined_noise * if long_chain { LONG_CHAIN_NOISE } else { 1.0 };
+        let noise_scale = overdetermined_noise * if is_long_chain(&topology) { LONG_CHAIN_NOISE } else { 1.0 };
         let unperturbed = problem.settings.pose_tolerance == 0.0;
         Context {
             problem,
@@ -211,7 +209,12 @@ impl<'a> Context<'a> {
             fixed_obstacles: problem.fixed.iter().map(obstacle).collect(),
             avoid_obstacles: problem.avoid.iter().map(obstacle).collect(),
             body_shapes: problem.bodies.iter().map(|b| obstacle(&b.outline)).collect(),
-            outline_moments: problem.bodies.iter().map(|b| outline_moments(&b.outline)).collect(),
+            outlines: problem
+                .bodies
+                .iter()
+                .enumerate()
+                .map(|(b, body)| OutlineMoments::new(body, topology.body_part(b).joints.clone()))
+                .collect(),
             collision_pairs,
             rigidity: RigidityModel::new(&topology),
             unperturbed,
@@ -276,7 +279,7 @@ impl<'a> Context<'a> {
     /// outline's vertices, in closed form: a vertex at mean point c plus u misses by the mean point's
     /// miss plus the turn's (R − I)·u, the u average out, and |(R − I)·u| = 2·|sin(Δθ/2)|·|u|.
     pub fn outline_miss(&self, b: usize, i: usize, reached: &Isometry) -> [f64; 3] {
-        let (mean, spread) = self.outline_moments[b];
+        let OutlineMoments { mean, spread, .. } = self.outlines[b];
         let wanted = self.problem.bodies[b].poses[i].isometry();
         let shift = reached.apply(mean) - wanted.apply(mean);
         // The turn between the two, as a unit vector: its chord is |(cos − 1, sin)|.
@@ -294,14 +297,28 @@ impl<'a> Context<'a> {
     }
 }
 
-/// The mean of `outline`'s vertices and their mean squared distance from it.
-fn outline_moments(outline: &Polygon) -> (Point, f64) {
-    let vertices = outline.vertices();
-    let count = vertices.len().max(1) as f64;
-    let sum = vertices.iter().fold(Vec2::new(0.0, 0.0), |s, v| s + v.to_vec2());
-    let mean = Point::ORIGIN + sum * (1.0 / count);
-    let spread = vertices.iter().map(|v| (*v - mean).norm_sq()).sum::<f64>() / count;
-    (mean, spread)
+/// What the accuracy's outline part needs of one moving body, once per scene.
+#[derive(Clone, Debug)]
+pub struct OutlineMoments {
+    /// The mean of the outline's vertices, in the body's frame.
+    pub mean: Point,
+    /// The same point at the first pose, in the world.
+    pub first_mean: Point,
+    /// The vertices' mean squared distance from their mean.
+    pub spread: f64,
+    /// The joints the body carries.
+    pub joints: Vec<usize>,
+}
+
+impl OutlineMoments {
+    fn new(body: &crate::scene::MovingBodyProblem, joints: Vec<usize>) -> Self {
+        let vertices = body.outline.vertices();
+        let count = vertices.len().max(1) as f64;
+        let sum = vertices.iter().fold(Vec2::new(0.0, 0.0), |s, v| s + v.to_vec2());
+        let mean = Point::ORIGIN + sum * (1.0 / count);
+        let spread = vertices.iter().map(|v| (*v - mean).norm_sq()).sum::<f64>() / count;
+        OutlineMoments { mean, first_mean: body.poses[0].apply(mean), spread, joints }
+    }
 }
 
 /// One mover against one obstacle.

@@ -545,17 +545,11 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
             floor += beta * e * e - alpha * e;
         }
     }
-    let bodies = ctx.outline_moments.len();
-    let outline_beta = w.accuracy / (poses * bodies.max(1)) as f64;
-    for (b, &(mean, spread)) in ctx.outline_moments.iter().enumerate() {
-        let centre = ctx.first_poses[b].apply(mean);
-        let share = |j: usize| spread / (spread + (joints[j] - centre).norm_sq());
+    let outline_beta = w.accuracy / (poses * ctx.outlines.len().max(1)) as f64;
+    for outline in &ctx.outlines {
+        let share = |j: usize| outline.spread / (outline.spread + (joints[j] - outline.first_mean).norm_sq());
         for i in 0..poses {
-            let bound = moving
-                .iter()
-                .filter(|&&j| ctx.carriers[j] == Some(b))
-                .map(|&j| share(j) * locus_distance(i, j).powi(2))
-                .fold(0.0, f64::max);
+            let bound = outline.joints.iter().map(|&j| share(j) * locus_distance(i, j).powi(2)).fold(0.0, f64::max);
             floor += outline_beta * bound;
         }
     }

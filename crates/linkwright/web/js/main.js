@@ -121,6 +121,11 @@ function movePose(step) {
   store.setUi({ pose: to });
 }
 
+/** Pose `i`: where the design shown reaches it, or else the pose to edit. */
+function goToPose(i) {
+  if (!results.showPose(i)) store.setUi({ pose: i });
+}
+
 function renderPoseBar() {
   const n = S.poseCount(store.scene);
   $('posebar').hidden = n === 0;
@@ -130,10 +135,7 @@ function renderPoseBar() {
     b.textContent = `Pose ${i + 1}`;
     b.className = i === store.ui.pose ? 'on' : '';
     b.setAttribute('aria-pressed', String(i === store.ui.pose));
-    b.addEventListener('click', () => {
-      if (results.showPose(i)) return;
-      store.setUi({ pose: i });
-    });
+    b.addEventListener('click', () => goToPose(i));
     return b;
   }));
   $('btn-pose-delete').disabled = n <= 2;
@@ -260,10 +262,7 @@ window.addEventListener('keydown', (e) => {
   }
   else if (key === 'g') { store.setUi({ grid: !store.ui.grid }); $('opt-grid').checked = store.ui.grid; }
   else if (key === 'enter') { e.preventDefault(); results.run(); }
-  else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) {
-    // As the pose bar does: with a design shown, its animation goes to that pose.
-    if (!results.showPose(Number(key) - 1)) store.setUi({ pose: Number(key) - 1 });
-  }
+  else if (/^[1-9]$/.test(key) && Number(key) <= S.poseCount(store.scene)) goToPose(Number(key) - 1);
 });
 window.addEventListener('keyup', (e) => {
   if (e.key !== ' ' || !tools.space) return;

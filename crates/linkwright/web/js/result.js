@@ -355,12 +355,9 @@ export class Results {
   async verify() {
     const r = this.result;
     const which = r.which;
-    const d = r.design;
-    const alt = which === null ? null : d.alternatives[which];
-    const design = alt ? { ...d, mechanism: alt.mechanism, motion: alt.motion, metrics: alt.metrics, alternatives: [] } : d;
     let answer;
     try {
-      answer = await api.check(r.scene, design);
+      answer = await api.check(r.scene, designShown(r.design, which));
     } catch (e) {
       answer = { ok: false, violations: [{ constraint: 'check', message: e.message }] };
     }
