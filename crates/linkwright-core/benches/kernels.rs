@@ -35,7 +35,8 @@ fn fixture(k: usize) -> &'static (Problem, Candidate) {
             .iter()
             .map(|name| {
                 let mut p = problem(name);
-                p.mechanism = linkwright_core::scene::MechanismChoice::Chain;
+                p.mechanism =
+                    linkwright_core::scene::MechanismChoice::Only(linkwright_core::scene::MechanismType::Chain);
                 let best = synthesize(&p, &Silent).expect("not cancelled").best.expect("a design");
                 (p, best)
             })

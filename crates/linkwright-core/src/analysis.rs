@@ -9,7 +9,7 @@
 use crate::design::{DesignError, DesignFile, MechanismJson, Motion};
 use crate::geom::{Point, Rigid};
 use crate::kinematics::{BodyFrames, CompileError, Plan, Step, SweepError, Trace};
-use crate::mechanism::{Mechanism, MechanismType, PartKind};
+use crate::mechanism::{Loop, Mechanism, PartKind};
 use crate::scene::Problem;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -412,54 +412,55 @@ fn pose_errors(problem: &Problem, replay: &Replay) -> Vec<PoseError> {
         .collect()
 }
 
-/// The four-bar loops of a chain, `q(k−1) r(k−1) q(k) p(k)` for k = 1..K, or the slider-crank's loop.
+/// The linkage's loops ([`Family::loops`]) with their lengths and types.
 fn loops(m: &Mechanism) -> Vec<LoopInfo> {
     let topo = &m.topology;
-    let at = |n: &str| m.joint(n);
-    let link = |role, a: &str, b: &str| -> Option<LoopLink> {
-        Some(LoopLink { role, joints: vec![a.to_string(), b.to_string()], length: at(a)?.distance(at(b)?) })
+    let name = |j: usize| topo.joint_names[j].clone();
+    let link = |role, [a, b]: [usize; 2]| LoopLink {
+        role,
+        joints: vec![name(a), name(b)],
+        length: m.joints[a].distance(m.joints[b]),
     };
-    match topo.mechanism_type {
-        MechanismType::Chain => (1..=topo.body_count)
-            .filter_map(|k| {
-                let (q0, r0, q1, p1) = (format!("q{}", k - 1), format!("r{}", k - 1), format!("q{k}"), format!("p{k}"));
-                let links = vec![
-                    link("frame", &q0, &r0)?,
-                    link("input", &q0, &p1)?,
-                    link("coupler", &p1, &q1)?,
-                    link("output", &r0, &q1)?,
-                ];
+    let family = topo.mechanism_type.family();
+    family
+        .loops(topo)
+        .into_iter()
+        .enumerate()
+        .filter_map(|(i, l)| match l {
+            Loop::FourBar { frame, input, coupler, output } => {
+                let links =
+                    vec![link("frame", frame), link("input", input), link("coupler", coupler), link("output", output)];
                 let kind = four_bar_kind(links[0].length, links[1].length, links[2].length, links[3].length);
+                let joints = [frame[0], frame[1], output[1], input[1]].map(name).join(" ");
                 Some(LoopInfo {
-                    name: format!("loop {k}: {q0} {r0} {q1} {p1}"),
+                    name: format!("loop {}: {joints}", i + 1),
                     links,
                     kind,
                     grashof: kind.grashof(),
                     description: kind.describe(),
                 })
-            })
-            .collect(),
-        MechanismType::SliderCrank => {
-            let (Some(line), Some(q0), Some(p1), Some(q1)) = (m.slider, at("q0"), at("p1"), at("q1")) else {
-                return Vec::new();
-            };
-            let offset = (q0 - line.point).cross(line.direction).abs();
-            let (crank, rod) = (q0.distance(p1), p1.distance(q1));
-            let kind = slider_crank_kind(crank, rod, offset);
-            let links = vec![
-                LoopLink { role: "crank", joints: vec!["q0".into(), "p1".into()], length: crank },
-                LoopLink { role: "rod", joints: vec!["p1".into(), "q1".into()], length: rod },
-                LoopLink { role: "offset", joints: vec!["q0".into()], length: offset },
-            ];
-            vec![LoopInfo {
-                name: "slider-crank: q0 p1 q1".into(),
-                links,
-                kind,
-                grashof: kind.grashof(),
-                description: kind.describe(),
-            }]
-        }
-    }
+            }
+            Loop::SliderCrank { pivot, tip, slider } => {
+                let line = m.slider?;
+                let (q0, p1, q1) = (m.joints[pivot], m.joints[tip], m.joints[slider]);
+                let offset = (q0 - line.point).cross(line.direction).abs();
+                let (crank, rod) = (q0.distance(p1), p1.distance(q1));
+                let kind = slider_crank_kind(crank, rod, offset);
+                let links = vec![
+                    LoopLink { role: "crank", joints: vec![name(pivot), name(tip)], length: crank },
+                    LoopLink { role: "rod", joints: vec![name(tip), name(slider)], length: rod },
+                    LoopLink { role: "offset", joints: vec![name(pivot)], length: offset },
+                ];
+                Some(LoopInfo {
+                    name: format!("slider-crank: {} {} {}", name(pivot), name(tip), name(slider)),
+                    links,
+                    kind,
+                    grashof: kind.grashof(),
+                    description: kind.describe(),
+                })
+            }
+        })
+        .collect()
 }
 
 /// The Grashof class of a four-bar with the given link lengths (paper eq. 6), relative to its frame.
@@ -574,7 +575,40 @@ mod tests {
         assert!(a.poses[0].joint_rms < 1e-9 && a.poses[0].bodies[0].max_vertex < 1e-9);
         // Frames are coarser than the engine's travel, so their margin is never below the design's.
         assert!(a.min_transmission_deg >= metrics.min_transmission_deg - 1e-9);
+        // The linkage's one loop, its links measured on the file's joints: a four-bar's frame q0–r0,
+        // input q0–p1, coupler p1–q1 and output r0–q1, or a slider-crank's crank, rod and the
+        // pivot's offset from the slider's line.
+        let mechanism = design.mechanism.as_ref().unwrap();
+        let at = |n: &str| mechanism.joints[n];
         assert_eq!(a.loops.len(), 1);
+        let (name, expected) = match &mechanism.slider {
+            None => (
+                "loop 1: q0 r0 q1 p1",
+                vec![
+                    ("frame", vec!["q0", "r0"], at("q0").distance(at("r0"))),
+                    ("input", vec!["q0", "p1"], at("q0").distance(at("p1"))),
+                    ("coupler", vec!["p1", "q1"], at("p1").distance(at("q1"))),
+                    ("output", vec!["r0", "q1"], at("r0").distance(at("q1"))),
+                ],
+            ),
+            Some(slider) => {
+                let direction = crate::geom::Vec2::new(slider.direction[0], slider.direction[1]).normalized();
+                (
+                    "slider-crank: q0 p1 q1",
+                    vec![
+                        ("crank", vec!["q0", "p1"], at("q0").distance(at("p1"))),
+                        ("rod", vec!["p1", "q1"], at("p1").distance(at("q1"))),
+                        ("offset", vec!["q0"], (at("q0") - slider.point).cross(direction).abs()),
+                    ],
+                )
+            }
+        };
+        assert_eq!(a.loops[0].name, name);
+        assert_eq!(a.loops[0].links.len(), expected.len());
+        for (link, (role, joints, length)) in a.loops[0].links.iter().zip(expected) {
+            assert_eq!((link.role, link.joints.iter().map(String::as_str).collect::<Vec<_>>()), (role, joints));
+            assert_close(link.length, length, 1e-9 * (1.0 + length));
+        }
         assert_eq!(a.dyads.len(), a.frames[0].transmission_deg.len());
         // Body angles are continuous (unwrapped).
         for w in a.frames.windows(2) {

@@ -7,64 +7,17 @@
 //! `r_{K−1}–q_K`. Loop k is the four-bar `q_{k−1} r_{k−1} q_k p_k`. K = 1 is the 4R four-bar, K = 2 the
 //! Watt-I six-bar. The slider-crank (K = 1) has the ground pivot `q0`, the crank `q0–p1`, and the body
 //! carries `p1` and the slider joint `q1`, which runs on a fixed line.
+//!
+//! Each family of linkages ([`Family`]) builds its topology and says how it is named, how many poses
+//! it can meet exactly and which loops describe it.
+
+mod family;
+
+pub use crate::scene::MechanismType;
+pub use family::{Family, Loop};
 
 use crate::geom::{Point, Vec2};
 use std::sync::Arc;
-
-/// The two mechanism families.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MechanismType {
-    Chain,
-    SliderCrank,
-}
-
-impl MechanismType {
-    /// Every family, in the order an automatic choice tries them.
-    pub const ALL: [MechanismType; 2] = [MechanismType::Chain, MechanismType::SliderCrank];
-
-    /// The family's word in scene and design files.
-    pub fn id(self) -> &'static str {
-        match self {
-            MechanismType::Chain => "chain",
-            MechanismType::SliderCrank => "slider_crank",
-        }
-    }
-
-    /// What a person calls the family.
-    pub fn label(self) -> &'static str {
-        match self {
-            MechanismType::Chain => "bar chain",
-            MechanismType::SliderCrank => "slider-crank",
-        }
-    }
-
-    /// The family in a few words, for a menu.
-    pub fn description(self) -> &'static str {
-        match self {
-            MechanismType::Chain => "Bar chain (four-bar, six-bar, …)",
-            MechanismType::SliderCrank => "Slider-crank (one moving body)",
-        }
-    }
-
-    /// The most moving bodies a linkage of this family carries (`None`: any number).
-    pub fn max_bodies(self) -> Option<usize> {
-        match self {
-            MechanismType::Chain => None,
-            MechanismType::SliderCrank => Some(1),
-        }
-    }
-
-    /// What a person calls this family's linkage for `bodies` moving bodies.
-    pub fn linkage_label(self, bodies: usize) -> String {
-        match (self, bodies) {
-            (MechanismType::Chain, 1) => "four-bar linkage".to_string(),
-            (MechanismType::Chain, 2) => "Watt-I six-bar linkage".to_string(),
-            (MechanismType::Chain, k) => format!("{}-bar chain", 2 * k + 2),
-            (MechanismType::SliderCrank, _) => "slider-crank".to_string(),
-        }
-    }
-}
 
 /// What a rigid part is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -140,16 +93,10 @@ impl Topology {
         }
     }
 
-    /// The most poses through which this topology generally has exact solutions (paper §4.2): a
-    /// four-bar's dyads up to five poses (Burmester), a longer chain's ternary links up to three, the
-    /// slider-crank's slider joint up to four (a body point on a line in four positions: Ball's point).
-    /// With more poses, a linkage can only approximate the motion.
+    /// The most poses through which this topology generally has exact solutions (paper §4.2,
+    /// [`Family::max_exact_poses`]). With more poses, a linkage can only approximate the motion.
     pub fn max_exact_poses(&self) -> usize {
-        match (self.mechanism_type, self.body_count) {
-            (MechanismType::SliderCrank, _) => 4,
-            (MechanismType::Chain, 1) => 5,
-            (MechanismType::Chain, _) => 3,
-        }
+        self.mechanism_type.family().max_exact_poses(self.body_count)
     }
 
     /// The RRRP slider-crank for one moving body (paper §4.3).

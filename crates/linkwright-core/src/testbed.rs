@@ -13,7 +13,7 @@ use crate::design::{DesignFile, MechanismJson, Metrics, Motion, SliderJson, Stat
 use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
-use crate::scene::{FixedBody, MechanismChoice, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use crate::scene::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::synth::random::splitmix;
 use crate::synth::{CostWeights, SoftTerms};
 use rand::{RngExt, SeedableRng};
@@ -72,8 +72,8 @@ impl Family {
     /// The scene's `mechanism` for this family.
     pub fn choice(self) -> MechanismChoice {
         match self {
-            Family::Chain(_) => MechanismChoice::Chain,
-            Family::SliderCrank => MechanismChoice::SliderCrank,
+            Family::Chain(_) => MechanismChoice::Only(MechanismType::Chain),
+            Family::SliderCrank => MechanismChoice::Only(MechanismType::SliderCrank),
         }
     }
     /// A short name: `chain` or `slider_crank`.

@@ -7,7 +7,7 @@ use crate::files::read_problem;
 use crate::Failure;
 use clap::Args;
 use linkwright_core::design::DesignFile;
-use linkwright_core::scene::{MechanismChoice, Problem, Scene};
+use linkwright_core::scene::{MechanismChoice, MechanismType, Problem, Scene};
 use linkwright_core::synth::{synthesize, Silent};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -54,55 +54,55 @@ const TABLE_1: [PaperObject; 9] = [
     PaperObject {
         label: "Car (K=2)",
         scene: include_str!("../../../examples/k2_folding_roof2.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 2.80,
     },
     PaperObject {
         label: "Wall bed (K=2)",
         scene: include_str!("../../../examples/k2_wall_bed.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 2.38,
     },
     PaperObject {
         label: "Wall chair (K=2)",
         scene: include_str!("../../../examples/k2_wall_chair.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 2.34,
     },
     PaperObject {
         label: "Car (K=3)",
         scene: include_str!("../../../examples/k3_folding_roof.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 4.36,
     },
     PaperObject {
         label: "Power shovel (K=3)",
         scene: include_str!("../../../examples/k3_power_shovel.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 5.01,
     },
     PaperObject {
         label: "Sofa bed (slider-crank)",
         scene: include_str!("../../../examples/k1_sofa_bed.json"),
-        mechanism: MechanismChoice::SliderCrank,
+        mechanism: MechanismChoice::Only(MechanismType::SliderCrank),
         paper_seconds: 0.51,
     },
     PaperObject {
         label: "Bulldozer (slider-crank)",
         scene: include_str!("../../../examples/k1_bulldozer.json"),
-        mechanism: MechanismChoice::SliderCrank,
+        mechanism: MechanismChoice::Only(MechanismType::SliderCrank),
         paper_seconds: 0.69,
     },
     PaperObject {
         label: "Garbage truck (K=1)",
         scene: include_str!("../../../examples/k1_garbage_truck.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 1.26,
     },
     PaperObject {
         label: "Folding table (K=1)",
         scene: include_str!("../../../examples/k1_table.json"),
-        mechanism: MechanismChoice::Chain,
+        mechanism: MechanismChoice::Only(MechanismType::Chain),
         paper_seconds: 0.41,
     },
 ];

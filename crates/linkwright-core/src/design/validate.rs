@@ -294,15 +294,23 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
         }
     }
 
-    // The slider of a slider-crank.
-    match (&m.slider, m.mechanism_type) {
-        (None, MechanismType::SliderCrank) => {
-            out.add(field("slider"), "a slider-crank needs its slider: the joint, the line and the stroke")
+    // The slider, which a family's linkage has or has not.
+    let family = m.mechanism_type.family();
+    let has_slider = family.topology(1).slider_joint.is_some();
+    match (&m.slider, has_slider) {
+        (None, true) => out
+            .add(field("slider"), format!("a {} needs its slider: the joint, the line and the stroke", family.label())),
+        (Some(_), false) => {
+            let with_slider: Vec<String> = MechanismType::ALL
+                .into_iter()
+                .filter(|t| t.family().topology(1).slider_joint.is_some())
+                .map(|t| format!("\"{}\"", t.id()))
+                .collect();
+            let message =
+                format!("a {} has no slider; remove it or set type to {}", family.label(), with_slider.join(" or "));
+            out.add(field("slider"), message)
         }
-        (Some(_), MechanismType::Chain) => {
-            out.add(field("slider"), "a chain has no slider; remove it or set type to \"slider_crank\"")
-        }
-        (Some(s), MechanismType::SliderCrank) => {
+        (Some(s), true) => {
             joint(out, field("slider.joint"), &s.joint);
             out.point(&field("slider.point"), s.point);
             let d = Vec2::new(s.direction[0], s.direction[1]);
@@ -313,7 +321,7 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
                 out.add(field("slider.stroke"), format!("must be two finite numbers within ±{MAX_COORDINATE:e}"));
             }
         }
-        (None, MechanismType::Chain) => {}
+        (None, false) => {}
     }
     if out.0.len() > before {
         return None;

@@ -64,17 +64,112 @@ pub struct MovingBody {
     pub extra: Map<String, Value>,
 }
 
-/// Which kind of linkage to synthesise.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MechanismChoice {
-    /// Try every type that fits the number of moving bodies, keep the best.
-    #[default]
-    Auto,
+/// A family of linkages, by the word scene and design files use for it. This is the family's name
+/// and the one fact a scene's validation needs (how many moving bodies it can carry); what a family
+/// is and how the engine builds it lives with the family, `mechanism::Family`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MechanismType {
     /// The multi-bar chain of paper §4.2 (four-bar for one body, Watt-I six-bar for two, ...).
     Chain,
     /// The RRRP slider-crank of paper §4.3 (one moving body only).
     SliderCrank,
+}
+
+impl MechanismType {
+    /// Every family, in the order an automatic choice tries them.
+    pub const ALL: [MechanismType; 2] = [MechanismType::Chain, MechanismType::SliderCrank];
+
+    /// The family's word in scene and design files.
+    pub const fn id(self) -> &'static str {
+        match self {
+            MechanismType::Chain => "chain",
+            MechanismType::SliderCrank => "slider_crank",
+        }
+    }
+
+    /// The family named `id` in scene and design files.
+    pub fn from_id(id: &str) -> Option<MechanismType> {
+        MechanismType::ALL.into_iter().find(|t| t.id() == id)
+    }
+
+    /// Every family's word, in the order of [`MechanismType::ALL`].
+    pub const IDS: [&'static str; MechanismType::ALL.len()] = {
+        let mut ids = [""; MechanismType::ALL.len()];
+        let mut i = 0;
+        while i < ids.len() {
+            ids[i] = MechanismType::ALL[i].id();
+            i += 1;
+        }
+        ids
+    };
+
+    /// The most moving bodies a linkage of this family carries (`None`: any number).
+    pub fn max_bodies(self) -> Option<usize> {
+        match self {
+            MechanismType::Chain => None,
+            MechanismType::SliderCrank => Some(1),
+        }
+    }
+}
+
+/// Which kind of linkage to synthesise: in the file, `"auto"` or a family's word
+/// ([`MechanismType::id`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MechanismChoice {
+    /// Try every family that fits the number of moving bodies, keep the best.
+    #[default]
+    Auto,
+    /// This family only.
+    Only(MechanismType),
+}
+
+impl MechanismChoice {
+    const AUTO: &'static str = "auto";
+    /// Every word a scene may use: "auto", then each family's.
+    const WORDS: [&'static str; MechanismType::ALL.len() + 1] = {
+        let mut words = [MechanismChoice::AUTO; MechanismType::ALL.len() + 1];
+        let mut i = 0;
+        while i < MechanismType::ALL.len() {
+            words[i + 1] = MechanismType::IDS[i];
+            i += 1;
+        }
+        words
+    };
+}
+
+// A family is written as its word ([`MechanismType::id`]), so the words are defined once.
+impl Serialize for MechanismType {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.id())
+    }
+}
+
+impl<'de> Deserialize<'de> for MechanismType {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let word = String::deserialize(deserializer)?;
+        MechanismType::from_id(&word).ok_or_else(|| serde::de::Error::unknown_variant(&word, &MechanismType::IDS))
+    }
+}
+
+impl Serialize for MechanismChoice {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(match self {
+            MechanismChoice::Auto => MechanismChoice::AUTO,
+            MechanismChoice::Only(family) => family.id(),
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for MechanismChoice {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let word = String::deserialize(deserializer)?;
+        if word == MechanismChoice::AUTO {
+            return Ok(MechanismChoice::Auto);
+        }
+        MechanismType::from_id(&word)
+            .map(MechanismChoice::Only)
+            .ok_or_else(|| serde::de::Error::unknown_variant(&word, &MechanismChoice::WORDS))
+    }
 }
 
 /// Weights of the soft costs (paper eq. 14), each applied to its term in units of the body size d (the
@@ -167,5 +262,27 @@ impl Scene {
     /// The scene as pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a scene always serializes")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mechanism_words_read_and_write_as_the_format_says() {
+        let read = |word: &str| serde_json::from_value::<MechanismChoice>(Value::String(word.into()));
+        assert_eq!(read("auto").unwrap(), MechanismChoice::Auto);
+        assert_eq!(read("chain").unwrap(), MechanismChoice::Only(MechanismType::Chain));
+        assert_eq!(read("slider_crank").unwrap(), MechanismChoice::Only(MechanismType::SliderCrank));
+        let unknown = read("four_bar").unwrap_err().to_string();
+        assert_eq!(unknown, "unknown variant `four_bar`, expected one of `auto`, `chain`, `slider_crank`");
+        for t in MechanismType::ALL {
+            let written = serde_json::to_value(MechanismChoice::Only(t)).unwrap();
+            assert_eq!(written, Value::String(t.id().into()));
+            assert_eq!(serde_json::from_value::<MechanismType>(written).unwrap(), t);
+        }
+        assert_eq!(serde_json::to_value(MechanismChoice::Auto).unwrap(), Value::String("auto".into()));
+        assert!(serde_json::from_value::<MechanismType>(Value::String("auto".into())).is_err());
     }
 }

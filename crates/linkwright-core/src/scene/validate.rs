@@ -4,7 +4,7 @@
 //! It never panics either, whatever the numbers (NaN, infinities, huge values, empty lists): checks that
 //! need sound geometry (the collision checks) skip the bodies whose outline or pose is already reported.
 
-use super::{FixedBody, MechanismChoice, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use super::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::geom::{Aabb, Point, Polygon, PolygonError, Rigid};
 use serde_json::{Map, Value};
 
@@ -355,17 +355,25 @@ fn label(kind: &str, name: &str, path: &str) -> String {
     }
 }
 
-/// The slider-crank of paper §4.3 drives exactly one body.
+/// A family that carries a limited number of bodies (the slider-crank of paper §4.3 drives exactly
+/// one) cannot be asked for more.
 fn check_mechanism(scene: &Scene, out: &mut Issues) {
     let k = scene.moving_bodies.len();
-    if scene.mechanism == MechanismChoice::SliderCrank && k != 1 {
-        out.error(
-            "mechanism",
-            format!(
-                "slider_crank moves exactly one body but the scene has {k}; \
-                 use \"chain\" or \"auto\", or keep one moving body"
-            ),
-        );
+    let MechanismChoice::Only(family) = scene.mechanism else { return };
+    let Some(max) = family.max_bodies() else { return };
+    if k == 0 || k > max {
+        let (carries, keep) = match max {
+            1 => ("exactly one body".to_string(), "one moving body".to_string()),
+            _ => (format!("at most {max} bodies"), format!("at most {max} moving bodies")),
+        };
+        let fitting: String = MechanismType::ALL
+            .into_iter()
+            .filter(|&t| t != family && t.max_bodies().is_none_or(|m| k <= m))
+            .map(|t| format!("\"{}\" or ", t.id()))
+            .collect();
+        let message =
+            format!("{} moves {carries} but the scene has {k}; use {fitting}\"auto\", or keep {keep}", family.id());
+        out.error("mechanism", message);
     }
 }
 
@@ -772,7 +780,7 @@ mod tests {
     #[test]
     fn slider_crank_needs_exactly_one_body() {
         let mut s = scene();
-        s.mechanism = MechanismChoice::SliderCrank;
+        s.mechanism = MechanismChoice::Only(MechanismType::SliderCrank);
         assert_eq!(errors(&s), vec![]);
         s.moving_bodies.clear();
         assert_error(&s, "mechanism", "slider_crank moves exactly one body but the scene has 0");

@@ -35,13 +35,13 @@
 use super::rigidity::turns_over;
 use crate::geom::{Aabb, Point, Rigid, Vec2};
 use crate::kinematics::Plan;
-use crate::mechanism::{MechanismType, PartKind, Topology};
+use crate::mechanism::{PartKind, Topology};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// How often a block is drawn when a solved joint lands far outside the region's box, or a ternary
 /// link leaves a defect ([`Constructor::construct`]).
 const TRIES: usize = 4;
-/// The same for a ternary link through three poses in a chain of [`LONG_CHAIN`] bodies or more. Such
+/// The same for a ternary link through three poses in a long chain ([`crate::mechanism::Family::long_chain`]). Such
 /// a link has finitely many exact solutions (six equations in six unknowns), which fits from random
 /// starts find one at a time, and most of them are turned over or change a loop's branch; with
 /// three or more such links in a row, four tries each leave too few whole samples. Each try's fit
@@ -50,14 +50,6 @@ const TRIES: usize = 4;
 /// three-body chains through three poses took 1.3–3.7 times as long with 16 tries and came no closer
 /// to their poses.
 const LONG_CHAIN_TRIES: usize = 16;
-/// The bodies of a chain whose ternary links get [`LONG_CHAIN_TRIES`] (and whose poses are perturbed
-/// less, see `context::LONG_CHAIN_NOISE`).
-const LONG_CHAIN: usize = 4;
-
-/// Whether `topology` is a chain of [`LONG_CHAIN`] bodies or more.
-pub(crate) fn is_long_chain(topology: &Topology) -> bool {
-    topology.mechanism_type == MechanismType::Chain && topology.body_count >= LONG_CHAIN
-}
 /// How far outside the region's box a solved joint may land, in box diagonals, before the block is
 /// drawn again.
 const BOX_MARGIN: f64 = 0.5;
@@ -99,7 +91,7 @@ pub struct Constructor {
     dyads: Vec<[usize; 3]>,
     /// Every pair of joints on one part.
     part_pairs: Vec<(usize, usize)>,
-    /// A chain of [`LONG_CHAIN`] bodies or more.
+    /// A long chain ([`crate::mechanism::Family::long_chain`]).
     long_chain: bool,
 }
 
@@ -199,7 +191,7 @@ impl Constructor {
             tolerances,
             dyads: Plan::dyad_triangles(topology),
             part_pairs: topology.part_pairs(),
-            long_chain: is_long_chain(topology),
+            long_chain: topology.mechanism_type.family().long_chain(topology.body_count),
         }
     }
 

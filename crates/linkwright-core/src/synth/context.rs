@@ -1,6 +1,5 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
-use super::construct::is_long_chain;
 use super::rigidity::RigidityModel;
 use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
 use crate::mechanism::{MechanismType, PartKind, Topology};
@@ -35,7 +34,7 @@ pub const EXACT_DEVIATION: f64 = 1e-8;
 pub const LAST_POSE_POSITION: f64 = 0.005;
 pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
 
-/// The factor on the pose noise of long chains (four bodies or more, `construct::is_long_chain`). Every body's
+/// The factor on the pose noise of long chains (four bodies or more, [`crate::mechanism::Family::long_chain`]). Every body's
 /// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
 /// relative motion of two perturbed bodies, so the more bodies, the farther the fits land from any
 /// linkage through the drawn poses: their loops lock up between the poses. Chains of four to six
@@ -151,10 +150,8 @@ pub struct Context<'a> {
 
 impl<'a> Context<'a> {
     pub fn new(problem: &'a Problem, mechanism_type: MechanismType) -> Context<'a> {
-        let topology = Arc::new(match mechanism_type {
-            MechanismType::Chain => Topology::chain(problem.body_count()),
-            MechanismType::SliderCrank => Topology::slider_crank(),
-        });
+        let family = mechanism_type.family();
+        let topology = Arc::new(family.topology(problem.body_count()));
         let mut carriers = vec![None; topology.joint_count()];
         for part in &topology.parts {
             if let PartKind::Body(b) = part.kind {
@@ -189,7 +186,8 @@ impl<'a> Context<'a> {
         } else {
             1.0
         };
-        let noise_scale = overdetermined_noise * if is_long_chain(&topology) { LONG_CHAIN_NOISE } else { 1.0 };
+        let noise_scale =
+            overdetermined_noise * if family.long_chain(topology.body_count) { LONG_CHAIN_NOISE } else { 1.0 };
         let unperturbed = problem.settings.pose_tolerance == 0.0;
         Context {
             problem,

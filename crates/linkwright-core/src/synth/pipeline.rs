@@ -128,8 +128,7 @@ pub struct Outcome {
 /// The families a scene asks for.
 pub fn families(problem: &Problem) -> Vec<MechanismType> {
     match problem.mechanism {
-        MechanismChoice::Chain => vec![MechanismType::Chain],
-        MechanismChoice::SliderCrank => vec![MechanismType::SliderCrank],
+        MechanismChoice::Only(family) => vec![family],
         MechanismChoice::Auto => MechanismType::ALL
             .into_iter()
             .filter(|family| family.max_bodies().is_none_or(|max| problem.body_count() <= max))
@@ -366,13 +365,6 @@ fn mark_printable(check: &dyn Acceptance, mut c: Candidate) -> Result<Candidate,
     }
 }
 
-fn family_id(family: MechanismType) -> u64 {
-    match family {
-        MechanismType::Chain => 0,
-        MechanismType::SliderCrank => 1,
-    }
-}
-
 fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     match (a, b) {
         (Some(x), Some(y)) => Some(x.min(y)),
@@ -424,7 +416,7 @@ fn run_family(
     let FamilyStage { ctx, workspace } = stage;
     let settings = &ctx.problem.settings;
     let seed = settings.seed;
-    let family = family_id(family);
+    let family = family.family().stream();
     let warm = !seeds.is_empty();
     let total = if warm { WARM_SAMPLES.min(settings.samples) } else { settings.samples };
     let iterations = if warm { (settings.iterations / 4).max(1).min(settings.iterations) } else { settings.iterations };
@@ -755,7 +747,7 @@ mod tests {
         let mut problem = example("k1_sofa_bed");
         problem.settings.samples = 6_000;
         let ctx = Context::new(&problem, MechanismType::SliderCrank);
-        let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
+        let sampler = Sampler::new(&ctx, MechanismType::SliderCrank.family().stream());
         let (mut valid, mut colliding): (Vec<Candidate>, Vec<Candidate>) =
             defect_free(&ctx, &sampler, problem.settings.seed, 0..problem.settings.samples as u64)
                 .partition(|c| check_collisions(&ctx, c, &mut SweepBuffers::default()).is_ok());
@@ -821,7 +813,7 @@ mod tests {
         let mut problem = example("k1_sofa_bed");
         problem.settings.samples = 12_000;
         let ctx = Context::new(&problem, MechanismType::SliderCrank);
-        let sampler = Sampler::new(&ctx, family_id(MechanismType::SliderCrank));
+        let sampler = Sampler::new(&ctx, MechanismType::SliderCrank.family().stream());
         let seed = problem.settings.seed;
         let draw = |i: usize, scratch: &mut SampleScratch| sampler.draw(seed, i as u64, None, scratch);
         let cap = 1000;

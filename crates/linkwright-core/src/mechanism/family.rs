@@ -1,0 +1,173 @@
+//! Linkage families: what the engine needs to know of each to build, search, analyse and name its
+//! linkages. A new family is one more implementation of [`Family`] in this module, returned by
+//! [`MechanismType::family`] for its word in files.
+
+use super::{MechanismType, Topology};
+
+/// A family of linkages.
+pub trait Family: Sync {
+    /// The family's word in files.
+    fn mechanism_type(&self) -> MechanismType;
+    /// What a person calls the family.
+    fn label(&self) -> &'static str;
+    /// The family in a few words, for a menu.
+    fn description(&self) -> &'static str;
+    /// What a person calls this family's linkage for `bodies` moving bodies.
+    fn linkage_label(&self, bodies: usize) -> String;
+    /// The family's linkage for `bodies` moving bodies (at least one, and at most
+    /// [`MechanismType::max_bodies`]).
+    fn topology(&self, bodies: usize) -> Topology;
+    /// The most poses through which the linkage for `bodies` bodies generally has exact solutions;
+    /// with more, a linkage can only approximate the motion.
+    fn max_exact_poses(&self, bodies: usize) -> usize;
+    /// The loops of `topology` whose types (Grashof's, for a four-bar) describe how it moves.
+    fn loops(&self, topology: &Topology) -> Vec<Loop>;
+    /// Whether the linkage for `bodies` bodies is a long chain of ternary links, which the sampler
+    /// perturbs less and tries harder to close.
+    fn long_chain(&self, _bodies: usize) -> bool {
+        false
+    }
+    /// The family's own stream of random numbers, so adding a family changes no other's samples.
+    fn stream(&self) -> u64;
+}
+
+/// A loop of a linkage, by joint indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Loop {
+    /// A four-bar: the frame `[a, b]` (on the ground or on the body the loop hangs from), the input
+    /// link `[a, c]`, the coupler `[c, d]` and the output link `[b, d]`.
+    FourBar { frame: [usize; 2], input: [usize; 2], coupler: [usize; 2], output: [usize; 2] },
+    /// A slider-crank: the crank turns about `pivot`, its `tip` drives the rod to the `slider` joint.
+    SliderCrank { pivot: usize, tip: usize, slider: usize },
+}
+
+impl MechanismType {
+    /// The family this word names.
+    pub fn family(self) -> &'static dyn Family {
+        match self {
+            MechanismType::Chain => &Chain,
+            MechanismType::SliderCrank => &SliderCrank,
+        }
+    }
+    /// What a person calls the family ([`Family::label`]).
+    pub fn label(self) -> &'static str {
+        self.family().label()
+    }
+    /// The family in a few words, for a menu ([`Family::description`]).
+    pub fn description(self) -> &'static str {
+        self.family().description()
+    }
+    /// What a person calls this family's linkage for `bodies` moving bodies ([`Family::linkage_label`]).
+    pub fn linkage_label(self, bodies: usize) -> String {
+        self.family().linkage_label(bodies)
+    }
+}
+
+/// The multi-bar chain of paper §4.2 (see [`Topology::chain`]).
+struct Chain;
+
+/// Chains of this many bodies or more are long ([`Family::long_chain`]).
+const LONG_CHAIN: usize = 4;
+
+impl Family for Chain {
+    fn mechanism_type(&self) -> MechanismType {
+        MechanismType::Chain
+    }
+    fn label(&self) -> &'static str {
+        "bar chain"
+    }
+    fn description(&self) -> &'static str {
+        "Bar chain (four-bar, six-bar, …)"
+    }
+    fn linkage_label(&self, bodies: usize) -> String {
+        match bodies {
+            1 => "four-bar linkage".to_string(),
+            2 => "Watt-I six-bar linkage".to_string(),
+            k => format!("{}-bar chain", 2 * k + 2),
+        }
+    }
+    fn topology(&self, bodies: usize) -> Topology {
+        Topology::chain(bodies)
+    }
+    /// A four-bar's dyads up to five poses (Burmester), a longer chain's ternary links up to three.
+    fn max_exact_poses(&self, bodies: usize) -> usize {
+        if bodies == 1 {
+            5
+        } else {
+            3
+        }
+    }
+    /// Loop k is the four-bar `q(k−1) r(k−1) q(k) p(k)`, k = 1..K.
+    fn loops(&self, topology: &Topology) -> Vec<Loop> {
+        let joint = |name: String| topology.joint(&name);
+        (1..=topology.body_count)
+            .filter_map(|k| {
+                let (a, b) = (joint(format!("q{}", k - 1))?, joint(format!("r{}", k - 1))?);
+                let (c, d) = (joint(format!("p{k}"))?, joint(format!("q{k}"))?);
+                Some(Loop::FourBar { frame: [a, b], input: [a, c], coupler: [c, d], output: [b, d] })
+            })
+            .collect()
+    }
+    fn long_chain(&self, bodies: usize) -> bool {
+        bodies >= LONG_CHAIN
+    }
+    fn stream(&self) -> u64 {
+        0
+    }
+}
+
+/// The RRRP slider-crank of paper §4.3 (see [`Topology::slider_crank`]).
+struct SliderCrank;
+
+impl Family for SliderCrank {
+    fn mechanism_type(&self) -> MechanismType {
+        MechanismType::SliderCrank
+    }
+    fn label(&self) -> &'static str {
+        "slider-crank"
+    }
+    fn description(&self) -> &'static str {
+        "Slider-crank (one moving body)"
+    }
+    fn linkage_label(&self, _bodies: usize) -> String {
+        "slider-crank".to_string()
+    }
+    fn topology(&self, _bodies: usize) -> Topology {
+        Topology::slider_crank()
+    }
+    /// The slider joint up to four poses: a body point on a line in four positions (Ball's point).
+    fn max_exact_poses(&self, _bodies: usize) -> usize {
+        4
+    }
+    fn loops(&self, topology: &Topology) -> Vec<Loop> {
+        let Some(slider) = topology.slider_joint else { return Vec::new() };
+        vec![Loop::SliderCrank { pivot: topology.driver_pivot, tip: topology.driver_tip, slider }]
+    }
+    fn stream(&self) -> u64 {
+        1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanism::PartKind;
+
+    #[test]
+    fn every_family_names_itself_and_builds_its_linkage() {
+        for t in MechanismType::ALL {
+            let family = t.family();
+            assert_eq!(family.mechanism_type(), t);
+            for bodies in 1..=t.max_bodies().unwrap_or(4) {
+                let topology = family.topology(bodies);
+                assert_eq!(topology.mechanism_type, t);
+                assert_eq!(topology.body_count, bodies);
+                let bodies_carried = topology.parts.iter().filter(|p| matches!(p.kind, PartKind::Body(_))).count();
+                assert_eq!(bodies_carried, bodies);
+                assert!(!family.loops(&topology).is_empty());
+            }
+        }
+        let streams: std::collections::HashSet<u64> = MechanismType::ALL.iter().map(|t| t.family().stream()).collect();
+        assert_eq!(streams.len(), MechanismType::ALL.len(), "each family draws its own numbers");
+    }
+}
