@@ -388,10 +388,10 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
         pose_crank_deg: c.pose_thetas().map(f64::to_degrees).collect(),
     };
     let metrics = Metrics {
-        accuracy: c.soft.accuracy,
-        smoothness: c.soft.smoothness,
-        location: c.soft.location,
-        size: c.soft.size,
+        accuracy: c.soft[crate::synth::Term::Accuracy],
+        smoothness: c.soft[crate::synth::Term::Smoothness],
+        location: c.soft[crate::synth::Term::Location],
+        size: c.soft[crate::synth::Term::Size],
         cost: c.cost,
         min_transmission_deg: c.trace.min_transmission(&c.plan).to_degrees(),
         worst_pose_error: Some(PoseMiss::worst(pose_errors.iter().flatten())),

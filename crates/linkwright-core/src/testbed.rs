@@ -15,7 +15,7 @@ use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::synth::random::splitmix;
-use crate::synth::{CostWeights, SoftTerms};
+use crate::synth::{CostWeights, SoftTerms, Term};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::{PI, TAU};
@@ -563,7 +563,13 @@ fn known_metrics(
     let _ = trace.sweep(plan, start, end, step);
     let min_transmission_deg = trace.min_transmission(plan).to_degrees();
     let (accuracy, location, size) = (accuracy * scale * scale, location * scale, size * scale);
-    let cost = CostWeights::new(weights, d * scale).cost(&SoftTerms { accuracy, smoothness, location, size });
+    let mut soft = SoftTerms::default();
+    for (term, value) in
+        [(Term::Accuracy, accuracy), (Term::Smoothness, smoothness), (Term::Location, location), (Term::Size, size)]
+    {
+        soft[term] = value;
+    }
+    let cost = CostWeights::new(weights, d * scale).cost(&soft);
     Metrics {
         accuracy,
         smoothness,

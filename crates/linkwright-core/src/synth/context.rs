@@ -1,6 +1,7 @@
 //! Everything about one (problem, topology) pair that every candidate needs, computed once.
 
 use super::rigidity::RigidityModel;
+use super::terms::CostWeights;
 use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
@@ -43,48 +44,6 @@ pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
 /// worst 0.12·d. Shorter chains gain nothing from it (K = 2 and 3 through three poses: costs higher
 /// on three of six scenes at a factor of 0.44).
 pub const LONG_CHAIN_NOISE: f64 = 0.1;
-
-/// The soft terms of paper eq. 10–13.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SoftTerms {
-    pub accuracy: f64,
-    pub smoothness: f64,
-    pub location: f64,
-    pub size: f64,
-}
-
-/// The soft-cost weights (paper eq. 14) as factors of the raw terms: the scene's weights apply to the
-/// scale-free terms E_acc / d², E_smooth, E_loc / d and E_size / d, so a weight means the same at any
-/// drawing scale (d: the smallest moving body's size).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CostWeights {
-    /// Per unit of E_acc (length²).
-    pub accuracy: f64,
-    pub smoothness: f64,
-    /// Per unit of E_loc (length).
-    pub location: f64,
-    /// Per unit of E_size (length).
-    pub size: f64,
-}
-
-impl CostWeights {
-    pub fn new(weights: &crate::scene::Weights, body_size: f64) -> CostWeights {
-        CostWeights {
-            accuracy: weights.accuracy / (body_size * body_size),
-            smoothness: weights.smoothness,
-            location: weights.location / body_size,
-            size: weights.size / body_size,
-        }
-    }
-
-    /// The weighted sum of the soft terms (eq. 14, scale-free).
-    pub fn cost(&self, soft: &SoftTerms) -> f64 {
-        self.accuracy * soft.accuracy
-            + self.smoothness * soft.smoothness
-            + self.location * soft.location
-            + self.size * soft.size
-    }
-}
 
 /// Per-topology precomputation for one problem.
 #[derive(Debug)]

@@ -6,7 +6,8 @@
 //! configuration closest to the last pose. Order, branch and circuit defects, poor transmission and
 //! failures to assemble are all judged on that travel.
 
-use super::context::{Context, SoftTerms, CRANK_STEP, END_SEARCH, LAST_POSE_ANGLE_DEG, LAST_POSE_POSITION};
+use super::context::{Context, CRANK_STEP, END_SEARCH, LAST_POSE_ANGLE_DEG, LAST_POSE_POSITION};
+use super::terms::{Floor, SoftTerms, Term};
 use crate::geom::Point;
 use crate::kinematics::{BodyFrames, Branch, Plan, Trace};
 use crate::mechanism::{Mechanism, Topology};
@@ -131,8 +132,8 @@ pub fn evaluate(
 struct Screening {
     /// The reject of the first direction the closed form ruled out, if any.
     first_failure: Option<Reject>,
-    location: f64,
-    size: f64,
+    /// The terms known before any simulation ([`Floor::Exact`]); the others are zero.
+    exact: SoftTerms,
     /// A floor under the cost [`evaluate`] would give.
     floor: f64,
 }
@@ -265,10 +266,9 @@ fn screen(
     }
 
     // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
-    let (location, size) = static_terms(ctx, mechanism);
-    let w = &ctx.weights;
-    let floor = w.location * location + w.size * size + simulated_floor(ctx, mechanism, targets);
-    Ok(Screening { first_failure, location, size, floor })
+    let exact = exact_terms(ctx, mechanism);
+    let floor = ctx.weights.cost_of(&exact, Floor::Exact) + simulated_floor(ctx, mechanism, targets);
+    Ok(Screening { first_failure, exact, floor })
 }
 
 /// Simulates a screened mechanism's travels, shortest first, and returns the first that passes every
@@ -280,7 +280,7 @@ fn simulate(
     screening: Screening,
     scratch: &mut Scratch,
 ) -> Result<Candidate, Reject> {
-    let Screening { mut first_failure, location, size, .. } = screening;
+    let Screening { mut first_failure, exact, .. } = screening;
     let poses = ctx.problem.pose_count;
     // A copy: the simulation uses the scratch (one allocation against a whole simulation).
     let travels = scratch.travels.clone();
@@ -291,8 +291,8 @@ fn simulate(
                 first_failure.get_or_insert(Reject::LastPose);
             }
             Ok((trace, pose_rows)) => {
-                let (accuracy, smoothness) = simulated_terms(ctx, &frames, &trace, &pose_rows, &scratch.targets);
-                let soft = SoftTerms { accuracy, smoothness, location, size };
+                let mut soft = exact;
+                simulated_terms(ctx, &frames, &trace, &pose_rows, &scratch.targets, &mut soft);
                 let cost = ctx.weights.cost(&soft);
                 return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
             }
@@ -484,13 +484,24 @@ fn minimise(a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
     ends.into_iter().min_by(|p, q| p.1.total_cmp(&q.1)).map_or(x, |(t, _)| t)
 }
 
-/// Paper eq. 12–13: location and size, from the joints alone.
-fn static_terms(ctx: &Context, mechanism: &Mechanism) -> (f64, f64) {
+/// The terms computed from the joints alone ([`Floor::Exact`]), the others left zero. Paper eq. 12–13:
+/// location and size.
+fn exact_terms(ctx: &Context, mechanism: &Mechanism) -> SoftTerms {
     let joints = &mechanism.joints;
-    let location = joints.iter().map(|&p| ctx.problem.region.distance(p)).sum::<f64>() / joints.len() as f64;
-    let size =
-        ctx.link_pairs.iter().map(|&(a, b)| joints[a].distance(joints[b])).sum::<f64>() / ctx.link_pairs.len() as f64;
-    (location, size)
+    let mut soft = SoftTerms::default();
+    for term in Term::ALL {
+        soft[term] = match term {
+            Term::Location => joints.iter().map(|&p| ctx.problem.region.distance(p)).sum::<f64>() / joints.len() as f64,
+            Term::Size => {
+                ctx.link_pairs.iter().map(|&(a, b)| joints[a].distance(joints[b])).sum::<f64>()
+                    / ctx.link_pairs.len() as f64
+            }
+            // Measured on the travel (`simulated_terms`), bounded by `simulated_floor`.
+            Term::Accuracy | Term::Smoothness => continue,
+        };
+        debug_assert_eq!(term.floor(), Floor::Exact);
+    }
+    soft
 }
 
 /// A lower bound on `w_acc·accuracy + w_smooth·smoothness` (eq. 10–11) before any simulation, from
@@ -513,14 +524,15 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
     let n = ctx.topology.joint_count();
     let poses = ctx.problem.pose_count;
     let moving = &ctx.moving_joints;
-    if w.accuracy <= 0.0 || w.smoothness < 0.0 || poses < 2 || moving.is_empty() {
+    let (w_accuracy, w_smoothness) = (w[Term::Accuracy], w[Term::Smoothness]);
+    if w_accuracy <= 0.0 || w_smoothness < 0.0 || poses < 2 || moving.is_empty() {
         return 0.0;
     }
     let joints = &mechanism.joints;
     let target = |i: usize, j: usize| targets[i * n + j];
     let f = 0.05 * ctx.body_size;
-    let beta = w.accuracy / (poses * moving.len()) as f64;
-    let per_ratio = w.smoothness / ((poses - 1) * moving.len()) as f64;
+    let beta = w_accuracy / (poses * moving.len()) as f64;
+    let per_ratio = w_smoothness / ((poses - 1) * moving.len()) as f64;
     let inverse_chord = |i: usize, j: usize| 1.0 / (target(i + 1, j).distance(target(i, j)) + f);
     let locus_distance = |i: usize, j: usize| {
         let t = target(i, j);
@@ -535,7 +547,7 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
             .map(|line| line.direction.cross(t - line.point).abs());
         circles.chain(line).fold(0.0, f64::max)
     };
-    let mut floor = w.smoothness;
+    let mut floor = w_smoothness;
     for &j in moving {
         for i in 0..poses {
             let before = if i > 0 { inverse_chord(i - 1, j) } else { 0.0 };
@@ -545,7 +557,7 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
             floor += beta * e * e - alpha * e;
         }
     }
-    let outline_beta = w.accuracy / (poses * ctx.outlines.len().max(1)) as f64;
+    let outline_beta = w_accuracy / (poses * ctx.outlines.len().max(1)) as f64;
     for outline in &ctx.outlines {
         let share = |j: usize| outline.spread / (outline.spread + (joints[j] - outline.first_mean).norm_sq());
         for i in 0..poses {
@@ -567,7 +579,8 @@ fn simulated_terms(
     trace: &Trace,
     pose_rows: &[usize],
     targets: &[Point],
-) -> (f64, f64) {
+    soft: &mut SoftTerms,
+) {
     let n = trace.joint_count;
     let poses = pose_rows.len();
     let moving = &ctx.moving_joints;
@@ -599,7 +612,8 @@ fn simulated_terms(
     }
     smoothness /= (poses - 1) as f64 * count;
 
-    (accuracy, smoothness)
+    soft[Term::Accuracy] = accuracy;
+    soft[Term::Smoothness] = smoothness;
 }
 
 #[cfg(test)]
@@ -630,10 +644,12 @@ mod tests {
                 let Ok(c) = evaluate(&ctx, m, Some(sample_scratch.motions()), f64::INFINITY, &mut scratch) else {
                     continue;
                 };
-                let w = &ctx.weights;
                 let floor = simulated_floor(&ctx, &c.mechanism, &scratch.targets);
-                let simulated = w.accuracy * c.soft.accuracy + w.smoothness * c.soft.smoothness;
+                let simulated = ctx.weights.cost_of(&c.soft, Floor::Simulated);
                 assert!(floor <= simulated, "{name} sample {i}: floor {floor} above {simulated}");
+                // The whole floor, every term's bound, under the whole cost.
+                let whole = cost_floor(&ctx, &c.mechanism, Some(sample_scratch.motions()), &mut scratch).unwrap();
+                assert!(whole <= c.cost, "{name} sample {i}: floor {whole} above the cost {}", c.cost);
                 checked += 1;
                 tight += usize::from(floor > 0.5 * simulated);
             }

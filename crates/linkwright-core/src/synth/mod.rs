@@ -13,16 +13,18 @@ mod refine;
 pub mod rigidity;
 mod sample;
 mod scratch_pool;
+mod terms;
 mod workspace;
 
 pub use collision::{check_collisions, SweepBuffers};
-pub use context::{Context, CostWeights, SoftTerms};
+pub use context::Context;
 pub use evaluate::{evaluate, Candidate, Reject, Scratch};
 pub use pfo::FilterOptions;
 pub use pipeline::{
     families, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats,
     Silent, Stage, Start, WARM_SAMPLES,
 };
+pub use terms::{CostWeights, Floor, SoftTerms, Term};
 pub use workspace::Buffers;
 
 /// Fixtures shared by the synthesis unit tests.

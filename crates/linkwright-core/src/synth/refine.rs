@@ -16,6 +16,7 @@ use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{evaluate, Candidate, Scratch};
 use super::sample::{mechanism_from_x, x_from_mechanism};
+use super::terms::Term;
 use super::workspace::Buffers;
 use crate::kinematics::BodyFrames;
 use nalgebra::{DMatrix, DVector};
@@ -49,9 +50,9 @@ fn residuals(ctx: &Context, c: &Candidate, out: &mut Vec<f64>) {
     let w = &ctx.weights;
     let poses = c.pose_rows.len();
     let moving = &ctx.moving_joints;
-    let scale = (w.accuracy / (poses * moving.len()) as f64).sqrt();
+    let scale = (w[Term::Accuracy] / (poses * moving.len()) as f64).sqrt();
     let frames = BodyFrames::new(&c.mechanism, &ctx.first_poses);
-    let outline_scale = (w.accuracy / (poses * frames.body_count().max(1)) as f64).sqrt();
+    let outline_scale = (w[Term::Accuracy] / (poses * frames.body_count().max(1)) as f64).sqrt();
     for (i, &r) in c.pose_rows.iter().enumerate() {
         let row = c.trace.row(r);
         for &j in moving {
@@ -62,9 +63,13 @@ fn residuals(ctx: &Context, c: &Candidate, out: &mut Vec<f64>) {
             out.extend(ctx.outline_miss(b, i, &frames.isometry(b, row)).map(|m| outline_scale * m));
         }
     }
-    out.push((w.smoothness * c.soft.smoothness).max(0.0).sqrt());
-    out.push((w.location * c.soft.location).max(0.0).sqrt());
-    out.push((w.size * c.soft.size).max(0.0).sqrt());
+    for term in Term::ALL {
+        match term {
+            // Its misses, above.
+            Term::Accuracy => {}
+            Term::Smoothness | Term::Location | Term::Size => out.push((w[term] * c.soft[term]).max(0.0).sqrt()),
+        }
+    }
 }
 
 /// The linkage of parameter vector `x`, projected onto the end poses and judged on the kinematic
