@@ -606,6 +606,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
         screenshot(page, shots, "analysis.png").await?;
         eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
     }
+    true_dimensions(page).await?;
     // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
     // truck carries the pivot), and the design stays on screen.
     let fixed = scene(page).await?["fixed_bodies"].clone();
@@ -700,6 +701,104 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
 
 /// The folding roof, whose roof swings far outside its drawn poses: Fit (F) frames the whole motion
 /// of the design shown.
+/// The drawing's true size: the scale bar measures the linkage shown as the design file dimensions it,
+/// each link is labelled with its length and each ground pivot with its position, in the scene's
+/// units, and the units follow the setting.
+async fn true_dimensions(page: &Page) -> Result<()> {
+    let units = eval(page, "window.linkwright.store.scene.units").await?;
+    let units = units.as_str().ok_or("units")?.to_string();
+    // Pixels per unit from the scale bar, then a link measured on screen with it.
+    let bar = eval(
+        page,
+        "(() => { const g = document.querySelector('.scale-bar'); const r = g.querySelector('path').getBoundingClientRect();          return [Number(g.dataset.length), r.width, g.querySelector('text').textContent]; })()",
+    )
+    .await?;
+    let (length, width) = (bar[0].as_f64().ok_or("bar length")?, bar[1].as_f64().ok_or("bar width")?);
+    assert_eq!(bar[2].as_str(), Some(format!("{length} {units}").as_str()), "the scale bar's label");
+    assert!(width > 30.0 && width <= 121.5, "a scale bar {width} px long");
+    let measured = eval(
+        page,
+        "(() => { const c = (n) => { const r = document.querySelector(`.layer-resultDynamic .joint[data-joint=${n}]`).getBoundingClientRect();          return [r.x + r.width / 2, r.y + r.height / 2]; }; const [a, b] = [c('q0'), c('p1')]; return Math.hypot(a[0] - b[0], a[1] - b[1]); })()",
+    )
+    .await?;
+    let joints = eval(page, "window.linkwright.store.result.mechanism.joints").await?;
+    let joint = |n: &str| floats(&joints[n]);
+    let crank = {
+        let (a, b) = (joint("q0"), joint("p1"));
+        (a[0] - b[0]).hypot(a[1] - b[1])
+    };
+    let on_screen = measured.as_f64().ok_or("measured")? * length / width;
+    assert!(
+        (on_screen - crank).abs() <= 0.02 * crank + 0.5 * length / width,
+        "measured {on_screen}, the crank is {crank}"
+    );
+
+    // Every link side is labelled with its length between the design's joints, to the digits shown.
+    let labels = eval(
+        page,
+        "[...document.querySelectorAll('.layer-dimensions .dimension[data-link]')].map((t) => [t.dataset.link, t.textContent])",
+    )
+    .await?;
+    let labels = labels.as_array().ok_or("labels")?;
+    let links =
+        eval(page, "window.linkwright.store.result.mechanism.parts.filter((p) => p.kind === 'link').length").await?;
+    assert!(labels.len() as u64 >= links.as_u64().ok_or("links")?, "{labels:?}");
+    for label in labels {
+        let (link, text) = (label[0].as_str().ok_or("link")?, label[1].as_str().ok_or("text")?);
+        let (a, b) = link.split_once('-').ok_or("link name")?;
+        let (a, b) = (joint(a), joint(b));
+        let true_length = (a[0] - b[0]).hypot(a[1] - b[1]);
+        let (number, unit) = text.split_once(' ').ok_or("a number and a unit")?;
+        let shown: f64 = number.parse().map_err(|_| format!("{text} is not a length"))?;
+        let decimals = number.split('.').nth(1).map_or(0, str::len) as i32;
+        assert_eq!(unit, units, "{text}");
+        assert!((shown - true_length).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-9, "{link}: {text} for {true_length}");
+    }
+    // Each ground pivot with its position.
+    let pivots = eval(
+        page,
+        "[...document.querySelectorAll('.layer-dimensions .dimension[data-pivot]')].map((t) => [t.dataset.pivot, t.textContent])",
+    )
+    .await?;
+    let fixed = eval(page, "window.linkwright.store.result.analysis.fixed_joints").await?;
+    assert_eq!(pivots.as_array().map(Vec::len), fixed.as_array().map(Vec::len), "{pivots:?}");
+    for pivot in pivots.as_array().ok_or("pivots")? {
+        let (name, text) = (pivot[0].as_str().ok_or("pivot")?, pivot[1].as_str().ok_or("text")?);
+        let inside = text.split_once('(').and_then(|(_, t)| t.strip_suffix(')')).ok_or("(x, y)")?;
+        let at = joint(name);
+        for (number, w) in inside.split(", ").zip(&at) {
+            let v: f64 = number.parse().map_err(|_| format!("{text} is not a position"))?;
+            let decimals = number.split('.').nth(1).map_or(0, str::len) as i32;
+            assert!((v - w).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-9, "{name}: {text} for {at:?}");
+        }
+    }
+
+    // Another unit renames every label (the drawing is not rescaled); the Dimensions box hides them.
+    click(page, "[data-tab=settings]").await?;
+    eval(page, "(() => { const s = document.querySelector('[data-key=units]'); s.value = 'in'; s.dispatchEvent(new Event('change')); })()")
+        .await?;
+    settle(page).await?;
+    let renamed = eval(
+        page,
+        "[document.querySelector('.ruler-units').textContent, document.querySelector('.scale-bar text').textContent,          document.querySelector('.dimension[data-link]')?.textContent ?? '']",
+    )
+    .await?;
+    assert_eq!(renamed[0].as_str(), Some("in"));
+    assert!(
+        renamed[1].as_str().is_some_and(|t| t.ends_with(" in"))
+            && renamed[2].as_str().is_some_and(|t| t.ends_with(" in")),
+        "{renamed}"
+    );
+    undo(page).await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.units").await?.as_str(), Some(units.as_str()));
+    click(page, "[data-tab=result]").await?;
+    click(page, "#opt-dims").await?;
+    assert_eq!(eval(page, "document.querySelectorAll('.layer-dimensions .dimension').length").await?, 0);
+    click(page, "#opt-dims").await?;
+    assert!(eval(page, "document.querySelectorAll('.layer-dimensions .dimension').length").await?.as_u64() > Some(0));
+    Ok(())
+}
+
 async fn folding_roof(page: &Page) -> Result<()> {
     click(page, "#btn-examples").await?;
     until(page, "document.querySelector('[data-example=k2_folding_roof2] svg') !== null", Duration::from_secs(10))

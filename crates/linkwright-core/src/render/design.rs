@@ -18,10 +18,12 @@ const MAX_PATH_POINTS: usize = 720;
 /// (grey), each moving body at every input pose (translucent, numbered from 1), the outline the linkage
 /// reaches at each `pose_steps` configuration (dashed), the joint paths along the trace, the slider
 /// guide, the moving bodies at the first pose, the linkage at the first pose (binary links as thick
-/// lines, the crank red, ternary links as triangles, ground pivots on ground symbols), the joint names
-/// and a title with a legend.
+/// lines, the crank red, ternary links as triangles, ground pivots on ground symbols), the joint names,
+/// a title with a legend, and under the drawing each link's length and each ground pivot's position in
+/// the scene's units.
 pub fn design_svg(input: &RenderInput) -> String {
-    let sheet = Sheet::new(input, MAX_PATH_POINTS, &["1…N: input poses", "dashed: as the linkage reaches them"]);
+    let notes = &["1…N: input poses", "dashed: as the linkage reaches them"];
+    let sheet = Sheet::new(input, MAX_PATH_POINTS, notes).with_footer(dimensions(input));
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
     layers::open_world(&sheet, &mut out);
@@ -36,6 +38,7 @@ pub fn design_svg(input: &RenderInput) -> String {
     layers::pose_numbers(&sheet, &mut out);
     joint_names(&sheet, &mut out);
     layers::title(&sheet, &mut out);
+    layers::footer(&sheet, &mut out);
     close(&mut out, "svg");
     out
 }
@@ -96,5 +99,61 @@ fn joint_names(sheet: &Sheet, out: &mut String) {
     let offset = Vec2::new(sheet.style.joint * 1.3, sheet.style.joint * 1.3);
     for (name, &p) in mechanism.topology.joint_names.iter().zip(&mechanism.joints) {
         label(sheet, p + offset, name, "joint-label", None, out);
+    }
+}
+
+/// What a person building the linkage measures, in the scene's units: every link side's length
+/// (joint to joint) and every ground pivot's position. Labels at the links would bury a compact
+/// linkage, so they are listed, by the joint names the drawing shows.
+pub(crate) fn dimensions(input: &RenderInput) -> Vec<Vec<String>> {
+    let mechanism = input.mechanism;
+    let topology = &mechanism.topology;
+    let (joints, names, units) = (&mechanism.joints, &topology.joint_names, &input.problem.units);
+    let mut links = vec![format!("Links ({units}):")];
+    for part in topology.parts.iter().filter(|p| p.kind == PartKind::Link) {
+        let sides: Vec<(usize, usize)> = match part.joints[..] {
+            [a, b] => vec![(a, b)],
+            ref ring => (0..ring.len()).map(|i| (ring[i], ring[(i + 1) % ring.len()])).collect(),
+        };
+        for (a, b) in sides {
+            links.push(format!("{}–{} {}", names[a], names[b], dimension(joints[a].distance(joints[b]))));
+        }
+    }
+    let mut pivots = vec![format!("Ground pivots ({units}):")];
+    for &j in topology.fixed_joints() {
+        pivots.push(format!("{} ({}, {})", names[j], dimension(joints[j].x), dimension(joints[j].y)));
+    }
+    let mut groups = vec![links, pivots];
+    if let (Some(line), Some(j)) = (mechanism.slider, topology.slider_joint) {
+        let degrees = line.direction.y.atan2(line.direction.x).to_degrees();
+        groups.push(vec![format!(
+            "Slider ({units}): {} runs on the line through ({}, {}) at {}°",
+            names[j],
+            dimension(line.point.x),
+            dimension(line.point.y),
+            dimension(degrees)
+        )]);
+    }
+    groups
+}
+
+/// A length or coordinate for a label: three significant figures, whole units from 100 up.
+pub(crate) fn dimension(v: f64) -> String {
+    let a = v.abs();
+    let decimals = if a >= 100.0 {
+        0
+    } else if a >= 10.0 {
+        1
+    } else if a >= 1.0 {
+        2
+    } else {
+        3
+    };
+    let text = format!("{v:.decimals$}");
+    // No "-0.00" for a value that rounds to zero.
+    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        text.trim_start_matches('-').to_string()
+    } else {
+        text
     }
 }

@@ -200,6 +200,17 @@ pub fn title(sheet: &Sheet, out: &mut String) {
     }
 }
 
+/// The lines under the drawing ([`Sheet::with_footer`]).
+pub fn footer(sheet: &Sheet, out: &mut String) {
+    let k = sheet.pixels_per_unit();
+    let x = sheet.style.margin * 0.5 * k;
+    let top = sheet.band + sheet.world.height();
+    for (i, line) in sheet.footer.iter().enumerate() {
+        let y = (top + (i as f64 + 1.0) * sheet.line_height()) * k;
+        Element::new("text").attr("class", "footer").attr("x", SCREEN.f(x)).attr("y", SCREEN.f(y)).text(line, out);
+    }
+}
+
 /// Part `part` (a link) with its joints at `joints`: a thick line for a binary link (red for the
 /// crank), a filled triangle or polygon for a ternary one. Returned unwritten, so the animation can add
 /// children.

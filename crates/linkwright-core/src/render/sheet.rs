@@ -25,6 +25,8 @@ pub struct Sheet<'a> {
     pub width: f64,
     /// Legend notes after the body colours.
     notes: &'static [&'static str],
+    /// Lines of text under the drawing.
+    pub footer: Vec<String>,
 }
 
 /// The text lines of the title band.
@@ -52,9 +54,40 @@ impl<'a> Sheet<'a> {
             band: 0.0,
             width: 0.0,
             notes,
+            footer: Vec::new(),
         };
         sheet.frame();
         sheet
+    }
+
+    /// The sheet with `groups` of text under the drawing: each group starts a line and wraps at the
+    /// sheet's width, its items spaced apart.
+    pub fn with_footer(mut self, groups: Vec<Vec<String>>) -> Sheet<'a> {
+        let font = self.style.font;
+        let room = self.width - self.style.margin;
+        let gap = "   ";
+        for group in groups {
+            let mut line = String::new();
+            for item in group {
+                let wider = format!("{line}{}{item}", if line.is_empty() { "" } else { gap });
+                if !line.is_empty() && Self::text_width(wider.chars().count(), font) > room {
+                    self.footer.push(std::mem::replace(&mut line, item));
+                } else {
+                    line = wider;
+                }
+            }
+            self.footer.push(line);
+        }
+        self
+    }
+
+    /// Height of the text under the drawing, drawing units.
+    pub fn footer_height(&self) -> f64 {
+        if self.footer.is_empty() {
+            0.0
+        } else {
+            (self.footer.len() as f64 + 0.5) * self.line_height()
+        }
     }
 
     /// The joints in trace row `s` (the first-pose joints when the trace is empty).
@@ -214,13 +247,18 @@ impl<'a> Sheet<'a> {
 
     /// Pixels per drawing unit: the longer side of the picture is [`PIXELS`] wide.
     pub fn pixels_per_unit(&self) -> f64 {
-        PIXELS / self.width.max(self.world.height() + self.band)
+        PIXELS / self.width.max(self.height())
+    }
+
+    /// Height of the picture, drawing units: the title band, the world and the footer.
+    fn height(&self) -> f64 {
+        self.band + self.world.height() + self.footer_height()
     }
 
     /// The picture's size in pixels (its view box is `0 0 width height`).
     pub fn size(&self) -> (f64, f64) {
         let k = self.pixels_per_unit();
-        (self.width * k, (self.world.height() + self.band) * k)
+        (self.width * k, self.height() * k)
     }
 
     /// The world point `p` in picture coordinates (pixels, y down).

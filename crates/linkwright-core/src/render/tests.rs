@@ -201,6 +201,44 @@ fn design_sheet_has_every_layer() {
     assert!(svg.contains("four-bar linkage"));
 }
 
+/// Under the drawing, every link's length and every ground pivot's position, read back and measured
+/// against the mechanism's joints to the digits shown.
+#[test]
+fn design_sheet_lists_the_dimensions_to_build_it() {
+    for f in [four_bar("bed", "bed"), six_bar(), slider_crank()] {
+        let svg = design_svg(&f.input());
+        let doc = Document::parse(&svg).expect("well-formed XML");
+        let footer: Vec<&str> = doc.descendants().filter(class_is("footer")).filter_map(|n| n.text()).collect();
+        let text = footer.join("   ");
+        let topo = &f.mechanism.topology;
+        let joint = |name: &str| f.mechanism.joints[topo.joint(name).unwrap()];
+        // "name value" where value is shown with its own digits: within half its last digit.
+        let close = |shown: &str, truth: f64| {
+            let decimals = shown.split('.').nth(1).map_or(0, str::len) as i32;
+            let v: f64 = shown.parse().unwrap_or_else(|_| panic!("{shown} in {text}"));
+            assert!((v - truth).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-12, "{shown} for {truth} in {text}");
+        };
+        assert!(text.starts_with(&format!("Links ({}):", f.problem.units)), "{text}");
+        for (a, b) in topo.link_pairs() {
+            let (na, nb) = (&topo.joint_names[a], &topo.joint_names[b]);
+            let (key, other) = (format!("{na}–{nb} "), format!("{nb}–{na} "));
+            let at =
+                text.find(&key).or_else(|| text.find(&other)).unwrap_or_else(|| panic!("{key} missing from {text}"));
+            let shown = text[at + key.len()..].split_whitespace().next().unwrap();
+            close(shown, joint(&topo.joint_names[a]).distance(joint(&topo.joint_names[b])));
+        }
+        for &j in topo.fixed_joints() {
+            let key = format!("{} (", topo.joint_names[j]);
+            let at = text.rfind(&key).unwrap_or_else(|| panic!("{key} missing from {text}"));
+            let inside = text[at + key.len()..].split(')').next().unwrap();
+            let (x, y) = inside.split_once(", ").unwrap();
+            close(x, f.mechanism.joints[j].x);
+            close(y, f.mechanism.joints[j].y);
+        }
+        assert_eq!(text.contains("Slider ("), f.mechanism.slider.is_some(), "{text}");
+    }
+}
+
 /// The world group's `matrix(a,b,c,d,e,f)` as a map from world to picture coordinates.
 fn world_to_screen(doc: &Document) -> impl Fn(Point) -> (f64, f64) {
     let world = doc.descendants().find(|n| n.attribute("transform").is_some_and(|t| t.starts_with("matrix("))).unwrap();

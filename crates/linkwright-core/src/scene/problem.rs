@@ -62,6 +62,8 @@ impl PoseMiss {
 #[derive(Clone, Debug)]
 pub struct Problem {
     pub name: String,
+    /// What one unit of the drawing is ("mm"), for labels.
+    pub units: String,
     pub fixed: Vec<Polygon>,
     pub bodies: Vec<MovingBodyProblem>,
     /// Where the joints should be at the first pose (soft).
@@ -130,6 +132,7 @@ impl Problem {
         let avoid: Vec<Polygon> = scene.avoid_regions.iter().map(|r| Polygon::new(r.clone())).collect();
         Ok(Problem {
             name: scene.name.clone(),
+            units: scene.units.clone(),
             fixed,
             pose_count: bodies[0].poses.len(),
             bodies,

@@ -15,6 +15,21 @@ export const GRAB_PX = 9;
 const ROTATE_PX = 28;
 /** Outlines with more corners than this (curves) get no corner handles. */
 const MAX_VERTEX_HANDLES = 16;
+/** Width of the rulers along the canvas' top and left edges, pixels. */
+const RULER_PX = 18;
+
+/** A length for a label: as many decimals as `resolution` (the smallest step shown) needs, no more. */
+export function formatLength(value, resolution = Math.abs(value)) {
+  const decimals = Math.max(0, Math.min(4, -Math.floor(Math.log10(Math.abs(resolution) || 1) + 1e-9)));
+  const text = (Math.abs(value) < resolution * 1e-6 ? 0 : value).toFixed(decimals);
+  return text === '-0' ? '0' : text;
+}
+
+/** A length with three significant figures (whole units from 100 up). */
+export function formatDimension(value) {
+  const a = Math.abs(value);
+  return value.toFixed(a >= 100 ? 0 : a >= 10 ? 1 : a >= 1 ? 2 : 3);
+}
 
 export class Canvas {
   constructor(root, store, viewport) {
@@ -23,7 +38,7 @@ export class Canvas {
     this.view = viewport;
     this.preview = null; // {points: world[], cursor: world|null, kind, closed}
     this.layers = {};
-    for (const name of ['grid', 'scene', 'resultStatic', 'resultDynamic', 'overlay']) {
+    for (const name of ['grid', 'scene', 'resultStatic', 'resultDynamic', 'dimensions', 'overlay', 'rulers']) {
       this.layers[name] = svg('g', { class: `layer-${name}` });
       root.append(this.layers[name]);
     }
@@ -42,6 +57,7 @@ export class Canvas {
     this.renderResultStatic();
     this.renderResultFrame(this.frame);
     this.renderOverlay();
+    this.renderRulers();
   }
 
   renderGrid() {
@@ -60,6 +76,45 @@ export class Canvas {
       lines.push(svg('line', { x1: 0, y1: sy, x2: v.width, y2: sy, class: `grid-${kind(y)}` }));
     }
     g.append(...lines);
+  }
+
+  /** Rulers along the top and left edges, in the scene's units, and a scale bar: always shown, so the
+   * drawing's true size is never in doubt. */
+  renderRulers() {
+    const g = clear(this.layers.rulers);
+    const v = this.view, units = this.store.scene.units || 'mm';
+    // Labelled ticks at least 60 px apart (room for a number), minor ticks at a fifth of that.
+    const step = v.gridStep(60), minor = step / 5, box = v.visible();
+    const out = [
+      svg('rect', { class: 'ruler', x: 0, y: 0, width: v.width, height: RULER_PX }),
+      svg('rect', { class: 'ruler', x: 0, y: 0, width: RULER_PX, height: v.height }),
+    ];
+    for (let x = Math.ceil(box.minX / minor) * minor; x <= box.maxX; x += minor) {
+      const sx = v.toScreen([x, 0])[0], labelled = Math.abs(x / step - Math.round(x / step)) < 1e-6;
+      if (sx < RULER_PX) continue;
+      out.push(svg('line', { class: 'ruler-tick', x1: sx, y1: RULER_PX, x2: sx, y2: RULER_PX - (labelled ? 8 : 4) }));
+      if (labelled) out.push(svg('text', { class: 'ruler-label', x: sx + 2, y: 10, text: formatLength(x, step) }));
+    }
+    for (let y = Math.ceil(box.minY / minor) * minor; y <= box.maxY; y += minor) {
+      const sy = v.toScreen([0, y])[1], labelled = Math.abs(y / step - Math.round(y / step)) < 1e-6;
+      if (sy < RULER_PX) continue;
+      out.push(svg('line', { class: 'ruler-tick', x1: RULER_PX, y1: sy, x2: RULER_PX - (labelled ? 8 : 4), y2: sy }));
+      // Written upwards from the tick, so none near the corner.
+      if (labelled && sy > RULER_PX + 30) {
+        out.push(svg('text', { class: 'ruler-label', x: 10, y: sy - 2, transform: `rotate(-90 10 ${sy - 2})`, text: formatLength(y, step) }));
+      }
+    }
+    // The corner names the unit.
+    out.push(svg('rect', { class: 'ruler corner', x: 0, y: 0, width: RULER_PX, height: RULER_PX }));
+    out.push(svg('text', { class: 'ruler-units', x: RULER_PX / 2, y: RULER_PX / 2, 'text-anchor': 'middle', dy: '0.35em', text: units }));
+    // The scale bar, top right (the player covers the bottom while a design plays).
+    const length = v.niceLength(120);
+    const px = length * v.k, x1 = v.width - 14, y0 = RULER_PX + 24;
+    out.push(svg('g', { class: 'scale-bar', 'data-length': length }, [
+      svg('path', { d: `M${x1 - px},${y0 - 5} v5 h${px} v-5` }),
+      svg('text', { x: x1 - px / 2, y: y0 - 8, 'text-anchor': 'middle', text: `${formatLength(length, length)} ${units}` }),
+    ]));
+    g.append(...out);
   }
 
   poly(world, attrs) {
@@ -132,6 +187,7 @@ export class Canvas {
   /** The bodies and the linkage at one frame ({joints, bodies}); null hides them. */
   renderResultFrame(frame) {
     this.frame = frame;
+    this.renderDimensions(frame);
     const g = clear(this.layers.resultDynamic);
     const r = this.store.result;
     if (!frame || !this.resultShown || !r?.analysis) return;
@@ -181,6 +237,45 @@ export class Canvas {
       const p = at(name);
       g.append(svg('circle', { class: 'joint', cx: p[0], cy: p[1], r: 4.5, 'data-joint': name }));
     });
+  }
+
+  /** Each link's length at its middle and each ground pivot's position beside it, in the scene's
+   * units, from the design's own joints (lengths do not change along the motion). */
+  renderDimensions(frame) {
+    const g = clear(this.layers.dimensions);
+    const r = this.store.result;
+    const m = r?.mechanism;
+    if (!frame || !this.resultShown || !r?.analysis || !m || this.store.ui.dimensions === false) return;
+    const index = new Map(r.analysis.joint_names.map((n, j) => [n, j]));
+    const at = (name) => this.s(frame.joints[index.get(name)]);
+    const units = this.store.scene.units || 'mm';
+    const label = (p, text, cls, attrs = {}) => svg('text', { class: cls, x: p[0], y: p[1], text, ...attrs });
+    for (const part of m.parts) {
+      if (part.kind !== 'link') continue;
+      const names = part.joints.filter((n) => index.has(n) && m.joints[n]);
+      // A binary link has one side; a ternary link three.
+      const sides = names.length === 2 ? [[names[0], names[1]]] : names.map((n, i) => [n, names[(i + 1) % names.length]]);
+      for (const [a, b] of sides) {
+        const [pa, pb] = [at(a), at(b)];
+        const length = Math.hypot(m.joints[a][0] - m.joints[b][0], m.joints[a][1] - m.joints[b][1]);
+        // Beside the link's middle, on the side away from the screen's top left, upright.
+        const mid = [(pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2];
+        const len = Math.hypot(pb[0] - pa[0], pb[1] - pa[1]) || 1;
+        let normal = [-(pb[1] - pa[1]) / len, (pb[0] - pa[0]) / len];
+        if (normal[1] < 0) normal = [-normal[0], -normal[1]];
+        g.append(label([mid[0] + normal[0] * 12, mid[1] + normal[1] * 12], `${formatDimension(length)} ${units}`, 'dimension', {
+          'text-anchor': 'middle', dy: '0.35em', 'data-link': `${a}-${b}`, 'data-length': length,
+        }));
+      }
+    }
+    for (const name of r.analysis.fixed_joints) {
+      const q = m.joints[name];
+      if (!q || !index.has(name)) continue;
+      const p = at(name);
+      g.append(label([p[0] + 12, p[1] + 26], `${name} (${formatDimension(q[0])}, ${formatDimension(q[1])})`, 'dimension pivot', {
+        'data-pivot': name,
+      }));
+    }
   }
 
   renderOverlay() {

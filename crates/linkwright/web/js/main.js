@@ -24,7 +24,7 @@ const canvas = new Canvas(root, store, view);
 const results = new Results(store, canvas, {
   job: $('job'), jobFill: $('job-fill'), jobText: $('job-text'), design: $('btn-design'), cancel: $('btn-cancel'),
   player: $('player'), play: $('btn-play'), scrub: $('scrub'), readout: $('crank-readout'), speed: $('speed'),
-  paths: $('opt-paths'), edit: $('btn-edit'), show: $('btn-show'), live: $('opt-live'),
+  paths: $('opt-paths'), dims: $('opt-dims'), edit: $('btn-edit'), show: $('btn-show'), live: $('opt-live'),
 }, F.saveBlob);
 results.fab = new Fabricator(store, results, {
   view: $('view3d'), canvas: $('view3d-canvas'), legend: $('view3d-legend'), toggle: $('btn-3d'),

@@ -132,7 +132,14 @@ export function renderSettingsTab(host, store) {
     number(st.seed, 'seed', (v) => setSetting('seed', Math.max(0, Math.round(v))), { min: 0, step: 1 }),
     html('button', { class: 'small', text: 'New seed', title: 'Another random search', onclick: () => setSetting('seed', Math.floor(Math.random() * 1e6)) }),
   ]);
+  const knownUnits = ['mm', 'cm', 'm', 'in', 'ft'];
+  const units = html('select', {
+    'data-key': 'units', 'aria-label': 'Units',
+    onchange: (e) => store.edit('units', (s) => { s.units = e.target.value; }),
+  }, [...new Set([...knownUnits, scene.units || 'mm'])].map((u) => html('option', { value: u, text: u, selected: (scene.units || 'mm') === u })));
   rebuild(host, [
+    html('h3', { text: 'Drawing' }),
+    row('Units', units, 'what one unit of the drawing is; changing it renames the unit, it does not rescale the drawing'),
     html('h3', { text: 'Mechanism' }),
     html('div', { class: 'field wide' }, [html('label', { text: 'Type' }), mechanism]),
     html('h3', { text: 'What matters most' }),

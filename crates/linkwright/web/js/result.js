@@ -37,7 +37,7 @@ export class Results {
   constructor(store, canvas, els, save) {
     this.store = store;
     this.canvas = canvas;
-    this.els = els; // {job, jobFill, jobText, design, cancel, player, play, scrub, readout, speed, paths, edit, tab}
+    this.els = els; // {job, jobFill, jobText, design, cancel, player, play, scrub, readout, speed, paths, dims, edit, tab}
     this.save = save; // (blob, filename) => void
     this.fitView = () => {}; // frames the view (set by the app)
     this.controller = null;
@@ -60,6 +60,7 @@ export class Results {
     });
     els.speed.addEventListener('change', () => { this.speed = Number(els.speed.value) || 1; });
     els.paths.addEventListener('change', () => this.store.setUi({ paths: els.paths.checked }));
+    els.dims.addEventListener('change', () => this.store.setUi({ dimensions: els.dims.checked }));
     els.edit.addEventListener('click', () => this.leave());
     els.live.addEventListener('change', () => {
       this.store.setUi({ live: els.live.checked });

@@ -68,6 +68,13 @@ export class Viewport {
     return 10 * p;
   }
 
+  /** The largest length of 1, 2 or 5 × 10ⁿ world units at most `maxPx` long on screen (a scale bar). */
+  niceLength(maxPx) {
+    const raw = maxPx / this.k;
+    const p = 10 ** Math.floor(Math.log10(raw));
+    return [5, 2, 1].map((m) => m * p).find((l) => l <= raw) ?? p;
+  }
+
   /** The world box on screen. */
   visible() {
     const a = this.toWorld([0, this.height]), b = this.toWorld([this.width, 0]);
