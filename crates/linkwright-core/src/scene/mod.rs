@@ -31,6 +31,11 @@ pub struct Scene {
     pub avoid_regions: Vec<Vec<Point>>,
     #[serde(default)]
     pub mechanism: MechanismChoice,
+    /// Poses (by index from 0, for every moving body at once) the linkage must reach as closely as the
+    /// first and last, where the object rests: within 0.5% of a body's size and 0.5°. Other
+    /// intermediate poses are guides the design may pass near.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub must_hit_poses: Vec<usize>,
     #[serde(default)]
     pub weights: Weights,
     #[serde(default)]

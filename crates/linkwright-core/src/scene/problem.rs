@@ -75,6 +75,9 @@ pub struct Problem {
     pub settings: Settings,
     /// Number of poses N, the same for every body.
     pub pose_count: usize,
+    /// Per pose, whether the linkage must reach it (within 0.5% of d and 0.5°): the first, the last
+    /// and the scene's must-hit poses.
+    pub must_hit: Vec<bool>,
     /// The diagonal of everything drawn: the length every absolute tolerance is a fraction of.
     pub scale: f64,
     /// Warnings found while validating (errors make [`Problem::new`] fail).
@@ -135,6 +138,9 @@ impl Problem {
             units: scene.units.clone(),
             fixed,
             pose_count: bodies[0].poses.len(),
+            must_hit: (0..bodies[0].poses.len())
+                .map(|i| i == 0 || i + 1 == bodies[0].poses.len() || scene.must_hit_poses.contains(&i))
+                .collect(),
             bodies,
             region,
             avoid,

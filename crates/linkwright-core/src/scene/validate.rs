@@ -111,6 +111,7 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
         out.polygon(&format!("avoid_regions[{i}]"), region);
     }
     check_mechanism(scene, &mut out);
+    check_must_hit(scene, &mut out);
     check_weights(&scene.weights, &mut out);
     check_settings(&scene.settings, &mut out);
     check_work(scene, &mut out);
@@ -374,6 +375,24 @@ fn check_mechanism(scene: &Scene, out: &mut Issues) {
         let message =
             format!("{} moves {carries} but the scene has {k}; use {fitting}\"auto\", or keep {keep}", family.id());
         out.error("mechanism", message);
+    }
+}
+
+/// Each must-hit pose is one the bodies have.
+fn check_must_hit(scene: &Scene, out: &mut Issues) {
+    let poses = scene.moving_bodies.first().map_or(0, |b| b.poses.len());
+    for (k, &i) in scene.must_hit_poses.iter().enumerate() {
+        if i >= poses {
+            out.error(
+                format!("must_hit_poses[{k}]"),
+                format!(
+                    "there is no pose {i}: the moving bodies have {poses} poses, numbered from 0 to {}",
+                    poses.max(1) - 1
+                ),
+            );
+        } else if scene.must_hit_poses[..k].contains(&i) {
+            out.warning(format!("must_hit_poses[{k}]"), format!("pose {i} is listed twice; once is enough"));
+        }
     }
 }
 
@@ -775,6 +794,20 @@ mod tests {
         let issues = validate(&s);
         assert!(issues.iter().all(|i| i.severity == Severity::Warning), "{issues:?}");
         assert!(issues.iter().any(|i| i.field == "fixed_bodies" && i.message.contains("no fixed body")), "{issues:?}");
+    }
+
+    #[test]
+    fn must_hit_poses_are_poses_the_bodies_have() {
+        let mut s = scene();
+        let poses = s.moving_bodies[0].poses.len();
+        s.must_hit_poses = vec![1, 1, poses];
+        assert_error(&s, "must_hit_poses[2]", &format!("there is no pose {poses}"));
+        let issues = validate(&s);
+        assert!(issues.iter().any(|i| i.field == "must_hit_poses[1]" && i.severity == Severity::Warning), "{issues:?}");
+        s.must_hit_poses = vec![1];
+        assert_eq!(errors(&s), vec![]);
+        let problem = crate::scene::Problem::new(&s).unwrap();
+        assert_eq!(problem.must_hit, (0..poses).map(|i| i == 0 || i == 1 || i == poses - 1).collect::<Vec<_>>());
     }
 
     #[test]

@@ -24,16 +24,17 @@ pub const ACCEPT_DEVIATION: f64 = 0.05;
 /// built from their first-pose joints is simulated and charged by E_acc (paper §4.2), so the gate only
 /// keeps out fits that are far from any linkage.
 pub const OVERDETERMINED_DEVIATION: f64 = 0.5;
-/// The first and last poses are where the object rests: a linkage is kept rigid through them to this
-/// fraction of d (its links' lengths at the last pose), which puts the body at the last pose to well
-/// under 0.5% of d.
+/// The first and last poses are where the object rests, and a scene may mark intermediate poses that
+/// must be hit as well (`Problem::must_hit`): a linkage is kept rigid through them to this fraction of
+/// d (its links' lengths at those poses), which puts the body there to well under 0.5% of d.
 pub const END_DEVIATION: f64 = 1e-5;
 /// The same bound when every pose must be hit exactly (`pose_tolerance` 0).
 pub const EXACT_DEVIATION: f64 = 1e-8;
-/// A design's bodies come to rest within this fraction of their size d of the last pose, and within
-/// [`LAST_POSE_ANGLE_DEG`]: the closed lid closes.
-pub const LAST_POSE_POSITION: f64 = 0.005;
-pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
+/// A design's bodies pass each must-hit pose (the last, where they come to rest, among them) within
+/// this fraction of their size d, and within [`MUST_HIT_ANGLE_DEG`]: the closed lid closes.
+pub const MUST_HIT_POSITION: f64 = 0.005;
+/// The angle a design may miss a must-hit pose by, degrees.
+pub const MUST_HIT_ANGLE_DEG: f64 = 0.5;
 
 /// The factor on the pose noise of long chains (four bodies or more, [`crate::mechanism::Family::long_chain`]). Every body's
 /// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
@@ -102,9 +103,9 @@ pub struct Context<'a> {
     /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited). Long chains
     /// take `LONG_CHAIN_NOISE` on top.
     pub noise_scale: f64,
-    /// `end_motions[b]`: body b's motion to its first and to its last pose, the poses every linkage is
-    /// kept rigid through (`END_DEVIATION`).
-    pub end_motions: Vec<Vec<Rigid>>,
+    /// `must_hit_motions[b]`: body b's motion to each must-hit pose (the first, the last and those the
+    /// scene marks), the poses every linkage is kept rigid through (`END_DEVIATION`).
+    pub must_hit_motions: Vec<Vec<Rigid>>,
 }
 
 impl<'a> Context<'a> {
@@ -138,7 +139,10 @@ impl<'a> Context<'a> {
         let collision_pairs = watched_pairs(problem, link_pairs.len());
         let motions: Vec<Vec<Rigid>> =
             problem.bodies.iter().map(|b| (0..problem.pose_count).map(|i| b.motion_from_first(i)).collect()).collect();
-        let end_motions = motions.iter().map(|m| vec![m[0], m[m.len() - 1]]).collect();
+        let must_hit_motions = motions
+            .iter()
+            .map(|m| m.iter().zip(&problem.must_hit).filter(|(_, &hit)| hit).map(|(&motion, _)| motion).collect())
+            .collect();
         let overdetermined = problem.pose_count > topology.max_exact_poses();
         let overdetermined_noise = if overdetermined {
             ((topology.max_exact_poses() - 2) as f64 / (problem.pose_count - 2) as f64).powi(2)
@@ -156,7 +160,7 @@ impl<'a> Context<'a> {
             link_pairs,
             part_pairs: topology.part_pairs(),
             motions,
-            end_motions,
+            must_hit_motions,
             first_poses: problem.bodies.iter().map(|b| b.poses[0]).collect(),
             body_size,
             weights: CostWeights::new(&problem.weights, body_size),
@@ -206,28 +210,28 @@ impl<'a> Context<'a> {
 
     /// Moves parameter vector `x` (a particle filter's proposal, say) to a nearby linkage this run may
     /// keep: one that hits every input pose when the run is exact, else one that reaches the end poses
-    /// ([`Context::keep_end_poses`]). False when there is none nearby.
+    /// ([`Context::through_must_hit_poses`]). False when there is none nearby.
     pub fn project(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
         if self.exact {
             let deviation = self.rigidity.fit(x, &self.motions, self.body_size, fit).max_relative_deviation;
             deviation <= EXACT_DEVIATION && !self.rigidity.mirrored(x, &self.motions, self.body_size)
         } else {
-            self.keep_end_poses(x, fit)
+            self.through_must_hit_poses(x, fit)
         }
     }
 
-    /// Moves parameter vector `x` to a nearby linkage that is rigid through the first and last input
-    /// poses (`END_DEVIATION`) with no ternary link turned over, so its body reaches the last pose;
-    /// false when no such linkage is near.
-    /// Two poses leave a link one equation to meet, so from a start close to rigid the fit ends close by.
-    pub fn keep_end_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
-        if self.rigidity.relative_deviation(x, &self.end_motions, self.body_size) > END_DEVIATION {
-            let deviation = self.rigidity.fit(x, &self.end_motions, self.body_size, fit).max_relative_deviation;
+    /// Moves parameter vector `x` to a nearby linkage that is rigid through the must-hit poses (the
+    /// first, the last and those the scene marks; `END_DEVIATION`) with no ternary link turned over, so
+    /// its bodies reach them; false when no such linkage is near. Two poses leave a link one equation
+    /// to meet, so from a start close to rigid the fit ends close by.
+    pub fn through_must_hit_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
+        if self.rigidity.relative_deviation(x, &self.must_hit_motions, self.body_size) > END_DEVIATION {
+            let deviation = self.rigidity.fit(x, &self.must_hit_motions, self.body_size, fit).max_relative_deviation;
             if deviation > END_DEVIATION {
                 return false;
             }
         }
-        !self.rigidity.mirrored(x, &self.end_motions, self.body_size)
+        !self.rigidity.mirrored(x, &self.must_hit_motions, self.body_size)
     }
 
     /// How far body `b`'s outline is from input pose `i` when the body is at `reached`: the miss of

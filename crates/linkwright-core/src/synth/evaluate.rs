@@ -6,7 +6,7 @@
 //! configuration closest to the last pose. Order, branch and circuit defects, poor transmission and
 //! failures to assemble are all judged on that travel.
 
-use super::context::{Context, CRANK_STEP, END_SEARCH, LAST_POSE_ANGLE_DEG, LAST_POSE_POSITION};
+use super::context::{Context, CRANK_STEP, END_SEARCH, MUST_HIT_ANGLE_DEG, MUST_HIT_POSITION};
 use super::terms::{Floor, SoftTerms, Term};
 use crate::geom::Point;
 use crate::kinematics::{BodyFrames, Branch, Plan, Trace};
@@ -27,10 +27,10 @@ pub enum Reject {
     Assembly,
     /// A transmission angle comes closer to 0° or 180° than allowed (§5.4).
     Transmission,
-    /// A body ends its travel away from its last pose (a link that turns over on the way, say),
-    /// though the linkage is rigid through the first and last poses: the object would not come to
-    /// rest where it was drawn.
-    LastPose,
+    /// A body passes a pose it must hit (its last, where it comes to rest, or one the scene marks)
+    /// away from it (a link that turns over on the way, say), though the linkage is rigid through
+    /// those poses: the object would not be where it was drawn.
+    MissedPose,
     /// A link enters an avoid region.
     AvoidRegion,
     /// A moving body penetrates a fixed body or another moving body (§5.5).
@@ -49,7 +49,7 @@ impl Reject {
         Reject::Branch,
         Reject::Assembly,
         Reject::Transmission,
-        Reject::LastPose,
+        Reject::MissedPose,
         Reject::AvoidRegion,
         Reject::Collision,
         Reject::Unprintable,
@@ -287,8 +287,8 @@ fn simulate(
     let frames = BodyFrames::new(&mechanism, &ctx.first_poses);
     for angles in travels.chunks_exact(poses) {
         match travel(ctx, &plan, angles, scratch) {
-            Ok((trace, pose_rows)) if misses_last_pose(ctx, &frames, &trace, &pose_rows) => {
-                first_failure.get_or_insert(Reject::LastPose);
+            Ok((trace, pose_rows)) if misses_must_hit_pose(ctx, &frames, &trace, &pose_rows) => {
+                first_failure.get_or_insert(Reject::MissedPose);
             }
             Ok((trace, pose_rows)) => {
                 let mut soft = exact;
@@ -304,14 +304,17 @@ fn simulate(
     Err(first_failure.unwrap_or(Reject::Assembly))
 }
 
-/// True when some body, in the configuration `trace` offers for the last pose, is farther from that
-/// pose than [`LAST_POSE_POSITION`] of its size d or [`LAST_POSE_ANGLE_DEG`].
-fn misses_last_pose(ctx: &Context, frames: &BodyFrames, trace: &Trace, pose_rows: &[usize]) -> bool {
-    let last = pose_rows.len() - 1;
-    let row = trace.row(pose_rows[last]);
-    ctx.problem.bodies.iter().enumerate().any(|(b, body)| {
-        let miss = body.miss(last, &frames.pose(b, row));
-        miss.position_rel_d > LAST_POSE_POSITION || miss.angle_deg > LAST_POSE_ANGLE_DEG
+/// True when some body, in the configuration `trace` offers for a must-hit pose after the first (where
+/// the joints are given), is farther from that pose than [`MUST_HIT_POSITION`] of its size d or
+/// [`MUST_HIT_ANGLE_DEG`].
+fn misses_must_hit_pose(ctx: &Context, frames: &BodyFrames, trace: &Trace, pose_rows: &[usize]) -> bool {
+    let must_hit = &ctx.problem.must_hit;
+    (1..pose_rows.len()).rev().filter(|&i| must_hit[i]).any(|i| {
+        let row = trace.row(pose_rows[i]);
+        ctx.problem.bodies.iter().enumerate().any(|(b, body)| {
+            let miss = body.miss(i, &frames.pose(b, row));
+            miss.position_rel_d > MUST_HIT_POSITION || miss.angle_deg > MUST_HIT_ANGLE_DEG
+        })
     })
 }
 

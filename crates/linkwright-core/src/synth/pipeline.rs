@@ -669,6 +669,18 @@ fn distinct(a: &Candidate, b: &Candidate, min_shift: f64) -> bool {
 /// What to tell the person when nothing valid was found: the checks that rejected most, each with
 /// what to change.
 fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
+    let must_hit = problem.must_hit.iter().filter(|&&hit| hit).count();
+    let most_exact = families(problem)
+        .into_iter()
+        .map(|family| family.family().max_exact_poses(problem.body_count()))
+        .max()
+        .unwrap_or(0);
+    if must_hit > most_exact {
+        return format!(
+            "{must_hit} poses must be hit (the first, the last and must_hit_poses), but these linkages pass at \
+             most {most_exact} poses exactly: mark fewer must_hit_poses."
+        );
+    }
     if stats.fitted == 0 {
         return format!(
             "No linkage could be fitted through the poses ({} samples): the poses may ask for a motion no \
@@ -699,9 +711,14 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
              or lower settings.min_transmission_deg",
             problem.settings.min_transmission_deg
         ),
-        Reject::LastPose => "linkages ended away from the last pose (a link turned over on the way): add an \
-                             intermediate pose where the body turns most, or move the linkage_region"
-            .to_string(),
+        Reject::MissedPose => {
+            let marked = problem.must_hit.iter().filter(|&&hit| hit).count() > 2;
+            format!(
+                "linkages passed a pose they must hit away from it (a link turned over on the way): add an \
+                 intermediate pose where the body turns most, or move the linkage_region{}",
+                if marked { ", or mark fewer must_hit_poses" } else { "" }
+            )
+        }
         Reject::AvoidRegion => "links crossed an avoid region: shrink the avoid_regions or move the \
                                 linkage_region away from them"
             .to_string(),

@@ -141,15 +141,15 @@ impl<'c, 'p> Sampler<'c, 'p> {
         // A fit that balanced its residual over every pose is moved onto one through the end poses
         // (a construction left unpolished already is: `constructions_left_unpolished_are_rigid`); one
         // already rigid through them still needs its ternary links the right way round (`mirrored`),
-        // which `keep_end_poses` checks too, and the construction did for its own links.
+        // which `through_must_hit_poses` checks too, and the construction did for its own links.
         let through_end_poses = if deviation > END_DEVIATION {
             // The fit reads the slider's angle in `x` and may turn it.
             if let Some(direction) = slider_direction.take() {
                 scratch.x[2 * n] = direction.angle();
             }
-            ctx.keep_end_poses(&mut scratch.x, &mut scratch.fit)
+            ctx.through_must_hit_poses(&mut scratch.x, &mut scratch.fit)
         } else {
-            near.is_none() || !ctx.rigidity.mirrored(&scratch.x, &ctx.end_motions, ctx.body_size)
+            near.is_none() || !ctx.rigidity.mirrored(&scratch.x, &ctx.must_hit_motions, ctx.body_size)
         };
         if !through_end_poses {
             return false;
@@ -184,7 +184,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
             m.clear();
         }
         for i in 0..poses {
-            let perturbed = i > 0 && i + 1 < poses && !self.ctx.unperturbed;
+            let perturbed = !problem.must_hit[i] && !self.ctx.unperturbed;
             for (b, body) in problem.bodies.iter().enumerate() {
                 if !perturbed {
                     scratch.motions[b].push(self.ctx.motions[b][i]);
