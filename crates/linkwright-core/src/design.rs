@@ -10,9 +10,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 mod validate;
-pub use validate::{
-    DesignIssue, MAX_ALTERNATIVES, MAX_COORDINATE, MAX_CRANK_DEG, MAX_JOINTS, MAX_NAME_CHARS, MAX_PARTS, MAX_TRAVEL_DEG,
-};
+pub use validate::{DesignIssue, MAX_TRAVEL_DEG};
 
 /// The version string of the design format this crate reads and writes.
 pub const DESIGN_FORMAT: &str = "design/1";
@@ -285,7 +283,8 @@ impl DesignFile {
     /// Every violated constraint of this design's best mechanism against `problem` (empty when it is
     /// sound; a `no_solution` design has none): the file's own consistency (a file that
     /// [`DesignFile::validate`] refuses is one `format` violation per problem), then an independent
-    /// re-simulation ([`crate::verify::verify_travel`]) and the reported accuracy against it.
+    /// re-simulation of every hard constraint at finer crank steps than the synthesis takes (the one the
+    /// synthesis runs on every design before returning it), and the reported accuracy against it.
     pub fn violations(&self, problem: &Problem) -> Vec<Violation> {
         let fail = |constraint, message: String| vec![Violation { constraint, message }];
         let issues = self.validate(problem);

@@ -4,31 +4,66 @@
 //! one-degree-of-freedom linkage that carries every moving body through its poses in order, after the
 //! paper "Multi-Pose Interactive Linkage Design". All computation, no I/O.
 //!
-//! Modules, in the order data flows through them:
-//! - [`geom`]: points, vectors, rigid transforms, polygons; [`xml`]: escaping text for XML files.
-//! - [`scene`]: the `scene/1` format and its validation, and the [`scene::Problem`] derived from it.
-//! - [`mechanism`]: linkage topologies (the K-body chain, the slider-crank) as joints + rigid parts.
-//! - [`kinematics`]: a dyad plan compiled once per topology, evaluated per crank angle.
-//! - [`synth`]: sampling, hard constraints, soft costs, the particle filter and the pipeline.
-//! - [`design`]: the `design/1` format.
-//! - [`render`]: pictures of a design (SVG text, static and animated).
-//! - [`fab`]: fabrication: connectors, depth ordering, part solids, STL/3MF/SVG/DXF, plates, sheets.
-//! - [`analysis`]: a design's motion replayed for display: frames, error at each pose, Grashof types.
-//! - [`testbed`]: scenes made from known mechanisms (so an exact answer exists), for measuring designs.
+//! The way through the crate, in the order data flows:
+//! - a [`Scene`] (the `scene/1` format) is read with [`Scene::from_json`], checked with
+//!   [`validate_scene`] and turned into the [`Problem`] every later stage reads ([`Problem::new`]);
+//! - [`synthesize`] (or [`synthesize_with`], with [`Options`]) searches for linkages and returns an
+//!   [`Outcome`]: the best [`Candidate`] and its alternatives, each a [`Mechanism`] with its motion;
+//! - [`DesignFile::from_outcome`] writes the `design/1` answer, [`DesignFile::from_json`] reads one
+//!   back, [`DesignFile::validate`] and [`DesignFile::violations`] check it against its scene;
+//! - [`design_svg`] and [`animation_svg`] draw it; [`analysis`] replays its motion for display;
+//!   [`fab`] turns it into printable parts.
+//!
+//! Namespaces hold what a flat root would crowd: [`geom`] (points, vectors, rigid transforms,
+//! polygons), [`kinematics`] (a mechanism compiled into dyad steps and solved along its crank),
+//! [`analysis`], [`fab`], [`testbed`] (scenes made from known mechanisms, for measuring designs) and
+//! [`kernels`] (the synthesis's inner loops, for benchmarks).
 //!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
 //! mechanism's joints are given. Every threshold is relative to the scene's size.
 
+// Unit tests link every dev-dependency, which they do not all use; the library must use all of its own.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
+
+mod design;
+mod mechanism;
+mod render;
+mod scene;
+mod synth;
+mod verify;
+mod xml;
+
 pub mod analysis;
-pub mod design;
 pub mod fab;
 pub mod geom;
+pub mod kernels;
 pub mod kinematics;
-pub mod mechanism;
-pub mod render;
-pub mod scene;
-pub mod synth;
 pub mod testbed;
-pub mod verify;
-pub mod xml;
+
+// The `scene/1` format, its validation, and the problem every later stage reads.
+pub use scene::{
+    limits, validate as validate_scene, FixedBody, Issue, MechanismChoice, MovingBody, MovingBodyProblem, ParseError,
+    PoseMiss, Problem, Scene, Settings, Severity, Weights, SCENE_FORMAT,
+};
+
+// Linkages: their structure (topology) and dimensions (joints at the first pose).
+pub use mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
+
+// The synthesis: its entry points, what steers and observes a run, and what a run finds.
+pub use synth::{
+    synthesize, synthesize_with, Acceptance, Cancelled, Candidate, Observer, Options, Outcome, Progress, Reject,
+    RunStats, Silent, SoftTerms, Stage, Start, WARM_SAMPLES,
+};
+
+// The `design/1` format: the engine's answer, read back, validated and checked.
+pub use design::{
+    Alternative, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, MechanismJson, Metrics, Motion,
+    PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
+};
+
+// Checking a design against its scene.
+pub use verify::{pose_misses, Violation};
+
+// Pictures of a design.
+pub use render::{animation_svg, design_svg, RenderInput};

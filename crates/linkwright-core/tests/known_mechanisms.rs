@@ -2,10 +2,8 @@
 //! including motions with more poses than the linkage type can hit in general: each must give a valid
 //! design that the independent check passes, reaching the last pose, with small errors at the others.
 
-use linkwright_core::design::{DesignFile, Status};
-use linkwright_core::scene::Problem;
-use linkwright_core::synth::{synthesize, Silent};
 use linkwright_core::testbed::{known_scene, Family};
+use linkwright_core::{synthesize, DesignFile, Problem, Silent, Status};
 
 /// The design of the known scene, with its worst pose error and last pose error (fractions of d).
 fn design(family: Family, poses: usize, seed: u64) -> (String, DesignFile, f64, f64) {

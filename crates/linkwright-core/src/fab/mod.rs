@@ -1,50 +1,62 @@
 //! Fabrication (paper §7): from a design to parts that print, snap together and move without rubbing.
 //!
-//! The stages, each a module:
-//! - [`settings`]: print settings in millimetres (defaults for a desktop FDM printer) and the derived
-//!   sizes in scene units;
-//! - [`layout`]: joint connectors (§7.1): which members exist (with the frame of a scene without a
-//!   fixed body), what carries each; [`posts`]: where their posts stand (inside the body, on the middle
-//!   line of a thin one, or on a pad fused to the side of one too thin);
-//! - [`depth`]: collisions recorded along the motion and the depth ordering solved by a constraint
-//!   solver (§7.2, eq. 16–19), minimising layers; [`FeasibilityCheck`] is the fast check the
-//!   synthesis runs on its candidates;
-//! - [`solid`], [`parts`]: closed meshes of every part (§7.3, eq. 20);
-//! - [`export`]: binary STL, 3MF, SVG and DXF profiles; [`plates`]: parts spread on print beds (and
-//!   what a part too large for the bed would need); [`split`]: bodies too large cut by dovetails;
-//!   [`sheet`]: the assembly sheet; [`report`]: `fabrication.json`; [`check`]: the checks every
-//!   fabrication must pass (closed meshes, posts on their parts, no part crossing another along the
-//!   motion, pins seated).
+//! [`fabricate_design`] turns a design file into a [`Fabrication`] ([`fabricate_design_or_alternative`]
+//! falls back on one of its alternatives when the design itself cannot be made); [`bundle`] turns a
+//! fabrication into the files to print and its [`Report`] (`fabrication.json`); [`check`] runs the
+//! checks every fabrication must pass. [`FeasibilityCheck`] is the fast printability test the
+//! synthesis runs on its candidates when asked for printable designs ([`crate::Options::printable`]).
+//!
+//! The stages, one file each under `src/fab/`:
+//! - `settings.rs`: [`PrintSettings`] in millimetres (defaults for a desktop FDM printer) and the sizes
+//!   derived from them in scene units ([`Dims`]);
+//! - `layout.rs`: joint connectors (§7.1): which [`Member`]s exist (with the frame of a scene without a
+//!   fixed body), what carries each ([`Layout`]); `posts.rs`: where their posts stand (inside the body,
+//!   on the middle line of a thin one, or on a [`Pad`] fused to the side of one too thin);
+//! - `depth.rs`: collisions recorded along the motion ([`Recorded`]) and the depth [`Ordering`] solved by
+//!   a constraint solver (§7.2, eq. 16–19), minimising layers;
+//! - `solid.rs`, `parts.rs`: closed [`Mesh`]es of every [`Part`] (§7.3, eq. 20);
+//! - `export.rs`: binary STL, 3MF, SVG and DXF profiles; `plates.rs`: parts spread on print beds (and
+//!   what a part too large for the bed would need, [`Misfit`]); `split.rs`: bodies too large cut by
+//!   dovetails; `sheet.rs`: the assembly sheet; `report.rs`: `fabrication.json`; `check.rs`: the checks
+//!   every fabrication must pass (closed meshes, posts on their parts, no part crossing another along
+//!   the motion, pins seated).
 //!
 //! Conventions: the bodies are extruded from `z = -body_thickness` to `z = 0` (the front face); layer
 //! k on the front face spans `layer_bottom(k)..layer_top(k)`, and the back face mirrors it. Geometry is
 //! built in scene units; exporters write millimetres. Nothing here does I/O: exporters return bytes.
 
-pub mod bundle;
-pub mod check;
-pub mod depth;
-pub mod export;
-pub mod layout;
-pub mod names;
-pub mod parts;
-pub mod plates;
-pub mod posts;
-pub mod report;
-pub mod settings;
-pub mod shapes;
-pub mod sheet;
-pub mod solid;
-pub mod split;
+mod bundle;
+mod check;
+mod depth;
+mod export;
+mod layout;
+mod names;
+mod parts;
+mod plates;
+mod posts;
+mod report;
+mod settings;
+mod shapes;
+mod sheet;
+mod solid;
+mod split;
 
-use crate::geom::Point;
 use crate::kinematics::{Plan, Trace};
 use crate::mechanism::Mechanism;
 use crate::scene::Problem;
-pub use depth::{Constraint, Face, Ordering, Recorded};
-pub use layout::Layout;
-pub use parts::{Part, PinSeat, Role};
-pub use posts::SceneShapes;
-pub use settings::{millimetres_per_unit, Dims, Faces, PrintSettings};
+use posts::SceneShapes;
+
+pub use bundle::{assembled_meshes, bundle, Bundle, FIXED_FILES};
+pub use check::{check, CheckReport};
+pub use depth::{violations as ordering_violations, Constraint, Face, Ordering, PillarRef, Recorded};
+pub use layout::{BodyPin, Carrier, Layout, Member, MemberKind, Slot};
+pub use names::is_safe_relative_path;
+pub use parts::{Heights, HoleSeat, Part, PinSeat, Prism, Role, SlotSeat};
+pub use plates::Misfit;
+pub use posts::Pad;
+pub use report::{ConstraintReport, Layers, Oversized, PartReport, PlateReport, Report, Totals, FABRICATION_FORMAT};
+pub use settings::{millimetres_per_unit, Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
+pub use solid::Mesh;
 use std::time::Instant;
 
 /// Why a design cannot be fabricated; every message says what to change.
@@ -140,7 +152,8 @@ pub struct Travel {
 }
 
 /// The motion at crank steps of at most 1° (the paper's simulation step). A travel of a full turn or
-/// more is refused before anything is allocated for it (see [`crate::design::MAX_TRAVEL_DEG`]).
+/// more is refused before anything is allocated for it (the limit [`crate::DesignFile::validate`]
+/// applies).
 pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabError> {
     let turn = crate::design::MAX_TRAVEL_DEG.to_radians();
     if !(travel.start.is_finite() && travel.end.is_finite() && (travel.end - travel.start).abs() < turn) {
@@ -474,11 +487,4 @@ impl FeasibilityCheck {
         }
         Err(first.unwrap_or(FabError::NoOrdering))
     }
-}
-
-/// The world position of a point carried by `carrier` in the configuration of trace row `r`.
-pub fn carried(layout: &Layout, trace: &Trace, r: usize, carrier: usize, p: Point) -> Point {
-    let mut poses = Vec::new();
-    layout.carrier_poses(trace.row(r), &mut poses);
-    poses[carrier].apply(p)
 }

@@ -147,23 +147,3 @@ impl Div<f64> for Vec2 {
         Vec2::new(self.x / s, self.y / s)
     }
 }
-
-/// Which way three points turn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Orientation {
-    CounterClockwise,
-    Clockwise,
-    Collinear,
-}
-
-/// The turn `a → b → c`, with `Collinear` when the signed area is within `tol` (an area, in length²).
-pub fn orientation(a: Point, b: Point, c: Point, tol: f64) -> Orientation {
-    let area2 = (b - a).cross(c - a);
-    if area2 > tol {
-        Orientation::CounterClockwise
-    } else if area2 < -tol {
-        Orientation::Clockwise
-    } else {
-        Orientation::Collinear
-    }
-}

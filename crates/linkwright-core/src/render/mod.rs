@@ -19,7 +19,7 @@ mod svg;
 #[cfg(test)]
 mod tests;
 
-pub use animation::{animation_svg, MAX_FRAMES};
+pub use animation::animation_svg;
 pub use design::design_svg;
 
 use crate::kinematics::Trace;

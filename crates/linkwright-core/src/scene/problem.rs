@@ -143,8 +143,8 @@ impl Problem {
         })
     }
 
-    /// Penetration shallower than this (a length) is contact, not collision: a fraction
-    /// [`CONTACT_FRACTION`] of the smallest body size, so drawing imprecision never counts as overlap.
+    /// Penetration shallower than this (a length) is contact, not collision: a thousandth of the
+    /// smallest body size, so drawing imprecision never counts as overlap.
     pub fn contact_tolerance(&self) -> f64 {
         CONTACT_FRACTION * self.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min)
     }

@@ -18,12 +18,10 @@ mod workspace;
 pub use collision::{check_collisions, SweepBuffers};
 pub use context::{Context, CostWeights, SoftTerms};
 pub use evaluate::{evaluate, Candidate, Reject, Scratch};
-pub use pfo::FilterOptions;
 pub use pipeline::{
-    families, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats,
-    Silent, Stage, Start, WARM_SAMPLES,
+    synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent, Stage,
+    Start, WARM_SAMPLES,
 };
-pub use workspace::Buffers;
 
 /// Fixtures shared by the synthesis unit tests.
 #[cfg(test)]
