@@ -23,6 +23,9 @@
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
 //! mechanism's joints are given. Every threshold is relative to the scene's size.
 
+#![warn(missing_docs)]
+// No public signature may mention a type the surface does not name.
+#![warn(unnameable_types)]
 // Unit tests link every dev-dependency, which they do not all use; the library must use all of its own.
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 

@@ -62,22 +62,33 @@ use std::time::Instant;
 /// Why a design cannot be fabricated; every message says what to change.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FabError {
+    /// The print settings cannot work (every issue, in words).
     #[error("print settings: {0}")]
     Settings(String),
+    /// The scene's `units` (given) is not a unit with a known length in millimetres.
     #[error("the scene's units \"{0}\" are not known; use mm, cm, m, in or ft")]
     Units(String),
+    /// The design moves other bodies than the scene has (how, in words).
     #[error("the design does not match the scene: {0}")]
     Mismatch(String),
     #[error(
         "no room for the connector post of joint {joint} on {body}: the body is too thin for a post with \
          the print settings (make the body larger or connector_post smaller)"
     )]
-    NoRoomForPost { joint: String, body: String },
+    /// No place on a body is deep enough for a connector's post.
+    NoRoomForPost {
+        /// The joint the connector carries.
+        joint: String,
+        /// The body's name.
+        body: String,
+    },
     #[error(
         "no depth ordering of the links and connectors avoids every collision along the motion (paper \
          §7.2); choose another design (an alternative) or allow both faces with \"faces\": \"both\""
     )]
+    /// No depth ordering satisfies every constraint recorded along the motion.
     NoOrdering,
+    /// The depth-ordering solver ran out of its time budget.
     #[error("the depth-ordering solver ran out of time; try again or allow both faces")]
     OrderingTimedOut,
     #[error(
@@ -85,28 +96,63 @@ pub enum FabError {
          joint would enter another body (first at crank {at_deg:.1}°): draw the body thicker near the joint, \
          or choose another design"
     )]
-    PadCollides { joint: String, body: String, at_deg: f64 },
+    /// A body is too thin for a connector's post, and every pad that could carry it would enter
+    /// another body along the motion.
+    PadCollides {
+        /// The joint the connector carries.
+        joint: String,
+        /// The body's name.
+        body: String,
+        /// The first crank angle where the pad would enter another body, degrees.
+        at_deg: f64,
+    },
     #[error(
         "joints {a} and {b} of {link} are closer than the {need_mm:.1} mm two pins need with these print settings: \
          the linkage is too small to print (choose a larger design, or narrower links and pins)"
     )]
-    JointsTooClose { link: String, a: String, b: String, need_mm: f64 },
+    /// Two joints of a link are too close for two pins side by side.
+    JointsTooClose {
+        /// The link's name.
+        link: String,
+        /// One joint's name.
+        a: String,
+        /// The other joint's name.
+        b: String,
+        /// The least distance the print settings need between them, mm.
+        need_mm: f64,
+    },
     #[error(
         "{parts} fit the {width:.0} × {depth:.0} mm print area (the bed minus its margins) in no turn: print on a \
          bed of at least {square_bed_mm:.0} mm square (print settings \"bed\"), scale the scene by at most \
          {max_scale:.2}, or choose another design"
     )]
-    OffBed { parts: String, width: f64, depth: f64, square_bed_mm: f64, max_scale: f64 },
+    /// Some links, connectors or the frame fit the print bed in no turn.
+    OffBed {
+        /// Their names, joined for the message.
+        parts: String,
+        /// The print area's width (the bed's minus its margins), mm.
+        width: f64,
+        /// The print area's depth, mm.
+        depth: f64,
+        /// The smallest square bed on which every one of them fits, mm.
+        square_bed_mm: f64,
+        /// The largest factor the scene could be scaled by for them to fit this bed.
+        max_scale: f64,
+    },
+    /// A part's mesh could not be built, or a file encoded (why, in words).
     #[error("cannot build a part's solid: {0}")]
     Mesh(String),
+    /// The linkage comes apart along the design's travel, or the travel is not usable (why).
     #[error("the design's motion cannot be simulated: {0}")]
     Motion(String),
+    /// The design file is not valid against its scene ([`crate::DesignFile::validate`]).
     #[error("the design file is not valid: {}", joined(.0))]
     Invalid(Vec<crate::design::DesignIssue>),
     #[error(
         "the design fails its check against the scene ({}): fabricate a design that passes the check",
         joined(.0.iter().map(|v| format!("{}: {}", v.constraint, v.message)))
     )]
+    /// The design fails its check against the scene ([`crate::DesignFile::violations`]).
     FailsCheck(Vec<crate::verify::Violation>),
 }
 
@@ -129,25 +175,36 @@ pub struct Timings {
 /// Everything fabricated for one design.
 #[derive(Clone, Debug)]
 pub struct Fabrication {
+    /// The scene's name.
     pub scene_name: String,
     /// The mechanism's joint names, by index.
     pub joint_names: Vec<String>,
+    /// The print settings, millimetres.
     pub settings: PrintSettings,
+    /// The print settings in scene units.
     pub dims: Dims,
+    /// The printed members and what carries each.
     pub layout: Layout,
+    /// The ordering constraints recorded along the motion.
     pub recorded: Recorded,
+    /// Every member's face and layer.
     pub ordering: Ordering,
+    /// Every printed part, with its meshes.
     pub parts: Vec<Part>,
+    /// Every pin and the holes it sits in, for checking.
     pub seats: Vec<PinSeat>,
     /// The motion at crank steps of at most 1°, from the first pose to the last.
     pub trace: Trace,
+    /// Seconds spent in each stage.
     pub timings: Timings,
 }
 
 /// The crank's travel of a design, radians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Travel {
+    /// The driver's angle at the first pose.
     pub start: f64,
+    /// The driver's angle at the last pose.
     pub end: f64,
 }
 
@@ -304,6 +361,7 @@ pub fn fabricate_design(
 pub struct Chosen {
     /// Which design was fabricated: 0 the design itself, k its k-th alternative (`alternatives[k - 1]`).
     pub used: usize,
+    /// What was made of it.
     pub fabrication: Fabrication,
     /// Why the design itself was passed over, when an alternative was used.
     pub passed_over: Option<String>,

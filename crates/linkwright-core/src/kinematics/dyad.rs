@@ -24,10 +24,14 @@ impl Branch {
 /// Why a dyad has no solution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum DyadError {
+    /// Circle-circle: the two circles do not meet (the links are too short, or too long, to close the
+    /// loop).
     #[error("the two circles do not meet")]
     CirclesApart,
+    /// Circle-line: the circle does not reach the slider's line.
     #[error("the circle does not reach the line")]
     LineOutOfReach,
+    /// Circle-circle: the two centres coincide, so the dyad's direction is undefined.
     #[error("the two centres coincide")]
     CoincidentCentres,
 }

@@ -9,6 +9,7 @@ pub const CONTACT_FRACTION: f64 = 1e-3;
 /// One moving body, ready for the engine.
 #[derive(Clone, Debug)]
 pub struct MovingBodyProblem {
+    /// The body's name in the scene.
     pub name: String,
     /// Outline in the body's own frame.
     pub outline: Polygon,
@@ -61,15 +62,21 @@ impl PoseMiss {
 /// A validated scene in the engine's terms.
 #[derive(Clone, Debug)]
 pub struct Problem {
+    /// The scene's name.
     pub name: String,
+    /// The fixed bodies' outlines, world coordinates.
     pub fixed: Vec<Polygon>,
+    /// The moving bodies, in the scene's order (the chain's).
     pub bodies: Vec<MovingBodyProblem>,
     /// Where the joints should be at the first pose (soft).
     pub region: Polygon,
     /// Where no link may go (hard).
     pub avoid: Vec<Polygon>,
+    /// Which kind of linkage to synthesise.
     pub mechanism: MechanismChoice,
+    /// The scene's weights of the soft costs.
     pub weights: Weights,
+    /// The scene's search settings.
     pub settings: Settings,
     /// Number of poses N, the same for every body.
     pub pose_count: usize,

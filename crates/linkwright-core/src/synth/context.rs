@@ -45,12 +45,19 @@ pub const LAST_POSE_ANGLE_DEG: f64 = 0.5;
 /// on three of six scenes at a factor of 0.44).
 pub const LONG_CHAIN_NOISE: f64 = 0.1;
 
-/// The soft terms of paper eq. 10–13.
+/// The soft terms of paper eq. 10–13, raw (in scene units, not yet divided by the body size d).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SoftTerms {
+    /// E_acc (eq. 10): the mean squared miss of the body-carried joints and outlines at the poses, a
+    /// length².
     pub accuracy: f64,
+    /// E_smooth (eq. 11): how winding the body-carried joints' paths are between consecutive poses,
+    /// the ratio of path length to straight distance (1 for straight paths), unitless.
     pub smoothness: f64,
+    /// E_loc (eq. 12): the mean distance of the joints at the first pose from the linkage region, a
+    /// length.
     pub location: f64,
+    /// E_size (eq. 13): the mean link length, a length.
     pub size: f64,
 }
 

@@ -55,15 +55,20 @@ type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> bool + Sync + 'a;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Stage {
+    /// Drawing samples, fitting them to the poses and checking them for defects (paper §4–5.4).
     Sampling,
+    /// Checking the candidates for collisions along their travel (§5.5).
     Collision,
+    /// The particle filter (§6), then refining and checking the designs kept.
     Refining,
 }
 
 /// A progress report.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Progress {
+    /// What the run is doing.
     pub stage: Stage,
+    /// The family being searched.
     pub mechanism: MechanismType,
     /// Fraction of the whole run done, 0 to 1.
     pub fraction: f64,
@@ -74,7 +79,9 @@ pub struct Progress {
 /// Receives progress and tells the run whether to stop. Called from worker threads' coordinator only
 /// (never concurrently), between chunks of work.
 pub trait Observer: Sync {
+    /// Called with each progress report; does nothing by default.
     fn progress(&self, _progress: &Progress) {}
+    /// Whether the run should stop now (it then returns [`Cancelled`]); never, by default.
     fn cancelled(&self) -> bool {
         false
     }
@@ -93,6 +100,7 @@ pub struct Cancelled;
 /// Counts and seconds of a run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunStats {
+    /// Samples drawn.
     pub samples: usize,
     /// Samples that became a rigid linkage (passed the E_rigid fit).
     pub fitted: usize,
@@ -102,8 +110,11 @@ pub struct RunStats {
     pub valid: usize,
     /// How many candidates each hard constraint rejected.
     pub rejected: Vec<(Reject, usize)>,
+    /// Seconds spent drawing, fitting and checking samples.
     pub seconds_sampling: f64,
+    /// Seconds spent checking candidates for collisions.
     pub seconds_collision: f64,
+    /// Seconds spent in the particle filter.
     pub seconds_pfo: f64,
     /// Checking the kept designs for printability (when asked).
     pub seconds_printability: f64,
@@ -111,15 +122,18 @@ pub struct RunStats {
     pub seconds_refinement: f64,
     /// Designs dropped because the independent re-simulation rejected them.
     pub failed_verification: usize,
+    /// Seconds of the whole run.
     pub seconds_total: f64,
 }
 
 /// What a run found.
 #[derive(Debug)]
 pub struct Outcome {
+    /// The design of lowest cost, or `None` when no linkage passed every hard constraint.
     pub best: Option<Candidate>,
     /// Other valid designs, best first, each distinct from the best and from each other.
     pub alternatives: Vec<Candidate>,
+    /// What the run did and how long it took.
     pub stats: RunStats,
     /// Why there is no design and what to change, when there is none.
     pub reason: Option<String>,
@@ -167,6 +181,7 @@ pub trait Acceptance: Sync + std::fmt::Debug {
 /// How a run starts and what its designs must also satisfy.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Options<'a> {
+    /// From scratch, or from earlier designs.
     pub start: Start<'a>,
     /// When given, every design must pass it (printable with given print settings, say). Checked on
     /// the kept designs, cheapest first, so the paper's stages run unchanged.
