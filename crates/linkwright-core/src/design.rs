@@ -339,6 +339,30 @@ pub struct DesignParseError {
 
 impl DesignFile {
     /// Parses a design file, naming the offending field on failure.
+    ///
+    /// [`DesignFile::to_json`] writes what this reads:
+    ///
+    /// ```
+    /// use linkwright_core::testbed::{known_scene, Family};
+    /// use linkwright_core::{DesignFile, Problem, Status};
+    ///
+    /// // A scene drawn from a known four-bar through three poses, and that four-bar as a design file.
+    /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+    /// let problem = Problem::new(&known.scene).expect("a valid scene");
+    /// let text = known.design().to_json();
+    ///
+    /// // The file alone is the design: read back, it passes its check against the scene.
+    /// let design = DesignFile::from_json(&text)?;
+    /// assert_eq!(design.status, Status::Ok);
+    /// assert_eq!(design.mechanism.as_ref().map(|m| m.joints.len()), Some(4));
+    /// assert_eq!(design.violations(&problem), vec![]);
+    ///
+    /// // A status the format does not have: the error names the field.
+    /// let error = DesignFile::from_json(r#"{"linkwright": "design/1", "scene": "", "status": "maybe"}"#)
+    ///     .unwrap_err();
+    /// assert_eq!(error.path, "status");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn from_json(text: &str) -> Result<DesignFile, DesignParseError> {
         let de = &mut serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(de)
@@ -356,6 +380,27 @@ impl DesignFile {
     /// [`DesignFile::validate`] refuses is one `format` violation per problem), then an independent
     /// re-simulation of every hard constraint at finer crank steps than the synthesis takes (the one the
     /// synthesis runs on every design before returning it), and the reported accuracy against it.
+    ///
+    /// ```
+    /// use linkwright_core::geom::Point;
+    /// use linkwright_core::testbed::{known_scene, Family};
+    /// use linkwright_core::Problem;
+    ///
+    /// // A scene drawn from a known four-bar through three poses: the four-bar passes.
+    /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+    /// let problem = Problem::new(&known.scene).expect("a valid scene");
+    /// let mut design = known.design();
+    /// assert_eq!(design.violations(&problem), vec![]);
+    ///
+    /// // The rocker's ground pivot moved by a tenth of the body's size.
+    /// let d = problem.bodies[0].size;
+    /// let r0 = design.mechanism.as_mut().and_then(|m| m.joints.get_mut("r0")).expect("a four-bar's r0");
+    /// *r0 = Point::new(r0.x + 0.1 * d, r0.y);
+    /// // The linkage still moves, but the body misses its poses by far more than the file's metrics say.
+    /// let violations = design.violations(&problem);
+    /// assert!(violations.iter().any(|v| v.constraint == "accuracy"), "{violations:?}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn violations(&self, problem: &Problem) -> Vec<Violation> {
         let fail = |constraint, message: String| vec![Violation { constraint, message }];
         let issues = self.validate(problem);

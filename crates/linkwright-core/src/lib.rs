@@ -19,6 +19,36 @@
 //! [`analysis`], [`fab`], [`testbed`] (scenes made from known mechanisms, for measuring designs) and
 //! [`kernels`] (the synthesis's inner loops, for benchmarks).
 //!
+//! # Example
+//!
+//! A bundled example scene, a garbage truck's lid, to a four-bar that carries the lid through its three
+//! poses, with a search far smaller than the default (3,000 samples instead of 100,000) so that it takes
+//! a fraction of a second:
+//!
+//! ```
+//! use linkwright_core::{synthesize, DesignFile, MechanismChoice, Problem, Scene, Silent, Status};
+//!
+//! let mut scene = Scene::from_json(include_str!("../../../examples/k1_garbage_truck.json"))?;
+//! scene.mechanism = MechanismChoice::Chain; // not the default `Auto`, which may pick a slider-crank
+//! scene.settings.samples = 3000;
+//! scene.settings.iterations = 5;
+//! let problem = Problem::new(&scene).expect("the example is a valid scene");
+//!
+//! // `Silent` ignores progress and never cancels; the search runs on the current rayon pool.
+//! let outcome = synthesize(&problem, &Silent)?;
+//! let best = outcome.best.as_ref().expect("a linkage through every pose");
+//! assert_eq!(best.mechanism.topology.joint_count(), 4, "a four-bar: q0, r0 on the ground, p1, q1 on the lid");
+//!
+//! // The answer as a `design/1` file, which passes its own check against the scene.
+//! let design = DesignFile::from_outcome(&problem, &outcome);
+//! assert_eq!(design.status, Status::Ok);
+//! assert!(design.violations(&problem).is_empty());
+//! // The lid reaches every pose to within 1% of its size and 1°.
+//! let worst = design.metrics.as_ref().and_then(|m| m.worst_pose_error).expect("pose errors are written");
+//! assert!(worst.position_rel_d < 0.01 && worst.angle_deg < 1.0, "{worst:?}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
 //! mechanism's joints are given. Every threshold is relative to the scene's size.

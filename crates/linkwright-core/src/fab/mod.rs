@@ -333,6 +333,26 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
 /// Fabricates the mechanism of a design file for its scene (`units` is the scene's `units` field). A
 /// design file that is not valid ([`crate::design::DesignFile::validate`]) or fails its check against
 /// the scene ([`crate::design::DesignFile::violations`]) is refused before anything is built.
+///
+/// ```
+/// use linkwright_core::fab::{bundle, check, fabricate_design, PrintSettings, Role};
+/// use linkwright_core::testbed::{known_scene, Family};
+/// use linkwright_core::Problem;
+///
+/// // A known four-bar in a scene drawn in millimetres, with the default print settings.
+/// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+/// let problem = Problem::new(&known.scene).expect("a valid scene");
+/// let fabrication = fabricate_design(&problem, &known.scene.units, &known.design(), &PrintSettings::default())?;
+///
+/// // Its two links are printed, and every part passes the checks along the whole motion.
+/// assert_eq!(fabrication.parts.iter().filter(|p| p.role == Role::Link).count(), 2);
+/// assert!(check(&fabrication).ok());
+/// // The files to print: one STL per part, among others, and the report.
+/// let files = bundle(&fabrication)?;
+/// assert!(files.files.iter().any(|(path, _)| path == "fabrication.json"));
+/// assert_eq!(files.report.parts.len(), fabrication.parts.len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn fabricate_design(
     problem: &Problem,
     units: &str,

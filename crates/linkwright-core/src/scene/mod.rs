@@ -177,6 +177,30 @@ impl Scene {
     /// Parses a scene from JSON text. Structural problems (a missing field, a string where a number
     /// belongs, an unknown mechanism) are reported with the path of the offending field; everything
     /// else is left to [`validate`].
+    ///
+    /// ```
+    /// use linkwright_core::{MechanismChoice, Scene};
+    ///
+    /// let scene = Scene::from_json(
+    ///     r#"{"linkwright": "scene/1", "name": "lid",
+    ///         "fixed_bodies": [{"name": "ground", "polygon": [[0, 0], [200, 0], [200, 20], [0, 20]]}],
+    ///         "moving_bodies": [{"name": "lid", "polygon": [[0, 0], [20, 0], [20, 80], [0, 80]],
+    ///                            "poses": [[50, 100, 0], [120, 60, -90]]}]}"#,
+    /// )?;
+    /// assert_eq!(scene.moving_bodies[0].poses[1], [120.0, 60.0, -90.0]);
+    /// // What the file leaves out takes its default.
+    /// assert_eq!((scene.units.as_str(), scene.mechanism), ("mm", MechanismChoice::Auto));
+    /// assert_eq!(scene.settings.samples, 100_000);
+    ///
+    /// // A pose without its angle: the error names the field.
+    /// let error = Scene::from_json(
+    ///     r#"{"linkwright": "scene/1", "fixed_bodies": [],
+    ///         "moving_bodies": [{"polygon": [[0, 0], [1, 0], [0, 1]], "poses": [[0, 0]]}]}"#,
+    /// )
+    /// .unwrap_err();
+    /// assert_eq!(error.path, "moving_bodies[0].poses[0]");
+    /// # Ok::<(), linkwright_core::ParseError>(())
+    /// ```
     pub fn from_json(text: &str) -> Result<Scene, ParseError> {
         let de = &mut serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(de).map_err(|e| {

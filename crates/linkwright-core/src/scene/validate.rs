@@ -96,6 +96,22 @@ const MAX_ANGLE_TOLERANCE_DEG: f64 = 90.0;
 const MAX_MIN_TRANSMISSION_DEG: f64 = 80.0;
 
 /// Every problem found in `scene`, errors and warnings, roughly in document order.
+///
+/// ```
+/// use linkwright_core::{validate_scene, Scene, Severity};
+///
+/// // One pose is no motion.
+/// let scene = Scene::from_json(
+///     r#"{"linkwright": "scene/1",
+///         "fixed_bodies": [{"polygon": [[0, 0], [200, 0], [200, 20], [0, 20]]}],
+///         "moving_bodies": [{"polygon": [[0, 0], [20, 0], [20, 80], [0, 80]], "poses": [[50, 100, 0]]}]}"#,
+/// )?;
+/// let issues = validate_scene(&scene);
+/// let error = issues.iter().find(|i| i.severity == Severity::Error).expect("an error");
+/// assert_eq!(error.field, "moving_bodies[0].poses");
+/// assert!(error.message.contains("at least 2"), "{error}");
+/// # Ok::<(), linkwright_core::ParseError>(())
+/// ```
 pub fn validate(scene: &Scene) -> Vec<Issue> {
     let mut out = Issues::default();
     if scene.linkwright != SCENE_FORMAT {

@@ -189,6 +189,36 @@ pub struct Options<'a> {
 }
 
 /// Runs the paper's synthesis from scratch (no fabrication check) on the current rayon pool.
+///
+/// The result depends on the scene (its `settings.seed` included) and never on the number of
+/// threads. `observer` hears of the progress and may stop the run:
+///
+/// ```
+/// use linkwright_core::{synthesize, Observer, Problem, Progress, Scene};
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+///
+/// /// Counts the progress reports.
+/// struct Count(AtomicUsize);
+/// impl Observer for Count {
+///     fn progress(&self, _: &Progress) {
+///         self.0.fetch_add(1, Ordering::Relaxed);
+///     }
+/// }
+///
+/// // The wall bed: two moving bodies (the bed and its leg), so a Watt-I six-bar.
+/// let mut scene = Scene::from_json(include_str!("../../../../examples/k2_wall_bed.json"))?;
+/// scene.settings.samples = 20_000; // a fifth of the default, for a quick example
+/// scene.settings.iterations = 5;
+/// let problem = Problem::new(&scene).expect("the example is a valid scene");
+/// let reports = Count(AtomicUsize::new(0));
+/// let outcome = synthesize(&problem, &reports)?;
+///
+/// let best = outcome.best.as_ref().expect("a linkage through every pose");
+/// assert_eq!(best.mechanism.topology.joint_count(), 7, "p1, p2, q0, q1, q2, r0, r1");
+/// assert!(outcome.alternatives.iter().all(|a| a.cost >= best.cost), "the best comes first");
+/// assert!(outcome.stats.valid > 0 && reports.0.into_inner() > 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     synthesize_with(problem, &Options::default(), observer)
 }
