@@ -5,13 +5,9 @@
 //! fabrication's printability check.
 
 use linkwright_core::geom::Point;
+use linkwright_core::kernels::Kernels;
 use linkwright_core::kinematics::Plan;
-use linkwright_core::mechanism::MechanismType;
-use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::rigidity::FitWorkspace;
-use linkwright_core::synth::{
-    check_collisions, evaluate, synthesize, Candidate, Context, Scratch, Silent, SweepBuffers,
-};
+use linkwright_core::{synthesize, Candidate, MechanismChoice, MechanismType, Problem, Scene, Silent};
 use std::sync::OnceLock;
 
 fn main() {
@@ -35,8 +31,7 @@ fn fixture(k: usize) -> &'static (Problem, Candidate) {
             .iter()
             .map(|name| {
                 let mut p = problem(name);
-                p.mechanism =
-                    linkwright_core::scene::MechanismChoice::Only(linkwright_core::scene::MechanismType::Chain);
+                p.mechanism = MechanismChoice::Only(MechanismType::Chain);
                 let best = synthesize(&p, &Silent).expect("not cancelled").best.expect("a design");
                 (p, best)
             })
@@ -48,17 +43,16 @@ fn fixture(k: usize) -> &'static (Problem, Candidate) {
 #[divan::bench(args = [1, 2, 3])]
 fn rigidity_fit(bencher: divan::Bencher, k: usize) {
     let (problem, best) = fixture(k);
-    let ctx = Context::new(problem, MechanismType::Chain);
+    let mut kernels = Kernels::new(problem, MechanismType::Chain);
     let mut start = Vec::new();
     for (i, p) in best.mechanism.joints.iter().enumerate() {
-        let shift = if i % 2 == 0 { 0.1 } else { -0.1 } * ctx.body_size;
+        let shift = if i % 2 == 0 { 0.1 } else { -0.1 } * kernels.body_size();
         start.extend([p.x + shift, p.y - shift]);
     }
-    let mut ws = FitWorkspace::default();
     let mut x = start.clone();
     bencher.bench_local(|| {
         x.copy_from_slice(&start);
-        ctx.rigidity.fit(divan::black_box(&mut x), &ctx.motions, ctx.body_size, &mut ws)
+        kernels.rigidity_fit(divan::black_box(&mut x))
     });
 }
 
@@ -66,18 +60,16 @@ fn rigidity_fit(bencher: divan::Bencher, k: usize) {
 #[divan::bench(args = [1, 2, 3])]
 fn defect_check(bencher: divan::Bencher, k: usize) {
     let (problem, best) = fixture(k);
-    let ctx = Context::new(problem, MechanismType::Chain);
-    let mut scratch = Scratch::default();
-    bencher.bench_local(|| evaluate(&ctx, divan::black_box(best.mechanism.clone()), None, f64::INFINITY, &mut scratch));
+    let mut kernels = Kernels::new(problem, MechanismType::Chain);
+    bencher.bench_local(|| kernels.defect_check(divan::black_box(best.mechanism.clone())));
 }
 
 /// The collision sweep of a valid design's whole travel (no early exit: it is collision-free).
 #[divan::bench(args = [1, 2, 3])]
 fn collision_sweep(bencher: divan::Bencher, k: usize) {
     let (problem, best) = fixture(k);
-    let ctx = Context::new(problem, MechanismType::Chain);
-    let mut buffers = SweepBuffers::default();
-    bencher.bench_local(|| check_collisions(&ctx, divan::black_box(best), &mut buffers));
+    let mut kernels = Kernels::new(problem, MechanismType::Chain);
+    bencher.bench_local(|| kernels.collision_sweep(divan::black_box(best)));
 }
 
 /// One kinematic step: every joint placed at one crank angle.

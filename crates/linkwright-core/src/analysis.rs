@@ -42,6 +42,7 @@ impl Default for AnalysisOptions {
 }
 
 impl AnalysisOptions {
+    /// The same options with `steps` crank steps.
     pub fn with_steps(mut self, steps: usize) -> Self {
         self.steps = steps;
         self
@@ -51,20 +52,43 @@ impl AnalysisOptions {
 /// Why a design cannot be replayed against a scene.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum AnalysisError {
+    /// The design file has no mechanism (status `no_solution`).
     #[error("the design has status no_solution: there is no mechanism to show")]
     NoMechanism,
+    /// [`Which::Alternative`] names an alternative the file does not have.
     #[error("alternative {index} does not exist (the design has {count})")]
-    NoSuchAlternative { index: usize, count: usize },
+    NoSuchAlternative {
+        /// The alternative asked for (0-based).
+        index: usize,
+        /// How many alternatives the file has.
+        count: usize,
+    },
+    /// The file's mechanism cannot be read back into a linkage.
     #[error("{0}")]
     Design(#[from] DesignError),
+    /// The mechanism carries another number of moving bodies than the scene has.
     #[error("the design moves {design} bodies, the scene has {scene}")]
-    BodyCount { design: usize, scene: usize },
+    BodyCount {
+        /// Moving bodies of the design's mechanism.
+        design: usize,
+        /// Moving bodies of the scene.
+        scene: usize,
+    },
+    /// The motion gives a crank angle for another number of poses than the scene has.
     #[error("motion.pose_crank_deg has {design} angles for the scene's {scene} poses")]
-    PoseCount { design: usize, scene: usize },
+    PoseCount {
+        /// Pose angles in the design's motion.
+        design: usize,
+        /// Poses of the scene.
+        scene: usize,
+    },
+    /// A crank angle is not finite, or the travel is a full turn or more.
     #[error("motion: crank angles must be finite and the travel shorter than a full turn")]
     Travel,
+    /// The mechanism is not a chain of dyads the kinematics can solve.
     #[error("the mechanism cannot be simulated: {0}")]
     Compile(#[from] CompileError),
+    /// The linkage comes apart somewhere along its travel.
     #[error("{0}")]
     Sweep(#[from] SweepError),
 }
@@ -72,7 +96,9 @@ pub enum AnalysisError {
 /// One mechanism of a design, simulated along its crank travel.
 #[derive(Clone, Debug)]
 pub struct Replay {
+    /// The mechanism read back from the file.
     pub mechanism: Mechanism,
+    /// The mechanism compiled for solving along its crank.
     pub plan: Plan,
     /// Body frames recovered from joints (bodies in scene order).
     pub frames: BodyFrames,
@@ -192,6 +218,7 @@ pub struct Frame {
 pub struct PoseError {
     /// 0-based pose index.
     pub pose: usize,
+    /// The driver's angle in the configuration the design offers for the pose, degrees.
     pub crank_deg: f64,
     /// Index of the frame at this pose.
     pub frame: usize,
@@ -256,29 +283,41 @@ pub struct LoopLink {
     /// Its role in the loop: `frame`, `input`, `coupler`, `output` (for the slider-crank: `crank`,
     /// `rod`, `offset`).
     pub role: &'static str,
+    /// The names of the link's two joints.
     pub joints: Vec<String>,
+    /// The distance between them at the first pose, a length (scene units).
     pub length: f64,
 }
 
 /// A four-bar loop `q(k−1) r(k−1) q(k) p(k)` of the chain (paper §5.2), or the slider-crank.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LoopInfo {
+    /// The loop's number and joints, e.g. `loop 1: q0 r0 q1 p1`.
     pub name: String,
+    /// Its four links (the slider-crank: crank, rod and offset).
     pub links: Vec<LoopLink>,
+    /// Its mobility class.
     pub kind: LoopKind,
+    /// Whether some link turns fully ([`LoopKind::grashof`]).
     pub grashof: bool,
+    /// The class in words ([`LoopKind::describe`]).
     pub description: &'static str,
 }
 
 /// Everything the web app shows about a design's motion.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MotionAnalysis {
+    /// Every joint's name, in the order of [`Frame::joints`].
     pub joint_names: Vec<String>,
     /// The joints on the ground.
     pub fixed_joints: Vec<String>,
+    /// The dyads in solving order, in the order of [`Frame::transmission_deg`].
     pub dyads: Vec<DyadInfo>,
+    /// The motion, from the first pose to the last: equal crank steps plus one frame at each pose.
     pub frames: Vec<Frame>,
+    /// The error at each input pose, in pose order.
     pub poses: Vec<PoseError>,
+    /// Each four-bar loop of the chain (or the slider-crank's loop) and its class.
     pub loops: Vec<LoopInfo>,
     /// The smallest transmission margin over every frame, degrees from 0°/180°.
     pub min_transmission_deg: f64,

@@ -10,100 +10,145 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 mod validate;
-pub use validate::{
-    DesignIssue, MAX_ALTERNATIVES, MAX_COORDINATE, MAX_CRANK_DEG, MAX_JOINTS, MAX_NAME_CHARS, MAX_PARTS, MAX_TRAVEL_DEG,
-};
+pub use validate::{DesignIssue, MAX_TRAVEL_DEG};
 
 /// The version string of the design format this crate reads and writes.
 pub const DESIGN_FORMAT: &str = "design/1";
 
-/// A design file.
+/// A design file: the engine's answer for one scene (docs/formats.md describes every field).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DesignFile {
+    /// The format's version string, [`DESIGN_FORMAT`] for a file this crate reads.
     pub linkwright: String,
     /// The scene's name.
     pub scene: String,
+    /// Whether the file holds a design.
     pub status: Status,
     /// Why there is no design, and what to change (only with `no_solution`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// The best design's linkage (absent with `no_solution`).
     pub mechanism: Option<MechanismJson>,
+    /// The best design's crank travel (absent with `no_solution`).
     pub motion: Option<Motion>,
+    /// The best design's soft costs and pose errors (absent with `no_solution`).
     pub metrics: Option<Metrics>,
+    /// Other valid designs, best first, each distinct from the others.
     #[serde(default)]
     pub alternatives: Vec<Alternative>,
+    /// What the run that made the file did.
     pub stats: Stats,
 }
 
+/// Whether a design file holds a design.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
+    /// A design that passes every hard constraint.
     Ok,
+    /// No linkage was found; `reason` says what to change.
     NoSolution,
 }
 
 /// A mechanism as the file writes it: joints at the first pose, parts, driver, slider.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MechanismJson {
+    /// The linkage's family (`type` in the file).
     #[serde(rename = "type")]
     pub mechanism_type: MechanismType,
+    /// Every joint's position at the first pose, world coordinates, by name.
     pub joints: BTreeMap<String, Point>,
+    /// Every rigid part with the joints it carries.
     pub parts: Vec<PartJson>,
+    /// The link the motion is driven by.
     pub driver: DriverJson,
+    /// The line the slider joint runs on (the slider-crank only).
     pub slider: Option<SliderJson>,
     /// What a person calls the linkage ("four-bar linkage"); written for display, never read.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label: Option<String>,
 }
 
+/// A rigid part as the file writes it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PartJson {
+    /// The part's name (`ground`, `body1`, `crank`, ...).
     pub name: String,
+    /// What the part is.
     pub kind: PartKindJson,
+    /// For a body part, the moving body it is (0-based index into the scene's `moving_bodies`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body: Option<usize>,
+    /// The names of the joints it carries.
     pub joints: Vec<String>,
 }
 
+/// What a part is, as the file writes it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PartKindJson {
+    /// The ground (all fixed bodies).
     Fixed,
+    /// A moving body (which one: [`PartJson::body`]).
     Body,
+    /// A binary or ternary link.
     Link,
 }
 
+/// The driver link: it turns about a fixed joint.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DriverJson {
+    /// The fixed joint it turns about.
     pub pivot: String,
+    /// Its moving joint.
     pub tip: String,
 }
 
+/// The fixed line a slider joint runs on, and how far along it the joint travels.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SliderJson {
+    /// The name of the joint that runs on the line.
     pub joint: String,
+    /// A point of the line: the joint's position at the first pose.
     pub point: Point,
+    /// The line's direction `[dx, dy]` (unit length as the engine writes it; any non-zero length is
+    /// read).
     pub direction: [f64; 2],
     /// Signed distances from `point` along `direction` between which the joint travels.
     pub stroke: [f64; 2],
 }
 
-/// The driver's travel, degrees, unwrapped.
+/// The driver's travel: its angle (atan2 of tip − pivot), degrees, unwrapped, so it may leave
+/// [−180, 180].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Motion {
+    /// The angle at the first pose.
     pub crank_start_deg: f64,
+    /// The angle at the last pose; the linkage moves from start to end without turning back.
     pub crank_end_deg: f64,
+    /// The angle at each input pose, in pose order: the configuration there is what the design offers
+    /// for the pose.
     pub pose_crank_deg: Vec<f64>,
 }
 
 /// The soft terms of paper eq. 10–13, their weighted sum (eq. 14) and the worst transmission angle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
+    /// E_acc (eq. 10) against the unperturbed poses: the mean squared miss of the body-carried joints
+    /// plus that of the outline vertices, a length².
     pub accuracy: f64,
+    /// E_smooth (eq. 11): the ratio of the joints' path lengths to their straight distances between
+    /// poses, unitless.
     pub smoothness: f64,
+    /// E_loc (eq. 12): the mean distance of the joints from the linkage region at the first pose, a
+    /// length.
     pub location: f64,
+    /// E_size (eq. 13): the mean link length, a length.
     pub size: f64,
+    /// The weighted sum of the four (eq. 14) under the scene's weights.
     pub cost: f64,
+    /// The smallest transmission angle along the whole travel, as its distance from 0° and 180°,
+    /// degrees.
     pub min_transmission_deg: f64,
     /// `pose_errors[i][b]`: how far body b is from its input pose i in the configuration the design
     /// offers for it (absent in files written before it was added).
@@ -117,16 +162,24 @@ pub struct Metrics {
 /// Another valid design.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Alternative {
+    /// Its linkage.
     pub mechanism: MechanismJson,
+    /// Its crank travel.
     pub motion: Motion,
+    /// Its soft costs and pose errors.
     pub metrics: Metrics,
 }
 
+/// Counts and seconds of the run that made a design file.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Stats {
+    /// Samples drawn.
     pub samples: usize,
+    /// Linkages without kinematic defects, before the collision check.
     pub candidates: usize,
+    /// Candidates without collisions.
     pub valid: usize,
+    /// Seconds per stage.
     pub seconds: Seconds,
     /// The seed the run used.
     #[serde(default)]
@@ -136,10 +189,14 @@ pub struct Stats {
     pub failed_check: usize,
 }
 
+/// Seconds a run spent in each stage.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Seconds {
+    /// Drawing, fitting and checking samples.
     pub sampling: f64,
+    /// Checking candidates for collisions.
     pub collision: f64,
+    /// The particle filter.
     pub pfo: f64,
     /// Checking designs for printability (added to `design/1`; 0 when not asked).
     #[serde(default)]
@@ -147,18 +204,28 @@ pub struct Seconds {
     /// Refining the kept designs to local optima, and checking them again.
     #[serde(default)]
     pub refinement: f64,
+    /// The whole run.
     pub total: f64,
 }
 
 /// Why a design file's mechanism cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DesignError {
+    /// The file's version string (given) is not [`DESIGN_FORMAT`].
     #[error("unknown format \"{0}\"; this version reads \"{DESIGN_FORMAT}\"")]
     Format(String),
+    /// The file has status `no_solution`.
     #[error("the design has status no_solution: there is no mechanism to use")]
     NoMechanism,
+    /// A part, the driver or the slider names a joint that `mechanism.joints` does not have.
     #[error("mechanism.{field}: names the joint \"{joint}\", which is not in mechanism.joints")]
-    UnknownJoint { field: String, joint: String },
+    UnknownJoint {
+        /// The field that names it, under `mechanism` (`parts[2]`, `driver.tip`, ...).
+        field: String,
+        /// The joint's name.
+        joint: String,
+    },
+    /// A field under `mechanism` (first) is unusable, and why (second).
     #[error("mechanism.{0}: {1}")]
     Invalid(String, String),
 }
@@ -266,16 +333,42 @@ impl MechanismJson {
 pub struct DesignParseError {
     /// Where in the document the problem is, e.g. `mechanism.joints[2]`, or `.` for the root.
     pub path: String,
+    /// What is wrong there.
     pub message: String,
 }
 
 impl DesignFile {
     /// Parses a design file, naming the offending field on failure.
+    ///
+    /// [`DesignFile::to_json`] writes what this reads:
+    ///
+    /// ```
+    /// use linkwright_core::testbed::{known_scene, Family};
+    /// use linkwright_core::{DesignFile, Problem, Status};
+    ///
+    /// // A scene drawn from a known four-bar through three poses, and that four-bar as a design file.
+    /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+    /// let problem = Problem::new(&known.scene).expect("a valid scene");
+    /// let text = known.design().to_json();
+    ///
+    /// // The file alone is the design: read back, it passes its check against the scene.
+    /// let design = DesignFile::from_json(&text)?;
+    /// assert_eq!(design.status, Status::Ok);
+    /// assert_eq!(design.mechanism.as_ref().map(|m| m.joints.len()), Some(4));
+    /// assert_eq!(design.violations(&problem), vec![]);
+    ///
+    /// // A status the format does not have: the error names the field.
+    /// let error = DesignFile::from_json(r#"{"linkwright": "design/1", "scene": "", "status": "maybe"}"#)
+    ///     .unwrap_err();
+    /// assert_eq!(error.path, "status");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn from_json(text: &str) -> Result<DesignFile, DesignParseError> {
         let de = &mut serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(de)
             .map_err(|e| DesignParseError { path: e.path().to_string(), message: e.into_inner().to_string() })
     }
+    /// The design file as pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a design always serializes")
     }
@@ -285,7 +378,29 @@ impl DesignFile {
     /// Every violated constraint of this design's best mechanism against `problem` (empty when it is
     /// sound; a `no_solution` design has none): the file's own consistency (a file that
     /// [`DesignFile::validate`] refuses is one `format` violation per problem), then an independent
-    /// re-simulation ([`crate::verify::verify_travel`]) and the reported accuracy against it.
+    /// re-simulation of every hard constraint at finer crank steps than the synthesis takes (the one the
+    /// synthesis runs on every design before returning it), and the reported accuracy against it.
+    ///
+    /// ```
+    /// use linkwright_core::geom::Point;
+    /// use linkwright_core::testbed::{known_scene, Family};
+    /// use linkwright_core::Problem;
+    ///
+    /// // A scene drawn from a known four-bar through three poses: the four-bar passes.
+    /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+    /// let problem = Problem::new(&known.scene).expect("a valid scene");
+    /// let mut design = known.design();
+    /// assert_eq!(design.violations(&problem), vec![]);
+    ///
+    /// // The rocker's ground pivot moved by a tenth of the body's size.
+    /// let d = problem.bodies[0].size;
+    /// let r0 = design.mechanism.as_mut().and_then(|m| m.joints.get_mut("r0")).expect("a four-bar's r0");
+    /// *r0 = Point::new(r0.x + 0.1 * d, r0.y);
+    /// // The linkage still moves, but the body misses its poses by far more than the file's metrics say.
+    /// let violations = design.violations(&problem);
+    /// assert!(violations.iter().any(|v| v.constraint == "accuracy"), "{violations:?}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn violations(&self, problem: &Problem) -> Vec<Violation> {
         let fail = |constraint, message: String| vec![Violation { constraint, message }];
         let issues = self.validate(problem);

@@ -4,31 +4,99 @@
 //! one-degree-of-freedom linkage that carries every moving body through its poses in order, after the
 //! paper "Multi-Pose Interactive Linkage Design". All computation, no I/O.
 //!
-//! Modules, in the order data flows through them:
-//! - [`geom`]: points, vectors, rigid transforms, polygons; [`xml`]: escaping text for XML files.
-//! - [`scene`]: the `scene/1` format and its validation, and the [`scene::Problem`] derived from it.
-//! - [`mechanism`]: linkage topologies (the K-body chain, the slider-crank) as joints + rigid parts.
-//! - [`kinematics`]: a dyad plan compiled once per topology, evaluated per crank angle.
-//! - [`synth`]: sampling, hard constraints, soft costs, the particle filter and the pipeline.
-//! - [`design`]: the `design/1` format.
-//! - [`render`]: pictures of a design (SVG text, static and animated).
-//! - [`fab`]: fabrication: connectors, depth ordering, part solids, STL/3MF/SVG/DXF, plates, sheets.
-//! - [`analysis`]: a design's motion replayed for display: frames, error at each pose, Grashof types.
-//! - [`testbed`]: scenes made from known mechanisms (so an exact answer exists), for measuring designs.
+//! The way through the crate, in the order data flows:
+//! - a [`Scene`] (the `scene/1` format) is read with [`Scene::from_json`], checked with
+//!   [`validate_scene`] and turned into the [`Problem`] every later stage reads ([`Problem::new`]);
+//! - [`synthesize`] (or [`synthesize_with`], with [`Options`]) searches for linkages and returns an
+//!   [`Outcome`]: the best [`Candidate`] and its alternatives, each a [`Mechanism`] with its motion;
+//! - [`DesignFile::from_outcome`] writes the `design/1` answer, [`DesignFile::from_json`] reads one
+//!   back, [`DesignFile::validate`] and [`DesignFile::violations`] check it against its scene;
+//! - [`design_svg`] and [`animation_svg`] draw it; [`analysis`] replays its motion for display;
+//!   [`fab`] turns it into printable parts.
+//!
+//! Namespaces hold what a flat root would crowd: [`geom`] (points, vectors, rigid transforms,
+//! polygons), [`kinematics`] (a mechanism compiled into dyad steps and solved along its crank),
+//! [`analysis`], [`fab`], [`testbed`] (scenes made from known mechanisms, for measuring designs) and
+//! [`kernels`] (the synthesis's inner loops, for benchmarks).
+//!
+//! # Example
+//!
+//! A bundled example scene, a garbage truck's lid, to a four-bar that carries the lid through its three
+//! poses, with a search far smaller than the default (3,000 samples instead of 100,000) so that it takes
+//! a fraction of a second:
+//!
+//! ```
+//! use linkwright_core::{synthesize, DesignFile, MechanismChoice, Problem, Scene, Silent, Status};
+//!
+//! let mut scene = Scene::from_json(include_str!("../../../examples/k1_garbage_truck.json"))?;
+//! scene.mechanism = MechanismChoice::Chain; // not the default `Auto`, which may pick a slider-crank
+//! scene.settings.samples = 3000;
+//! scene.settings.iterations = 5;
+//! let problem = Problem::new(&scene).expect("the example is a valid scene");
+//!
+//! // `Silent` ignores progress and never cancels; the search runs on the current rayon pool.
+//! let outcome = synthesize(&problem, &Silent)?;
+//! let best = outcome.best.as_ref().expect("a linkage through every pose");
+//! assert_eq!(best.mechanism.topology.joint_count(), 4, "a four-bar: q0, r0 on the ground, p1, q1 on the lid");
+//!
+//! // The answer as a `design/1` file, which passes its own check against the scene.
+//! let design = DesignFile::from_outcome(&problem, &outcome);
+//! assert_eq!(design.status, Status::Ok);
+//! assert!(design.violations(&problem).is_empty());
+//! // The lid reaches every pose to within 1% of its size and 1°.
+//! let worst = design.metrics.as_ref().and_then(|m| m.worst_pose_error).expect("pose errors are written");
+//! assert!(worst.position_rel_d < 0.01 && worst.angle_deg < 1.0, "{worst:?}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! Conventions: world coordinates, y up; angles counter-clockwise, radians inside the library and
 //! degrees in files; "the first pose" is pose 0 of every moving body, the configuration in which the
 //! mechanism's joints are given. Every threshold is relative to the scene's size.
 
+#![warn(missing_docs)]
+// No public signature may mention a type the surface does not name.
+#![warn(unnameable_types)]
+// Unit tests link every dev-dependency, which they do not all use; the library must use all of its own.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
+
+mod design;
+mod mechanism;
+mod render;
+mod scene;
+mod synth;
+mod verify;
+mod xml;
+
 pub mod analysis;
-pub mod design;
 pub mod fab;
 pub mod geom;
+pub mod kernels;
 pub mod kinematics;
-pub mod mechanism;
-pub mod render;
-pub mod scene;
-pub mod synth;
 pub mod testbed;
-pub mod verify;
-pub mod xml;
+
+// The `scene/1` format, its validation, and the problem every later stage reads.
+pub use scene::{
+    limits, validate as validate_scene, FixedBody, Issue, MechanismChoice, MovingBody, MovingBodyProblem, ParseError,
+    PoseMiss, Problem, Scene, Settings, Severity, Weights, SCENE_FORMAT,
+};
+
+// Linkages: their families, structure (topology) and dimensions (joints at the first pose).
+pub use mechanism::{Family, Loop, Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
+
+// The synthesis: its entry points, what steers and observes a run, and what a run finds.
+pub use synth::{
+    synthesize, synthesize_with, Acceptance, Cancelled, Candidate, Observer, Options, Outcome, Progress, Reject,
+    RunStats, Silent, SoftTerms, Stage, Start, Term, WARM_SAMPLES,
+};
+
+// The `design/1` format: the engine's answer, read back, validated and checked.
+pub use design::{
+    Alternative, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, MechanismJson, Metrics, Motion,
+    PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
+};
+
+// Checking a design against its scene.
+pub use verify::{pose_misses, Violation};
+
+// Pictures of a design.
+pub use render::{animation_svg, design_svg, RenderInput};

@@ -33,21 +33,28 @@ pub enum PartKind {
 /// A rigid part and the joints (indices into the topology's joints) it carries.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
+    /// The part's name in design files: `ground`, `body1`, `crank`, `link1`, `rocker`, ...
     pub name: String,
+    /// What the part is.
     pub kind: PartKind,
+    /// The joints it carries, as indices into [`Topology::joint_names`].
     pub joints: Vec<usize>,
 }
 
 /// The structure of a mechanism without its dimensions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Topology {
+    /// The family the topology belongs to.
     pub mechanism_type: MechanismType,
     /// Number of moving bodies K.
     pub body_count: usize,
+    /// Every joint's name (`q0`, `p1`, ...); a joint's index here is its index everywhere else.
     pub joint_names: Vec<String>,
+    /// The rigid parts: the ground, one per moving body, and the links.
     pub parts: Vec<Part>,
     /// The driver link turns about `driver_pivot` (a ground joint); its moving end is `driver_tip`.
     pub driver_pivot: usize,
+    /// The driver link's moving end.
     pub driver_tip: usize,
     /// The joint that runs on the slider line, for the slider-crank.
     pub slider_joint: Option<usize>,
@@ -116,6 +123,7 @@ impl Topology {
         }
     }
 
+    /// Number of joints.
     pub fn joint_count(&self) -> usize {
         self.joint_names.len()
     }
@@ -176,13 +184,16 @@ pub struct SliderLine {
 /// A dimensioned mechanism: a topology and every joint's position at the first pose.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mechanism {
+    /// The structure: joints, parts and driver.
     pub topology: Arc<Topology>,
     /// Position of each joint at the first pose, indexed like `topology.joint_names`.
     pub joints: Vec<Point>,
+    /// The line the slider joint runs on (the slider-crank only).
     pub slider: Option<SliderLine>,
 }
 
 impl Mechanism {
+    /// The position at the first pose of the joint called `name`.
     pub fn joint(&self, name: &str) -> Option<Point> {
         self.topology.joint(name).map(|j| self.joints[j])
     }

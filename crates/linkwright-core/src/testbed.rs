@@ -27,6 +27,7 @@ pub const MIN_TRANSMISSION_DEG: f64 = 20.0;
 /// The most moving bodies a chain may have here, and the most poses: the scene format's limits, so
 /// every scene made here is one the engine takes.
 pub const MAX_CHAIN_BODIES: usize = crate::scene::limits::MAX_MOVING_BODIES;
+/// The most poses a scene made here has.
 pub const MAX_POSES: usize = crate::scene::limits::MAX_POSES;
 /// Mechanisms drawn before giving up.
 pub const MAX_DRAWS: usize = 20_000;
@@ -103,21 +104,34 @@ impl std::fmt::Display for Family {
 /// Why no scene was made.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TestbedError {
+    /// The chain's number of moving bodies (given) is outside 1..=[`MAX_CHAIN_BODIES`].
     #[error("a chain needs between 1 and {MAX_CHAIN_BODIES} moving bodies, not {0}")]
     BodyCount(usize),
+    /// The number of poses (given) is outside 2..=[`MAX_POSES`].
     #[error("a scene needs between 2 and {MAX_POSES} poses, not {0}")]
     PoseCount(usize),
+    /// The scale (given) is not a positive number of at most 10⁶.
     #[error("the scale must be a positive finite number (1e-3 to 1e3 is sensible), not {0}")]
     Scale(f64),
+    /// No mechanism drawn in [`MAX_DRAWS`] draws met every requirement.
     #[error("no {family} drawn from seed {seed} met every requirement in {MAX_DRAWS} draws")]
-    Exhausted { family: Family, seed: u64 },
+    Exhausted {
+        /// The family asked for.
+        family: Family,
+        /// The seed asked for.
+        seed: u64,
+    },
 }
 
 /// A scene made from a known mechanism, with that mechanism and its motion.
 #[derive(Clone, Debug)]
 pub struct KnownScene {
+    /// The family of the known mechanism.
     pub family: Family,
+    /// The seed it was drawn from.
     pub seed: u64,
+    /// The scene: the bodies' outlines and the poses the mechanism takes them through, with a fixed
+    /// body and a linkage region (a `scene/1` scene any front end opens).
     pub scene: Scene,
     /// The known mechanism, joints at the first pose (world coordinates of the scene).
     pub mechanism: Mechanism,

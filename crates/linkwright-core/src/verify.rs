@@ -14,6 +14,7 @@ pub struct Violation {
     /// Which constraint: `format`, `assembly`, `order`, `transmission`, `collision`, `avoid_region`,
     /// `accuracy`.
     pub constraint: &'static str,
+    /// What is wrong, with the numbers (crank angle, distance, ...) that show it.
     pub message: String,
 }
 

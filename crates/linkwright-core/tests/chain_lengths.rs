@@ -9,7 +9,7 @@
 
 use linkwright_core::geom::{Point, Rigid, Vec2};
 use linkwright_core::kinematics::{circle_circle, BodyFrames, Branch, Plan};
-use linkwright_core::mechanism::{Mechanism, Topology};
+use linkwright_core::{Mechanism, Topology};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseResult, TestRunner};
 use std::f64::consts::PI;

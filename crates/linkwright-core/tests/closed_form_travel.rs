@@ -4,7 +4,7 @@
 
 use linkwright_core::geom::{Point, Vec2};
 use linkwright_core::kinematics::Plan;
-use linkwright_core::mechanism::{Mechanism, SliderLine, Topology};
+use linkwright_core::{Mechanism, SliderLine, Topology};
 use proptest::prelude::*;
 use std::f64::consts::TAU;
 use std::sync::Arc;

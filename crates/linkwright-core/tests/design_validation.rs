@@ -1,10 +1,9 @@
 //! `DesignFile::validate`: a design file is refused, field by field, before anything simulates, draws
 //! or fabricates it; and what every reader builds on it (the check, fabrication) refuses it too.
 
-use linkwright_core::design::{DesignFile, PartJson, PartKindJson};
 use linkwright_core::fab::{self, FabError, PrintSettings, Travel};
-use linkwright_core::scene::Problem;
 use linkwright_core::testbed::{known_scene, Family};
+use linkwright_core::{DesignFile, PartJson, PartKindJson, Problem};
 use std::time::{Duration, Instant};
 
 /// A known four-bar with its scene: a design that is sound.
@@ -111,7 +110,7 @@ fn references_numbers_and_the_scene_are_checked_field_by_field() {
 
     let mut d = design.clone();
     d.alternatives = vec![
-        linkwright_core::design::Alternative {
+        linkwright_core::Alternative {
             mechanism: design.mechanism.clone().unwrap(),
             motion: design.motion.clone().unwrap(),
             metrics: design.metrics.clone().unwrap(),
@@ -132,6 +131,6 @@ fn names_with_control_characters_are_refused() {
 #[test]
 fn a_no_solution_design_carries_no_mechanism() {
     let (problem, mut design) = four_bar();
-    design.status = linkwright_core::design::Status::NoSolution;
+    design.status = linkwright_core::Status::NoSolution;
     assert_eq!(fields(&design, &problem), ["mechanism", "motion", "metrics"]);
 }

@@ -3,12 +3,8 @@
 //! 1° step, pins seated with the set clearance, every recorded ordering constraint satisfied), and
 //! every exporter's output is read back by an independent reader.
 
-use linkwright_core::design::DesignFile;
-use linkwright_core::fab::bundle::{assembled_meshes, bundle};
-use linkwright_core::fab::check::check;
-use linkwright_core::fab::{self, FeasibilityCheck, PrintSettings, Travel};
-use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize, synthesize_with, Candidate, Options, Silent, Start};
+use linkwright_core::fab::{self, assembled_meshes, bundle, check, FeasibilityCheck, PrintSettings, Travel};
+use linkwright_core::{synthesize, synthesize_with, Candidate, DesignFile, Options, Problem, Scene, Silent, Start};
 use std::io::Read;
 use std::time::Instant;
 
@@ -122,7 +118,7 @@ fn assert_sound(name: &str, f: &fab::Fabrication) {
             assert!((r - seat.pin_radius - f.dims.clearance).abs() < 1e-12, "{name}: joint {}", seat.joint);
         }
     }
-    assert!(fab::depth::violations(&f.layout, &f.recorded, &f.ordering).is_empty());
+    assert!(fab::ordering_violations(&f.layout, &f.recorded, &f.ordering).is_empty());
 }
 
 fn read_3mf(bytes: &[u8]) -> Vec<(String, usize, usize)> {

@@ -12,10 +12,8 @@ mod fuzz;
 
 use fuzz::{bounded, budget, keep_failure, mutate, Rng, CASE_BOUND};
 use linkwright_core::analysis::{analyze, AnalysisOptions, Which};
-use linkwright_core::design::DesignFile;
 use linkwright_core::fab::{fabricate_design, PrintSettings};
-use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize, Silent};
+use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;

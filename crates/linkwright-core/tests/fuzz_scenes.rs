@@ -11,8 +11,7 @@ mod fuzz;
 
 use fuzz::{bounded, budget, keep_failure, mutate, Rng, CASE_BOUND};
 use linkwright_core::fab::{FeasibilityCheck, PrintSettings};
-use linkwright_core::scene::{validate, Problem, Scene, Severity};
-use linkwright_core::synth::{synthesize_with, Options, Silent};
+use linkwright_core::{synthesize_with, validate_scene, Options, Problem, Scene, Severity, Silent};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -37,7 +36,7 @@ fn seeds() -> Vec<String> {
 /// Returns whether the case reached the engine (parsed and validated).
 fn run_case(text: &str) -> bool {
     let Ok(mut scene) = Scene::from_json(text) else { return false };
-    if validate(&scene).iter().any(|i| i.severity == Severity::Error) {
+    if validate_scene(&scene).iter().any(|i| i.severity == Severity::Error) {
         return false;
     }
     let settings = &mut scene.settings;

@@ -12,7 +12,7 @@
 
 use linkwright_core::geom::{Point, Vec2};
 use linkwright_core::kinematics::{circle_circle, Branch, Plan};
-use linkwright_core::mechanism::{Mechanism, SliderLine, Topology};
+use linkwright_core::{Mechanism, SliderLine, Topology};
 use serde_json::Value;
 use std::sync::Arc;
 

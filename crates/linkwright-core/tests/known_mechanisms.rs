@@ -2,10 +2,8 @@
 //! including motions with more poses than the linkage type can hit in general: each must give a valid
 //! design that the independent check passes, reaching the last pose, with small errors at the others.
 
-use linkwright_core::design::{DesignFile, Status};
-use linkwright_core::scene::Problem;
-use linkwright_core::synth::{synthesize, Silent};
 use linkwright_core::testbed::{known_scene, Family};
+use linkwright_core::{synthesize, DesignFile, Problem, Silent, Status};
 
 /// The design of the known scene, with its worst pose error and last pose error (fractions of d).
 fn design(family: Family, poses: usize, seed: u64) -> (String, DesignFile, f64, f64) {
@@ -97,7 +95,7 @@ fn must_hit_poses_are_reached_by_every_design() {
         file
     };
     let marked = [2, 4];
-    let worst_at = |metrics: &linkwright_core::design::Metrics, i: usize| {
+    let worst_at = |metrics: &linkwright_core::Metrics, i: usize| {
         let misses = &metrics.pose_errors[i];
         let position = misses.iter().map(|m| m.position_rel_d).fold(0.0, f64::max);
         let angle = misses.iter().map(|m| m.angle_deg).fold(0.0, f64::max);

@@ -1,7 +1,7 @@
 //! The nine-pose four-bar task (tests/fixtures/nine_pose_four_bar.json) is a usable scene, and its poses
 //! are the published task's: points and unit direction vectors (see tests/fixtures/README.md).
 
-use linkwright_core::scene::{Problem, Scene};
+use linkwright_core::{Problem, Scene};
 
 #[test]
 fn nine_pose_task_is_a_valid_scene_with_the_published_poses() {

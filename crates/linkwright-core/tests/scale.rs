@@ -1,10 +1,8 @@
 //! The drawing's units do not matter: a scene scaled by any factor gives the same design, scaled
 //! (every threshold and every soft cost is relative to the body size d).
 
-use linkwright_core::design::{DesignFile, Status};
 use linkwright_core::geom::Point;
-use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize, Silent};
+use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent, Status};
 use rand::{RngExt, SeedableRng};
 
 fn example(name: &str) -> Scene {

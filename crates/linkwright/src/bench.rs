@@ -6,9 +6,7 @@ mod known;
 use crate::files::read_problem;
 use crate::Failure;
 use clap::Args;
-use linkwright_core::design::DesignFile;
-use linkwright_core::scene::{MechanismChoice, MechanismType, Problem, Scene};
-use linkwright_core::synth::{synthesize, Silent};
+use linkwright_core::{synthesize, DesignFile, MechanismChoice, MechanismType, Problem, Scene, Silent};
 use serde::Serialize;
 use std::path::PathBuf;
 

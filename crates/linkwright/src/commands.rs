@@ -7,13 +7,12 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
-use linkwright_core::design::{DesignFile, Status};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
-use linkwright_core::render::{animation_svg, design_svg, RenderInput};
-use linkwright_core::scene::{PoseMiss, Problem};
-use linkwright_core::synth::{synthesize_with, Acceptance, Observer, Options, Outcome, Progress, Reject, Stage, Start};
-use linkwright_core::verify::pose_misses;
+use linkwright_core::{
+    animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
+    PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
+};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -199,7 +198,7 @@ fn joined(handle: std::thread::ScopedJoinHandle<'_, Result<(), Failure>>) -> Res
 }
 
 /// The mechanisms of a previous design file (its design and alternatives), for a warm start.
-fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::mechanism::Mechanism>, Failure> {
+fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::Mechanism>, Failure> {
     let file = read_design(path)?;
     let mechanisms = file.usable_mechanisms();
     if mechanisms.is_empty() {
@@ -236,7 +235,7 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
     }
 }
 
-fn kind_name(m: &linkwright_core::design::MechanismJson) -> String {
+fn kind_name(m: &linkwright_core::MechanismJson) -> String {
     let bodies = m.parts.iter().filter(|p| p.body.is_some()).count();
     m.mechanism_type.linkage_label(bodies)
 }

@@ -4,11 +4,10 @@
 use crate::files::{read_problem, read_valid_design, remove_if_present, write_atomically};
 use crate::Failure;
 use clap::Args;
-use linkwright_core::design::DesignFile;
-use linkwright_core::fab::bundle::{bundle, FIXED_FILES};
-use linkwright_core::fab::names::is_safe_relative_path;
-use linkwright_core::fab::{fabricate_design_or_alternative, PrintSettings};
-use linkwright_core::scene::{Problem, Scene};
+use linkwright_core::fab::{
+    bundle, fabricate_design_or_alternative, is_safe_relative_path, PrintSettings, FIXED_FILES,
+};
+use linkwright_core::{DesignFile, Problem, Scene};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 

@@ -2,8 +2,7 @@
 //! half-written file in place of one the person had.
 
 use crate::Failure;
-use linkwright_core::design::DesignFile;
-use linkwright_core::scene::{Problem, Scene, Severity};
+use linkwright_core::{DesignFile, Problem, Scene, Severity};
 use std::collections::hash_map::RandomState;
 use std::fs::{File, OpenOptions};
 use std::hash::BuildHasher;

@@ -22,7 +22,7 @@ fn thread_count() -> clap::builder::RangedU64ValueParser<usize> {
 
 /// `--samples`: between 1 and the scene format's own bound.
 fn sample_count() -> clap::builder::RangedU64ValueParser<usize> {
-    clap::builder::RangedU64ValueParser::new().range(1..=linkwright_core::scene::limits::MAX_SAMPLES as u64)
+    clap::builder::RangedU64ValueParser::new().range(1..=linkwright_core::limits::MAX_SAMPLES as u64)
 }
 
 /// Turn a sketch of an object and its key poses into a working linkage.

@@ -5,8 +5,7 @@
 mod common;
 
 use common::{example_text, quick_garbage_truck, Server};
-use linkwright_core::design::{DesignFile, Status};
-use linkwright_core::scene::{Problem, Scene};
+use linkwright_core::{DesignFile, Problem, Scene, Status};
 
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader, Read};

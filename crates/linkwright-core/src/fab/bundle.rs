@@ -19,6 +19,7 @@ pub const FIXED_FILES: [&str; 4] = ["assembly.3mf", "profiles.svg", "profiles.dx
 pub struct Bundle {
     /// `(relative path, contents)`, in a stable order.
     pub files: Vec<(String, Vec<u8>)>,
+    /// The report `fabrication.json` holds.
     pub report: Report,
 }
 

@@ -33,6 +33,7 @@ pub struct CheckReport {
 }
 
 impl CheckReport {
+    /// Whether every check holds (no finding in any list).
     pub fn ok(&self) -> bool {
         self.meshes.is_empty()
             && self.supports.is_empty()

@@ -46,25 +46,64 @@ pub enum PillarRef {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Constraint {
-    /// `z(a) ≠ z(b)` when on the same face.
-    Distinct { a: usize, b: usize },
-    /// `z(lower) < z(upper)` when on the same face.
-    Below { lower: usize, upper: usize },
-    /// `z(member) < min z(L_joint) ∨ z(member) > max z(L_joint)` when on the same face.
-    Around { member: usize, joint: usize },
-    /// `z(member) > max z(L_joint)` when on the same face.
-    Above { member: usize, joint: usize },
-    /// `z(member) > z(l)` for every other `l` of `L_joint`.
-    Outermost { member: usize, joint: usize },
-    /// The two pillars stand on opposite faces.
-    OppositeFaces { a: PillarRef, b: PillarRef },
+    /// `z(a) ≠ z(b)` when on the same face: the two members overlap somewhere along the motion (paper
+    /// eq. 18–19).
+    Distinct {
+        /// One member.
+        a: usize,
+        /// The other member.
+        b: usize,
+    },
+    /// `z(lower) < z(upper)` when on the same face: `upper` passes over the post of `lower` (eq. 16).
+    Below {
+        /// The member whose post is passed over.
+        lower: usize,
+        /// The member that passes over it.
+        upper: usize,
+    },
+    /// `z(member) < min z(L_joint) ∨ z(member) > max z(L_joint)` when on the same face: `member` passes
+    /// over the pin at `joint` (eq. 17).
+    Around {
+        /// The member that passes over the pin.
+        member: usize,
+        /// The joint whose pin it passes over.
+        joint: usize,
+    },
+    /// `z(member) > max z(L_joint)` when on the same face: `member` passes over a pin standing on a body
+    /// (nothing can pass under it).
+    Above {
+        /// The member that passes over the pin.
+        member: usize,
+        /// The joint whose pin it passes over.
+        joint: usize,
+    },
+    /// `z(member) > z(l)` for every other `l` of `L_joint`: the slider guide (or the frame holding the
+    /// slot) is the outermost member on its joint.
+    Outermost {
+        /// The member that must be outermost.
+        member: usize,
+        /// The joint it is outermost on.
+        joint: usize,
+    },
+    /// The two pillars (posts or pins standing on different bodies) meet during the motion, so they
+    /// stand on opposite faces.
+    OppositeFaces {
+        /// One pillar.
+        a: PillarRef,
+        /// The other pillar.
+        b: PillarRef,
+    },
     /// Every member of `L_joint` is on one face (always imposed; never recorded, only reported broken).
-    SameFace { joint: usize },
+    SameFace {
+        /// The joint.
+        joint: usize,
+    },
 }
 
 /// The constraints of one motion, each with the first crank angle (degrees) where it was seen.
 #[derive(Clone, Debug, Default)]
 pub struct Recorded {
+    /// Each constraint, with the first crank angle where it was seen, degrees.
     pub constraints: BTreeMap<Constraint, f64>,
 }
 
@@ -72,14 +111,18 @@ pub struct Recorded {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Face {
+    /// The face the bodies' outlines are drawn on (`z = 0`), facing the viewer.
     Front,
+    /// The opposite face (`z = -body_thickness`).
     Back,
 }
 
 /// A depth ordering: every member's face and layer (1 = next to the bodies).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Ordering {
+    /// Each member's face, indexed like [`Layout::members`].
     pub face: Vec<Face>,
+    /// Each member's layer on its face (1 next to the bodies), indexed like [`Layout::members`].
     pub layer: Vec<u32>,
     /// The most layers on either face.
     pub layers: u32,
@@ -216,7 +259,7 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
 
 /// Why no ordering was found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NoOrdering {
+pub(crate) enum NoOrdering {
     /// Proven: no ordering exists with the faces allowed.
     Infeasible,
     /// The solver ran out of its time budget.

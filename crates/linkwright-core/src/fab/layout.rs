@@ -47,7 +47,9 @@ pub struct Slot {
 /// A flat printed part on one layer: the convex hull of discs of radius `half_width` around `core`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Member {
+    /// Unique among the members: a link's part name, `connector_JOINT`, `slider_guide` or `frame`.
     pub name: String,
+    /// What the member is.
     pub kind: MemberKind,
     /// Index into [`Layout::carriers`].
     pub carrier: usize,
@@ -81,6 +83,7 @@ impl Member {
 /// A joint pin fused to a body or the ground (the joint lies deep enough inside it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyPin {
+    /// The body (or the ground) it stands on, as an index into [`Layout::carriers`].
     pub carrier: usize,
     /// Position in the carrier's frame.
     pub at: Point,
@@ -89,9 +92,11 @@ pub struct BodyPin {
 /// Every printed member and how it is carried, for one mechanism in one scene.
 #[derive(Clone, Debug)]
 pub struct Layout {
+    /// Every rigid thing a member rides on: the ground, then each moving body, then each link.
     pub carriers: Vec<Carrier>,
     /// For each carrier, the first two joints whose frame places it (links), unused otherwise.
     link_frames: Vec<(usize, usize)>,
+    /// Every printed member.
     pub members: Vec<Member>,
     /// `L_j` of paper eq. 17: the members that turn on joint j.
     pub joint_members: Vec<Vec<usize>>,
@@ -105,6 +110,7 @@ pub struct Layout {
     /// The frame's foot in a scene without a fixed body: a disc in the bodies' plane, standing on the
     /// table where no body comes along the motion, carrying the frame's post.
     pub foot: Option<Pad>,
+    /// The print settings in scene units.
     pub dims: Dims,
     frames: BodyFrames,
 }
@@ -114,7 +120,7 @@ impl Layout {
     /// give the slider's stroke).
     /// With `body_pins`, a joint lying deep inside its body gets a pin fused to the body; without, every
     /// body joint gets a connector (as in the paper), which leaves the solver more freedom.
-    pub fn new(
+    pub(crate) fn new(
         shapes: &SceneShapes,
         mechanism: &Mechanism,
         trace: &Trace,

@@ -1,71 +1,94 @@
 //! Fabrication (paper §7): from a design to parts that print, snap together and move without rubbing.
 //!
-//! The stages, each a module:
-//! - [`settings`]: print settings in millimetres (defaults for a desktop FDM printer) and the derived
-//!   sizes in scene units;
-//! - [`layout`]: joint connectors (§7.1): which members exist (with the frame of a scene without a
-//!   fixed body), what carries each; [`posts`]: where their posts stand (inside the body, on the middle
-//!   line of a thin one, or on a pad fused to the side of one too thin);
-//! - [`depth`]: collisions recorded along the motion and the depth ordering solved by a constraint
-//!   solver (§7.2, eq. 16–19), minimising layers; [`FeasibilityCheck`] is the fast check the
-//!   synthesis runs on its candidates;
-//! - [`solid`], [`parts`]: closed meshes of every part (§7.3, eq. 20);
-//! - [`export`]: binary STL, 3MF, SVG and DXF profiles; [`plates`]: parts spread on print beds (and
-//!   what a part too large for the bed would need); [`split`]: bodies too large cut by dovetails;
-//!   [`sheet`]: the assembly sheet; [`report`]: `fabrication.json`; [`check`]: the checks every
-//!   fabrication must pass (closed meshes, posts on their parts, no part crossing another along the
-//!   motion, pins seated).
+//! [`fabricate_design`] turns a design file into a [`Fabrication`] ([`fabricate_design_or_alternative`]
+//! falls back on one of its alternatives when the design itself cannot be made); [`bundle`] turns a
+//! fabrication into the files to print and its [`Report`] (`fabrication.json`); [`check`] runs the
+//! checks every fabrication must pass. [`FeasibilityCheck`] is the fast printability test the
+//! synthesis runs on its candidates when asked for printable designs ([`crate::Options::printable`]).
+//!
+//! The stages, one file each under `src/fab/`:
+//! - `settings.rs`: [`PrintSettings`] in millimetres (defaults for a desktop FDM printer) and the sizes
+//!   derived from them in scene units ([`Dims`]);
+//! - `layout.rs`: joint connectors (§7.1): which [`Member`]s exist (with the frame of a scene without a
+//!   fixed body), what carries each ([`Layout`]); `posts.rs`: where their posts stand (inside the body,
+//!   on the middle line of a thin one, or on a [`Pad`] fused to the side of one too thin);
+//! - `depth.rs`: collisions recorded along the motion ([`Recorded`]) and the depth [`Ordering`] solved by
+//!   a constraint solver (§7.2, eq. 16–19), minimising layers;
+//! - `solid.rs`, `parts.rs`: closed [`Mesh`]es of every [`Part`] (§7.3, eq. 20);
+//! - `export.rs`: binary STL, 3MF, SVG and DXF profiles; `plates.rs`: parts spread on print beds (and
+//!   what a part too large for the bed would need, [`Misfit`]); `split.rs`: bodies too large cut by
+//!   dovetails; `sheet.rs`: the assembly sheet; `report.rs`: `fabrication.json`; `check.rs`: the checks
+//!   every fabrication must pass (closed meshes, posts on their parts, no part crossing another along
+//!   the motion, pins seated).
 //!
 //! Conventions: the bodies are extruded from `z = -body_thickness` to `z = 0` (the front face); layer
 //! k on the front face spans `layer_bottom(k)..layer_top(k)`, and the back face mirrors it. Geometry is
 //! built in scene units; exporters write millimetres. Nothing here does I/O: exporters return bytes.
 
-pub mod bundle;
-pub mod check;
-pub mod depth;
-pub mod export;
-pub mod layout;
-pub mod names;
-pub mod parts;
-pub mod plates;
-pub mod posts;
-pub mod report;
-pub mod settings;
-pub mod shapes;
-pub mod sheet;
-pub mod solid;
-pub mod split;
+mod bundle;
+mod check;
+mod depth;
+mod export;
+mod layout;
+mod names;
+mod parts;
+mod plates;
+mod posts;
+mod report;
+mod settings;
+mod shapes;
+mod sheet;
+mod solid;
+mod split;
 
-use crate::geom::Point;
 use crate::kinematics::{Plan, Trace};
 use crate::mechanism::Mechanism;
 use crate::scene::Problem;
-pub use depth::{Constraint, Face, Ordering, Recorded};
-pub use layout::Layout;
-pub use parts::{Part, PinSeat, Role};
-pub use posts::SceneShapes;
-pub use settings::{millimetres_per_unit, Dims, Faces, PrintSettings};
+use posts::SceneShapes;
+
+pub use bundle::{assembled_meshes, bundle, Bundle, FIXED_FILES};
+pub use check::{check, CheckReport};
+pub use depth::{violations as ordering_violations, Constraint, Face, Ordering, PillarRef, Recorded};
+pub use layout::{BodyPin, Carrier, Layout, Member, MemberKind, Slot};
+pub use names::is_safe_relative_path;
+pub use parts::{Heights, HoleSeat, Part, PinSeat, Prism, Role, SlotSeat};
+pub use plates::Misfit;
+pub use posts::Pad;
+pub use report::{ConstraintReport, Layers, Oversized, PartReport, PlateReport, Report, Totals, FABRICATION_FORMAT};
+pub use settings::{millimetres_per_unit, Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
+pub use solid::Mesh;
 use std::time::Instant;
 
 /// Why a design cannot be fabricated; every message says what to change.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FabError {
+    /// The print settings cannot work (every issue, in words).
     #[error("print settings: {0}")]
     Settings(String),
+    /// The scene's `units` (given) is not a unit with a known length in millimetres.
     #[error("the scene's units \"{0}\" are not known; use mm, cm, m, in or ft")]
     Units(String),
+    /// The design moves other bodies than the scene has (how, in words).
     #[error("the design does not match the scene: {0}")]
     Mismatch(String),
     #[error(
         "no room for the connector post of joint {joint} on {body}: the body is too thin for a post with \
          the print settings (make the body larger or connector_post smaller)"
     )]
-    NoRoomForPost { joint: String, body: String },
+    /// No place on a body is deep enough for a connector's post.
+    NoRoomForPost {
+        /// The joint the connector carries.
+        joint: String,
+        /// The body's name.
+        body: String,
+    },
     #[error(
         "no depth ordering of the links and connectors avoids every collision along the motion (paper \
          §7.2); choose another design (an alternative) or allow both faces with \"faces\": \"both\""
     )]
+    /// No depth ordering satisfies every constraint recorded along the motion.
     NoOrdering,
+    /// The depth-ordering solver ran out of its time budget.
     #[error("the depth-ordering solver ran out of time; try again or allow both faces")]
     OrderingTimedOut,
     #[error(
@@ -73,28 +96,63 @@ pub enum FabError {
          joint would enter another body (first at crank {at_deg:.1}°): draw the body thicker near the joint, \
          or choose another design"
     )]
-    PadCollides { joint: String, body: String, at_deg: f64 },
+    /// A body is too thin for a connector's post, and every pad that could carry it would enter
+    /// another body along the motion.
+    PadCollides {
+        /// The joint the connector carries.
+        joint: String,
+        /// The body's name.
+        body: String,
+        /// The first crank angle where the pad would enter another body, degrees.
+        at_deg: f64,
+    },
     #[error(
         "joints {a} and {b} of {link} are closer than the {need_mm:.1} mm two pins need with these print settings: \
          the linkage is too small to print (choose a larger design, or narrower links and pins)"
     )]
-    JointsTooClose { link: String, a: String, b: String, need_mm: f64 },
+    /// Two joints of a link are too close for two pins side by side.
+    JointsTooClose {
+        /// The link's name.
+        link: String,
+        /// One joint's name.
+        a: String,
+        /// The other joint's name.
+        b: String,
+        /// The least distance the print settings need between them, mm.
+        need_mm: f64,
+    },
     #[error(
         "{parts} fit the {width:.0} × {depth:.0} mm print area (the bed minus its margins) in no turn: print on a \
          bed of at least {square_bed_mm:.0} mm square (print settings \"bed\"), scale the scene by at most \
          {max_scale:.2}, or choose another design"
     )]
-    OffBed { parts: String, width: f64, depth: f64, square_bed_mm: f64, max_scale: f64 },
+    /// Some links, connectors or the frame fit the print bed in no turn.
+    OffBed {
+        /// Their names, joined for the message.
+        parts: String,
+        /// The print area's width (the bed's minus its margins), mm.
+        width: f64,
+        /// The print area's depth, mm.
+        depth: f64,
+        /// The smallest square bed on which every one of them fits, mm.
+        square_bed_mm: f64,
+        /// The largest factor the scene could be scaled by for them to fit this bed.
+        max_scale: f64,
+    },
+    /// A part's mesh could not be built, or a file encoded (why, in words).
     #[error("cannot build a part's solid: {0}")]
     Mesh(String),
+    /// The linkage comes apart along the design's travel, or the travel is not usable (why).
     #[error("the design's motion cannot be simulated: {0}")]
     Motion(String),
+    /// The design file is not valid against its scene ([`crate::DesignFile::validate`]).
     #[error("the design file is not valid: {}", joined(.0))]
     Invalid(Vec<crate::design::DesignIssue>),
     #[error(
         "the design fails its check against the scene ({}): fabricate a design that passes the check",
         joined(.0.iter().map(|v| format!("{}: {}", v.constraint, v.message)))
     )]
+    /// The design fails its check against the scene ([`crate::DesignFile::violations`]).
     FailsCheck(Vec<crate::verify::Violation>),
 }
 
@@ -117,30 +175,42 @@ pub struct Timings {
 /// Everything fabricated for one design.
 #[derive(Clone, Debug)]
 pub struct Fabrication {
+    /// The scene's name.
     pub scene_name: String,
     /// The mechanism's joint names, by index.
     pub joint_names: Vec<String>,
+    /// The print settings, millimetres.
     pub settings: PrintSettings,
+    /// The print settings in scene units.
     pub dims: Dims,
+    /// The printed members and what carries each.
     pub layout: Layout,
+    /// The ordering constraints recorded along the motion.
     pub recorded: Recorded,
+    /// Every member's face and layer.
     pub ordering: Ordering,
+    /// Every printed part, with its meshes.
     pub parts: Vec<Part>,
+    /// Every pin and the holes it sits in, for checking.
     pub seats: Vec<PinSeat>,
     /// The motion at crank steps of at most 1°, from the first pose to the last.
     pub trace: Trace,
+    /// Seconds spent in each stage.
     pub timings: Timings,
 }
 
 /// The crank's travel of a design, radians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Travel {
+    /// The driver's angle at the first pose.
     pub start: f64,
+    /// The driver's angle at the last pose.
     pub end: f64,
 }
 
 /// The motion at crank steps of at most 1° (the paper's simulation step). A travel of a full turn or
-/// more is refused before anything is allocated for it (see [`crate::design::MAX_TRAVEL_DEG`]).
+/// more is refused before anything is allocated for it (the limit [`crate::DesignFile::validate`]
+/// applies).
 pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabError> {
     let turn = crate::design::MAX_TRAVEL_DEG.to_radians();
     if !(travel.start.is_finite() && travel.end.is_finite() && (travel.end - travel.start).abs() < turn) {
@@ -263,6 +333,26 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
 /// Fabricates the mechanism of a design file for its scene (`units` is the scene's `units` field). A
 /// design file that is not valid ([`crate::design::DesignFile::validate`]) or fails its check against
 /// the scene ([`crate::design::DesignFile::violations`]) is refused before anything is built.
+///
+/// ```
+/// use linkwright_core::fab::{bundle, check, fabricate_design, PrintSettings, Role};
+/// use linkwright_core::testbed::{known_scene, Family};
+/// use linkwright_core::Problem;
+///
+/// // A known four-bar in a scene drawn in millimetres, with the default print settings.
+/// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+/// let problem = Problem::new(&known.scene).expect("a valid scene");
+/// let fabrication = fabricate_design(&problem, &known.scene.units, &known.design(), &PrintSettings::default())?;
+///
+/// // Its two links are printed, and every part passes the checks along the whole motion.
+/// assert_eq!(fabrication.parts.iter().filter(|p| p.role == Role::Link).count(), 2);
+/// assert!(check(&fabrication).ok());
+/// // The files to print: one STL per part, among others, and the report.
+/// let files = bundle(&fabrication)?;
+/// assert!(files.files.iter().any(|(path, _)| path == "fabrication.json"));
+/// assert_eq!(files.report.parts.len(), fabrication.parts.len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn fabricate_design(
     problem: &Problem,
     units: &str,
@@ -291,6 +381,7 @@ pub fn fabricate_design(
 pub struct Chosen {
     /// Which design was fabricated: 0 the design itself, k its k-th alternative (`alternatives[k - 1]`).
     pub used: usize,
+    /// What was made of it.
     pub fabrication: Fabrication,
     /// Why the design itself was passed over, when an alternative was used.
     pub passed_over: Option<String>,
@@ -474,11 +565,4 @@ impl FeasibilityCheck {
         }
         Err(first.unwrap_or(FabError::NoOrdering))
     }
-}
-
-/// The world position of a point carried by `carrier` in the configuration of trace row `r`.
-pub fn carried(layout: &Layout, trace: &Trace, r: usize, carrier: usize, p: Point) -> Point {
-    let mut poses = Vec::new();
-    layout.carrier_poses(trace.row(r), &mut poses);
-    poses[carrier].apply(p)
 }

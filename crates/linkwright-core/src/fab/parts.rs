@@ -23,8 +23,11 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Role {
+    /// A binary bar or ternary plate of the linkage.
     Link,
+    /// A bar fixed to a body (or the ground) by a square post, carrying a joint.
     Connector,
+    /// The slider's slotted guide, fixed to the ground.
     Guide,
     /// A moving body (or one half of it when it carries parts on both faces).
     Body,
@@ -37,8 +40,11 @@ pub enum Role {
 /// A prism: a planar region (outline minus holes) between two heights, in a part's frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prism {
+    /// The region's outer boundary.
     pub outline: Vec<Point>,
+    /// Holes cut out of it.
     pub holes: Vec<Vec<Point>>,
+    /// Its bottom and top heights.
     pub z: (f64, f64),
 }
 
@@ -47,11 +53,13 @@ pub struct Prism {
 pub struct Part {
     /// Unique, usable as a file name.
     pub name: String,
+    /// What the part is.
     pub role: Role,
     /// Index into [`Layout::carriers`]: what moves it.
     pub carrier: usize,
     /// The member it is, for links, connectors and the guide.
     pub member: Option<usize>,
+    /// The face of the bodies it is on.
     pub face: Face,
     /// Layer (1 next to the bodies), 0 for bodies and ground.
     pub layer: u32,
@@ -84,10 +92,13 @@ type Half<'a> = (String, Face, Heights, Vec<&'a Spec>);
 /// A pin and the holes it must sit in, for checking.
 #[derive(Clone, Debug)]
 pub struct PinSeat {
+    /// The joint the pin is.
     pub joint: usize,
-    /// Part that carries the pin, and the pin's axis in that part's carrier frame.
+    /// Part that carries the pin (an index into [`Fabrication::parts`](super::Fabrication::parts)).
     pub pin_part: usize,
+    /// The pin's axis in that part's carrier frame.
     pub pin_at: Point,
+    /// The pin's radius.
     pub pin_radius: f64,
     /// Heights of the pin's shaft (assembled).
     pub shaft: (f64, f64),

@@ -98,6 +98,7 @@ pub struct Pad {
     pub carrier: usize,
     /// Centre (the post's place), carrier frame.
     pub centre: Point,
+    /// The pad's radius.
     pub radius: f64,
 }
 

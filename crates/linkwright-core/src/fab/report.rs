@@ -11,39 +11,55 @@ use serde::Serialize;
 /// The version string of the report.
 pub const FABRICATION_FORMAT: &str = "fabrication/1";
 
+/// `fabrication.json`: what was made, how it is layered and laid out, what it weighs, and the checks.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
+    /// The report's version string, [`FABRICATION_FORMAT`].
     pub linkwright: &'static str,
+    /// The scene's name.
     pub scene: String,
     /// Millimetres per scene unit.
     pub mm_per_unit: f64,
+    /// The print settings used.
     pub settings: super::PrintSettings,
+    /// How many layers the depth ordering uses on each face.
     pub layers: Layers,
+    /// Every printed part, with its file and size.
     pub parts: Vec<PartReport>,
+    /// The print beds the parts are laid out on, one 3MF file each.
     pub plates: Vec<PlateReport>,
     /// Parts larger than the bed in every turn, each with what it would take to print it.
     pub oversized: Vec<Oversized>,
+    /// Part count, volume and mass of the whole linkage.
     pub totals: Totals,
     /// The recorded ordering constraints, with member and joint names.
     pub constraints: Vec<ConstraintReport>,
+    /// The assembly steps, in order, as sentences.
     pub assembly: Vec<String>,
+    /// Seconds spent in each stage of the fabrication.
     pub seconds: super::Timings,
+    /// What the fabrication's checks found ([`super::check`]).
     pub checks: CheckReport,
 }
 
 /// A part larger than the bed in every turn.
 #[derive(Clone, Debug, Serialize)]
 pub struct Oversized {
+    /// The part's name.
     pub name: String,
+    /// What the part is.
     pub role: Role,
     /// Its footprint, the smallest square bed it fits and the largest scene scale that fits this bed.
     #[serde(flatten)]
     pub misfit: Misfit,
 }
 
+/// The layers of a depth ordering.
 #[derive(Clone, Debug, Serialize)]
 pub struct Layers {
+    /// Layers on the bodies' front face.
     pub front: u32,
+    /// Layers on the bodies' back face.
     pub back: u32,
     /// Most layers on a face (what the solver minimised).
     pub count: u32,
@@ -51,37 +67,55 @@ pub struct Layers {
     pub optimal: bool,
 }
 
+/// One printed part in the report.
 #[derive(Clone, Debug, Serialize)]
 pub struct PartReport {
+    /// The part's name (also its file's stem).
     pub name: String,
+    /// What the part is.
     pub role: Role,
+    /// The face of the bodies it is on.
     pub face: Face,
+    /// Its layer (1 next to the bodies), 0 for bodies and ground.
     pub layer: u32,
+    /// Its STL file, relative to the output directory (`parts/NAME.stl`).
     pub file: String,
     /// Size laid flat for printing, mm.
     pub size_mm: [f64; 3],
+    /// Its volume, mm³.
     pub volume_mm3: f64,
+    /// Its estimated mass with the settings' density and fill fraction, grams.
     pub mass_g: f64,
+    /// Triangles of its mesh.
     pub triangles: usize,
 }
 
+/// One print bed's worth of parts.
 #[derive(Clone, Debug, Serialize)]
 pub struct PlateReport {
+    /// Its 3MF file, relative to the output directory (`plate_N.3mf`).
     pub file: String,
+    /// The names of the parts on it.
     pub parts: Vec<String>,
 }
 
+/// The whole linkage's parts, volume and mass.
 #[derive(Clone, Debug, Serialize)]
 pub struct Totals {
+    /// Number of printed parts.
     pub parts: usize,
+    /// Their total volume, mm³.
     pub volume_mm3: f64,
+    /// Their total estimated mass, grams.
     pub mass_g: f64,
 }
 
+/// One recorded ordering constraint, in words.
 #[derive(Clone, Debug, Serialize)]
 pub struct ConstraintReport {
     /// Paper equation: 16, 17 or 18-19 (or "structure").
     pub equation: &'static str,
+    /// What the constraint asks, with member and joint names.
     pub text: String,
     /// First crank angle where it was seen, degrees.
     pub at_deg: f64,

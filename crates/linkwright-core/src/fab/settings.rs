@@ -117,7 +117,9 @@ impl Default for PrintSettings {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{field}: {message}")]
 pub struct SettingsIssue {
+    /// The setting, as a path (`bed.width`, `snap_cap.lip`).
     pub field: String,
+    /// What is wrong with it and what to change.
     pub message: String,
 }
 
@@ -235,6 +237,7 @@ pub struct Dims {
     pub cap_height: f64,
     /// Layer pitch `LD + JD + 2 GP` (eq. 20 with Δz = 1 plus LD).
     pub pitch: f64,
+    /// Radius of every pin.
     pub pin_radius: f64,
     /// Pin radius plus the radial clearance.
     pub hole_radius: f64,
@@ -252,9 +255,13 @@ pub struct Dims {
     pub post_collar_radius: f64,
     /// Half side of the post's cap base.
     pub post_cap_half: f64,
+    /// Thickness of the extruded bodies.
     pub body_thickness: f64,
+    /// Least material around any hole, post or pin base.
     pub wall: f64,
+    /// Radial play between a pin and its hole, and a post and its socket.
     pub clearance: f64,
+    /// Segments of a full circle in meshes and outlines.
     pub segments: usize,
 }
 

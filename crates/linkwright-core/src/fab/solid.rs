@@ -11,7 +11,9 @@ use crate::geom::{Point, Vec2};
 /// An indexed triangle mesh.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions `[x, y, z]`.
     pub vertices: Vec<[f64; 3]>,
+    /// Triangles as three indices into `vertices`, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
 }
 

@@ -8,18 +8,19 @@ mod polygon;
 mod rigid;
 mod vector;
 
-pub use obstacle::Obstacle;
-pub use polygon::{outline_distance, penetrates_unchecked, Aabb, Polygon, PolygonError};
+pub(crate) use obstacle::Obstacle;
+pub(crate) use polygon::penetrates_unchecked;
+pub use polygon::{outline_distance, Aabb, Polygon, PolygonError};
 pub use rigid::{Isometry, Rigid};
-pub use vector::{orientation, Orientation, Point, Vec2};
+pub use vector::{Point, Vec2};
 
 /// Distance from `p` to the segment `a`–`b`.
-pub fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
+pub(crate) fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
     point_segment_distance_sq(p, a, b).sqrt()
 }
 
 /// Squared distance from `p` to the segment `a`–`b` (no square root, for comparisons in hot loops).
-pub fn point_segment_distance_sq(p: Point, a: Point, b: Point) -> f64 {
+pub(crate) fn point_segment_distance_sq(p: Point, a: Point, b: Point) -> f64 {
     let ab = b - a;
     let len_sq = ab.norm_sq();
     if len_sq == 0.0 {
@@ -33,7 +34,7 @@ pub fn point_segment_distance_sq(p: Point, a: Point, b: Point) -> f64 {
 ///
 /// Returns true when the open segments cross at a single point that lies farther than `tol` from every
 /// endpoint, which is what "one edge passes through another" means for penetration tests.
-pub fn segments_cross(a0: Point, a1: Point, b0: Point, b1: Point, tol: f64) -> bool {
+pub(crate) fn segments_cross(a0: Point, a1: Point, b0: Point, b1: Point, tol: f64) -> bool {
     let da = a1 - a0;
     let db = b1 - b0;
     let denom = da.cross(db);

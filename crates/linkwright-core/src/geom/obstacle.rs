@@ -164,6 +164,7 @@ impl Obstacle {
     }
 
     /// The polygon's vertices, as given.
+    #[cfg(test)]
     pub fn vertices(&self) -> &[Point] {
         &self.vertices
     }

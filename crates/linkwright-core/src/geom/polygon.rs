@@ -5,7 +5,9 @@ use super::{point_segment_distance, point_segment_distance_sq, segments_cross, P
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The corner with the smallest coordinates.
     pub min: Point,
+    /// The corner with the largest coordinates.
     pub max: Point,
 }
 
@@ -20,24 +22,29 @@ impl Aabb {
         }
         Some(b)
     }
+    /// Grows the box to contain `p`.
     pub fn include(&mut self, p: Point) {
         self.min.x = self.min.x.min(p.x);
         self.min.y = self.min.y.min(p.y);
         self.max.x = self.max.x.max(p.x);
         self.max.y = self.max.y.max(p.y);
     }
+    /// The smallest box containing both boxes.
     pub fn union(&self, o: &Aabb) -> Aabb {
         let mut b = *self;
         b.include(o.min);
         b.include(o.max);
         b
     }
+    /// Extent along x.
     pub fn width(&self) -> f64 {
         self.max.x - self.min.x
     }
+    /// Extent along y.
     pub fn height(&self) -> f64 {
         self.max.y - self.min.y
     }
+    /// Length of the diagonal.
     pub fn diagonal(&self) -> f64 {
         (self.max - self.min).norm()
     }
@@ -48,6 +55,7 @@ impl Aabb {
             && self.min.y < o.max.y - tol
             && o.min.y < self.max.y - tol
     }
+    /// Whether `p` is inside the box or on its boundary.
     pub fn contains(&self, p: Point) -> bool {
         p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
     }
@@ -66,12 +74,16 @@ impl Aabb {
 /// What makes a list of points not a usable simple polygon.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PolygonError {
+    /// Fewer than three vertices (how many there are).
     #[error("has {0} vertices; a polygon needs at least 3")]
     TooFewVertices(usize),
+    /// A coordinate of this vertex (0-based) is NaN or infinite.
     #[error("vertex {0} is not a finite number")]
     NonFinite(usize),
+    /// The vertices lie on one line.
     #[error("has zero area (its vertices lie on one line)")]
     ZeroArea,
+    /// These two edges (edge i runs from vertex i to the next) cross.
     #[error("crosses itself (edge {0} crosses edge {1})")]
     SelfIntersecting(usize, usize),
 }
@@ -88,6 +100,7 @@ impl Polygon {
     pub fn new(vertices: Vec<Point>) -> Self {
         Polygon { vertices }
     }
+    /// The vertices, in order.
     pub fn vertices(&self) -> &[Point] {
         &self.vertices
     }
@@ -107,9 +120,11 @@ impl Polygon {
         }
         twice / 2.0
     }
+    /// The enclosed area, whatever the winding.
     pub fn area(&self) -> f64 {
         self.signed_area().abs()
     }
+    /// The bounding box (a point at the origin for a polygon without vertices).
     pub fn aabb(&self) -> Aabb {
         Aabb::around(self.vertices.iter().copied()).unwrap_or(Aabb { min: Point::ORIGIN, max: Point::ORIGIN })
     }
@@ -129,6 +144,7 @@ impl Polygon {
         }
         Point::new(cx / (6.0 * a), cy / (6.0 * a))
     }
+    /// The polygon with every vertex moved by `t`.
     pub fn transformed(&self, t: &Rigid) -> Polygon {
         Polygon::new(self.vertices.iter().map(|&p| t.apply(p)).collect())
     }

@@ -24,6 +24,7 @@ pub struct Isometry {
 }
 
 impl Rigid {
+    /// The motion that moves nothing.
     pub const IDENTITY: Rigid =
         Rigid { angle: 0.0, isometry: Isometry { cos: 1.0, sin: 0.0, translation: Vec2::ZERO } };
 
@@ -45,9 +46,11 @@ impl Rigid {
         let t = self.isometry.translation;
         [t.x, t.y, self.angle.to_degrees()]
     }
+    /// The rotation angle, radians, unwrapped (composing adds angles).
     pub fn angle(&self) -> f64 {
         self.angle
     }
+    /// Where the motion takes the origin, as a vector.
     pub fn translation(&self) -> Vec2 {
         self.isometry.translation
     }
@@ -55,6 +58,7 @@ impl Rigid {
     pub fn isometry(&self) -> Isometry {
         self.isometry
     }
+    /// `v` rotated by the motion's angle (a vector is not translated).
     pub fn rotate(&self, v: Vec2) -> Vec2 {
         self.isometry.rotate(v)
     }
@@ -62,9 +66,11 @@ impl Rigid {
     pub fn unrotate(&self, v: Vec2) -> Vec2 {
         self.isometry.unrotate(v)
     }
+    /// Where the motion takes `p`.
     pub fn apply(&self, p: Point) -> Point {
         self.isometry.apply(p)
     }
+    /// The motion that undoes this one.
     pub fn inverse(&self) -> Rigid {
         Rigid { angle: -self.angle, isometry: self.isometry.inverse() }
     }
@@ -89,6 +95,7 @@ impl Isometry {
         }
         Isometry { cos: x_axis.x / length, sin: x_axis.y / length, translation: origin.to_vec2() }
     }
+    /// `v` rotated by the motion's rotation (a vector is not translated).
     pub fn rotate(&self, v: Vec2) -> Vec2 {
         Vec2::new(self.cos * v.x - self.sin * v.y, self.sin * v.x + self.cos * v.y)
     }
@@ -96,9 +103,11 @@ impl Isometry {
     pub fn unrotate(&self, v: Vec2) -> Vec2 {
         Vec2::new(self.cos * v.x + self.sin * v.y, -self.sin * v.x + self.cos * v.y)
     }
+    /// Where the motion takes `p`.
     pub fn apply(&self, p: Point) -> Point {
         Point::ORIGIN + self.rotate(p.to_vec2()) + self.translation
     }
+    /// The motion that undoes this one.
     pub fn inverse(&self) -> Isometry {
         Isometry { cos: self.cos, sin: -self.sin, translation: -self.unrotate(self.translation) }
     }

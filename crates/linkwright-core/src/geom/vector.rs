@@ -6,7 +6,9 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 /// A displacement in the plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Vec2 {
+    /// Component along x.
     pub x: f64,
+    /// Component along y (up).
     pub y: f64,
 }
 
@@ -14,13 +16,17 @@ pub struct Vec2 {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(from = "[f64; 2]", into = "[f64; 2]")]
 pub struct Point {
+    /// Coordinate along x.
     pub x: f64,
+    /// Coordinate along y (up).
     pub y: f64,
 }
 
 impl Vec2 {
+    /// The zero displacement.
     pub const ZERO: Vec2 = Vec2 { x: 0.0, y: 0.0 };
 
+    /// The vector with these components.
     pub const fn new(x: f64, y: f64) -> Self {
         Vec2 { x, y }
     }
@@ -29,6 +35,7 @@ impl Vec2 {
         let (s, c) = angle.sin_cos();
         Vec2::new(c, s)
     }
+    /// The dot product.
     pub fn dot(self, o: Vec2) -> f64 {
         self.x * o.x + self.y * o.y
     }
@@ -36,6 +43,7 @@ impl Vec2 {
     pub fn cross(self, o: Vec2) -> f64 {
         self.x * o.y - self.y * o.x
     }
+    /// The squared length (no square root).
     pub fn norm_sq(self) -> f64 {
         self.dot(self)
     }
@@ -52,17 +60,21 @@ impl Vec2 {
     pub fn angle(self) -> f64 {
         self.y.atan2(self.x)
     }
+    /// The unit vector along `self` (NaN components for the zero vector).
     pub fn normalized(self) -> Vec2 {
         self / self.norm()
     }
+    /// Whether both components are finite.
     pub fn is_finite(self) -> bool {
         self.x.is_finite() && self.y.is_finite()
     }
 }
 
 impl Point {
+    /// The origin of the world.
     pub const ORIGIN: Point = Point { x: 0.0, y: 0.0 };
 
+    /// The point with these coordinates.
     pub const fn new(x: f64, y: f64) -> Self {
         Point { x, y }
     }
@@ -70,9 +82,11 @@ impl Point {
     pub fn to_vec2(self) -> Vec2 {
         Vec2::new(self.x, self.y)
     }
+    /// The Euclidean distance to `o`.
     pub fn distance(self, o: Point) -> f64 {
         (self - o).norm()
     }
+    /// Whether both coordinates are finite.
     pub fn is_finite(self) -> bool {
         self.x.is_finite() && self.y.is_finite()
     }
@@ -145,25 +159,5 @@ impl Div<f64> for Vec2 {
     type Output = Vec2;
     fn div(self, s: f64) -> Vec2 {
         Vec2::new(self.x / s, self.y / s)
-    }
-}
-
-/// Which way three points turn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Orientation {
-    CounterClockwise,
-    Clockwise,
-    Collinear,
-}
-
-/// The turn `a → b → c`, with `Collinear` when the signed area is within `tol` (an area, in length²).
-pub fn orientation(a: Point, b: Point, c: Point, tol: f64) -> Orientation {
-    let area2 = (b - a).cross(c - a);
-    if area2 > tol {
-        Orientation::CounterClockwise
-    } else if area2 < -tol {
-        Orientation::Clockwise
-    } else {
-        Orientation::Collinear
     }
 }

@@ -24,10 +24,14 @@ impl Branch {
 /// Why a dyad has no solution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum DyadError {
+    /// Circle-circle: the two circles do not meet (the links are too short, or too long, to close the
+    /// loop).
     #[error("the two circles do not meet")]
     CirclesApart,
+    /// Circle-line: the circle does not reach the slider's line.
     #[error("the circle does not reach the line")]
     LineOutOfReach,
+    /// Circle-circle: the two centres coincide, so the dyad's direction is undefined.
     #[error("the two centres coincide")]
     CoincidentCentres,
 }
@@ -83,12 +87,6 @@ pub fn circle_line_branch(c: Point, origin: Point, direction: Vec2, p: Point) ->
     }
 }
 
-/// How far the angle between `u` and `v` is from 0° and 180°, radians in [0, π/2]: the margin of a
-/// transmission angle.
-pub fn transmission_margin(u: Vec2, v: Vec2) -> f64 {
-    transmission_sine(u, v).asin()
-}
-
 /// The sine of the angle between `u` and `v`, which is the sine of its transmission margin: it orders
 /// margins as they do (the margin lies in [0, π/2]) without an inverse trigonometric function per step.
 pub fn transmission_sine(u: Vec2, v: Vec2) -> f64 {
@@ -141,8 +139,16 @@ mod tests {
 
     #[test]
     fn transmission_margin_of_right_and_flat_angles() {
-        assert_close(transmission_margin(Vec2::new(1.0, 0.0), Vec2::new(0.0, 2.0)), std::f64::consts::FRAC_PI_2, 1e-15);
-        assert_close(transmission_margin(Vec2::new(1.0, 0.0), Vec2::new(-3.0, 0.0)), 0.0, 1e-15);
-        assert_close(transmission_margin(Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0)), std::f64::consts::FRAC_PI_4, 1e-15);
+        assert_close(
+            transmission_sine(Vec2::new(1.0, 0.0), Vec2::new(0.0, 2.0)).asin(),
+            std::f64::consts::FRAC_PI_2,
+            1e-15,
+        );
+        assert_close(transmission_sine(Vec2::new(1.0, 0.0), Vec2::new(-3.0, 0.0)).asin(), 0.0, 1e-15);
+        assert_close(
+            transmission_sine(Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0)).asin(),
+            std::f64::consts::FRAC_PI_4,
+            1e-15,
+        );
     }
 }

@@ -7,9 +7,6 @@ mod dyad;
 mod plan;
 mod trace;
 
-pub use dyad::{
-    circle_circle, circle_circle_branch, circle_line, circle_line_branch, transmission_margin, transmission_sine,
-    Branch, DyadError,
-};
+pub use dyad::{circle_circle, Branch, DyadError};
 pub use plan::{CompileError, Plan, Step};
 pub use trace::{BodyFrames, SweepError, Trace};

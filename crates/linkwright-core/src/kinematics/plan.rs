@@ -10,12 +10,49 @@ use crate::mechanism::{Mechanism, PartKind, Topology};
 #[derive(Clone, Debug, PartialEq)]
 pub enum Step {
     /// The joint is at distance `ra` from `a` and `rb` from `b` (two parts meet at it).
-    Dyad { joint: usize, a: usize, ra: f64, b: usize, rb: f64, branch: Branch },
+    Dyad {
+        /// The joint placed (an index into the topology's joints, as are `a` and `b`).
+        joint: usize,
+        /// The first centre.
+        a: usize,
+        /// The joint's distance from `a`.
+        ra: f64,
+        /// The second centre.
+        b: usize,
+        /// The joint's distance from `b`.
+        rb: f64,
+        /// Which of the two intersections, as at the first pose.
+        branch: Branch,
+    },
     /// The joint is at distance `r` from `centre` and on the slider line.
-    Slider { joint: usize, centre: usize, r: f64, origin: Point, direction: Vec2, branch: Branch },
+    Slider {
+        /// The joint placed (an index into the topology's joints, as is `centre`).
+        joint: usize,
+        /// The joint at the other end of the rod.
+        centre: usize,
+        /// The rod's length.
+        r: f64,
+        /// A point of the slider line.
+        origin: Point,
+        /// The slider line's unit direction.
+        direction: Vec2,
+        /// Which of the two intersections, as at the first pose.
+        branch: Branch,
+    },
     /// The joint is carried by a part whose joints `a`, `b` are placed: it sits at `along` on the
     /// direction a→b and `across` to its left, in the part's frame.
-    Attach { joint: usize, a: usize, b: usize, along: f64, across: f64 },
+    Attach {
+        /// The joint placed (an index into the topology's joints, as are `a` and `b`).
+        joint: usize,
+        /// The origin of the part's frame.
+        a: usize,
+        /// The joint the frame's x axis points to.
+        b: usize,
+        /// The joint's distance along the x axis (a length).
+        along: f64,
+        /// The joint's distance to the left of the x axis (a length).
+        across: f64,
+    },
 }
 
 impl Step {
@@ -50,10 +87,13 @@ fn first_failure(
 /// Why a mechanism cannot be compiled into a plan.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum CompileError {
+    /// No solving order places this joint (named) from joints already placed.
     #[error("joint {0} cannot be placed from the others: the mechanism is not a chain of dyads")]
     NotDyadic(String),
+    /// Two joints (named) that define a part's frame or a dyad are at the same point.
     #[error("joints {0} and {1} coincide, so the part or dyad through them is undefined")]
     Coincident(String, String),
+    /// The crank's two joints are at the same point.
     #[error("the crank has zero length")]
     ZeroCrank,
 }
@@ -218,9 +258,11 @@ impl Plan {
         Ok(())
     }
 
+    /// Number of joints a configuration of the mechanism has (the length of a row).
     pub fn joint_count(&self) -> usize {
         self.joint_count
     }
+    /// The steps that place the moving joints after the crank's tip, in solving order.
     pub fn steps(&self) -> &[Step] {
         &self.steps
     }

@@ -9,8 +9,11 @@ use crate::mechanism::Mechanism;
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error("the linkage cannot assemble at crank angle {theta_deg:.2}° (step {step}: {cause})")]
 pub struct SweepError {
+    /// The crank angle at which the linkage came apart, degrees.
     pub theta_deg: f64,
+    /// The index of the plan's step that failed ([`Plan::steps`]).
     pub step: usize,
+    /// Why that step has no solution.
     pub cause: DyadError,
 }
 
@@ -21,6 +24,7 @@ pub struct Trace {
     pub thetas: Vec<f64>,
     /// `thetas.len() × joint_count` positions, one row per angle.
     pub positions: Vec<Point>,
+    /// Joints per row.
     pub joint_count: usize,
 }
 
@@ -124,9 +128,11 @@ impl Trace {
         self.positions.truncate(len * n);
     }
 
+    /// Number of rows (crank angles).
     pub fn len(&self) -> usize {
         self.thetas.len()
     }
+    /// Whether the trace has no row.
     pub fn is_empty(&self) -> bool {
         self.thetas.is_empty()
     }
@@ -178,6 +184,7 @@ impl BodyFrames {
         let (a, c, body_to_frame) = &self.frames[b];
         body_to_frame.isometry().then(&Isometry::from_frame(row[*a], row[*c] - row[*a]))
     }
+    /// Number of moving bodies.
     pub fn body_count(&self) -> usize {
         self.frames.len()
     }

@@ -34,11 +34,26 @@ pub trait Family: Sync {
 /// A loop of a linkage, by joint indices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Loop {
-    /// A four-bar: the frame `[a, b]` (on the ground or on the body the loop hangs from), the input
-    /// link `[a, c]`, the coupler `[c, d]` and the output link `[b, d]`.
-    FourBar { frame: [usize; 2], input: [usize; 2], coupler: [usize; 2], output: [usize; 2] },
-    /// A slider-crank: the crank turns about `pivot`, its `tip` drives the rod to the `slider` joint.
-    SliderCrank { pivot: usize, tip: usize, slider: usize },
+    /// A four-bar, each link by its two joints.
+    FourBar {
+        /// The link the loop stands on (the ground, or the body the loop hangs from), `[a, b]`.
+        frame: [usize; 2],
+        /// The link that drives the loop, `[a, c]`.
+        input: [usize; 2],
+        /// The floating link, `[c, d]`.
+        coupler: [usize; 2],
+        /// The link driven, `[b, d]`.
+        output: [usize; 2],
+    },
+    /// A slider-crank.
+    SliderCrank {
+        /// The ground joint the crank turns about.
+        pivot: usize,
+        /// The crank's moving end, which drives the rod.
+        tip: usize,
+        /// The joint that runs on the slider's line.
+        slider: usize,
+    },
 }
 
 impl MechanismType {

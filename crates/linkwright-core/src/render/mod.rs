@@ -19,7 +19,7 @@ mod svg;
 #[cfg(test)]
 mod tests;
 
-pub use animation::{animation_svg, MAX_FRAMES};
+pub use animation::animation_svg;
 pub use design::design_svg;
 
 use crate::kinematics::Trace;
@@ -29,6 +29,7 @@ use crate::scene::Problem;
 /// What a picture shows: a scene, the linkage designed for it and its motion.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderInput<'a> {
+    /// The scene the linkage was designed for.
     pub problem: &'a Problem,
     /// The linkage, its joints at the first pose.
     pub mechanism: &'a Mechanism,

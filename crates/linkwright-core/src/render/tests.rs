@@ -1,9 +1,10 @@
 //! Tests of the pictures: read back with an independent XML reader, counted, and checked against the
 //! kinematics they draw.
 
+use super::animation::MAX_FRAMES;
 use super::sheet::sample;
 use super::style::Style;
-use super::{animation_svg, design_svg, RenderInput, MAX_FRAMES};
+use super::{animation_svg, design_svg, RenderInput};
 use crate::geom::testing::assert_close;
 use crate::geom::{Point, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};

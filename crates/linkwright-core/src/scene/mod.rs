@@ -18,17 +18,29 @@ pub const SCENE_FORMAT: &str = "scene/1";
 /// warnings by [`validate`]), so a scene written back loses nothing.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Scene {
+    /// The format's version string, [`SCENE_FORMAT`] for a scene this crate reads.
     pub linkwright: String,
+    /// What the object is called, for titles and file names (may be empty).
     #[serde(default)]
     pub name: String,
+    /// The length unit of every coordinate, `mm` by default. The synthesis works in whatever unit the
+    /// scene uses; fabrication needs one it can convert to millimetres (`mm`, `cm`, `m`, `in`, `ft`).
     #[serde(default = "default_units")]
     pub units: String,
+    /// The parts of the object that never move. None is allowed (with a warning): the ground joints
+    /// then stand in the world, and fabrication prints a frame to hold them.
     pub fixed_bodies: Vec<FixedBody>,
+    /// The parts that move, in the order of the chain: body 1 is driven from the ground, body k from
+    /// body k − 1.
     pub moving_bodies: Vec<MovingBody>,
+    /// Where the joints should be at the first pose (a soft wish, the cost E_loc), world coordinates.
+    /// Without it, the bounding box of the fixed bodies and of the moving bodies at their first pose.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub linkage_region: Option<Vec<Point>>,
+    /// Polygons no link may enter at any moment of the motion (a hard constraint), world coordinates.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub avoid_regions: Vec<Vec<Point>>,
+    /// Which kind of linkage to synthesise (default: every kind that fits, the best kept).
     #[serde(default)]
     pub mechanism: MechanismChoice,
     /// Poses (by index from 0, for every moving body at once) the linkage must reach as closely as the
@@ -36,10 +48,13 @@ pub struct Scene {
     /// intermediate poses are guides the design may pass near.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub must_hit_poses: Vec<usize>,
+    /// Weights of the soft costs.
     #[serde(default)]
     pub weights: Weights,
+    /// Settings of the search.
     #[serde(default)]
     pub settings: Settings,
+    /// Top-level fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
 }
@@ -51,9 +66,12 @@ fn default_units() -> String {
 /// A part of the object that never moves, as a polygon in world coordinates.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FixedBody {
+    /// What the body is called (may be empty).
     #[serde(default)]
     pub name: String,
+    /// The outline, a simple polygon in world coordinates (either winding).
     pub polygon: Vec<Point>,
+    /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
 }
@@ -61,10 +79,16 @@ pub struct FixedBody {
 /// A moving part: its outline in its own frame and the poses `[x, y, angle_deg]` it must visit in order.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MovingBody {
+    /// What the body is called (may be empty).
     #[serde(default)]
     pub name: String,
+    /// The outline, a simple polygon in the body's own frame.
     pub polygon: Vec<Point>,
+    /// Where the body's frame is at each pose, `[x, y, angle_deg]` in world coordinates: a body point
+    /// `m` sits at `R(angle)·m + (x, y)`. Every moving body has the same number of poses, pose i of all
+    /// of them at the same moment.
     pub poses: Vec<[f64; 3]>,
+    /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
 }
@@ -182,7 +206,7 @@ impl<'de> Deserialize<'de> for MechanismChoice {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Weights {
-    /// Weight of E_acc / d², the mean squared joint error at the poses. Default 1.
+    /// Weight of E_acc / d², the mean squared joint error at the poses. Default 1000.
     pub accuracy: f64,
     /// Weight of E_smooth, the tortuosity of the joint paths (≥ 1, unitless). Default 1.
     pub smoothness: f64,
@@ -190,6 +214,7 @@ pub struct Weights {
     pub location: f64,
     /// Weight of E_size / d, the mean link length. Default 1.
     pub size: f64,
+    /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
 }
@@ -218,6 +243,7 @@ pub struct Settings {
     pub angle_tolerance_deg: f64,
     /// Lower bound on every transmission angle's distance from 0° and 180°, degrees. Default 10.
     pub min_transmission_deg: f64,
+    /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
 }
@@ -243,6 +269,7 @@ impl Default for Settings {
 pub struct ParseError {
     /// Where in the document the problem is, e.g. `moving_bodies[0].poses[1]`, or `.` for the root.
     pub path: String,
+    /// What is wrong there (for text that is not JSON at all, the parser's message).
     pub message: String,
 }
 
@@ -250,6 +277,30 @@ impl Scene {
     /// Parses a scene from JSON text. Structural problems (a missing field, a string where a number
     /// belongs, an unknown mechanism) are reported with the path of the offending field; everything
     /// else is left to [`validate`].
+    ///
+    /// ```
+    /// use linkwright_core::{MechanismChoice, Scene};
+    ///
+    /// let scene = Scene::from_json(
+    ///     r#"{"linkwright": "scene/1", "name": "lid",
+    ///         "fixed_bodies": [{"name": "ground", "polygon": [[0, 0], [200, 0], [200, 20], [0, 20]]}],
+    ///         "moving_bodies": [{"name": "lid", "polygon": [[0, 0], [20, 0], [20, 80], [0, 80]],
+    ///                            "poses": [[50, 100, 0], [120, 60, -90]]}]}"#,
+    /// )?;
+    /// assert_eq!(scene.moving_bodies[0].poses[1], [120.0, 60.0, -90.0]);
+    /// // What the file leaves out takes its default.
+    /// assert_eq!((scene.units.as_str(), scene.mechanism), ("mm", MechanismChoice::Auto));
+    /// assert_eq!(scene.settings.samples, 100_000);
+    ///
+    /// // A pose without its angle: the error names the field.
+    /// let error = Scene::from_json(
+    ///     r#"{"linkwright": "scene/1", "fixed_bodies": [],
+    ///         "moving_bodies": [{"polygon": [[0, 0], [1, 0], [0, 1]], "poses": [[0, 0]]}]}"#,
+    /// )
+    /// .unwrap_err();
+    /// assert_eq!(error.path, "moving_bodies[0].poses[0]");
+    /// # Ok::<(), linkwright_core::ParseError>(())
+    /// ```
     pub fn from_json(text: &str) -> Result<Scene, ParseError> {
         let de = &mut serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(de).map_err(|e| {

@@ -9,6 +9,7 @@ pub const CONTACT_FRACTION: f64 = 1e-3;
 /// One moving body, ready for the engine.
 #[derive(Clone, Debug)]
 pub struct MovingBodyProblem {
+    /// The body's name in the scene.
     pub name: String,
     /// Outline in the body's own frame.
     pub outline: Polygon,
@@ -61,17 +62,23 @@ impl PoseMiss {
 /// A validated scene in the engine's terms.
 #[derive(Clone, Debug)]
 pub struct Problem {
+    /// The scene's name.
     pub name: String,
     /// What one unit of the drawing is ("mm"), for labels.
     pub units: String,
+    /// The fixed bodies' outlines, world coordinates.
     pub fixed: Vec<Polygon>,
+    /// The moving bodies, in the scene's order (the chain's).
     pub bodies: Vec<MovingBodyProblem>,
     /// Where the joints should be at the first pose (soft).
     pub region: Polygon,
     /// Where no link may go (hard).
     pub avoid: Vec<Polygon>,
+    /// Which kind of linkage to synthesise.
     pub mechanism: MechanismChoice,
+    /// The scene's weights of the soft costs.
     pub weights: Weights,
+    /// The scene's search settings.
     pub settings: Settings,
     /// Number of poses N, the same for every body.
     pub pose_count: usize,
@@ -152,8 +159,8 @@ impl Problem {
         })
     }
 
-    /// Penetration shallower than this (a length) is contact, not collision: a fraction
-    /// [`CONTACT_FRACTION`] of the smallest body size, so drawing imprecision never counts as overlap.
+    /// Penetration shallower than this (a length) is contact, not collision: a thousandth of the
+    /// smallest body size, so drawing imprecision never counts as overlap.
     pub fn contact_tolerance(&self) -> f64 {
         CONTACT_FRACTION * self.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min)
     }

@@ -12,13 +12,16 @@ use serde_json::{Map, Value};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Severity {
+    /// The scene cannot be used as it is.
     Error,
+    /// The scene can be used, but something in it is probably not what was meant.
     Warning,
 }
 
 /// One finding about a scene.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Issue {
+    /// Whether the finding stops the run.
     pub severity: Severity,
     /// The field, as a path: `moving_bodies[1].poses`, `settings.samples`.
     pub field: String,
@@ -53,21 +56,26 @@ pub mod limits {
     /// Vertices of every outline and region together: the collision sweep tests each link against
     /// every edge at every step of the motion.
     pub const MAX_VERTICES: usize = 2000;
+    /// Fixed bodies in one scene.
     pub const MAX_FIXED_BODIES: usize = 50;
     /// Moving bodies: the chain grows two links per body, and its sampling works in 4K dimensions.
     pub const MAX_MOVING_BODIES: usize = 8;
     /// Poses per moving body: beyond the nine or ten of the classic motion-generation tasks, more
     /// poses only draw the path, and every sample fits and simulates through each of them.
     pub const MAX_POSES: usize = 20;
+    /// Avoid regions in one scene.
     pub const MAX_AVOID_REGIONS: usize = 50;
     /// How many times the whole drawing (every outline at every pose, and the regions) may be larger
     /// than its smallest moving body: the engine resolves contacts and noise in fractions of that
     /// body's size, so a drawing a thousand times as large is mostly unrelated geometry.
     pub const MAX_EXTENT_RATIO: f64 = 1000.0;
-    /// Upper bounds of the settings: together with the geometry's bounds these keep a run on two
-    /// cores within minutes (the paper's settings are 100,000 samples, 100 particles, 20 iterations).
+    /// Most `settings.samples`. With the bounds on particles and iterations and the geometry's, this
+    /// keeps a run on two cores within minutes (the paper's settings are 100,000 samples, 100
+    /// particles, 20 iterations).
     pub const MAX_SAMPLES: usize = 1_000_000;
+    /// Most `settings.particles`.
     pub const MAX_PARTICLES: usize = 1000;
+    /// Most `settings.iterations`.
     pub const MAX_ITERATIONS: usize = 200;
     /// Samples times moving bodies times poses: every sample is fitted through every pose of every
     /// body, and beyond the exact poses a fit iterates to its least-squares optimum, about 3 µs per
@@ -88,6 +96,22 @@ const MAX_ANGLE_TOLERANCE_DEG: f64 = 90.0;
 const MAX_MIN_TRANSMISSION_DEG: f64 = 80.0;
 
 /// Every problem found in `scene`, errors and warnings, roughly in document order.
+///
+/// ```
+/// use linkwright_core::{validate_scene, Scene, Severity};
+///
+/// // One pose is no motion.
+/// let scene = Scene::from_json(
+///     r#"{"linkwright": "scene/1",
+///         "fixed_bodies": [{"polygon": [[0, 0], [200, 0], [200, 20], [0, 20]]}],
+///         "moving_bodies": [{"polygon": [[0, 0], [20, 0], [20, 80], [0, 80]], "poses": [[50, 100, 0]]}]}"#,
+/// )?;
+/// let issues = validate_scene(&scene);
+/// let error = issues.iter().find(|i| i.severity == Severity::Error).expect("an error");
+/// assert_eq!(error.field, "moving_bodies[0].poses");
+/// assert!(error.message.contains("at least 2"), "{error}");
+/// # Ok::<(), linkwright_core::ParseError>(())
+/// ```
 pub fn validate(scene: &Scene) -> Vec<Issue> {
     let mut out = Issues::default();
     if scene.linkwright != SCENE_FORMAT {

@@ -43,6 +43,7 @@ pub enum Reject {
 }
 
 impl Reject {
+    /// Every reason, cheapest check first.
     pub const ALL: [Reject; 10] = [
         Reject::JointsTooClose,
         Reject::Order,
@@ -60,13 +61,16 @@ impl Reject {
 /// A mechanism that passed the kinematic checks, with its motion.
 #[derive(Clone, Debug)]
 pub struct Candidate {
+    /// The linkage, its joints at the first pose.
     pub mechanism: Mechanism,
+    /// The linkage compiled for solving along its crank.
     pub plan: Plan,
     /// The travel from the first to the last pose: crank steps of at most 1°, plus one row exactly at
     /// each pose's crank angle.
     pub trace: Trace,
     /// Row of `trace` at each pose.
     pub pose_rows: Vec<usize>,
+    /// The soft terms of paper eq. 10–13.
     pub soft: SoftTerms,
     /// Weighted sum of the soft terms (eq. 14).
     pub cost: f64,

@@ -19,13 +19,11 @@ mod workspace;
 pub use collision::{check_collisions, SweepBuffers};
 pub use context::Context;
 pub use evaluate::{evaluate, Candidate, Reject, Scratch};
-pub use pfo::FilterOptions;
 pub use pipeline::{
-    families, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats,
-    Silent, Stage, Start, WARM_SAMPLES,
+    synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent, Stage,
+    Start, WARM_SAMPLES,
 };
-pub use terms::{CostWeights, Floor, SoftTerms, Term};
-pub use workspace::Buffers;
+pub use terms::{CostWeights, SoftTerms, Term};
 
 /// Fixtures shared by the synthesis unit tests.
 #[cfg(test)]

@@ -55,15 +55,20 @@ type Draw<'a> = dyn Fn(usize, &mut SampleScratch) -> bool + Sync + 'a;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Stage {
+    /// Drawing samples, fitting them to the poses and checking them for defects (paper §4–5.4).
     Sampling,
+    /// Checking the candidates for collisions along their travel (§5.5).
     Collision,
+    /// The particle filter (§6), then refining and checking the designs kept.
     Refining,
 }
 
 /// A progress report.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Progress {
+    /// What the run is doing.
     pub stage: Stage,
+    /// The family being searched.
     pub mechanism: MechanismType,
     /// Fraction of the whole run done, 0 to 1.
     pub fraction: f64,
@@ -74,7 +79,9 @@ pub struct Progress {
 /// Receives progress and tells the run whether to stop. Called from worker threads' coordinator only
 /// (never concurrently), between chunks of work.
 pub trait Observer: Sync {
+    /// Called with each progress report; does nothing by default.
     fn progress(&self, _progress: &Progress) {}
+    /// Whether the run should stop now (it then returns [`Cancelled`]); never, by default.
     fn cancelled(&self) -> bool {
         false
     }
@@ -93,6 +100,7 @@ pub struct Cancelled;
 /// Counts and seconds of a run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunStats {
+    /// Samples drawn.
     pub samples: usize,
     /// Samples that became a rigid linkage (passed the E_rigid fit).
     pub fitted: usize,
@@ -102,8 +110,11 @@ pub struct RunStats {
     pub valid: usize,
     /// How many candidates each hard constraint rejected.
     pub rejected: Vec<(Reject, usize)>,
+    /// Seconds spent drawing, fitting and checking samples.
     pub seconds_sampling: f64,
+    /// Seconds spent checking candidates for collisions.
     pub seconds_collision: f64,
+    /// Seconds spent in the particle filter.
     pub seconds_pfo: f64,
     /// Checking the kept designs for printability (when asked).
     pub seconds_printability: f64,
@@ -111,15 +122,18 @@ pub struct RunStats {
     pub seconds_refinement: f64,
     /// Designs dropped because the independent re-simulation rejected them.
     pub failed_verification: usize,
+    /// Seconds of the whole run.
     pub seconds_total: f64,
 }
 
 /// What a run found.
 #[derive(Debug)]
 pub struct Outcome {
+    /// The design of lowest cost, or `None` when no linkage passed every hard constraint.
     pub best: Option<Candidate>,
     /// Other valid designs, best first, each distinct from the best and from each other.
     pub alternatives: Vec<Candidate>,
+    /// What the run did and how long it took.
     pub stats: RunStats,
     /// Why there is no design and what to change, when there is none.
     pub reason: Option<String>,
@@ -166,6 +180,7 @@ pub trait Acceptance: Sync + std::fmt::Debug {
 /// How a run starts and what its designs must also satisfy.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Options<'a> {
+    /// From scratch, or from earlier designs.
     pub start: Start<'a>,
     /// When given, every design must pass it (printable with given print settings, say). Checked on
     /// the kept designs, cheapest first, so the paper's stages run unchanged.
@@ -173,6 +188,36 @@ pub struct Options<'a> {
 }
 
 /// Runs the paper's synthesis from scratch (no fabrication check) on the current rayon pool.
+///
+/// The result depends on the scene (its `settings.seed` included) and never on the number of
+/// threads. `observer` hears of the progress and may stop the run:
+///
+/// ```
+/// use linkwright_core::{synthesize, Observer, Problem, Progress, Scene};
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+///
+/// /// Counts the progress reports.
+/// struct Count(AtomicUsize);
+/// impl Observer for Count {
+///     fn progress(&self, _: &Progress) {
+///         self.0.fetch_add(1, Ordering::Relaxed);
+///     }
+/// }
+///
+/// // The wall bed: two moving bodies (the bed and its leg), so a Watt-I six-bar.
+/// let mut scene = Scene::from_json(include_str!("../../../../examples/k2_wall_bed.json"))?;
+/// scene.settings.samples = 20_000; // a fifth of the default, for a quick example
+/// scene.settings.iterations = 5;
+/// let problem = Problem::new(&scene).expect("the example is a valid scene");
+/// let reports = Count(AtomicUsize::new(0));
+/// let outcome = synthesize(&problem, &reports)?;
+///
+/// let best = outcome.best.as_ref().expect("a linkage through every pose");
+/// assert_eq!(best.mechanism.topology.joint_count(), 7, "p1, p2, q0, q1, q2, r0, r1");
+/// assert!(outcome.alternatives.iter().all(|a| a.cost >= best.cost), "the best comes first");
+/// assert!(outcome.stats.valid > 0 && reports.0.into_inner() > 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     synthesize_with(problem, &Options::default(), observer)
 }

@@ -81,7 +81,8 @@ pub struct RigidityModel {
     max_iterations: usize,
 }
 
-/// The outcome of [`RigidityModel::fit`].
+/// The outcome of one fit of the rigidity energy (paper eq. 3–5): how far the fitted joints are from
+/// a rigid linkage.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fit {
     /// `E_rigid` at the returned joints, in world units (`Σ r²`).
@@ -276,17 +277,20 @@ impl RigidityModel {
     }
 
     /// Number of residuals for `poses` poses.
+    #[cfg(test)]
     pub fn residual_count(&self, poses: usize) -> usize {
         (self.pairs.len() + usize::from(self.slider.is_some())) * poses.saturating_sub(1)
     }
 
     /// The residuals of eq. 4–5 (world units), pair-major then slider, poses 1..N within each.
+    #[cfg(test)]
     pub fn residuals(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut Vec<f64>) {
         out.clear();
         self.for_each_row::<false>(&self.pairs, self.slider.is_some(), x, motions, |row| out.push(row.r));
     }
 
     /// `E_rigid = Σ r²` (world units).
+    #[cfg(test)]
     pub fn energy(&self, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
         let mut e = 0.0;
         self.for_each_row::<false>(&self.pairs, self.slider.is_some(), x, motions, |row| e += row.r * row.r);
@@ -294,6 +298,7 @@ impl RigidityModel {
     }
 
     /// The analytic gradient of [`RigidityModel::energy`], `2 Jᵀ r`.
+    #[cfg(test)]
     pub fn gradient(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut [f64]) {
         assert_eq!(out.len(), self.dim(), "gradient buffer has the wrong length");
         out.fill(0.0);

@@ -29,7 +29,7 @@ pub enum Term {
 
 /// What bounds a term from below before the linkage is simulated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Floor {
+pub(crate) enum Floor {
     /// The term is computed from the joints alone, before any simulation: it is its own floor.
     Exact,
     /// The term needs the simulated travel; the floor of the simulated terms bounds it (with the
@@ -62,7 +62,7 @@ impl Term {
     }
 
     /// What bounds the term before any simulation.
-    pub fn floor(self) -> Floor {
+    pub(crate) fn floor(self) -> Floor {
         match self {
             Term::Accuracy | Term::Smoothness => Floor::Simulated,
             Term::Location | Term::Size => Floor::Exact,
@@ -112,7 +112,7 @@ impl CostWeights {
     }
 
     /// The part of [`CostWeights::cost`] from the terms whose floor is of the kind `floor`.
-    pub fn cost_of(&self, soft: &SoftTerms, floor: Floor) -> f64 {
+    pub(crate) fn cost_of(&self, soft: &SoftTerms, floor: Floor) -> f64 {
         Term::ALL.iter().filter(|t| t.floor() == floor).map(|&t| self[t] * soft[t]).sum()
     }
 }

@@ -6,10 +6,8 @@
 use crate::files::write_atomically;
 use crate::Failure;
 use linkwright_core::analysis::{analyze, AnalysisOptions, MotionAnalysis, Which};
-use linkwright_core::design::{DesignFile, Status};
-use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize, Silent};
 use linkwright_core::testbed::{known_scene, Family};
+use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent, Status};
 
 use serde::Serialize;
 use std::path::Path;

@@ -15,12 +15,11 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
-use linkwright_core::design::DesignFile;
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
-use linkwright_core::mechanism::{Mechanism, MechanismType};
-use linkwright_core::render::{animation_svg, design_svg, RenderInput};
-use linkwright_core::scene::{Problem, Scene};
-use linkwright_core::synth::{synthesize_with, Acceptance, Options, Progress, Start};
+use linkwright_core::{
+    animation_svg, design_svg, synthesize_with, Acceptance, DesignFile, Mechanism, MechanismType, Options, Problem,
+    Progress, RenderInput, Scene, Start,
+};
 use serde_json::{json, Map, Value};
 use std::convert::Infallible;
 use std::net::SocketAddr;

@@ -5,7 +5,7 @@
 use super::error::ApiError;
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode, Uri};
 use axum::response::{IntoResponse, Response};
-use linkwright_core::scene::Scene;
+use linkwright_core::Scene;
 use rust_embed::RustEmbed;
 use serde::Serialize;
 

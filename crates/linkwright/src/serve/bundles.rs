@@ -2,7 +2,7 @@
 //! nobody can guess. The store is bounded in count and bytes; the oldest bundle goes first.
 
 use axum::body::Bytes;
-use linkwright_core::fab::names::is_safe_relative_path;
+use linkwright_core::fab::is_safe_relative_path;
 use std::collections::hash_map::RandomState;
 use std::collections::VecDeque;
 use std::hash::BuildHasher;

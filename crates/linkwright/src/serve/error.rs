@@ -3,7 +3,7 @@
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use linkwright_core::scene::{Issue, Severity};
+use linkwright_core::{Issue, Severity};
 use serde::Serialize;
 
 /// One finding about a request, naming the field (a path such as `scene.moving_bodies[0].poses`).

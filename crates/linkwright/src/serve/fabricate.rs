@@ -14,11 +14,8 @@ use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::Which;
-use linkwright_core::design::DesignFile;
-use linkwright_core::fab::bundle::bundle;
-use linkwright_core::fab::report::Report;
-use linkwright_core::fab::{fabricate_design_or_alternative, sanitize, FabError, PrintSettings};
-use linkwright_core::scene::Problem;
+use linkwright_core::fab::{bundle, fabricate_design_or_alternative, sanitize, FabError, PrintSettings, Report};
+use linkwright_core::{DesignFile, Problem};
 use serde::Serialize;
 use std::sync::Arc;
 

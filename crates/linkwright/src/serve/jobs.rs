@@ -6,7 +6,7 @@
 
 use super::error::ApiError;
 use axum::http::StatusCode;
-use linkwright_core::synth::{Observer, Progress};
+use linkwright_core::{Observer, Progress};
 use std::collections::HashMap;
 use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};

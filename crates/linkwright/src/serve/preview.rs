@@ -2,8 +2,7 @@
 //! carrier's frame, and each carrier's rigid pose at every row of the motion. Millimetres, rounded to
 //! what a screen shows, so the payload stays small.
 
-use linkwright_core::fab::layout::Carrier;
-use linkwright_core::fab::{Fabrication, Face, Role};
+use linkwright_core::fab::{Carrier, Fabrication, Face, Role};
 use serde::Serialize;
 
 /// Lengths are rounded to hundredths of a millimetre (far below a pixel).
@@ -113,10 +112,8 @@ mod tests {
 
     #[test]
     fn the_first_row_places_every_part_where_the_assembly_has_it() {
-        use linkwright_core::design::DesignFile;
-        use linkwright_core::fab::{bundle::assembled_meshes, fabricate_design_or_alternative, PrintSettings};
-        use linkwright_core::scene::{Problem, Scene};
-        use linkwright_core::synth::{synthesize, Silent};
+        use linkwright_core::fab::{assembled_meshes, fabricate_design_or_alternative, PrintSettings};
+        use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent};
         let text = include_str!("../../../../examples/k1_garbage_truck.json");
         let mut scene = Scene::from_json(text).unwrap();
         scene.settings.samples = 3000;
