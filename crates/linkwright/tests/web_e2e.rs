@@ -349,6 +349,33 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     click(page, "#btn-fit").await?;
     screenshot(page, shots, "drawing.png").await?;
 
+    // Pose 2 marked must-hit in the pose table (the first and last always are): the scene says so, the
+    // pose bar shows it, and the mark stays with its pose when a pose is inserted before it.
+    let before = scene(page).await?;
+    click(page, "[data-tab=object]").await?;
+    let ends = "[0, 2].map((p) => { const c = document.querySelector(`[data-key=must-hit-${p}]`); return c.checked && c.disabled; })";
+    assert_eq!(eval(page, ends).await?, serde_json::json!([true, true]));
+    click(page, "[data-key=must-hit-1]").await?;
+    assert_eq!(scene(page).await?["must_hit_poses"], serde_json::json!([1]));
+    until(
+        page,
+        "document.querySelectorAll('#pose-buttons button')[1].textContent === 'Pose 2 ◆'",
+        Duration::from_secs(2),
+    )
+    .await?;
+    click(page, "#pose-buttons button:first-child").await?;
+    click(page, "#btn-pose-insert").await?;
+    assert_eq!(scene(page).await?["must_hit_poses"], serde_json::json!([2]));
+    until(
+        page,
+        "document.querySelectorAll('#pose-buttons button')[2].textContent === 'Pose 3 ◆'",
+        Duration::from_secs(2),
+    )
+    .await?;
+    undo(page).await?;
+    undo(page).await?;
+    assert_eq!(scene(page).await?, before);
+
     // A quick design: few samples (Settings tab), then Design.
     click(page, "[data-tab=settings]").await?;
     // The Type menu offers the engine's families (GET /api/families) after the automatic choice.

@@ -132,7 +132,9 @@ function renderPoseBar() {
   const host = $('pose-buttons');
   host.replaceChildren(...Array.from({ length: n }, (_, i) => {
     const b = document.createElement('button');
-    b.textContent = `Pose ${i + 1}`;
+    const marked = i > 0 && i < n - 1 && S.isMustHit(store.scene, i);
+    b.textContent = marked ? `Pose ${i + 1} ◆` : `Pose ${i + 1}`;
+    if (marked) b.title = 'The linkage must hit this pose';
     b.className = i === store.ui.pose ? 'on' : '';
     b.setAttribute('aria-pressed', String(i === store.ui.pose));
     b.addEventListener('click', () => goToPose(i));

@@ -72,18 +72,33 @@ export function renderObjectTab(host, store) {
 function poseTable(store, b) {
   const body = store.scene.moving_bodies[b];
   const set = (p, k, v) => store.edit(`edit pose ${p + 1}`, (s) => { s.moving_bodies[b].poses[p][k] = tidy(v, k === 2 ? 2 : 3); });
-  const head = html('tr', {}, ['Pose', 'x', 'y', 'angle°'].map((t) => html('th', { text: t })));
+  const head = html('tr', {}, [
+    ...['Pose', 'x', 'y', 'angle°'].map((t) => html('th', { text: t })),
+    html('th', { text: 'Must hit', title: 'The linkage must reach this pose within 0.5% of the body size and 0.5°; other poses in between are guides' }),
+  ]);
+  const n = body.poses.length;
+  const mustHit = (p) => {
+    const ends = p === 0 || p === n - 1;
+    return html('input', {
+      type: 'checkbox', 'data-key': `must-hit-${p}`, checked: S.isMustHit(store.scene, p), disabled: ends,
+      'aria-label': `Pose ${p + 1} must be hit`,
+      title: ends ? 'The first and last poses, where the object rests, are always hit' : 'Must the linkage hit this pose?',
+      onclick: (e) => e.stopPropagation(),
+      onchange: (e) => store.edit(`${e.target.checked ? 'mark' : 'unmark'} pose ${p + 1} must-hit`, (s) => S.setMustHit(s, p, e.target.checked)),
+    });
+  };
   const rows = body.poses.map((pose, p) =>
     html('tr', { class: p === store.ui.pose ? 'current' : '', onclick: () => store.setUi({ pose: p }) }, [
       html('td', { text: String(p + 1) }),
       html('td', {}, [number(tidy(pose[0], 2), `pose-${b}-${p}-x`, (v) => set(p, 0, v))]),
       html('td', {}, [number(tidy(pose[1], 2), `pose-${b}-${p}-y`, (v) => set(p, 1, v))]),
       html('td', {}, [number(tidy(pose[2], 2), `pose-${b}-${p}-a`, (v) => set(p, 2, v))]),
+      html('td', { class: 'must-hit' }, [mustHit(p)]),
     ]));
   return [
     html('h3', { text: `Poses of ${body.name}` }),
     html('table', { class: 'poses' }, [html('thead', {}, [head]), html('tbody', {}, rows)]),
-    html('p', { class: 'note', text: 'Pose 1 is where the motion starts; the linkage visits the poses in order. Every moving body has one pose per column of the pose bar.' }),
+    html('p', { class: 'note', text: 'Pose 1 is where the motion starts; the linkage visits the poses in order. Every moving body has one pose per column of the pose bar. The first and last poses are always hit; tick “Must hit” for a pose in between that matters as much (◆ in the pose bar).' }),
   ];
 }
 

@@ -24,7 +24,9 @@ const TRAVEL_SECONDS = 3;
 
 /** What a design depends on in the drawing (settings may change without hiding it). */
 export function geometryKey(scene) {
-  return JSON.stringify([scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || []]);
+  return JSON.stringify([
+    scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || [], scene.must_hit_poses || [],
+  ]);
 }
 
 /** What a person calls a design's linkage: the engine writes it (older files name the family only). */

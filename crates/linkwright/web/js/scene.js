@@ -37,6 +37,7 @@ export function normalize(doc) {
   s.fixed_bodies = Array.isArray(s.fixed_bodies) ? s.fixed_bodies : [];
   s.moving_bodies = Array.isArray(s.moving_bodies) ? s.moving_bodies : [];
   if (s.avoid_regions !== undefined && !Array.isArray(s.avoid_regions)) delete s.avoid_regions;
+  if (s.must_hit_poses !== undefined && !Array.isArray(s.must_hit_poses)) delete s.must_hit_poses;
   s.weights = { ...DEFAULT_WEIGHTS, ...(s.weights || {}) };
   s.settings = { ...ENGINE_SETTINGS, ...(s.settings || {}) };
   s.mechanism = s.mechanism || 'auto';
@@ -52,6 +53,10 @@ export function toFile(scene) {
   const s = structuredClone(scene);
   if (!s.avoid_regions || s.avoid_regions.length === 0) delete s.avoid_regions;
   if (!s.linkage_region) delete s.linkage_region;
+  // The first and last poses are always hit: only intermediate marks are written.
+  const n = poseCount(s);
+  s.must_hit_poses = (s.must_hit_poses || []).filter((i) => i > 0 && i < n - 1);
+  if (s.must_hit_poses.length === 0) delete s.must_hit_poses;
   return s;
 }
 
@@ -190,8 +195,28 @@ function between(a, b) {
   return [tidy(m[0]), tidy(m[1]), tidy(a[2] + wrapDeg(b[2] - a[2]) / 2, 2)];
 }
 
+/** Whether pose `i` must be hit: the first and last always are, others when the scene marks them. */
+export function isMustHit(scene, i) {
+  return i === 0 || i === poseCount(scene) - 1 || (scene.must_hit_poses || []).includes(i);
+}
+
+/** Marks intermediate pose `i` as one the linkage must hit (or not). */
+export function setMustHit(scene, i, on) {
+  const marked = new Set(scene.must_hit_poses || []);
+  if (on) marked.add(i);
+  else marked.delete(i);
+  scene.must_hit_poses = [...marked].sort((a, b) => a - b);
+}
+
+/** The must-hit marks carried along when the poses are renumbered (`map`: old index → new, or null). */
+function renumberMustHit(scene, map) {
+  if (!scene.must_hit_poses) return;
+  scene.must_hit_poses = scene.must_hit_poses.map(map).filter((i) => i !== null).sort((a, b) => a - b);
+}
+
 /** Adds a pose after pose `after` for every body: halfway to the next pose, or beyond the last. */
 export function insertPose(scene, after) {
+  renumberMustHit(scene, (i) => (i > after ? i + 1 : i));
   for (const b of scene.moving_bodies) {
     const cur = b.poses[after];
     const next = b.poses[after + 1];
@@ -211,11 +236,13 @@ export function insertPose(scene, after) {
 /** Deletes pose `i` of every body; false when that would leave fewer than two. */
 export function deletePose(scene, i) {
   if (poseCount(scene) <= 2) return false;
+  renumberMustHit(scene, (k) => (k === i ? null : k > i ? k - 1 : k));
   for (const b of scene.moving_bodies) b.poses.splice(i, 1);
   return true;
 }
 
 /** Swaps poses `i` and `j` of every body. */
 export function swapPoses(scene, i, j) {
+  renumberMustHit(scene, (k) => (k === i ? j : k === j ? i : k));
   for (const b of scene.moving_bodies) [b.poses[i], b.poses[j]] = [b.poses[j], b.poses[i]];
 }
