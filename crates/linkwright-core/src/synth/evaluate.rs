@@ -313,7 +313,7 @@ fn simulate(
 /// [`MUST_HIT_ANGLE_DEG`].
 fn misses_must_hit_pose(ctx: &Context, frames: &BodyFrames, trace: &Trace, pose_rows: &[usize]) -> bool {
     let must_hit = &ctx.problem.must_hit;
-    (1..pose_rows.len()).rev().filter(|&i| must_hit[i]).any(|i| {
+    (1..pose_rows.len()).filter(|&i| must_hit[i]).any(|i| {
         let row = trace.row(pose_rows[i]);
         ctx.problem.bodies.iter().enumerate().any(|(b, body)| {
             let miss = body.miss(i, &frames.pose(b, row));
