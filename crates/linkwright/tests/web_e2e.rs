@@ -634,6 +634,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
         eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
     }
     true_dimensions(page).await?;
+    motion_exports(page, downloads).await?;
     // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
     // truck carries the pivot), and the design stays on screen.
     let fixed = scene(page).await?["fixed_bodies"].clone();
@@ -823,6 +824,50 @@ async fn true_dimensions(page: &Page) -> Result<()> {
     assert_eq!(eval(page, "document.querySelectorAll('.layer-dimensions .dimension').length").await?, 0);
     click(page, "#opt-dims").await?;
     assert!(eval(page, "document.querySelectorAll('.layer-dimensions .dimension').length").await?.as_u64() > Some(0));
+    Ok(())
+}
+
+/// The motion as shown, exported: an animated GIF (read back with an independent decoder, the `gif`
+/// crate) of one travel, moving from frame to frame, and a WebM video.
+async fn motion_exports(page: &Page, downloads: &Path) -> Result<()> {
+    click(page, "#tab-result [data-export=gif]").await?;
+    let file = wait_for_file(downloads, ".motion.gif", Duration::from_secs(60)).await?;
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::RGBA);
+    let mut decoder = options.read_info(std::fs::File::open(&file)?)?;
+    let (width, height) = (decoder.width(), decoder.height());
+    let canvas = eval(
+        page,
+        "(() => { const r = document.getElementById('canvas').getBoundingClientRect(); return r.width / r.height; })()",
+    )
+    .await?;
+    let aspect = canvas.as_f64().ok_or("canvas")?;
+    assert!(width.max(height) <= 800 && width.min(height) >= 100, "{width} × {height}");
+    assert!(
+        (f64::from(width) / f64::from(height) - aspect).abs() < 0.02,
+        "{width} × {height} for the canvas' {aspect}"
+    );
+    let mut frames: Vec<Vec<u8>> = Vec::new();
+    while let Some(frame) = decoder.read_next_frame()? {
+        assert_eq!((frame.width, frame.height), (width, height));
+        assert!(frame.delay > 0, "frame {} has no delay", frames.len());
+        frames.push(frame.buffer.to_vec());
+    }
+    assert_eq!(frames.len(), 60, "one travel in 60 frames");
+    // The body moves: most frames differ from the one before, and the first from the last by much.
+    let moved = frames.windows(2).filter(|w| w[0] != w[1]).count();
+    assert!(moved >= 50, "{moved} of 59 frames differ from the one before");
+    let changed = frames[0].chunks(4).zip(frames[59].chunks(4)).filter(|(a, b)| a != b).count();
+    assert!(changed > (width as usize * height as usize) / 200, "{changed} pixels change over the travel");
+    // The app is not left recording: it says what it saved.
+    let hint = eval(page, "document.getElementById('hint').textContent").await?;
+    assert!(hint.as_str().is_some_and(|h| h.contains("animated GIF")), "{hint}");
+
+    click(page, "#tab-result [data-export=webm]").await?;
+    let file = wait_for_file(downloads, ".motion.webm", Duration::from_secs(60)).await?;
+    let video = std::fs::read(&file)?;
+    assert_eq!(video.get(..4), Some(&[0x1a, 0x45, 0xdf, 0xa3][..]), "an EBML (WebM) header");
+    assert!(video.len() > 10_000, "{} bytes", video.len());
     Ok(())
 }
 

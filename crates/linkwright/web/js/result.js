@@ -2,6 +2,7 @@
 // metrics, alternatives as thumbnails, the analysis plots and the downloads.
 
 import { fmt, poseErrors, poseTable, reachBadge } from './accuracy.js';
+import { captureFrames, encodeGif, recordWebm } from './record.js';
 import * as api from './api.js';
 import { bodyColour } from './canvas.js';
 import { savedPrintSettings } from './fabricate.js';
@@ -21,6 +22,8 @@ function familyLabel(store, id) {
 
 /** Seconds one way through the motion at speed 1. */
 const TRAVEL_SECONDS = 3;
+/** Frames of an exported motion (20 a second over one travel). */
+const EXPORT_FRAMES = 60;
 
 /** What a design depends on in the drawing (settings may change without hiding it). */
 export function geometryKey(scene) {
@@ -387,6 +390,43 @@ export class Results {
     }
   }
 
+  /** The motion as shown on the canvas, one travel from the first pose to the last, as an animated GIF
+   * or a WebM video of TRAVEL_SECONDS. */
+  async exportMotion(kind) {
+    const r = this.result;
+    const frames = r?.analysis?.frames;
+    if (!frames?.length || !this.canvas.showingResult() || this.exporting) {
+      this.store.hint('Show the design first (▶ Show the design), then export its motion.');
+      return;
+    }
+    this.exporting = true;
+    const base = (this.store.scene.name || 'design').replace(/[^\w.-]+/g, '_');
+    const count = Math.min(EXPORT_FRAMES, frames.length);
+    const frameAt = (i) => frames[Math.round((i * (frames.length - 1)) / Math.max(count - 1, 1))];
+    const wasPlaying = this.playing;
+    this.setPlaying(false);
+    const show = (i) => this.canvas.renderResultFrame(frameAt(i));
+    this.store.hint(`Recording the motion (${count} frames)…`);
+    try {
+      if (kind === 'gif') {
+        const { frames: images } = await captureFrames(this.canvas.root, count, show);
+        const delay = Math.max(2, Math.round((100 * TRAVEL_SECONDS) / count));
+        this.save(new Blob([encodeGif(images, delay)], { type: 'image/gif' }), `${base}.motion.gif`);
+      } else {
+        const video = await recordWebm(this.canvas.root, count, count / TRAVEL_SECONDS, show);
+        if (!video) throw new Error('this browser cannot record WebM video; the GIF works everywhere');
+        this.save(video, `${base}.motion.webm`);
+      }
+      this.store.hint(`Saved the motion as ${kind === 'gif' ? 'an animated GIF' : 'a WebM video'}.`);
+    } catch (e) {
+      this.store.hint(`Cannot record the motion: ${e.message}`);
+    } finally {
+      this.exporting = false;
+      this.drawFrame();
+      if (wasPlaying) this.setPlaying(true);
+    }
+  }
+
   /** The Result tab. */
   renderTab(host) {
     clear(host);
@@ -457,6 +497,8 @@ export class Results {
       html('button', { text: 'Design JSON', title: 'the design/1 file', onclick: () => this.download('json') }),
       html('button', { text: 'Animation SVG', title: 'open it in a browser to watch the motion', onclick: () => this.download('animation') }),
       html('button', { text: 'Design sheet SVG', onclick: () => this.download('design') }),
+      html('button', { text: 'Motion GIF', 'data-export': 'gif', title: 'the motion as shown, an animated picture', onclick: () => this.exportMotion('gif') }),
+      html('button', { text: 'Motion video', 'data-export': 'webm', title: 'the motion as shown, a WebM video', onclick: () => this.exportMotion('webm') }),
     ]));
     this.fab?.render(host);
     if (r.analysis) {

@@ -1,0 +1,251 @@
+// The motion as a file: frames of the drawing as shown (the canvas' own SVG, with the page's style
+// sheet inlined), rasterised by the browser, then an animated GIF (encoded here: LZW after the GIF89a
+// specification, a palette of the drawing's own colours) or a WebM video (the browser's MediaRecorder).
+
+/** Longest side of an exported frame, pixels. */
+const MAX_SIDE = 800;
+
+/** The page's style rules as text, so a copy of the SVG draws as it does on the page. */
+function styleText() {
+  const rules = [];
+  for (const sheet of document.styleSheets) {
+    try {
+      for (const rule of sheet.cssRules) rules.push(rule.cssText);
+    } catch {
+      // A sheet from another origin cannot be read; the app has none.
+    }
+  }
+  return rules.join('\n');
+}
+
+/** The size an export of `svg` gets: its size on screen, the longer side at most MAX_SIDE. */
+export function exportSize(svg) {
+  const r = svg.getBoundingClientRect();
+  const k = Math.min(1, MAX_SIDE / Math.max(r.width, r.height, 1));
+  return { width: Math.max(2, Math.round(r.width * k)), height: Math.max(2, Math.round(r.height * k)), k };
+}
+
+/** Draws the SVG element `svg` as it is now into the 2D context `ctx` of `size`, on white. */
+export async function drawSvg(svg, ctx, size, css) {
+  const copy = svg.cloneNode(true);
+  const r = svg.getBoundingClientRect();
+  copy.setAttribute('xmlns', 'http://www.w3.org/2000/svg');
+  copy.setAttribute('width', String(size.width));
+  copy.setAttribute('height', String(size.height));
+  copy.setAttribute('viewBox', `0 0 ${r.width} ${r.height}`);
+  const style = document.createElementNS('http://www.w3.org/2000/svg', 'style');
+  style.textContent = css;
+  copy.prepend(style);
+  const text = new XMLSerializer().serializeToString(copy);
+  const image = new Image();
+  image.src = `data:image/svg+xml;charset=utf-8,${encodeURIComponent(text)}`;
+  await image.decode();
+  ctx.fillStyle = '#fff';
+  ctx.fillRect(0, 0, size.width, size.height);
+  ctx.drawImage(image, 0, 0, size.width, size.height);
+}
+
+/** Captures `count` frames: `show(i)` puts frame i on the canvas, then it is drawn into a bitmap. */
+export async function captureFrames(svg, count, show) {
+  const size = exportSize(svg);
+  const canvas = document.createElement('canvas');
+  canvas.width = size.width;
+  canvas.height = size.height;
+  const ctx = canvas.getContext('2d', { willReadFrequently: true });
+  const css = styleText();
+  const frames = [];
+  for (let i = 0; i < count; i++) {
+    show(i);
+    await drawSvg(svg, ctx, size, css);
+    frames.push(ctx.getImageData(0, 0, size.width, size.height));
+  }
+  return { frames, size };
+}
+
+/** The 256 most used colours of `frames` (5 bits a channel), and a map from every 15-bit colour to
+ * its nearest palette entry. The drawing has few colours, so this keeps them exactly enough. */
+function palette(frames) {
+  const counts = new Uint32Array(1 << 15);
+  for (const f of frames) {
+    const d = f.data;
+    for (let p = 0; p < d.length; p += 16) counts[((d[p] >> 3) << 10) | ((d[p + 1] >> 3) << 5) | (d[p + 2] >> 3)]++;
+  }
+  const used = [];
+  for (let key = 0; key < counts.length; key++) if (counts[key] > 0) used.push(key);
+  used.sort((a, b) => counts[b] - counts[a]);
+  const keys = used.slice(0, 256);
+  while (keys.length < 2) keys.push(keys.length ? 0 : 0x7fff);
+  const rgb = keys.map((k) => [((k >> 10) & 31) * 255 / 31, ((k >> 5) & 31) * 255 / 31, (k & 31) * 255 / 31].map(Math.round));
+  const nearest = new Int16Array(1 << 15).fill(-1);
+  const lookup = (key) => {
+    if (nearest[key] >= 0) return nearest[key];
+    const r = ((key >> 10) & 31) * 255 / 31, g = ((key >> 5) & 31) * 255 / 31, b = (key & 31) * 255 / 31;
+    let best = 0, bestD = Infinity;
+    for (let i = 0; i < rgb.length; i++) {
+      const d = (rgb[i][0] - r) ** 2 + (rgb[i][1] - g) ** 2 + (rgb[i][2] - b) ** 2;
+      if (d < bestD) [best, bestD] = [i, d];
+    }
+    nearest[key] = best;
+    return best;
+  };
+  return { rgb, lookup };
+}
+
+/** A growing byte buffer. */
+class Bytes {
+  constructor() {
+    this.buf = new Uint8Array(1 << 16);
+    this.len = 0;
+  }
+  byte(b) {
+    if (this.len === this.buf.length) {
+      const bigger = new Uint8Array(this.buf.length * 2);
+      bigger.set(this.buf);
+      this.buf = bigger;
+    }
+    this.buf[this.len++] = b;
+  }
+  word(w) {
+    this.byte(w & 255);
+    this.byte((w >> 8) & 255);
+  }
+  text(s) {
+    for (const c of s) this.byte(c.charCodeAt(0));
+  }
+  bytes() {
+    return this.buf.slice(0, this.len);
+  }
+}
+
+/** The GIF LZW code stream of `indices` (colour indices, 8-bit minimum code size), in sub-blocks. */
+function lzw(indices, out) {
+  const minSize = 8, clear = 1 << minSize, end = clear + 1;
+  let size = minSize + 1, next = end + 1;
+  let dict = new Map();
+  let bits = 0, acc = 0;
+  const block = [];
+  const flushBlock = () => {
+    out.byte(block.length);
+    for (const b of block) out.byte(b);
+    block.length = 0;
+  };
+  const emit = (code) => {
+    acc |= code << bits;
+    bits += size;
+    while (bits >= 8) {
+      block.push(acc & 255);
+      acc >>>= 8;
+      bits -= 8;
+      if (block.length === 255) flushBlock();
+    }
+  };
+  out.byte(minSize);
+  emit(clear);
+  let prefix = indices[0];
+  for (let i = 1; i < indices.length; i++) {
+    const c = indices[i];
+    const key = prefix * 256 + c;
+    const known = dict.get(key);
+    if (known !== undefined) {
+      prefix = known;
+      continue;
+    }
+    emit(prefix);
+    if (next < 4096) {
+      dict.set(key, next++);
+      // The decoder widens its codes one code later than the table grows past the width.
+      if (next - 1 === 1 << size && size < 12) size++;
+    } else {
+      emit(clear);
+      dict = new Map();
+      size = minSize + 1;
+      next = end + 1;
+    }
+    prefix = c;
+  }
+  emit(prefix);
+  // The decoder adds its last entry on reading that code, and may widen before the end code.
+  if (next === 1 << size && size < 12) size++;
+  emit(end);
+  if (bits > 0) block.push(acc & 255);
+  if (block.length) flushBlock();
+  out.byte(0);
+}
+
+/** An animated, looping GIF89a of `frames` (ImageData of one size), `delay` hundredths of a second each. */
+export function encodeGif(frames, delay) {
+  const { width, height } = frames[0];
+  const { rgb, lookup } = palette(frames);
+  const out = new Bytes();
+  out.text('GIF89a');
+  out.word(width);
+  out.word(height);
+  out.byte(0xf7); // a global colour table of 256 entries, 8 bits a channel
+  out.byte(0);
+  out.byte(0);
+  for (let i = 0; i < 256; i++) for (const c of rgb[i] || [0, 0, 0]) out.byte(c);
+  // Loop for ever (the NETSCAPE2.0 application extension).
+  out.byte(0x21);
+  out.byte(0xff);
+  out.byte(11);
+  out.text('NETSCAPE2.0');
+  out.byte(3);
+  out.byte(1);
+  out.word(0);
+  out.byte(0);
+  const indices = new Uint8Array(width * height);
+  for (const f of frames) {
+    const d = f.data;
+    for (let p = 0, i = 0; i < indices.length; i++, p += 4) {
+      indices[i] = lookup(((d[p] >> 3) << 10) | ((d[p + 1] >> 3) << 5) | (d[p + 2] >> 3));
+    }
+    out.byte(0x21); // graphic control: the frame's delay
+    out.byte(0xf9);
+    out.byte(4);
+    out.byte(0);
+    out.word(delay);
+    out.byte(0);
+    out.byte(0);
+    out.byte(0x2c); // the image, the whole picture, no local colour table
+    out.word(0);
+    out.word(0);
+    out.word(width);
+    out.word(height);
+    out.byte(0);
+    lzw(indices, out);
+  }
+  out.byte(0x3b);
+  return out.bytes();
+}
+
+/** A WebM video of `count` frames at `fps`, recorded by the browser from a canvas the frames are drawn
+ * on in real time; null when the browser cannot record WebM. */
+export async function recordWebm(svg, count, fps, show) {
+  if (typeof MediaRecorder === 'undefined' || !MediaRecorder.isTypeSupported('video/webm')) return null;
+  const size = exportSize(svg);
+  const canvas = document.createElement('canvas');
+  canvas.width = size.width;
+  canvas.height = size.height;
+  const ctx = canvas.getContext('2d');
+  const css = styleText();
+  show(0);
+  await drawSvg(svg, ctx, size, css);
+  const stream = canvas.captureStream(fps);
+  const recorder = new MediaRecorder(stream, { mimeType: 'video/webm' });
+  const chunks = [];
+  recorder.ondataavailable = (e) => e.data.size && chunks.push(e.data);
+  const stopped = new Promise((resolve) => { recorder.onstop = resolve; });
+  recorder.start();
+  const start = performance.now();
+  for (let i = 0; i < count; i++) {
+    show(i);
+    await drawSvg(svg, ctx, size, css);
+    // Each frame is on the canvas for its own share of the video's time.
+    const due = start + ((i + 1) * 1000) / fps;
+    await new Promise((r) => setTimeout(r, Math.max(0, due - performance.now())));
+  }
+  recorder.stop();
+  await stopped;
+  stream.getTracks().forEach((t) => t.stop());
+  return new Blob(chunks, { type: 'video/webm' });
+}
