@@ -847,11 +847,20 @@ async fn motion_exports(page: &Page, downloads: &Path) -> Result<()> {
         (f64::from(width) / f64::from(height) - aspect).abs() < 0.02,
         "{width} × {height} for the canvas' {aspect}"
     );
+    // Each frame stores the rectangle that changed, left in place for the next: composited here.
+    let (w, h) = (usize::from(width), usize::from(height));
+    let mut picture = vec![0u8; w * h * 4];
     let mut frames: Vec<Vec<u8>> = Vec::new();
     while let Some(frame) = decoder.read_next_frame()? {
-        assert_eq!((frame.width, frame.height), (width, height));
         assert!(frame.delay > 0, "frame {} has no delay", frames.len());
-        frames.push(frame.buffer.to_vec());
+        assert!(frames.is_empty() || frame.dispose == gif::DisposalMethod::Keep);
+        let (left, top, fw) = (usize::from(frame.left), usize::from(frame.top), usize::from(frame.width));
+        assert!(left + fw <= w && top + usize::from(frame.height) <= h, "frame {} leaves the picture", frames.len());
+        for (y, row) in frame.buffer.chunks(fw * 4).enumerate() {
+            let at = ((top + y) * w + left) * 4;
+            picture[at..at + row.len()].copy_from_slice(row);
+        }
+        frames.push(picture.clone());
     }
     assert_eq!(frames.len(), 60, "one travel in 60 frames");
     // The body moves: most frames differ from the one before, and the first from the last by much.

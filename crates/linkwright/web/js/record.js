@@ -193,26 +193,47 @@ export function encodeGif(frames, delay) {
   out.byte(1);
   out.word(0);
   out.byte(0);
-  const indices = new Uint8Array(width * height);
-  for (const f of frames) {
+  let indices = new Uint8Array(width * height), previous = new Uint8Array(width * height);
+  for (const [k, f] of frames.entries()) {
     const d = f.data;
     for (let p = 0, i = 0; i < indices.length; i++, p += 4) {
       indices[i] = lookup(((d[p] >> 3) << 10) | ((d[p + 1] >> 3) << 5) | (d[p + 2] >> 3));
     }
-    out.byte(0x21); // graphic control: the frame's delay
+    // Only the rectangle that changed since the last frame is stored (the rest is left in place):
+    // the linkage moves, the drawing around it does not.
+    let [x0, y0, x1, y1] = [0, 0, width - 1, height - 1];
+    if (k > 0) {
+      [x0, y0, x1, y1] = [width, height, -1, -1];
+      for (let y = 0; y < height; y++) {
+        for (let x = 0, i = y * width; x < width; x++, i++) {
+          if (indices[i] !== previous[i]) {
+            if (x < x0) x0 = x;
+            if (x > x1) x1 = x;
+            if (y < y0) y0 = y;
+            y1 = y;
+          }
+        }
+      }
+      if (x1 < 0) [x0, y0, x1, y1] = [0, 0, 0, 0];
+    }
+    const w = x1 - x0 + 1, h = y1 - y0 + 1;
+    const part = new Uint8Array(w * h);
+    for (let y = 0; y < h; y++) part.set(indices.subarray((y0 + y) * width + x0, (y0 + y) * width + x0 + w), y * w);
+    out.byte(0x21); // graphic control: the frame's delay, and leave it in place for the next
     out.byte(0xf9);
     out.byte(4);
-    out.byte(0);
+    out.byte(1 << 2);
     out.word(delay);
     out.byte(0);
     out.byte(0);
-    out.byte(0x2c); // the image, the whole picture, no local colour table
-    out.word(0);
-    out.word(0);
-    out.word(width);
-    out.word(height);
+    out.byte(0x2c); // the image: the changed rectangle, no local colour table
+    out.word(x0);
+    out.word(y0);
+    out.word(w);
+    out.word(h);
     out.byte(0);
-    lzw(indices, out);
+    lzw(part, out);
+    [indices, previous] = [previous, indices];
   }
   out.byte(0x3b);
   return out.bytes();
