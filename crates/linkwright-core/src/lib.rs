@@ -26,10 +26,11 @@
 //! a fraction of a second:
 //!
 //! ```
-//! use linkwright_core::{synthesize, DesignFile, MechanismChoice, Problem, Scene, Silent, Status};
+//! use linkwright_core::{synthesize, DesignFile, MechanismChoice, MechanismType, Problem, Scene, Silent, Status};
 //!
 //! let mut scene = Scene::from_json(include_str!("../../../examples/k1_garbage_truck.json"))?;
-//! scene.mechanism = MechanismChoice::Chain; // not the default `Auto`, which may pick a slider-crank
+//! // A four-bar: not the default `Auto`, which may pick a slider-crank.
+//! scene.mechanism = MechanismChoice::Only(MechanismType::Chain);
 //! scene.settings.samples = 3000;
 //! scene.settings.iterations = 5;
 //! let problem = Problem::new(&scene).expect("the example is a valid scene");

@@ -206,3 +206,29 @@ fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
         synthesize_with(&slider_only, &Options { start: Start::Warm(&[stranger]), printable: None }, &Silent).unwrap();
     assert_eq!(cold.stats.samples, 2000);
 }
+
+/// With every family allowed (`auto`), a warm start searches only the families of the designs it
+/// starts from: a live redesign refines the linkage shown and must not wait for a cold search of
+/// another family.
+#[test]
+fn a_warm_start_keeps_to_the_family_it_starts_from() {
+    use linkwright_core::{synthesize_with, Options, Start, WARM_SAMPLES};
+    let mut problem = example("k1_garbage_truck");
+    assert_eq!(problem.mechanism, linkwright_core::MechanismChoice::Auto);
+    problem.settings.samples = 20000;
+    problem.settings.iterations = 8;
+    let first = synthesize(&problem, &Silent).unwrap();
+    let best = first.best.as_ref().expect("a design");
+    let family = best.mechanism.topology.mechanism_type;
+    let previous: Vec<_> = std::iter::once(best.mechanism.clone()).collect();
+    let d = problem.bodies[0].size;
+    let moved = problem.bodies[0].poses[1];
+    problem.bodies[0].poses[1] = linkwright_core::geom::Rigid::new(
+        moved.angle(),
+        moved.translation() + linkwright_core::geom::Vec2::new(0.02 * d, 0.01 * d),
+    );
+    let warm = synthesize_with(&problem, &Options { start: Start::Warm(&previous), printable: None }, &Silent).unwrap();
+    assert_eq!(warm.stats.samples, WARM_SAMPLES, "only the warm family was searched");
+    let designs: Vec<_> = warm.best.iter().chain(&warm.alternatives).collect();
+    assert!(!designs.is_empty() && designs.iter().all(|c| c.mechanism.topology.mechanism_type == family));
+}

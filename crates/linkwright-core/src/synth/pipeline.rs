@@ -158,8 +158,9 @@ pub enum Start<'a> {
     Cold,
     /// From earlier designs of a similar scene (a previous design and its alternatives, after the
     /// person moved a pose, say): [`WARM_SAMPLES`] samples are fitted from those designs' joints to the
-    /// new poses, and the particle filter runs a quarter of its iterations. A family for which this
-    /// finds nothing valid falls back to a cold start.
+    /// new poses, and the particle filter runs a quarter of its iterations. Only the families of those
+    /// designs are searched (the person refines the linkage they have, and a live redesign must keep
+    /// up); a family for which this finds nothing valid falls back to a cold start.
     Warm(&'a [Mechanism]),
 }
 
@@ -275,7 +276,15 @@ fn design_round(
     let mut valid: Vec<Candidate> = Vec::new();
     let mut best_cost: Option<f64> = None;
     let observer = run.observer;
+    let seeded = |ctx: &Context| match options.start {
+        Start::Cold => false,
+        Start::Warm(previous) => previous.iter().any(|m| *m.topology == *ctx.topology),
+    };
+    let warm = contexts.iter().any(seeded);
     for (f, (ctx, workspace)) in contexts.iter().zip(workspaces).enumerate() {
+        if warm && !seeded(ctx) {
+            continue;
+        }
         let family = ctx.topology.mechanism_type;
         let stage = FamilyStage { ctx, workspace };
         let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
