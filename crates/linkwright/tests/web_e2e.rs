@@ -635,6 +635,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     }
     true_dimensions(page).await?;
     motion_exports(page, downloads).await?;
+    live_latency(page, "garbage truck, one body", 0, 1).await?;
     // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
     // truck carries the pivot), and the design stays on screen.
     let fixed = scene(page).await?["fixed_bodies"].clone();
@@ -724,7 +725,8 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     // Back to the drawing.
     click(page, "#btn-3d").await?;
     assert_eq!(eval(page, "document.getElementById('view3d').hidden").await?, Value::Bool(true));
-    folding_roof(page).await
+    folding_roof(page).await?;
+    power_shovel(page).await
 }
 
 /// The folding roof, whose roof swings far outside its drawn poses: Fit (F) frames the whole motion
@@ -878,6 +880,83 @@ async fn motion_exports(page: &Page, downloads: &Path) -> Result<()> {
     assert_eq!(video.get(..4), Some(&[0x1a, 0x45, 0xdf, 0xa3][..]), "an EBML (WebM) header");
     assert!(video.len() > 10_000, "{} bytes", video.len());
     Ok(())
+}
+
+/// Drag-to-updated-linkage latency of live redesign, logged (a benchmark, not an assertion): the pose
+/// `pose` of body `body` is dragged in steps of a few pixels without letting go, each step waiting
+/// for the design of exactly where the pose is now, timed in the page from the pointer move.
+async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Result<()> {
+    const STEPS: usize = 10;
+    click(page, "#opt-live").await?;
+    let snap = eval(page, "document.getElementById('opt-snap').checked").await? == Value::Bool(true);
+    if snap {
+        click(page, "#opt-snap").await?;
+    }
+    eval(
+        page,
+        "(() => { window.__lastMove = 0; if (!window.__moveClock) { window.__moveClock = true; \
+         document.addEventListener('pointermove', () => { window.__lastMove = performance.now(); }, true); } })()",
+    )
+    .await?;
+    // The pose's outline centre on the page.
+    let centre = eval(
+        page,
+        &format!(
+            "(() => {{ const b = window.linkwright.store.scene.moving_bodies[{body}], p = b.poses[{pose}], a = p[2] * Math.PI / 180; \
+             const n = b.polygon.length, m = b.polygon.reduce((s, [x, y]) => [s[0] + x / n, s[1] + y / n], [0, 0]); \
+             return window.linkwright.screenOf([p[0] + Math.cos(a) * m[0] - Math.sin(a) * m[1], p[1] + Math.sin(a) * m[0] + Math.cos(a) * m[1]]); }})()"
+        ),
+    )
+    .await?;
+    let (x, y) = (centre[0].as_f64().ok_or("centre")?, centre[1].as_f64().ok_or("centre")?);
+    mouse(page, DispatchMouseEventType::MouseMoved, x, y, 0).await?;
+    mouse(page, DispatchMouseEventType::MousePressed, x, y, 1).await?;
+    let arrived = format!(
+        "new Promise((resolve) => {{ const lw = window.linkwright; const t0 = window.__lastMove; \
+         const check = () => {{ const a = lw.results.liveAnswered, now = JSON.stringify(lw.store.scene.moving_bodies[{body}].poses[{pose}]); \
+         if (a && JSON.stringify(a.moving_bodies[{body}]?.poses[{pose}]) === now) resolve(performance.now() - t0); \
+         else if (performance.now() - t0 > 20000) resolve(-1); else requestAnimationFrame(check); }}; check(); }})"
+    );
+    let mut latencies = Vec::new();
+    let mut designed = 0;
+    for step in 1..=STEPS {
+        let (mx, my) = (x + 3.0 * step as f64, y - 2.0 * step as f64);
+        mouse(page, DispatchMouseEventType::MouseMoved, mx, my, 1).await?;
+        let ms = eval(page, &arrived).await?.as_f64().ok_or("latency")?;
+        assert!(ms >= 0.0, "{label}: no answer for step {step} within 20 s");
+        latencies.push(ms);
+        let fresh = "(() => { const lw = window.linkwright, r = lw.store.result; \
+                     return !!r && JSON.stringify(r.scene.moving_bodies) === JSON.stringify(lw.results.liveAnswered.moving_bodies); })()";
+        designed += usize::from(eval(page, fresh).await? == Value::Bool(true));
+    }
+    let (mx, my) = (x + 3.0 * STEPS as f64, y - 2.0 * STEPS as f64);
+    mouse(page, DispatchMouseEventType::MouseReleased, mx, my, 0).await?;
+    latencies.sort_by(f64::total_cmp);
+    eprintln!(
+        "web_e2e: live redesign latency ({label}): median {:.0} ms, worst {:.0} ms over {STEPS} moves, {designed} redesigned",
+        latencies[STEPS / 2],
+        latencies[STEPS - 1]
+    );
+    assert!(designed > 0, "{label}: no move was redesigned");
+    click(page, "#opt-live").await?;
+    if snap {
+        click(page, "#opt-snap").await?;
+    }
+    Ok(())
+}
+
+/// The power shovel's three bodies: a quick design, then its live redesign timed.
+async fn power_shovel(page: &Page) -> Result<()> {
+    click(page, "#btn-examples").await?;
+    until(page, "document.querySelector('[data-example=k3_power_shovel] svg') !== null", Duration::from_secs(10))
+        .await?;
+    click(page, "[data-example=k3_power_shovel]").await?;
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    key(page, "Enter", "Enter", 13, 0).await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    click(page, "[data-tab=result]").await?;
+    live_latency(page, "power shovel, three bodies", 2, 1).await
 }
 
 async fn folding_roof(page: &Page) -> Result<()> {

@@ -351,6 +351,7 @@ if (S.isEmpty(store.scene)) store.ui.tool = 'rect';
 // For the end-to-end tests and the curious: the state, and the page position of a world point.
 window.linkwright = {
   store,
+  results,
   screenOf(p) {
     const r = root.getBoundingClientRect();
     const s = view.toScreen(p);

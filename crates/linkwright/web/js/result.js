@@ -290,6 +290,8 @@ export class Results {
     } catch (e) {
       this.store.hint(`Live: ${e.message}`);
     }
+    // The scene the last live request answered (a design or not), for whoever waits on it.
+    this.liveAnswered = scene;
     this.liveBusy = false;
     if (this.livePending) this.runLive();
     else {
