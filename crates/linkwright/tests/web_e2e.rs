@@ -731,6 +731,14 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
 
 /// The folding roof, whose roof swings far outside its drawn poses: Fit (F) frames the whole motion
 /// of the design shown.
+/// That the number `shown` is `truth` to the digits it shows (within half its last digit).
+fn assert_shown(shown: &str, truth: f64, what: &str) -> Result<()> {
+    let value: f64 = shown.parse().map_err(|_| format!("{what}: {shown} is not a number"))?;
+    let decimals = shown.split('.').nth(1).map_or(0, str::len) as i32;
+    assert!((value - truth).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-9, "{what}: shown {shown} for {truth}");
+    Ok(())
+}
+
 /// The drawing's true size: the scale bar measures the linkage shown as the design file dimensions it,
 /// each link is labelled with its length and each ground pivot with its position, in the scene's
 /// units, and the units follow the setting.
@@ -779,10 +787,8 @@ async fn true_dimensions(page: &Page) -> Result<()> {
         let (a, b) = (joint(a), joint(b));
         let true_length = (a[0] - b[0]).hypot(a[1] - b[1]);
         let (number, unit) = text.split_once(' ').ok_or("a number and a unit")?;
-        let shown: f64 = number.parse().map_err(|_| format!("{text} is not a length"))?;
-        let decimals = number.split('.').nth(1).map_or(0, str::len) as i32;
         assert_eq!(unit, units, "{text}");
-        assert!((shown - true_length).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-9, "{link}: {text} for {true_length}");
+        assert_shown(number, true_length, &format!("{link}: {text}"))?;
     }
     // Each ground pivot with its position.
     let pivots = eval(
@@ -796,10 +802,8 @@ async fn true_dimensions(page: &Page) -> Result<()> {
         let (name, text) = (pivot[0].as_str().ok_or("pivot")?, pivot[1].as_str().ok_or("text")?);
         let inside = text.split_once('(').and_then(|(_, t)| t.strip_suffix(')')).ok_or("(x, y)")?;
         let at = joint(name);
-        for (number, w) in inside.split(", ").zip(&at) {
-            let v: f64 = number.parse().map_err(|_| format!("{text} is not a position"))?;
-            let decimals = number.split('.').nth(1).map_or(0, str::len) as i32;
-            assert!((v - w).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-9, "{name}: {text} for {at:?}");
+        for (number, &w) in inside.split(", ").zip(&at) {
+            assert_shown(number, w, &format!("{name}: {text}"))?;
         }
     }
 
