@@ -634,6 +634,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
         eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
     }
     true_dimensions(page).await?;
+    pose_misses_on_canvas(page).await?;
     motion_exports(page, downloads).await?;
     live_latency(page, "garbage truck, one body", 0, 1).await?;
     // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
@@ -731,6 +732,29 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
 
 /// The folding roof, whose roof swings far outside its drawn poses: Fit (F) frames the whole motion
 /// of the design shown.
+/// Beside each pose's number on the canvas, how far the design shown misses it, as its file says.
+async fn pose_misses_on_canvas(page: &Page) -> Result<()> {
+    let shown = eval(page, "[...document.querySelectorAll('.pose-miss')].map((t) => [Number(t.dataset.pose), Number(t.dataset.body), t.textContent])")
+        .await?;
+    let errors = eval(page, "window.linkwright.store.result.metrics.pose_errors").await?;
+    let units = eval(page, "window.linkwright.store.scene.units").await?;
+    let units = units.as_str().ok_or("units")?;
+    let shown = shown.as_array().ok_or("labels")?;
+    let poses = errors.as_array().ok_or("pose errors")?;
+    assert_eq!(shown.len(), poses.iter().map(|p| p.as_array().map_or(0, Vec::len)).sum::<usize>(), "{shown:?}");
+    for label in shown {
+        let (pose, body) = (label[0].as_u64().ok_or("pose")? as usize, label[1].as_u64().ok_or("body")? as usize);
+        let text = label[2].as_str().ok_or("text")?;
+        let miss = &errors[pose][body];
+        let rest = text.strip_prefix("off by ").ok_or("off by …")?;
+        let (position, angle) = rest.split_once(&format!(" {units}, ")).ok_or("a length and an angle")?;
+        assert_shown(position, miss["position"].as_f64().ok_or("position")?, &format!("pose {pose}: {text}"))?;
+        let angle = angle.strip_suffix('°').ok_or("degrees")?;
+        assert_shown(angle, miss["angle_deg"].as_f64().ok_or("angle")?.abs(), &format!("pose {pose}: {text}"))?;
+    }
+    Ok(())
+}
+
 /// That the number `shown` is `truth` to the digits it shows (within half its last digit).
 fn assert_shown(shown: &str, truth: f64, what: &str) -> Result<()> {
     let value: f64 = shown.parse().map_err(|_| format!("{what}: {shown} is not a number"))?;

@@ -2,6 +2,7 @@
 // the shape being drawn. Everything is drawn in screen pixels from world coordinates (y up) through
 // the viewport, so strokes and handles keep their size at any zoom.
 
+import { poseErrors, fmt } from './accuracy.js';
 import { centroid, placed, toWorld } from './geom.js';
 import { clear, points, svg } from './svg.js';
 
@@ -282,14 +283,23 @@ export class Canvas {
     const g = clear(this.layers.overlay);
     const { scene, ui } = this.store;
     this.renderSelection(g);
+    // While a design is shown, how far it misses each pose, beside the pose's number.
+    const r = this.store.result;
+    const misses = this.showingResult() && r ? poseErrors(r.metrics, r.analysis, scene) : null;
+    const units = scene.units || 'mm';
     // Pose numbers on every copy of every moving body.
     scene.moving_bodies.forEach((b, i) => {
       b.poses.forEach((pose, p) => {
         const c = this.s(toWorld(pose, centroid(b.polygon)));
         const current = p === ui.pose && !this.showingResult();
+        const miss = misses?.rows.find((row) => row.pose === p && row.body === i);
         g.append(svg('g', { class: current ? 'pose-tag current' : 'pose-tag', transform: `translate(${c[0]},${c[1]})`, style: `--c:${bodyColour(i)}` }, [
           svg('circle', { r: 9 }),
           svg('text', { 'text-anchor': 'middle', dy: '0.35em', text: String(p + 1) }),
+          miss ? svg('text', {
+            class: 'pose-miss', x: 13, dy: '0.35em', 'data-pose': p, 'data-body': i,
+            text: `off by ${fmt(miss.position)} ${units}, ${fmt(miss.angle)}°`,
+          }) : null,
         ]));
       });
     });
