@@ -281,6 +281,47 @@ impl Plan {
         Ok(())
     }
 
+    /// Every joint's velocity per radian of crank, `d(position)/dθ`, at configuration `row` (solved at
+    /// crank angle `theta`): the exact derivative of each step's solution, in solving order. A dyad's
+    /// joint keeps its distances to both centres, so its velocity solves the 2 × 2 system
+    /// `(p − a)·(ṗ − ȧ) = 0`, `(p − b)·(ṗ − ḃ) = 0`; a slider joint moves along its line and keeps its
+    /// distance to the rod's other end; an attached joint turns with its part. `None` at a dead point,
+    /// where the system is singular (the crank cannot drive the linkage there).
+    pub fn velocities(&self, theta: f64, row: &[Point], out: &mut [Vec2]) -> Option<()> {
+        for &(j, _) in &self.fixed {
+            out[j] = Vec2::ZERO;
+        }
+        out[self.tip] = Vec2::from_angle(theta).perp() * self.crank_radius;
+        for step in &self.steps {
+            match *step {
+                Step::Dyad { joint, a, b, .. } => {
+                    let (u, v) = (row[joint] - row[a], row[joint] - row[b]);
+                    let det = u.cross(v);
+                    if det.abs() <= 1e-12 * u.norm() * v.norm() {
+                        return None;
+                    }
+                    let (ra, rb) = (u.dot(out[a]), v.dot(out[b]));
+                    // Cramer's rule on [uᵀ; vᵀ]·ṗ = (ra, rb).
+                    out[joint] = Vec2::new(ra * v.y - rb * u.y, u.x * rb - v.x * ra) / det;
+                }
+                Step::Slider { joint, centre, direction, .. } => {
+                    let w = row[joint] - row[centre];
+                    let along = w.dot(direction);
+                    if along.abs() <= 1e-12 * w.norm() {
+                        return None;
+                    }
+                    out[joint] = direction * (w.dot(out[centre]) / along);
+                }
+                Step::Attach { joint, a, b, .. } => {
+                    let e = row[b] - row[a];
+                    let omega = e.cross(out[b] - out[a]) / e.norm_sq();
+                    out[joint] = out[a] + (row[joint] - row[a]).perp() * omega;
+                }
+            }
+        }
+        Some(())
+    }
+
     /// Puts the fixed joints and the crank's tip (the crank along the unit vector `crank`) in `out`, a
     /// row of `joint_count` points: what [`Plan::solve_rows`] starts from.
     pub fn place_crank(&self, crank: Vec2, out: &mut [Point]) {
@@ -491,6 +532,33 @@ mod tests {
             let template = Plan::compile(&mechanism(&topology, &first, 0.3)).expect("random joints are distinct");
             let other = mechanism(&topology, &second, angle);
             prop_assert_eq!(template.redimension(&other), Plan::compile(&other));
+        }
+
+        /// The velocities are the derivative of the solution: they match central differences of
+        /// `solve` (step 1e-6 rad) on random linkages of every kind, away from dead points.
+        #[test]
+        fn velocities_are_the_derivative_of_the_solution(k in 0usize..4, coords in prop::collection::vec(-5.0..5.0f64, 20),
+                                                          theta in -3.2..3.2f64) {
+            let topology = Arc::new(if k == 0 { Topology::slider_crank() } else { Topology::chain(k) });
+            let plan = Plan::compile(&mechanism(&topology, &coords, 0.7)).expect("random joints are distinct");
+            let n = plan.joint_count();
+            let h = 1e-6;
+            let (mut row, mut ahead, mut behind) = (vec![Point::ORIGIN; n], vec![Point::ORIGIN; n], vec![Point::ORIGIN; n]);
+            let solved = plan.solve(theta, &mut row).is_ok()
+                && plan.solve(theta + h, &mut ahead).is_ok()
+                && plan.solve(theta - h, &mut behind).is_ok();
+            let mut velocity = vec![Vec2::ZERO; n];
+            if solved && plan.velocities(theta, &row, &mut velocity).is_some() {
+                let scale = coords.iter().fold(1.0f64, |m, c| m.max(c.abs()));
+                for j in 0..n {
+                    let difference = (ahead[j] - behind[j]) / (2.0 * h);
+                    let speed = velocity[j].norm().max(difference.norm());
+                    // Near a dead point the velocity grows without bound and differences lose digits.
+                    prop_assume!(speed < 1e3 * scale);
+                    prop_assert!((velocity[j] - difference).norm() <= 1e-4 * (scale + speed),
+                                 "joint {}: {:?} against {:?}", j, velocity[j], difference);
+                }
+            }
         }
 
         /// Solving rows step by step gives the points of solving them one by one, bit for bit, and
