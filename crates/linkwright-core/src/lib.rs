@@ -73,6 +73,7 @@ pub mod fab;
 pub mod geom;
 pub mod kernels;
 pub mod kinematics;
+pub mod statics;
 pub mod testbed;
 
 // The `scene/1` format, its validation, and the problem every later stage reads.

@@ -477,6 +477,7 @@ fn assemble(family: Family, seed: u64, drawn: Drawn, pose_crank: Vec<f64>, scale
                 name: format!("body{}", b + 1),
                 polygon: scaled_polygon(outline),
                 poses,
+                mass_kg: None,
                 extra: Default::default(),
             }
         })

@@ -9,6 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
+use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
     PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
@@ -296,6 +297,55 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
             out.push_str(&format!(",{},{}", p.x, p.y));
         }
         out.push('\n');
+    }
+    print!("{out}");
+    Ok(())
+}
+
+/// Steps of the crank's travel the torque is given at.
+const ANALYZE_STEPS: usize = 180;
+
+/// `analyze`: the torque the crank needs along the design's motion, as a table or JSON.
+pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&Path>) -> Result<(), Failure> {
+    let (scene_file, problem) = read_problem(scene)?;
+    let file = read_valid_design(design, &problem)?;
+    let settings = crate::fabricate::read_settings(print_settings)?;
+    let masses = Masses::printed(&settings, &scene_file.units).ok_or_else(|| {
+        Failure::Input(format!(
+            "error: {}: units \"{}\" are not a length; set them to mm, cm, m, in or ft to weigh the parts",
+            scene.display(),
+            scene_file.units
+        ))
+    })?;
+    if file.mechanism.is_none() {
+        return Err(Failure::Input(format!("error: {}: has no mechanism (status no_solution)", design.display())));
+    }
+    let replay = Replay::new(&problem, &file, Which::Best, ANALYZE_STEPS)
+        .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
+    let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
+        .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&torque).expect("the torque serializes"));
+        return Ok(());
+    }
+    // A printed model needs thousandths of a newton-metre: its torque reads better in N·mm.
+    let (unit, factor) = if torque.peak_nm < 1.0 { ("N·mm", 1000.0) } else { ("N·m", 1.0) };
+    let mut out = format!("{:>10}  {:>14}\n", "crank (°)", format!("torque ({unit})"));
+    let rows = torque.crank_deg.len();
+    // About twenty rows of the table, always with the first and the last.
+    let every = rows.div_ceil(20).max(1);
+    for (k, (deg, tau)) in torque.crank_deg.iter().zip(&torque.torque_nm).enumerate() {
+        if k % every == 0 || k + 1 == rows {
+            out.push_str(&format!("{deg:>10.1}  {:>14.3}\n", tau * factor));
+        }
+    }
+    out.push_str(&format!(
+        "peak {:.3} {unit} at crank {:.1}° (positive: the crank lifts the parts as it advances)\nparts:\n",
+        torque.peak_nm * factor,
+        torque.peak_crank_deg
+    ));
+    for part in &torque.parts {
+        out.push_str(&format!("  {:<10} {:>9.4} kg\n", part.name, part.mass_kg));
     }
     print!("{out}");
     Ok(())

@@ -54,6 +54,18 @@ enum Command {
     /// Printable parts for a design: STL per part, assembly and plates as 3MF, SVG/DXF profiles, the
     /// assembly sheet and fabrication.json.
     Fabricate(fabricate::FabricateArgs),
+    /// The torque the crank needs to hold a design against gravity along its motion (masses of the
+    /// printed parts, or the scene's mass_kg per body)
+    Analyze {
+        scene: PathBuf,
+        design: PathBuf,
+        /// Print the result as JSON
+        #[arg(long)]
+        json: bool,
+        /// Print settings (JSON) the parts' masses come from: density, fill, body and link sizes
+        #[arg(long)]
+        print_settings: Option<PathBuf>,
+    },
     /// Print the joint positions along a design's motion as CSV.
     Simulate {
         scene: PathBuf,
@@ -87,6 +99,9 @@ fn main() -> ExitCode {
         Command::Check { scene, design, json } => commands::check(&scene, &design, json),
         Command::Fabricate(args) => fabricate::fabricate(args),
         Command::Simulate { scene, design, steps } => commands::simulate(&scene, &design, steps),
+        Command::Analyze { scene, design, json, print_settings } => {
+            commands::analyze(&scene, &design, json, print_settings.as_deref())
+        }
         Command::Serve(args) => serve::serve(args),
         Command::Bench(args) => bench::bench(args),
     };

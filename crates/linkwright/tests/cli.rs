@@ -124,7 +124,7 @@ fn an_impossible_scene_is_a_no_solution_with_a_reason() {
 fn help_lists_the_commands() {
     let run = linkwright(&["--help"]);
     let help = text(&run.stdout);
-    for command in ["design", "check", "simulate"] {
+    for command in ["design", "check", "simulate", "analyze"] {
         assert!(help.contains(command), "{help}");
     }
 }
@@ -161,4 +161,61 @@ fn an_unprintable_run_offers_to_design_without_the_print_check() {
     assert!(stdout.contains("no solution") && stdout.contains("could not be printed"), "{stdout}");
     assert!(!stdout.contains("--no-print-check"), "{stdout}");
     assert!(stderr.contains("hint: --no-print-check"), "{stderr}");
+}
+
+/// `analyze --json`: the torque at every crank angle of the design's travel (which it spans), each
+/// moving part's mass and share, and the peak, which is the largest |torque|; a scene mass doubled
+/// doubles the body's share. The table form names its unit.
+#[test]
+fn analyze_gives_the_torque_along_the_motion() {
+    let dir = workdir("analyze");
+    let design = design_garbage_truck(&dir, "2");
+    let scene = example("k1_garbage_truck");
+    let run = linkwright(&["analyze", &scene, design.to_str().unwrap(), "--json"]);
+    assert!(run.status.success(), "stderr: {}", text(&run.stderr));
+    let torque: Value = serde_json::from_str(&text(&run.stdout)).unwrap();
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&design).unwrap()).unwrap();
+    let numbers = |v: &Value| v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<f64>>();
+    let (crank, tau) = (numbers(&torque["crank_deg"]), numbers(&torque["torque_nm"]));
+    assert_eq!(crank.len(), tau.len());
+    let motion = &file["motion"];
+    let (start, end) = (motion["crank_start_deg"].as_f64().unwrap(), motion["crank_end_deg"].as_f64().unwrap());
+    assert!((crank[0] - start).abs() < 1e-9 && (crank[crank.len() - 1] - end).abs() < 1e-9);
+    let peak = tau.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    assert_eq!(torque["peak_nm"].as_f64(), Some(peak));
+    let parts = torque["parts"].as_array().unwrap();
+    let names: Vec<&str> = file["mechanism"]["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["kind"] != "fixed")
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(parts.iter().map(|p| p["name"].as_str().unwrap()).collect::<Vec<_>>(), names);
+    for (k, t) in tau.iter().enumerate() {
+        let sum: f64 = parts.iter().map(|p| p["torque_nm"][k].as_f64().unwrap()).sum();
+        assert!((sum - t).abs() <= 1e-12 * (1.0 + peak), "row {k}: the parts sum to {sum}, not {t}");
+    }
+
+    // The body given twice its printed mass takes twice its share.
+    let body = parts.iter().find(|p| p["name"] == "body1").unwrap();
+    let mut heavier: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    heavier["moving_bodies"][0]["mass_kg"] = Value::from(2.0 * body["mass_kg"].as_f64().unwrap());
+    let heavier_path = dir.join("heavier.json");
+    std::fs::write(&heavier_path, heavier.to_string()).unwrap();
+    let run = linkwright(&["analyze", heavier_path.to_str().unwrap(), design.to_str().unwrap(), "--json"]);
+    assert!(run.status.success(), "stderr: {}", text(&run.stderr));
+    let doubled: Value = serde_json::from_str(&text(&run.stdout)).unwrap();
+    let share = |t: &Value, k: usize| {
+        t["parts"].as_array().unwrap().iter().find(|p| p["name"] == "body1").unwrap()["torque_nm"][k].as_f64().unwrap()
+    };
+    for k in 0..tau.len() {
+        assert!((share(&doubled, k) - 2.0 * share(&torque, k)).abs() <= 1e-12 * (1.0 + peak));
+    }
+
+    let table = linkwright(&["analyze", &scene, design.to_str().unwrap()]);
+    assert!(table.status.success());
+    let table = text(&table.stdout);
+    assert!(table.contains("torque (N·mm)") && table.contains("peak "), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

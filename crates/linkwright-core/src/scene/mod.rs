@@ -88,6 +88,10 @@ pub struct MovingBody {
     /// `m` sits at `R(angle)·m + (x, y)`. Every moving body has the same number of poses, pose i of all
     /// of them at the same moment.
     pub poses: Vec<[f64; 3]>,
+    /// The body's real mass, kilograms, for the torque it takes to move it (default: the printed
+    /// part's, from its outline and the print settings).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,

@@ -17,6 +17,8 @@ pub struct MovingBodyProblem {
     pub poses: Vec<Rigid>,
     /// The body size d: the shorter side of the outline's bounding box (paper §4.1).
     pub size: f64,
+    /// The scene's mass for the body, kilograms, when it gives one.
+    pub mass_kg: Option<f64>,
 }
 
 impl MovingBodyProblem {
@@ -108,6 +110,7 @@ impl Problem {
                 MovingBodyProblem {
                     name: b.name.clone(),
                     size: bb.width().min(bb.height()),
+                    mass_kg: b.mass_kg,
                     poses: b.poses.iter().map(|&p| Rigid::from_pose(p)).collect(),
                     outline,
                 }

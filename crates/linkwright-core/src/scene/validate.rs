@@ -349,6 +349,14 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
                 ),
             );
         }
+        if let Some(mass) = body.mass_kg {
+            if !(mass.is_finite() && mass > 0.0 && mass <= MAX_MASS_KG) {
+                out.error(
+                    format!("moving_bodies[{k}].mass_kg"),
+                    format!("is {mass}; give the body's mass in kilograms, more than 0 and at most {MAX_MASS_KG:e}"),
+                );
+            }
+        }
         for (i, pose) in body.poses.iter().enumerate() {
             if !pose_is_usable(pose) {
                 out.error(
@@ -401,6 +409,10 @@ fn check_mechanism(scene: &Scene, out: &mut Issues) {
         out.error("mechanism", message);
     }
 }
+
+/// The largest mass a moving body may be given, kilograms (a car's door is tens; a bridge is beyond
+/// what this tool designs).
+const MAX_MASS_KG: f64 = 1e5;
 
 /// Each must-hit pose is one the bodies have.
 fn check_must_hit(scene: &Scene, out: &mut Issues) {
@@ -929,6 +941,7 @@ mod tests {
             name: "bar".into(),
             polygon: rect(-10.0, 0.0, 40.0, 10.0),
             poses: vec![[30.0, 130.0, 0.0], [300.0, 100.0, 0.0]],
+            mass_kg: None,
             extra: Map::new(),
         };
         s.moving_bodies.push(bar);

@@ -1,0 +1,340 @@
+//! Statics: the torque the driver must supply to hold a linkage against gravity at every point of its
+//! travel (quasi-static: no inertia, no friction), from each moving part's mass and the kinematics.
+//!
+//! By virtual work, the torque is the derivative of the potential energy along the crank:
+//! `τ(θ) = Σ mᵢ g · dhᵢ/dθ`, hᵢ the height of part i's centre of mass. The heights' derivatives come
+//! from the joints' exact velocities ([`Plan::velocities`]): a body or link moves rigidly with two of
+//! its joints, so its centre's velocity follows from theirs. Gravity points down the drawing (−y).
+
+use crate::fab::{millimetres_per_unit, PrintSettings};
+use crate::geom::{Point, Vec2};
+use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::mechanism::{Mechanism, PartKind};
+use crate::scene::Problem;
+use serde::Serialize;
+
+/// Standard gravity, m/s².
+pub const GRAVITY: f64 = 9.80665;
+
+/// What a part weighs when the scene does not say: the printed part's mass, from the print settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Masses {
+    /// Millimetres per unit of the drawing.
+    pub millimetres_per_unit: f64,
+    /// Kilograms per cubic millimetre of printed part (the material's density times the part filled).
+    pub kg_per_mm3: f64,
+    /// Thickness of a body, mm.
+    pub body_thickness: f64,
+    /// Width and thickness of a link, mm.
+    pub link_section: [f64; 2],
+}
+
+impl Masses {
+    /// Masses as printed with `settings`, for a drawing in `units`; `None` when the units are not a
+    /// length this knows (then nothing can be weighed).
+    pub fn printed(settings: &PrintSettings, units: &str) -> Option<Masses> {
+        Some(Masses {
+            millimetres_per_unit: millimetres_per_unit(units)?,
+            // g/cm³ is 10⁻⁶ kg/mm³.
+            kg_per_mm3: settings.density * settings.fill_fraction * 1e-6,
+            body_thickness: settings.body_thickness,
+            link_section: [settings.link_width, settings.link_thickness],
+        })
+    }
+}
+
+/// One moving part's weight and its share of the torque.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PartLoad {
+    /// The part's name, as in the design's `mechanism.parts`.
+    pub name: String,
+    /// Its mass, kilograms.
+    pub mass_kg: f64,
+    /// Its centre of mass at the first pose, scene units.
+    pub com: Point,
+    /// The torque its weight asks of the driver at each row of the travel, N·m.
+    pub torque_nm: Vec<f64>,
+}
+
+/// The driving torque along a travel.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Torque {
+    /// The crank angle of each row, degrees, unwrapped, in travel order.
+    pub crank_deg: Vec<f64>,
+    /// The torque the driver supplies at each row, N·m, positive along the travel (it lifts the
+    /// parts as the crank advances) and negative where the weight drives the crank forward.
+    pub torque_nm: Vec<f64>,
+    /// Every moving part (bodies and links; the ground does not move).
+    pub parts: Vec<PartLoad>,
+    /// The largest |torque|, N·m.
+    pub peak_nm: f64,
+    /// Where it occurs, degrees of crank.
+    pub peak_crank_deg: f64,
+}
+
+/// Why the torque cannot be computed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum StaticsError {
+    /// The travel passes a dead point, where the crank cannot hold the linkage at all.
+    #[error("the linkage passes a dead point at crank {crank_deg:.1}°, where no torque holds it")]
+    DeadPoint {
+        /// The crank angle there, degrees.
+        crank_deg: f64,
+    },
+    /// The travel has no rows.
+    #[error("the travel is empty")]
+    Empty,
+}
+
+/// A moving part: its mass and how its centre of mass is found from a row of joints.
+struct Part {
+    name: String,
+    mass_kg: f64,
+    centre: Centre,
+}
+
+enum Centre {
+    /// A point fixed in body b's frame (body coordinates).
+    Body { body: usize, local: Point },
+    /// The mean of these joints (a bar's middle, a triangle's centroid).
+    Joints(Vec<usize>),
+}
+
+/// The parts of `mechanism` that move, weighed: bodies by the scene's `mass_kg` or as printed (outline
+/// × body thickness), links as printed (bars of the link section; a ternary link as its triangle).
+fn parts(problem: &Problem, mechanism: &Mechanism, masses: &Masses) -> Vec<Part> {
+    let mm = masses.millimetres_per_unit;
+    let joints = &mechanism.joints;
+    let mut out = Vec::new();
+    for part in &mechanism.topology.parts {
+        match part.kind {
+            PartKind::Fixed => {}
+            PartKind::Body(b) => {
+                let body = &problem.bodies[b];
+                let printed = body.outline.area() * mm * mm * masses.body_thickness * masses.kg_per_mm3;
+                let mass_kg = body.mass_kg.unwrap_or(printed);
+                let local = body.outline.centroid();
+                out.push(Part { name: part.name.clone(), mass_kg, centre: Centre::Body { body: b, local } });
+            }
+            PartKind::Link => {
+                let [width, thickness] = masses.link_section;
+                let volume = match part.joints[..] {
+                    [a, b] => joints[a].distance(joints[b]) * mm * width * thickness,
+                    [a, b, c] => 0.5 * (joints[b] - joints[a]).cross(joints[c] - joints[a]).abs() * mm * mm * thickness,
+                    _ => 0.0,
+                };
+                let mass_kg = volume * masses.kg_per_mm3;
+                out.push(Part { name: part.name.clone(), mass_kg, centre: Centre::Joints(part.joints.clone()) });
+            }
+        }
+    }
+    out
+}
+
+impl Part {
+    /// The centre of mass in `row`, and its velocity per radian of crank given the joints' `velocity`.
+    fn centre(&self, frames: &BodyFrames, row: &[Point], velocity: &[Vec2]) -> (Point, Vec2) {
+        match &self.centre {
+            Centre::Body { body, local } => {
+                let at = frames.pose(*body, row).apply(*local);
+                // The body turns with the two joints its frame is built from.
+                let (a, b, _) = frames.frame(*body);
+                let e = row[b] - row[a];
+                let omega = e.cross(velocity[b] - velocity[a]) / e.norm_sq();
+                (at, velocity[a] + (at - row[a]).perp() * omega)
+            }
+            Centre::Joints(joints) => {
+                let n = joints.len() as f64;
+                let at = joints.iter().fold(Vec2::ZERO, |s, &j| s + (row[j] - Point::ORIGIN)) / n;
+                let v = joints.iter().fold(Vec2::ZERO, |s, &j| s + velocity[j]) / n;
+                (Point::ORIGIN + at, v)
+            }
+        }
+    }
+}
+
+/// The torque the driver of `mechanism` (compiled as `plan`) supplies at every row of `trace` to hold
+/// its moving parts against gravity, with each part's share.
+pub fn driving_torque(
+    problem: &Problem,
+    mechanism: &Mechanism,
+    plan: &Plan,
+    trace: &Trace,
+    masses: &Masses,
+) -> Result<Torque, StaticsError> {
+    if trace.is_empty() {
+        return Err(StaticsError::Empty);
+    }
+    let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+    let frames = BodyFrames::new(mechanism, &first_poses);
+    let parts = parts(problem, mechanism, masses);
+    let metres = masses.millimetres_per_unit / 1000.0;
+    // Positive along the travel: the crank may turn either way.
+    let along = if trace.thetas[trace.len() - 1] >= trace.thetas[0] { 1.0 } else { -1.0 };
+    let mut velocity = vec![Vec2::ZERO; plan.joint_count()];
+    let mut loads: Vec<PartLoad> = parts
+        .iter()
+        .map(|p| {
+            let (com, _) = p.centre(&frames, trace.row(0), &velocity);
+            PartLoad { name: p.name.clone(), mass_kg: p.mass_kg, com, torque_nm: Vec::with_capacity(trace.len()) }
+        })
+        .collect();
+    let mut torque_nm = Vec::with_capacity(trace.len());
+    for r in 0..trace.len() {
+        let (theta, row) = (trace.thetas[r], trace.row(r));
+        if plan.velocities(theta, row, &mut velocity).is_none() {
+            return Err(StaticsError::DeadPoint { crank_deg: theta.to_degrees() });
+        }
+        let mut total = 0.0;
+        for (part, load) in parts.iter().zip(&mut loads) {
+            let (_, v) = part.centre(&frames, row, &velocity);
+            let share = along * part.mass_kg * GRAVITY * v.y * metres;
+            load.torque_nm.push(share);
+            total += share;
+        }
+        torque_nm.push(total);
+    }
+    let peak = (0..torque_nm.len()).max_by(|&a, &b| torque_nm[a].abs().total_cmp(&torque_nm[b].abs())).unwrap_or(0);
+    Ok(Torque {
+        crank_deg: trace.thetas.iter().map(|t| t.to_degrees()).collect(),
+        peak_nm: torque_nm[peak].abs(),
+        peak_crank_deg: trace.thetas[peak].to_degrees(),
+        torque_nm,
+        parts: loads,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanism::Topology;
+    use crate::scene::{FixedBody, MovingBody, Scene};
+    use crate::testbed::{known_scene, Family};
+    use std::sync::Arc;
+
+    /// Grams per cubic centimetre of 1, solid; 6 mm bodies, 10 × 3 mm links; drawn in millimetres.
+    const MASSES: Masses =
+        Masses { millimetres_per_unit: 1.0, kg_per_mm3: 1e-6, body_thickness: 6.0, link_section: [10.0, 3.0] };
+
+    /// A parallelogram four-bar: crank and rocker of length r turn together, so the body (a 60 × 10
+    /// plate between them) translates along a circle of radius r. Each bar is a single body on one
+    /// pivot, τ = m g (r/2) cos θ, and the body's height changes by r sin θ, τ = m g r cos θ.
+    #[test]
+    fn a_parallelogram_needs_the_closed_form_torque() {
+        let (r, base) = (30.0, 60.0);
+        let (from, to) = (30f64.to_radians(), 120f64.to_radians());
+        let at = |theta: f64| Point::new(r * theta.cos(), r * theta.sin());
+        let scene = Scene {
+            linkwright: crate::scene::SCENE_FORMAT.to_string(),
+            name: "parallelogram".into(),
+            units: "mm".into(),
+            fixed_bodies: vec![FixedBody {
+                name: "base".into(),
+                polygon: vec![
+                    Point::new(-20.0, -90.0),
+                    Point::new(100.0, -90.0),
+                    Point::new(100.0, -70.0),
+                    Point::new(-20.0, -70.0),
+                ],
+                extra: Default::default(),
+            }],
+            moving_bodies: vec![MovingBody {
+                name: "plate".into(),
+                polygon: vec![
+                    Point::new(0.0, -5.0),
+                    Point::new(base, -5.0),
+                    Point::new(base, 5.0),
+                    Point::new(0.0, 5.0),
+                ],
+                poses: vec![[at(from).x, at(from).y, 0.0], [at(to).x, at(to).y, 0.0]],
+                mass_kg: None,
+                extra: Default::default(),
+            }],
+            linkage_region: None,
+            avoid_regions: Vec::new(),
+            mechanism: Default::default(),
+            must_hit_poses: Vec::new(),
+            weights: Default::default(),
+            settings: Default::default(),
+            extra: Default::default(),
+        };
+        let problem = Problem::new(&scene).expect("a valid scene");
+        let topology = Arc::new(Topology::chain(1));
+        let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+        for (name, p) in [
+            ("q0", Point::ORIGIN),
+            ("r0", Point::new(base, 0.0)),
+            ("p1", at(from)),
+            ("q1", at(from) + Vec2::new(base, 0.0)),
+        ] {
+            joints[topology.joint(name).unwrap()] = p;
+        }
+        let mechanism = Mechanism { topology, joints, slider: None };
+        let plan = Plan::compile(&mechanism).unwrap();
+        let mut trace = Trace::default();
+        trace.sweep(&plan, from, to, 1f64.to_radians()).unwrap();
+        let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
+
+        let plate = 600.0 * 6.0 * 1e-6;
+        let bar = r * 10.0 * 3.0 * 1e-6;
+        let mass = |name: &str| torque.parts.iter().find(|p| p.name == name).unwrap().mass_kg;
+        assert!((mass("body1") - plate).abs() < 1e-15 && (mass("crank") - bar).abs() < 1e-15);
+        let metres = 1e-3;
+        for (k, &theta) in trace.thetas.iter().enumerate() {
+            let share = |name: &str| torque.parts.iter().find(|p| p.name == name).unwrap().torque_nm[k];
+            let cos = theta.cos();
+            let expected = [
+                ("crank", bar * GRAVITY * r / 2.0 * metres * cos),
+                ("rocker", bar * GRAVITY * r / 2.0 * metres * cos),
+                ("body1", plate * GRAVITY * r * metres * cos),
+            ];
+            for (name, value) in expected {
+                assert!(
+                    (share(name) - value).abs() <= 1e-12,
+                    "{name} at {:.1}°: {} against {value}",
+                    theta.to_degrees(),
+                    share(name)
+                );
+            }
+            let total: f64 = expected.iter().map(|e| e.1).sum();
+            assert!((torque.torque_nm[k] - total).abs() <= 1e-12);
+        }
+        // The peak is where the bars lie flat: the start, at 30° (cos 30° > |cos 120°|).
+        assert!((torque.peak_crank_deg - 30.0).abs() < 1e-9);
+    }
+
+    /// Virtual work: the torque is the derivative of the potential energy Σ m g h along the crank,
+    /// here against central differences of the energy from the parts' positions alone, on linkages of
+    /// every family (known mechanisms, so each design exists), turning either way.
+    #[test]
+    fn torque_is_the_derivative_of_the_potential_energy() {
+        let families = [Family::Chain(1), Family::Chain(2), Family::Chain(3), Family::SliderCrank];
+        for (seed, family) in families.into_iter().enumerate() {
+            let known = known_scene(family, 3, seed as u64, 100.0).unwrap();
+            let problem = Problem::new(&known.scene).unwrap();
+            let design = known.design();
+            let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
+            let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &MASSES).unwrap();
+            let parts = parts(&problem, &replay.mechanism, &MASSES);
+            let frames = &replay.frames;
+            let energy = |theta: f64| {
+                let mut row = vec![Point::ORIGIN; replay.plan.joint_count()];
+                replay.plan.solve(theta, &mut row).unwrap();
+                let still = vec![Vec2::ZERO; row.len()];
+                parts.iter().map(|p| p.mass_kg * GRAVITY * p.centre(frames, &row, &still).0.y * 1e-3).sum::<f64>()
+            };
+            let thetas = &replay.trace.thetas;
+            let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
+            let scale = torque.peak_nm.max(1e-12);
+            let h = 1e-6;
+            for (&theta, &tau) in thetas.iter().zip(&torque.torque_nm).skip(1).take(thetas.len() - 2) {
+                let difference = along * (energy(theta + h) - energy(theta - h)) / (2.0 * h);
+                assert!(
+                    (tau - difference).abs() <= 1e-5 * scale,
+                    "{family:?} at {:.2}°: {tau} against {difference}",
+                    theta.to_degrees()
+                );
+            }
+        }
+    }
+}
