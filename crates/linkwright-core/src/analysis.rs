@@ -7,10 +7,12 @@
 //! output are degrees, as in the files; positions are world coordinates, y up.
 
 use crate::design::{DesignError, DesignFile, MechanismJson, Motion};
+use crate::fab::PrintSettings;
 use crate::geom::{Point, Rigid};
 use crate::kinematics::{BodyFrames, CompileError, Plan, Step, SweepError, Trace};
 use crate::mechanism::{Loop, Mechanism, PartKind};
 use crate::scene::Problem;
+use crate::statics::{driving_torque, Masses, Torque};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -323,6 +325,11 @@ pub struct MotionAnalysis {
     pub min_transmission_deg: f64,
     /// The scene's bound on it (`settings.min_transmission_deg`).
     pub min_transmission_bound_deg: f64,
+    /// The torque the crank needs at each frame to hold the parts against gravity, their masses as
+    /// printed with the default print settings (or the scene's `mass_kg`); `None` when the scene's
+    /// units are not a length or the travel passes a dead point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub torque: Option<Torque>,
 }
 
 /// The analysis of mechanism `which` of `design`.
@@ -391,6 +398,8 @@ pub fn describe(problem: &Problem, replay: &Replay) -> MotionAnalysis {
         loops: loops(&replay.mechanism),
         min_transmission_deg: min_margin,
         min_transmission_bound_deg: problem.settings.min_transmission_deg,
+        torque: Masses::printed(&PrintSettings::default(), &problem.units)
+            .and_then(|masses| driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses).ok()),
     }
 }
 

@@ -635,6 +635,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     }
     true_dimensions(page).await?;
     pose_misses_on_canvas(page).await?;
+    torque_plot(page).await?;
     motion_exports(page, downloads).await?;
     live_latency(page, "garbage truck, one body", 0, 1).await?;
     // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
@@ -752,6 +753,24 @@ async fn pose_misses_on_canvas(page: &Page) -> Result<()> {
         let angle = angle.strip_suffix('°').ok_or("degrees")?;
         assert_shown(angle, miss["angle_deg"].as_f64().ok_or("angle")?.abs(), &format!("pose {pose}: {text}"))?;
     }
+    Ok(())
+}
+
+/// The Result tab plots the torque the crank needs along the motion (from the server's analysis), and
+/// names its peak as the analysis gives it.
+async fn torque_plot(page: &Page) -> Result<()> {
+    until(page, "document.querySelector('#tab-result .chart [data-peak]') !== null", Duration::from_secs(10)).await?;
+    let peak = eval(page, "window.linkwright.store.result.analysis.torque.peak_nm").await?.as_f64().ok_or("peak")?;
+    let shown = eval(page, "Number(document.querySelector('#tab-result .chart [data-peak]').dataset.peak)").await?;
+    assert_eq!(shown.as_f64(), Some(peak));
+    let points = eval(
+        page,
+        "document.querySelector('#tab-result polyline.torque').getAttribute('points').trim().split(/\\s+/).length",
+    )
+    .await?;
+    let frames = eval(page, "window.linkwright.store.result.analysis.frames.length").await?;
+    assert_eq!(points, frames, "one point of the plot per frame of the motion");
+    assert!(peak > 0.0);
     Ok(())
 }
 

@@ -94,6 +94,47 @@ function niceCeil(x) {
   return 10 * p;
 }
 
+/**
+ * The torque the crank needs to hold the parts against gravity, against the crank angle, with the
+ * poses marked, zero drawn, and a cursor at the current frame (returned for updates).
+ */
+export function torquePlot(analysis) {
+  const t = analysis.torque;
+  const xs = t.crank_deg;
+  const x0 = xs[0], x1 = xs[xs.length - 1] === x0 ? x0 + 1 : xs[xs.length - 1];
+  // A printed model needs thousandths of a newton-metre: N·mm reads better there.
+  const [unit, factor] = t.peak_nm < 1 ? ['N·mm', 1000] : ['N·m', 1];
+  const top = niceCeil(Math.max(t.peak_nm * factor, 1e-9));
+  const sx = (x) => PAD.l + ((x - x0) / (x1 - x0)) * (W - PAD.l - PAD.r);
+  const sy = (y) => PAD.t + ((top - y) / (2 * top)) * (H - PAD.t - PAD.b);
+  const root = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', role: 'img', 'aria-label': 'torque to drive the crank' });
+  root.append(axes(`crank angle, ${x0.toFixed(0)}° to ${x1.toFixed(0)}°`, '', [-top, 0, top].map((v) => +v.toPrecision(3)), sy));
+  root.append(svg('line', { class: 'zero', x1: PAD.l, y1: sy(0), x2: W - PAD.r, y2: sy(0) }));
+  for (const p of analysis.poses) {
+    const x = sx(p.crank_deg);
+    root.append(svg('line', { class: 'pose-mark', x1: x, y1: PAD.t, x2: x, y2: H - PAD.b }));
+    root.append(svg('text', { class: 'pose-num', x, y: PAD.t - 4, 'text-anchor': 'middle', text: String(p.pose + 1) }));
+  }
+  const pts = xs.map((x, k) => [sx(x), sy(t.torque_nm[k] * factor)]);
+  root.append(svg('polyline', { class: 'series torque', points: points(pts), stroke: PATH_COLOURS[0] }));
+  const cursor = svg('line', { class: 'cursor', x1: PAD.l, y1: PAD.t, x2: PAD.l, y2: H - PAD.b });
+  root.append(cursor);
+  const mass = t.parts.reduce((m, p) => m + p.mass_kg, 0);
+  const note = html('small', {
+    'data-peak': t.peak_nm,
+    text: `In ${unit}: positive lifts the parts as the crank advances. Peak ${(t.peak_nm * factor).toPrecision(3)} ${unit} at crank ${t.peak_crank_deg.toFixed(0)}°, ` +
+      `${(mass * 1000).toPrecision(3)} g moving (printed parts, or the masses the scene gives).`,
+  });
+  return {
+    element: html('div', { class: 'chart' }, [root, note]),
+    moveCursor: (crankDeg) => {
+      const x = sx(crankDeg);
+      cursor.setAttribute('x1', x);
+      cursor.setAttribute('x2', x);
+    },
+  };
+}
+
 /** Each loop with its Grashof type and link lengths. */
 export function loopList(analysis) {
   return html('ul', { class: 'loops' }, analysis.loops.map((l) => html('li', {}, [

@@ -7,7 +7,7 @@ import * as api from './api.js';
 import { bodyColour } from './canvas.js';
 import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
-import { errorPlot, loopList, transmissionPlot } from './plots.js';
+import { errorPlot, loopList, torquePlot, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
 import { screenField } from './fields.js';
 import { newResult } from './store.js';
@@ -53,6 +53,7 @@ export class Results {
     this.speed = 1;
     this.last = null;
     this.plot = null;
+    this.torque = null;
     this.fab = null; // the Fabricator, which adds its part to the Result tab and follows the animation
     els.design.addEventListener('click', () => this.run());
     this.designTitle = els.design.title;
@@ -198,6 +199,7 @@ export class Results {
     this.els.readout.textContent = `crank ${frame.crank_deg.toFixed(1)}°`;
     this.canvas.root.dataset.crank = frame.crank_deg.toFixed(3);
     this.plot?.moveCursor(frame.crank_deg);
+    this.torque?.moveCursor(frame.crank_deg);
     const frames = this.result.analysis.frames, first = frames[0].crank_deg, last = frames[n - 1].crank_deg;
     this.fab?.frame(last === first ? 0 : (frame.crank_deg - first) / (last - first));
   }
@@ -330,6 +332,7 @@ export class Results {
     r.metrics = which === null ? d.metrics : d.alternatives[which]?.metrics;
     r.analysis = null;
     this.plot = null;
+    this.torque = null;
     if (d.status !== 'ok' || !r.mechanism) {
       this.store.changed('result');
       return;
@@ -507,6 +510,8 @@ export class Results {
       const a = r.analysis;
       this.plot = transmissionPlot(a);
       host.append(html('h3', { text: 'Transmission angles over the motion' }), this.plot.element);
+      this.torque = a.torque ? torquePlot(a) : null;
+      if (this.torque) host.append(html('h3', { text: 'Torque to drive the crank' }), this.torque.element);
       host.append(html('h3', { text: 'Error at each pose' }), errorPlot(a, r.scene));
       host.append(html('h3', { text: 'Loops' }), loopList(a));
       this.drawFrame();
