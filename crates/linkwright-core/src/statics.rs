@@ -4,7 +4,8 @@
 //! By virtual work, the torque is the derivative of the potential energy along the crank:
 //! `τ(θ) = Σ mᵢ g · dhᵢ/dθ`, hᵢ the height of part i's centre of mass. The heights' derivatives come
 //! from the joints' exact velocities ([`Plan::velocities`]): a body or link moves rigidly with two of
-//! its joints, so its centre's velocity follows from theirs. Gravity points down the drawing (−y).
+//! its joints, so its centre's velocity follows from theirs. Gravity pulls down the drawing (−y)
+//! unless the scene gives another direction.
 
 use crate::fab::{millimetres_per_unit, PrintSettings};
 use crate::geom::{Point, Vec2};
@@ -188,7 +189,8 @@ pub fn driving_torque(
         let mut total = 0.0;
         for (part, load) in parts.iter().zip(&mut loads) {
             let (_, v) = part.centre(&frames, row, &velocity);
-            let share = along * part.mass_kg * GRAVITY * v.y * metres;
+            // The potential energy grows as the centre moves against gravity.
+            let share = -along * part.mass_kg * GRAVITY * v.dot(problem.gravity) * metres;
             load.torque_nm.push(share);
             total += share;
         }
@@ -253,6 +255,7 @@ mod tests {
             linkage_region: None,
             avoid_regions: Vec::new(),
             mechanism: Default::default(),
+            gravity: None,
             must_hit_poses: Vec::new(),
             weights: Default::default(),
             settings: Default::default(),
@@ -301,6 +304,14 @@ mod tests {
         }
         // The peak is where the bars lie flat: the start, at 30° (cos 30° > |cos 120°|).
         assert!((torque.peak_crank_deg - 30.0).abs() < 1e-9);
+        // Gravity along +x instead: the parts' potential energy is −m g x, x = r cos θ + const.
+        let mut sideways = problem.clone();
+        sideways.gravity = Vec2::new(1.0, 0.0);
+        let torque = driving_torque(&sideways, &mechanism, &plan, &trace, &MASSES).unwrap();
+        for (k, &theta) in trace.thetas.iter().enumerate() {
+            let expected = (plate * r + bar * r / 2.0 * 2.0) * GRAVITY * metres * theta.sin();
+            assert!((torque.torque_nm[k] - expected).abs() <= 1e-12, "{} against {expected}", torque.torque_nm[k]);
+        }
     }
 
     /// Virtual work: the torque is the derivative of the potential energy Σ m g h along the crank,
@@ -321,7 +332,8 @@ mod tests {
                 let mut row = vec![Point::ORIGIN; replay.plan.joint_count()];
                 replay.plan.solve(theta, &mut row).unwrap();
                 let still = vec![Vec2::ZERO; row.len()];
-                parts.iter().map(|p| p.mass_kg * GRAVITY * p.centre(frames, &row, &still).0.y * 1e-3).sum::<f64>()
+                let height = |p: Point| -(p - Point::ORIGIN).dot(problem.gravity);
+                parts.iter().map(|p| p.mass_kg * GRAVITY * height(p.centre(frames, &row, &still).0) * 1e-3).sum::<f64>()
             };
             let thetas = &replay.trace.thetas;
             let along = (thetas[thetas.len() - 1] - thetas[0]).signum();

@@ -513,6 +513,7 @@ fn assemble(family: Family, seed: u64, drawn: Drawn, pose_crank: Vec<f64>, scale
         moving_bodies,
         linkage_region: Some(scaled_polygon(&region)),
         avoid_regions: Vec::new(),
+        gravity: None,
         must_hit_poses: Vec::new(),
         mechanism: family.choice(),
         weights,

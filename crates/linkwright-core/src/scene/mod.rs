@@ -43,6 +43,10 @@ pub struct Scene {
     /// Which kind of linkage to synthesise (default: every kind that fits, the best kept).
     #[serde(default)]
     pub mechanism: MechanismChoice,
+    /// Which way gravity pulls in the drawing, a direction `[x, y]` (default `[0, -1]`: down the
+    /// drawing), for the torque it takes to move the parts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<[f64; 2]>,
     /// Poses (by index from 0, for every moving body at once) the linkage must reach as closely as the
     /// first and last, where the object rests: within 0.5% of a body's size and 0.5°. Other
     /// intermediate poses are guides the design may pass near.

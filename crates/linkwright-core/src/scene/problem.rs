@@ -68,6 +68,8 @@ pub struct Problem {
     pub name: String,
     /// What one unit of the drawing is ("mm"), for labels.
     pub units: String,
+    /// The unit direction gravity pulls in (down the drawing unless the scene says otherwise).
+    pub gravity: crate::geom::Vec2,
     /// The fixed bodies' outlines, world coordinates.
     pub fixed: Vec<Polygon>,
     /// The moving bodies, in the scene's order (the chain's).
@@ -146,6 +148,9 @@ impl Problem {
         Ok(Problem {
             name: scene.name.clone(),
             units: scene.units.clone(),
+            gravity: scene
+                .gravity
+                .map_or(crate::geom::Vec2::new(0.0, -1.0), |[x, y]| crate::geom::Vec2::new(x, y).normalized()),
             fixed,
             pose_count: bodies[0].poses.len(),
             must_hit: (0..bodies[0].poses.len())

@@ -136,6 +136,12 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
     }
     check_mechanism(scene, &mut out);
     check_must_hit(scene, &mut out);
+    if let Some([x, y]) = scene.gravity {
+        let length = x.hypot(y);
+        if !(length.is_finite() && length > 0.0) {
+            out.error("gravity", format!("is [{x}, {y}]; give the direction gravity pulls in, such as [0, -1] (down)"));
+        }
+    }
     check_weights(&scene.weights, &mut out);
     check_settings(&scene.settings, &mut out);
     check_work(scene, &mut out);
@@ -830,6 +836,19 @@ mod tests {
         let issues = validate(&s);
         assert!(issues.iter().all(|i| i.severity == Severity::Warning), "{issues:?}");
         assert!(issues.iter().any(|i| i.field == "fixed_bodies" && i.message.contains("no fixed body")), "{issues:?}");
+    }
+
+    #[test]
+    fn gravity_is_a_direction() {
+        let mut s = scene();
+        s.gravity = Some([0.0, 0.0]);
+        assert_error(&s, "gravity", "give the direction gravity pulls in");
+        s.gravity = Some([f64::NAN, 1.0]);
+        assert_error(&s, "gravity", "give the direction gravity pulls in");
+        s.gravity = Some([3.0, 4.0]);
+        assert_eq!(errors(&s), vec![]);
+        let problem = crate::scene::Problem::new(&s).unwrap();
+        assert!((problem.gravity - crate::geom::Vec2::new(0.6, 0.8)).norm() < 1e-15);
     }
 
     #[test]
