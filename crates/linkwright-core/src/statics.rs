@@ -9,7 +9,7 @@
 
 use crate::fab::{millimetres_per_unit, PrintSettings};
 use crate::geom::{Point, Vec2};
-use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::kinematics::{carried_velocity, BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, PartKind};
 use crate::scene::Problem;
 use serde::Serialize;
@@ -140,9 +140,7 @@ impl Part {
                 let at = frames.pose(*body, row).apply(*local);
                 // The body turns with the two joints its frame is built from.
                 let (a, b, _) = frames.frame(*body);
-                let e = row[b] - row[a];
-                let omega = e.cross(velocity[b] - velocity[a]) / e.norm_sq();
-                (at, velocity[a] + (at - row[a]).perp() * omega)
+                (at, carried_velocity([row[a], row[b]], [velocity[a], velocity[b]], at))
             }
             Centre::Joints(joints) => {
                 let n = joints.len() as f64;

@@ -608,22 +608,28 @@ const PREVIEW_EDGE_PIXELS: &str = "(() => { const c = document.getElementById('v
       if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 30) n++; } \
     return n; })()";
 
+/// Opens bundled example `name` from the gallery and designs it with `samples` samples (a preset of
+/// the Settings tab), pressing Enter as a person may instead of the Design button, until the result
+/// plays; with screenshots on, the gallery and the progress are pictured on the way.
+async fn design_example(page: &Page, name: &str, samples: u32, shots: Option<&Path>) -> Result<()> {
+    click(page, "#btn-examples").await?;
+    let listed = format!("document.querySelector('[data-example={name}] svg') !== null");
+    until(page, &listed, Duration::from_secs(10)).await?;
+    screenshot(page, shots, "gallery.png").await?;
+    click(page, &format!("[data-example={name}]")).await?;
+    click(page, "[data-tab=settings]").await?;
+    click(page, &format!("button[title='{samples} samples']")).await?;
+    key(page, "Enter", "Enter", 13, 0).await?;
+    screenshot(page, shots, "progress.png").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await
+}
+
 /// The garbage truck example: designed, made into parts, an STL downloaded and the parts seen moving
 /// in 3D (and, with screenshots on, the README's pictures of the app).
 async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> Result<()> {
-    click(page, "#btn-examples").await?;
-    until(page, "document.querySelector('[data-example=k1_garbage_truck] svg') !== null", Duration::from_secs(10))
-        .await?;
-    screenshot(page, shots, "gallery.png").await?;
-    click(page, "[data-example=k1_garbage_truck]").await?;
-    click(page, "[data-tab=settings]").await?;
     // A quick search for the test; the README's pictures show a fuller one.
     let samples = if shots.is_some() { 20000 } else { 5000 };
-    click(page, &format!("button[title='{samples} samples']")).await?;
-    // Enter designs, as the Design button does.
-    key(page, "Enter", "Enter", 13, 0).await?;
-    screenshot(page, shots, "progress.png").await?;
-    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    design_example(page, "k1_garbage_truck", samples, shots).await?;
     click(page, "[data-tab=result]").await?;
     if shots.is_some() {
         tokio::time::sleep(Duration::from_millis(1300)).await;
@@ -994,27 +1000,13 @@ async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Res
 
 /// The power shovel's three bodies: a quick design, then its live redesign timed.
 async fn power_shovel(page: &Page) -> Result<()> {
-    click(page, "#btn-examples").await?;
-    until(page, "document.querySelector('[data-example=k3_power_shovel] svg') !== null", Duration::from_secs(10))
-        .await?;
-    click(page, "[data-example=k3_power_shovel]").await?;
-    click(page, "[data-tab=settings]").await?;
-    click(page, "button[title='5000 samples']").await?;
-    key(page, "Enter", "Enter", 13, 0).await?;
-    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    design_example(page, "k3_power_shovel", 5000, None).await?;
     click(page, "[data-tab=result]").await?;
     live_latency(page, "power shovel, three bodies", 2, 1).await
 }
 
 async fn folding_roof(page: &Page) -> Result<()> {
-    click(page, "#btn-examples").await?;
-    until(page, "document.querySelector('[data-example=k2_folding_roof2] svg') !== null", Duration::from_secs(10))
-        .await?;
-    click(page, "[data-example=k2_folding_roof2]").await?;
-    click(page, "[data-tab=settings]").await?;
-    click(page, "button[title='5000 samples']").await?;
-    key(page, "Enter", "Enter", 13, 0).await?;
-    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    design_example(page, "k2_folding_roof2", 5000, None).await?;
     // Every joint and body corner of every frame is on the canvas.
     let outside = "(() => { const lw = window.linkwright, r = lw.store.result, c = document.getElementById('canvas').getBoundingClientRect(); \
                    const pts = r.analysis.frames.flatMap((f) => [...f.joints, ...f.bodies.flatMap((p, k) => \

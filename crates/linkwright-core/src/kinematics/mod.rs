@@ -8,5 +8,5 @@ mod plan;
 mod trace;
 
 pub use dyad::{circle_circle, Branch, DyadError};
-pub use plan::{CompileError, Plan, Step};
+pub use plan::{carried_velocity, CompileError, Plan, Step};
 pub use trace::{BodyFrames, SweepError, Trace};

@@ -55,6 +55,14 @@ pub enum Step {
     },
 }
 
+/// The velocity of point `p` of a rigid part whose points `at[0]`, `at[1]` (apart) move at `velocity`:
+/// the part turns at ω = (b − a) × (v_b − v_a) / |b − a|², so p moves at v_a + ω·perp(p − a).
+pub fn carried_velocity(at: [Point; 2], velocity: [Vec2; 2], p: Point) -> Vec2 {
+    let e = at[1] - at[0];
+    let omega = e.cross(velocity[1] - velocity[0]) / e.norm_sq();
+    velocity[0] + (p - at[0]).perp() * omega
+}
+
 impl Step {
     /// Places this step's joint in `row`, whose earlier joints are placed.
     #[inline]
@@ -313,9 +321,7 @@ impl Plan {
                     out[joint] = direction * (w.dot(out[centre]) / along);
                 }
                 Step::Attach { joint, a, b, .. } => {
-                    let e = row[b] - row[a];
-                    let omega = e.cross(out[b] - out[a]) / e.norm_sq();
-                    out[joint] = out[a] + (row[joint] - row[a]).perp() * omega;
+                    out[joint] = carried_velocity([row[a], row[b]], [out[a], out[b]], row[joint]);
                 }
             }
         }

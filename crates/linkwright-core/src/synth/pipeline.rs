@@ -276,23 +276,10 @@ fn design_round(
     let mut valid: Vec<Candidate> = Vec::new();
     let mut best_cost: Option<f64> = None;
     let observer = run.observer;
-    let seeded = |ctx: &Context| match options.start {
-        Start::Cold => false,
-        Start::Warm(previous) => previous.iter().any(|m| *m.topology == *ctx.topology),
-    };
-    let warm = contexts.iter().any(seeded);
-    for (f, (ctx, workspace)) in contexts.iter().zip(workspaces).enumerate() {
-        if warm && !seeded(ctx) {
-            continue;
-        }
-        let family = ctx.topology.mechanism_type;
-        let stage = FamilyStage { ctx, workspace };
-        let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
-        let report = |stage, x, best: Option<f64>| {
-            observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
-        };
-        let report = |stage, x, b| report(stage, x, min_opt(best_cost, b));
-        let seeds: Vec<Vec<f64>> = match options.start {
+    // Each family's warm-start seeds: the earlier designs of its topology, as parameter vectors.
+    let seeds: Vec<Vec<Vec<f64>>> = contexts
+        .iter()
+        .map(|ctx| match options.start {
             Start::Cold => Vec::new(),
             Start::Warm(previous) => previous
                 .iter()
@@ -303,10 +290,23 @@ fn design_round(
                     x
                 })
                 .collect(),
+        })
+        .collect();
+    let warm = seeds.iter().any(|s| !s.is_empty());
+    for (f, ((ctx, workspace), seeds)) in contexts.iter().zip(workspaces).zip(&seeds).enumerate() {
+        if warm && seeds.is_empty() {
+            continue;
+        }
+        let family = ctx.topology.mechanism_type;
+        let stage = FamilyStage { ctx, workspace };
+        let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
+        let report = |stage, x, best: Option<f64>| {
+            observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
         };
+        let report = |stage, x, b| report(stage, x, min_opt(best_cost, b));
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(run, stage, family, &seeds, &report)?;
+            found = run_family(run, stage, family, seeds, &report)?;
         }
         if found.is_empty() {
             found = run_family(run, stage, family, &[], &report)?;

@@ -45,14 +45,18 @@ export async function drawSvg(svg, ctx, size, css) {
   ctx.drawImage(image, 0, 0, size.width, size.height);
 }
 
-/** Captures `count` frames: `show(i)` puts frame i on the canvas, then it is drawn into a bitmap. */
-export async function captureFrames(svg, count, show) {
+/** A canvas the size of an export of `svg`, its 2D context (with `options`), and the page's style. */
+function frameCanvas(svg, options = {}) {
   const size = exportSize(svg);
   const canvas = document.createElement('canvas');
   canvas.width = size.width;
   canvas.height = size.height;
-  const ctx = canvas.getContext('2d', { willReadFrequently: true });
-  const css = styleText();
+  return { canvas, ctx: canvas.getContext('2d', options), size, css: styleText() };
+}
+
+/** Captures `count` frames: `show(i)` puts frame i on the canvas, then it is drawn into a bitmap. */
+export async function captureFrames(svg, count, show) {
+  const { ctx, size, css } = frameCanvas(svg, { willReadFrequently: true });
   const frames = [];
   for (let i = 0; i < count; i++) {
     show(i);
@@ -243,12 +247,7 @@ export function encodeGif(frames, delay) {
  * on in real time; null when the browser cannot record WebM. */
 export async function recordWebm(svg, count, fps, show) {
   if (typeof MediaRecorder === 'undefined' || !MediaRecorder.isTypeSupported('video/webm')) return null;
-  const size = exportSize(svg);
-  const canvas = document.createElement('canvas');
-  canvas.width = size.width;
-  canvas.height = size.height;
-  const ctx = canvas.getContext('2d');
-  const css = styleText();
+  const { canvas, ctx, size, css } = frameCanvas(svg);
   show(0);
   await drawSvg(svg, ctx, size, css);
   const stream = canvas.captureStream(fps);
