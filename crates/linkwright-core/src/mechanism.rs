@@ -6,7 +6,8 @@
 //! `q0–p1`; ternary link k joins `r_{k−1}, q_k, p_{k+1}` (k = 1..K−1); the last binary link joins
 //! `r_{K−1}–q_K`. Loop k is the four-bar `q_{k−1} r_{k−1} q_k p_k`. K = 1 is the 4R four-bar, K = 2 the
 //! Watt-I six-bar. The slider-crank (K = 1) has the ground pivot `q0`, the crank `q0–p1`, and the body
-//! carries `p1` and the slider joint `q1`, which runs on a fixed line.
+//! carries `p1` and the slider joint `q1`, which runs on a fixed line. The Watt-II six-bar
+//! ([`Topology::watt_two`]) drives that four-bar through a second one.
 //!
 //! Each family of linkages ([`Family`]) builds its topology and says how it is named, how many poses
 //! it can meet exactly and which loops describe it.
@@ -123,6 +124,42 @@ impl Topology {
         }
     }
 
+    /// The Watt-II six-bar for one moving body: the four-bar `q0 p1 q1 r0` of [`Topology::chain`]`(1)`
+    /// carries the body, and its input link, now the ternary `link2` (`q0, p1, t1`), is driven by a
+    /// second four-bar: the crank turns about the ground pivot `u0` and its tip `u1` pushes `t1`
+    /// through `link1`. The crank need not be the body's own link, so it can sit where there is room
+    /// for it and turn a motor's full circle while the body's four-bar only rocks.
+    pub fn watt_two() -> Topology {
+        let names = ["q0", "p1", "q1", "r0", "u0", "u1", "t1"];
+        let [q0, p1, q1, r0, u0, u1, t1] = [0, 1, 2, 3, 4, 5, 6];
+        let part = |name: &str, kind, joints: &[usize]| Part { name: name.into(), kind, joints: joints.to_vec() };
+        Topology {
+            mechanism_type: MechanismType::WattTwo,
+            body_count: 1,
+            joint_names: names.iter().map(|n| n.to_string()).collect(),
+            parts: vec![
+                part("ground", PartKind::Fixed, &[q0, r0, u0]),
+                part("body1", PartKind::Body(0), &[p1, q1]),
+                part("crank", PartKind::Link, &[u0, u1]),
+                part("link1", PartKind::Link, &[u1, t1]),
+                part("link2", PartKind::Link, &[q0, p1, t1]),
+                part("rocker", PartKind::Link, &[r0, q1]),
+            ],
+            driver_pivot: u0,
+            driver_tip: u1,
+            slider_joint: None,
+        }
+    }
+
+    /// Joints carried by links only (neither the ground nor a moving body carries them): where
+    /// they are at a pose follows from the others' ([`Topology::chain`] and the slider-crank have
+    /// none; the Watt-II six-bar has `u1` and `t1`).
+    pub fn link_only_joints(&self) -> Vec<usize> {
+        (0..self.joint_count())
+            .filter(|&j| self.parts.iter().all(|p| p.kind == PartKind::Link || !p.joints.contains(&j)))
+            .collect()
+    }
+
     /// Number of joints.
     pub fn joint_count(&self) -> usize {
         self.joint_names.len()
@@ -221,6 +258,24 @@ mod tests {
             }
             assert_eq!(3 * (n - 1) - 2 * j, 1, "K = {k}");
         }
+    }
+
+    /// Grübler's count for the Watt-II six-bar, its two ternary parts (the ground and `link2`)
+    /// adjacent through `q0`, and the two joints only links carry.
+    #[test]
+    fn watt_two_has_one_degree_of_freedom_and_adjacent_ternary_parts() {
+        let t = Topology::watt_two();
+        let n = t.parts.len() as i64;
+        let j: i64 = (0..t.joint_count())
+            .map(|joint| t.parts.iter().filter(|p| p.joints.contains(&joint)).count() as i64 - 1)
+            .sum();
+        assert_eq!(3 * (n - 1) - 2 * j, 1);
+        let ternary: Vec<&Part> = t.parts.iter().filter(|p| p.joints.len() == 3).collect();
+        assert_eq!(ternary.iter().map(|p| p.name.as_str()).collect::<Vec<_>>(), ["ground", "link2"]);
+        assert_eq!(t.link_only_joints(), [t.joint("u1").unwrap(), t.joint("t1").unwrap()]);
+        assert!(
+            Topology::chain(3).link_only_joints().is_empty() && Topology::slider_crank().link_only_joints().is_empty()
+        );
     }
 
     #[test]

@@ -15,6 +15,7 @@ use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::synth::random::splitmix;
+use crate::synth::{complete, completion_order};
 use crate::synth::{CostWeights, SoftTerms, Term};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -60,6 +61,8 @@ pub enum Family {
     Chain(usize),
     /// The RRRP slider-crank of paper §4.3 (one moving body).
     SliderCrank,
+    /// The Watt-II six-bar (one moving body, [`Topology::watt_two`]).
+    WattTwo,
 }
 
 impl Family {
@@ -67,7 +70,7 @@ impl Family {
     pub fn body_count(self) -> usize {
         match self {
             Family::Chain(k) => k,
-            Family::SliderCrank => 1,
+            Family::SliderCrank | Family::WattTwo => 1,
         }
     }
     /// The scene's `mechanism` for this family.
@@ -75,19 +78,22 @@ impl Family {
         match self {
             Family::Chain(_) => MechanismChoice::Only(MechanismType::Chain),
             Family::SliderCrank => MechanismChoice::Only(MechanismType::SliderCrank),
+            Family::WattTwo => MechanismChoice::Only(MechanismType::WattTwo),
         }
     }
-    /// A short name: `chain` or `slider_crank`.
+    /// A short name: the family's word in files.
     pub fn name(self) -> &'static str {
         match self {
-            Family::Chain(_) => "chain",
-            Family::SliderCrank => "slider_crank",
+            Family::Chain(_) => MechanismType::Chain.id(),
+            Family::SliderCrank => MechanismType::SliderCrank.id(),
+            Family::WattTwo => MechanismType::WattTwo.id(),
         }
     }
     fn tag(self) -> u64 {
         match self {
             Family::Chain(k) => k as u64,
             Family::SliderCrank => 1 << 32,
+            Family::WattTwo => 2 << 32,
         }
     }
 }
@@ -97,6 +103,7 @@ impl std::fmt::Display for Family {
         match self {
             Family::Chain(k) => write!(f, "chain K={k}"),
             Family::SliderCrank => write!(f, "slider-crank"),
+            Family::WattTwo => write!(f, "Watt-II six-bar"),
         }
     }
 }
@@ -223,6 +230,7 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     let mechanism = match family {
         Family::Chain(k) => draw_chain(k, rng),
         Family::SliderCrank => draw_slider_crank(rng),
+        Family::WattTwo => draw_watt_two(rng),
     };
     let joints = &mechanism.joints;
     for (i, a) in joints.iter().enumerate() {
@@ -233,15 +241,25 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     let plan = Plan::compile(&mechanism).ok()?;
     let start = mechanism.crank_start();
 
-    // How far the crank can turn each way with every transmission angle at least the bound.
+    // How far the crank can turn each way with every transmission angle at least the bound, and
+    // the joints only links carry where the bodies' places put them (a Watt-II six-bar's crank
+    // stops short of where the body's four-bar turns back: there the body retraces its motion).
     let bound = MIN_TRANSMISSION_DEG.to_radians().sin();
+    let completion = completion_order(&mechanism.topology);
+    let completes = |row: &[Point]| {
+        let mut completed = row.to_vec();
+        complete(&completion, joints, &mut completed).is_ok()
+            && completed.iter().zip(row).all(|(c, r)| c.distance(*r) <= 1e-9 * CENTRE_SPACING)
+    };
     let mut trace = Trace::new(plan.joint_count());
     let step = STEP_DEG.to_radians();
     let mut reach = [0.0f64; 2];
     for (side, dir) in [1.0f64, -1.0].into_iter().enumerate() {
         // A sweep that stops early keeps the rows before the failure, which are all we need.
         let _ = trace.sweep(&plan, start, start + dir * MAX_TRAVEL_DEG.to_radians(), step);
-        let good = (0..trace.len()).take_while(|&r| plan.min_transmission_sine(trace.row(r)) >= bound).count();
+        let good = (0..trace.len())
+            .take_while(|&r| plan.min_transmission_sine(trace.row(r)) >= bound && completes(trace.row(r)))
+            .count();
         reach[side] = if good == 0 { 0.0 } else { (trace.thetas[good - 1] - start).abs() };
     }
     let min_travel = MIN_TRAVEL_DEG.to_radians();
@@ -374,6 +392,30 @@ fn draw_slider_crank(rng: &mut Xoshiro256PlusPlus) -> Mechanism {
         }
     }
     Mechanism { topology, joints, slider: Some(SliderLine { point: q1, direction }) }
+}
+
+/// A Watt-II six-bar: the four-bar of [`draw_chain`]`(1)`, its input link extended to `t1` near
+/// the ground pivot `q0`, driven by a crank about `u0` (beside the ground pivots) whose tip `u1` lies
+/// between the two.
+fn draw_watt_two(rng: &mut Xoshiro256PlusPlus) -> Mechanism {
+    let four_bar = draw_chain(1, rng);
+    let topology = Arc::new(Topology::watt_two());
+    let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+    for (j, name) in four_bar.topology.joint_names.iter().enumerate() {
+        if let Some(k) = topology.joint(name) {
+            joints[k] = four_bar.joints[j];
+        }
+    }
+    let q0 = four_bar.joint("q0").unwrap_or(Point::ORIGIN);
+    let u0 = q0 + Vec2::from_angle(rng.random_range(-PI..PI)) * CENTRE_SPACING;
+    let t1 = near(q0, rng);
+    let u1 = near(Point::new(0.5 * (u0.x + t1.x), 0.5 * (u0.y + t1.y)), rng);
+    for (name, p) in [("u0", u0), ("t1", t1), ("u1", u1)] {
+        if let Some(j) = topology.joint(name) {
+            joints[j] = p;
+        }
+    }
+    Mechanism { topology, joints, slider: None }
 }
 
 /// A point uniformly in the disc of radius [`JOINT_SPREAD`] about `centre`.
@@ -608,6 +650,7 @@ mod tests {
     fn grid() -> Vec<(Family, Vec<usize>)> {
         let mut out: Vec<(Family, Vec<usize>)> = (1..=6).map(|k| (Family::Chain(k), (2..=10).collect())).collect();
         out.push((Family::SliderCrank, (2..=10).collect()));
+        out.push((Family::WattTwo, (2..=10).collect()));
         out
     }
 

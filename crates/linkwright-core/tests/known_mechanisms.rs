@@ -41,6 +41,8 @@ fn over_determined_motions_of_known_linkages_get_close_designs() {
     // found no design here.
     cases.extend((4..=6).map(|k| (Family::Chain(k), 3)));
     cases.extend((4..=6).map(|k| (Family::Chain(k), 2)));
+    // The Watt-II six-bar's body rides a four-bar, which meets five poses exactly.
+    cases.extend([6, 8].map(|n| (Family::WattTwo, n)));
     let mut worsts = Vec::new();
     for (family, poses) in cases {
         let (label, _, worst, last) = design(family, poses, 0);
@@ -53,8 +55,9 @@ fn over_determined_motions_of_known_linkages_get_close_designs() {
     assert!(median <= 0.05, "median worst pose error {median}·d over {worsts:?}");
 }
 
-/// Where the linkage type has the freedom to hit every pose (a four-bar through up to five, any chain
-/// through two, a slider-crank through up to four), the design comes close to all of them.
+/// Where the linkage type has the freedom to hit every pose (a four-bar or a Watt-II six-bar through up
+/// to five, any chain through two, a slider-crank through up to four), the design comes close to all
+/// of them.
 #[test]
 fn determined_motions_of_known_linkages_are_reached() {
     for (family, poses) in [
@@ -64,6 +67,8 @@ fn determined_motions_of_known_linkages_are_reached() {
         (Family::Chain(3), 2),
         (Family::SliderCrank, 3),
         (Family::SliderCrank, 4),
+        (Family::WattTwo, 3),
+        (Family::WattTwo, 4),
     ] {
         let (label, _, worst, last) = design(family, poses, 1);
         assert!(last <= 0.005, "{label}: last pose missed by {last}·d");

@@ -7,6 +7,6 @@ mod dyad;
 mod plan;
 mod trace;
 
-pub use dyad::{circle_circle, Branch, DyadError};
+pub use dyad::{circle_circle, circle_circle_branch, Branch, DyadError};
 pub use plan::{carried_velocity, CompileError, Plan, Step};
 pub use trace::{BodyFrames, SweepError, Trace};

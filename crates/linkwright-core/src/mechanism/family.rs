@@ -62,6 +62,7 @@ impl MechanismType {
         match self {
             MechanismType::Chain => &Chain,
             MechanismType::SliderCrank => &SliderCrank,
+            MechanismType::WattTwo => &WattTwo,
         }
     }
     /// What a person calls the family ([`Family::label`]).
@@ -160,6 +161,48 @@ impl Family for SliderCrank {
     }
     fn stream(&self) -> u64 {
         1
+    }
+}
+
+/// The Watt-II six-bar (see [`Topology::watt_two`]).
+struct WattTwo;
+
+impl Family for WattTwo {
+    fn mechanism_type(&self) -> MechanismType {
+        MechanismType::WattTwo
+    }
+    fn label(&self) -> &'static str {
+        "Watt-II six-bar"
+    }
+    fn description(&self) -> &'static str {
+        "Watt-II six-bar (one moving body)"
+    }
+    fn linkage_label(&self, _bodies: usize) -> String {
+        "Watt-II six-bar linkage".to_string()
+    }
+    fn topology(&self, _bodies: usize) -> Topology {
+        Topology::watt_two()
+    }
+    /// The body's four-bar: its dyads up to five poses (Burmester). The driving four-bar only has
+    /// to move the body's input link in order, which any crank near it does.
+    fn max_exact_poses(&self, _bodies: usize) -> usize {
+        5
+    }
+    /// The driving four-bar `u0 q0 t1 u1`, then the body's `q0 r0 q1 p1`.
+    fn loops(&self, topology: &Topology) -> Vec<Loop> {
+        let joint = |name: &str| topology.joint(name);
+        let (Some(q0), Some(r0), Some(u0), Some(u1), Some(t1), Some(p1), Some(q1)) =
+            (joint("q0"), joint("r0"), joint("u0"), joint("u1"), joint("t1"), joint("p1"), joint("q1"))
+        else {
+            return Vec::new();
+        };
+        vec![
+            Loop::FourBar { frame: [u0, q0], input: [u0, u1], coupler: [u1, t1], output: [q0, t1] },
+            Loop::FourBar { frame: [q0, r0], input: [q0, p1], coupler: [p1, q1], output: [r0, q1] },
+        ]
+    }
+    fn stream(&self) -> u64 {
+        2
     }
 }
 

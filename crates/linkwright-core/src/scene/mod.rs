@@ -110,17 +110,21 @@ pub enum MechanismType {
     Chain,
     /// The RRRP slider-crank of paper §4.3 (one moving body only).
     SliderCrank,
+    /// The Watt-II six-bar: a four-bar carrying the body, driven through a second four-bar (one
+    /// moving body only).
+    WattTwo,
 }
 
 impl MechanismType {
     /// Every family, in the order an automatic choice tries them.
-    pub const ALL: [MechanismType; 2] = [MechanismType::Chain, MechanismType::SliderCrank];
+    pub const ALL: [MechanismType; 3] = [MechanismType::Chain, MechanismType::SliderCrank, MechanismType::WattTwo];
 
     /// The family's word in scene and design files.
     pub const fn id(self) -> &'static str {
         match self {
             MechanismType::Chain => "chain",
             MechanismType::SliderCrank => "slider_crank",
+            MechanismType::WattTwo => "watt_ii",
         }
     }
 
@@ -144,7 +148,7 @@ impl MechanismType {
     pub fn max_bodies(self) -> Option<usize> {
         match self {
             MechanismType::Chain => None,
-            MechanismType::SliderCrank => Some(1),
+            MechanismType::SliderCrank | MechanismType::WattTwo => Some(1),
         }
     }
 }
@@ -339,8 +343,9 @@ mod tests {
         assert_eq!(read("auto").unwrap(), MechanismChoice::Auto);
         assert_eq!(read("chain").unwrap(), MechanismChoice::Only(MechanismType::Chain));
         assert_eq!(read("slider_crank").unwrap(), MechanismChoice::Only(MechanismType::SliderCrank));
+        assert_eq!(read("watt_ii").unwrap(), MechanismChoice::Only(MechanismType::WattTwo));
         let unknown = read("four_bar").unwrap_err().to_string();
-        assert_eq!(unknown, "unknown variant `four_bar`, expected one of `auto`, `chain`, `slider_crank`");
+        assert_eq!(unknown, "unknown variant `four_bar`, expected one of `auto`, `chain`, `slider_crank`, `watt_ii`");
         for t in MechanismType::ALL {
             let written = serde_json::to_value(MechanismChoice::Only(t)).unwrap();
             assert_eq!(written, Value::String(t.id().into()));

@@ -66,6 +66,9 @@ enum Piece {
     Ternary([usize; 3]),
     /// The slider joint; the slider angle is the last unknown.
     Slider(usize),
+    /// A joint no rigidity equation holds (carried by links only, or a ground pivot whose links
+    /// carry no other joint the ground or a body carries): drawn where the region says.
+    Free(usize),
 }
 
 impl Piece {
@@ -74,7 +77,7 @@ impl Piece {
         match self {
             Piece::Binary(j) => j,
             Piece::Ternary(j) => j,
-            Piece::Slider(q) => std::slice::from_ref(q),
+            Piece::Slider(q) | Piece::Free(q) => std::slice::from_ref(q),
         }
     }
 }
@@ -91,6 +94,8 @@ pub struct Constructor {
     dyads: Vec<[usize; 3]>,
     /// Every pair of joints on one part.
     part_pairs: Vec<(usize, usize)>,
+    /// Whether each joint is carried by links only ([`Topology::link_only_joints`]).
+    link_only: Vec<bool>,
     /// A long chain ([`crate::mechanism::Family::long_chain`]).
     long_chain: bool,
 }
@@ -174,23 +179,37 @@ impl Constructor {
                 }
             }
         }
+        let mut link_only = vec![false; topology.joint_count()];
+        for j in topology.link_only_joints() {
+            link_only[j] = true;
+        }
+        // Each link's rigidity equations hold between the joints the ground or a body carries.
         let mut pieces: Vec<Piece> = topology
             .parts
             .iter()
             .filter(|p| p.kind == PartKind::Link)
-            .map(|p| match p.joints[..] {
-                [a, b] => Piece::Binary([a, b]),
-                [a, b, c] => Piece::Ternary([a, b, c]),
-                _ => unreachable!("links hold two or three joints"),
+            .filter_map(|p| {
+                let carried: Vec<usize> = p.joints.iter().copied().filter(|&j| !link_only[j]).collect();
+                match carried[..] {
+                    [a, b] => Some(Piece::Binary([a, b])),
+                    [a, b, c] => Some(Piece::Ternary([a, b, c])),
+                    _ => None,
+                }
             })
             .collect();
         pieces.extend(topology.slider_joint.map(Piece::Slider));
+        let free: Vec<Piece> = (0..topology.joint_count())
+            .filter(|j| !pieces.iter().any(|piece| piece.joints().contains(j)))
+            .map(Piece::Free)
+            .collect();
+        pieces.extend(free);
         Constructor {
             pieces,
             carriers,
             tolerances,
             dyads: Plan::dyad_triangles(topology),
             part_pairs: topology.part_pairs(),
+            link_only,
             long_chain: topology.mechanism_type.family().long_chain(topology.body_count),
         }
     }
@@ -241,6 +260,7 @@ impl Constructor {
                     Piece::Binary(joints) => self.binary(joints, motions, poses, rng, region, scratch),
                     Piece::Ternary(joints) => self.ternary(joints, motions, poses, rng, region, scratch),
                     Piece::Slider(q) => slider(self.carriers[q], motions, poses, rng, region),
+                    Piece::Free(_) => Built::joints(&[(region.draw)(rng)], false),
                 };
                 if built.polish {
                     for (&j, &p) in joints.iter().zip(&built.points) {
@@ -261,7 +281,7 @@ impl Constructor {
                     && self.free_of_defects(piece, &built, x, motions, &scratch.placed);
                 match (sound, piece) {
                     (true, _) => {}
-                    (false, Piece::Ternary(_)) => continue,
+                    (false, Piece::Ternary(_) | Piece::Free(_)) => continue,
                     // A binary link's defect is as likely with any draw: the sample ends here,
                     // before the work of the blocks after it and of its checks.
                     (false, _) => return f64::INFINITY,
@@ -322,11 +342,12 @@ impl Constructor {
                 _ => true,
             }
         });
-        let closed = self.dyads.iter().filter(|t| t.iter().any(|j| joints.contains(j))).all(|&t| {
-            match (at(t[0]), at(t[1]), at(t[2])) {
-                (Some(a), Some(b), Some(c)) => keeps(t, [a, b, c]),
-                _ => true,
-            }
+        // A dyad through a joint carried by links only is checked once the whole linkage is built
+        // (the screening places such joints at every pose).
+        let checkable = |t: &&[usize; 3]| t.iter().any(|j| joints.contains(j)) && t.iter().all(|&j| !self.link_only[j]);
+        let closed = self.dyads.iter().filter(checkable).all(|&t| match (at(t[0]), at(t[1]), at(t[2])) {
+            (Some(a), Some(b), Some(c)) => keeps(t, [a, b, c]),
+            _ => true,
         });
         let turned_over = match *piece {
             Piece::Ternary(t) => {

@@ -197,6 +197,7 @@ fn screen(
             _ => ctx.target(j, joints[j], i),
         }));
         if i > 0 {
+            ctx.complete(joints, &mut fitted_targets[i * n..]).map_err(|_| Reject::Assembly)?;
             plan.branches_of(&fitted_targets[i * n..], branches);
             if !branches.iter().copied().eq(plan.own_branches()) {
                 return Err(Reject::Branch);

@@ -53,6 +53,8 @@ pub const FLIP_TOLERANCE: f64 = 0.05;
 enum Carrier {
     Ground,
     Body(usize),
+    /// Links only: the joint is in no residual (its place at a pose follows from the others').
+    Links,
 }
 
 /// A set of unknowns that shares residuals with no other: minimised on its own.
@@ -168,10 +170,12 @@ struct Row {
 }
 
 impl RigidityModel {
-    /// The model of `topology`: its link pairs and, for the slider-crank, its slider joint.
+    /// The model of `topology`: its link pairs between joints the ground or a moving body carries
+    /// (a joint carried by links only has no given place at a pose, [`Topology::link_only_joints`])
+    /// and, for the slider-crank, its slider joint.
     ///
     /// # Panics
-    /// If a joint is carried neither by the ground nor by a moving body, or by more than one of them.
+    /// If a joint is carried by more than one of the ground and the moving bodies.
     pub fn new(topology: &Topology) -> Self {
         let joint_count = topology.joint_count();
         let mut carriers = vec![None; joint_count];
@@ -186,12 +190,10 @@ impl RigidityModel {
                 carriers[j] = Some(carrier);
             }
         }
-        let carriers: Vec<Carrier> = carriers
-            .iter()
-            .enumerate()
-            .map(|(j, c)| c.unwrap_or_else(|| panic!("joint {} is carried by no body", topology.joint_names[j])))
-            .collect();
-        let pairs = topology.link_pairs();
+        let carriers: Vec<Carrier> = carriers.iter().map(|c| c.unwrap_or(Carrier::Links)).collect();
+        let carried = |j: usize| carriers[j] != Carrier::Links;
+        let pairs: Vec<(usize, usize)> =
+            topology.link_pairs().into_iter().filter(|&(m, n)| carried(m) && carried(n)).collect();
         let slider = topology.slider_joint;
 
         // Blocks: connected components of the joints under the link pairs. Node `joint_count` stands
@@ -250,7 +252,7 @@ impl RigidityModel {
             blocks[b].vars.push(dim - 1);
         }
         let triangles = (topology.parts.iter())
-            .filter(|p| p.kind == PartKind::Link && p.joints.len() == 3)
+            .filter(|p| p.kind == PartKind::Link && p.joints.len() == 3 && p.joints.iter().all(|&j| carried(j)))
             .map(|p| [p.joints[0], p.joints[1], p.joints[2]])
             .collect();
         RigidityModel {
@@ -519,7 +521,8 @@ impl RigidityModel {
     fn place(&self, j: usize, x: &[f64], motions: &[Vec<Rigid>], pose: usize) -> (Point, Option<Rigid>) {
         let p0 = Point::new(x[2 * j], x[2 * j + 1]);
         match self.carriers[j] {
-            Carrier::Ground => (p0, None),
+            // A joint carried by links only is in no residual.
+            Carrier::Ground | Carrier::Links => (p0, None),
             Carrier::Body(b) => {
                 let m = motions[b][pose];
                 (m.apply(p0), Some(m))
