@@ -255,6 +255,7 @@ mod tests {
             mechanism: Default::default(),
             gravity: None,
             must_hit_poses: Vec::new(),
+            pinned_joints: Default::default(),
             weights: Default::default(),
             settings: Default::default(),
             extra: Default::default(),

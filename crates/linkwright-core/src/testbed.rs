@@ -557,6 +557,7 @@ fn assemble(family: Family, seed: u64, drawn: Drawn, pose_crank: Vec<f64>, scale
         avoid_regions: Vec::new(),
         gravity: None,
         must_hit_poses: Vec::new(),
+        pinned_joints: Default::default(),
         mechanism: family.choice(),
         weights,
         settings: Settings::default(),

@@ -11,12 +11,16 @@ use crate::scene::{PoseMiss, Problem};
 /// One violated constraint.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Violation {
-    /// Which constraint: `format`, `assembly`, `order`, `transmission`, `collision`, `avoid_region`,
-    /// `accuracy`.
+    /// Which constraint: `format`, `pinned`, `assembly`, `order`, `transmission`, `collision`,
+    /// `avoid_region`, `accuracy`.
     pub constraint: &'static str,
     /// What is wrong, with the numbers (crank angle, distance, ...) that show it.
     pub message: String,
 }
+
+/// How far a pinned joint may be from its pin, relative to the drawing's size: the engine keeps
+/// pinned joints exactly; this only lets a design file's decimal numbers round.
+const PIN_TOLERANCE: f64 = 1e-9;
 
 /// Crank step of the re-simulation, degrees (finer than the engine's 1°).
 const STEP_DEG: f64 = 0.5;
@@ -44,6 +48,15 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
             ),
         );
         return (out, None);
+    }
+    for (name, pin) in &problem.pinned {
+        match mechanism.joint(name) {
+            None => fail("pinned", format!("the scene pins joint {name}, which this linkage does not have")),
+            Some(p) if p.distance(*pin) > PIN_TOLERANCE * problem.scale => {
+                fail("pinned", format!("joint {name} is {:.6} from where pinned_joints puts it", p.distance(*pin)))
+            }
+            Some(_) => {}
+        }
     }
     let plan = match Plan::compile(mechanism) {
         Ok(p) => p,

@@ -133,3 +133,43 @@ fn must_hit_poses_are_reached_by_every_design() {
         "{reason}"
     );
 }
+
+/// Pinned joints stay exactly where they are pinned, in the best design and every alternative. Both
+/// ground pivots of a known four-bar pinned where that four-bar has them (its three poses are then
+/// met exactly by its own moving joints): the design reaches the poses. A pivot pinned elsewhere is
+/// kept there too, and a pin only the Watt-II six-bar has a joint for leaves `auto` that family.
+#[test]
+fn pinned_joints_stay_where_they_are_pinned() {
+    let known = known_scene(Family::Chain(1), 3, 2, 100.0).unwrap();
+    let at = |name: &str| known.mechanism.joint(name).unwrap();
+    let design = |pins: &[(&str, linkwright_core::geom::Point)]| {
+        let mut scene = known.scene.clone();
+        scene.mechanism = linkwright_core::MechanismChoice::Auto;
+        scene.settings.samples = 20_000;
+        scene.settings.iterations = 8;
+        scene.pinned_joints = pins.iter().map(|&(name, p)| (name.to_string(), p)).collect();
+        let problem = Problem::new(&scene).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let outcome = pool.install(|| synthesize(&problem, &Silent)).unwrap();
+        let file = DesignFile::from_outcome(&problem, &outcome);
+        assert_eq!(file.status, Status::Ok, "{pins:?}: {:?}", file.reason);
+        assert_eq!(file.violations(&problem), vec![], "{pins:?}");
+        let mechanisms: Vec<_> = std::iter::once(file.mechanism.clone().unwrap())
+            .chain(file.alternatives.iter().map(|a| a.mechanism.clone()))
+            .collect();
+        assert!(mechanisms.len() > 1, "{pins:?}: no alternatives to check");
+        for m in &mechanisms {
+            for &(name, p) in pins {
+                assert_eq!(m.joints[name], p, "{pins:?}: {name} of a {:?}", m.mechanism_type);
+            }
+        }
+        (file, mechanisms)
+    };
+    let (exact, _) = design(&[("q0", at("q0")), ("r0", at("r0"))]);
+    let worst = exact.metrics.unwrap().worst_pose_error.unwrap().position_rel_d;
+    assert!(worst <= 0.01, "pinned at the known pivots, a pose is missed by {worst}·d");
+    let elsewhere = at("q0") + linkwright_core::geom::Vec2::new(7.0, -3.0);
+    design(&[("q0", elsewhere)]);
+    let (_, watt) = design(&[("u0", at("q0") + linkwright_core::geom::Vec2::new(-30.0, 10.0))]);
+    assert!(watt.iter().all(|m| m.mechanism_type == linkwright_core::MechanismType::WattTwo));
+}

@@ -10,6 +10,7 @@ pub use validate::{limits, validate, Issue, Severity};
 use crate::geom::Point;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
+use std::collections::BTreeMap;
 
 /// The version string of the scene format this crate reads and writes.
 pub const SCENE_FORMAT: &str = "scene/1";
@@ -52,6 +53,11 @@ pub struct Scene {
     /// intermediate poses are guides the design may pass near.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub must_hit_poses: Vec<usize>,
+    /// Joints the person placed (by name, as in a design's `mechanism.joints`), where they must be at
+    /// the first pose: a ground pivot where the wall stud is, say. Every design keeps them there; a
+    /// family without a joint of that name is not tried.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub pinned_joints: BTreeMap<String, Point>,
     /// Weights of the soft costs.
     #[serde(default)]
     pub weights: Weights,

@@ -1,7 +1,7 @@
 //! The immutable problem derived once from a valid scene: everything every sample needs.
 
 use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Weights};
-use crate::geom::{Aabb, Polygon, Rigid};
+use crate::geom::{Aabb, Point, Polygon, Rigid};
 
 /// Penetration depth, as a fraction of the smallest body size, below which bodies only touch.
 pub const CONTACT_FRACTION: f64 = 1e-3;
@@ -80,6 +80,8 @@ pub struct Problem {
     pub avoid: Vec<Polygon>,
     /// Which kind of linkage to synthesise.
     pub mechanism: MechanismChoice,
+    /// The scene's pinned joints by name, in name order, each where it must be at the first pose.
+    pub pinned: Vec<(String, Point)>,
     /// The scene's weights of the soft costs.
     pub weights: Weights,
     /// The scene's search settings.
@@ -160,6 +162,7 @@ impl Problem {
             region,
             avoid,
             mechanism: scene.mechanism,
+            pinned: scene.pinned_joints.iter().map(|(name, &p)| (name.clone(), p)).collect(),
             weights: scene.weights.clone(),
             settings: scene.settings.clone(),
             scale: drawn.map_or(1.0, |d| d.diagonal()),

@@ -136,6 +136,7 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
     }
     check_mechanism(scene, &mut out);
     check_must_hit(scene, &mut out);
+    check_pinned_joints(scene, &mut out);
     if let Some([x, y]) = scene.gravity {
         let length = x.hypot(y);
         if !(length.is_finite() && length > 0.0) {
@@ -226,6 +227,7 @@ fn check_extent(scene: &Scene, out: &mut Issues) {
     points.extend(scene.fixed_bodies.iter().flat_map(|b| b.polygon.iter().copied()));
     points.extend(scene.linkage_region.iter().flatten().copied());
     points.extend(scene.avoid_regions.iter().flatten().copied());
+    points.extend(scene.pinned_joints.values().copied());
     for body in &scene.moving_bodies {
         for pose in body.poses.iter().filter(|p| pose_is_usable(p)) {
             let placed = Rigid::from_pose(*pose);
@@ -437,6 +439,24 @@ fn check_must_hit(scene: &Scene, out: &mut Issues) {
         }
     }
 }
+
+/// Pinned joints: a name a design could use, a place within the coordinate bound.
+fn check_pinned_joints(scene: &Scene, out: &mut Issues) {
+    for (name, p) in &scene.pinned_joints {
+        let field = format!("pinned_joints.{name}");
+        if name.is_empty() || name.len() > MAX_JOINT_NAME || !name.chars().all(|c| c.is_ascii_alphanumeric()) {
+            out.error(
+                field,
+                "a joint's name is a few letters and digits, as in a design's mechanism.joints (q0, r0, p1)",
+            );
+        } else if !(p.x.is_finite() && p.y.is_finite() && p.x.abs() <= MAX_COORDINATE && p.y.abs() <= MAX_COORDINATE) {
+            out.error(field, format!("the place must be two finite numbers of at most {MAX_COORDINATE:e} in size"));
+        }
+    }
+}
+
+/// The longest joint name a pin may give (the longest any family uses is three characters).
+const MAX_JOINT_NAME: usize = 8;
 
 /// The soft-cost weights must be usable factors of a sum, and not all zero (then every design ties).
 fn check_weights(w: &Weights, out: &mut Issues) {
@@ -849,6 +869,20 @@ mod tests {
         assert_eq!(errors(&s), vec![]);
         let problem = crate::scene::Problem::new(&s).unwrap();
         assert!((problem.gravity - crate::geom::Vec2::new(0.6, 0.8)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn pinned_joints_have_names_and_finite_places() {
+        let mut s = scene();
+        s.pinned_joints.insert("q 0".into(), Point::new(1.0, 2.0));
+        assert_error(&s, "pinned_joints.q 0", "letters and digits");
+        s.pinned_joints.clear();
+        s.pinned_joints.insert("q0".into(), Point::new(f64::NAN, 2.0));
+        assert_error(&s, "pinned_joints.q0", "finite");
+        s.pinned_joints.insert("q0".into(), Point::new(1.0, 2.0));
+        assert_eq!(errors(&s), vec![]);
+        let problem = crate::scene::Problem::new(&s).unwrap();
+        assert_eq!(problem.pinned, vec![("q0".to_string(), Point::new(1.0, 2.0))]);
     }
 
     #[test]

@@ -96,6 +96,8 @@ pub struct Constructor {
     part_pairs: Vec<(usize, usize)>,
     /// Whether each joint is carried by links only ([`Topology::link_only_joints`]).
     link_only: Vec<bool>,
+    /// Where each pinned joint must be ([`Constructor::with_pins`]).
+    pins: Vec<Option<Point>>,
     /// A long chain ([`crate::mechanism::Family::long_chain`]).
     long_chain: bool,
 }
@@ -210,8 +212,19 @@ impl Constructor {
             dyads: Plan::dyad_triangles(topology),
             part_pairs: topology.part_pairs(),
             link_only,
+            pins: vec![None; topology.joint_count()],
             long_chain: topology.mechanism_type.family().long_chain(topology.body_count),
         }
+    }
+
+    /// The same constructions with the joints `pins` (index, place) put at their places: a block
+    /// holding one is built as usual, then those joints are moved to their pins and the fit
+    /// ([`Polish`], which must hold them there) finds the others.
+    pub fn with_pins(mut self, pins: &[(usize, Point)]) -> Self {
+        for &(j, p) in pins {
+            self.pins[j] = Some(p);
+        }
+        self
     }
 
     /// Fills `x`'s joints with a linkage through `motions` (`motions[b][i]` carries body b from the
@@ -262,6 +275,12 @@ impl Constructor {
                     Piece::Slider(q) => slider(self.carriers[q], motions, poses, rng, region),
                     Piece::Free(_) => Built::joints(&[(region.draw)(rng)], false),
                 };
+                for (k, &j) in joints.iter().enumerate() {
+                    if let Some(pin) = self.pins[j] {
+                        built.points[k] = pin;
+                        built.polish |= !matches!(piece, Piece::Free(_));
+                    }
+                }
                 if built.polish {
                     for (&j, &p) in joints.iter().zip(&built.points) {
                         set(x, j, p);

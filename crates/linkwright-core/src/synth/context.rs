@@ -98,6 +98,9 @@ pub struct Context<'a> {
     /// How the joints carried by links only are placed at a pose, in order (empty for a topology
     /// without such joints).
     pub completion: Vec<Completion>,
+    /// The scene's pinned joints of this topology, by index, each where it must be at the first pose:
+    /// every sample, proposal and refinement keeps them there.
+    pub pins: Vec<(usize, Point)>,
     /// The factor on the scene's pose noise (`pose_tolerance`, `angle_tolerance_deg`): 1, or for an
     /// over-determined motion the square of the share of its intermediate poses an exact fit could
     /// pass through. Noise on every one of many intermediate poses does not widen the set of linkages
@@ -156,6 +159,9 @@ impl<'a> Context<'a> {
         let noise_scale =
             overdetermined_noise * if family.long_chain(topology.body_count) { LONG_CHAIN_NOISE } else { 1.0 };
         let unperturbed = problem.settings.pose_tolerance == 0.0;
+        // A pin of a joint this topology lacks is left out; `pipeline::families` tries no such family.
+        let pins: Vec<(usize, Point)> =
+            problem.pinned.iter().filter_map(|(name, p)| Some((topology.joint(name)?, *p))).collect();
         Context {
             problem,
             carriers,
@@ -181,13 +187,21 @@ impl<'a> Context<'a> {
                 .map(|(b, body)| OutlineMoments::new(body, topology.body_part(b).joints.clone()))
                 .collect(),
             collision_pairs,
-            rigidity: RigidityModel::new(&topology),
+            rigidity: RigidityModel::new(&topology).with_pinned(&pins.iter().map(|&(j, _)| j).collect::<Vec<_>>()),
+            pins,
             unperturbed,
             exact: unperturbed && !overdetermined,
             overdetermined,
             noise_scale,
             completion: completion_order(&topology),
             topology,
+        }
+    }
+
+    /// Puts the pinned joints at their places in parameter vector `x` (joint coordinates first).
+    pub fn pin(&self, x: &mut [f64]) {
+        for &(j, p) in &self.pins {
+            (x[2 * j], x[2 * j + 1]) = (p.x, p.y);
         }
     }
 

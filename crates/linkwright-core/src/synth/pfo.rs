@@ -90,6 +90,7 @@ pub(crate) fn refine(
                     for v in &mut x[n..] {
                         *v += normal(&mut r) * slider_sigma;
                     }
+                    ctx.pin(&mut x);
                     if !ctx.project(&mut x, &mut scratch.fit) {
                         return None;
                     }

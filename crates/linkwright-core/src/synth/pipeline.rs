@@ -139,8 +139,14 @@ pub struct Outcome {
     pub reason: Option<String>,
 }
 
-/// The families a scene asks for.
+/// The families a scene asks for: those its mechanism choice allows for its number of moving bodies
+/// that have a joint of every pinned joint's name.
 pub fn families(problem: &Problem) -> Vec<MechanismType> {
+    chosen_families(problem).into_iter().filter(|&family| pinned_joints_missing(problem, family).is_empty()).collect()
+}
+
+/// The families the scene's mechanism choice allows for its number of bodies, pins aside.
+fn chosen_families(problem: &Problem) -> Vec<MechanismType> {
     match problem.mechanism {
         MechanismChoice::Only(family) => vec![family],
         MechanismChoice::Auto => MechanismType::ALL
@@ -148,6 +154,12 @@ pub fn families(problem: &Problem) -> Vec<MechanismType> {
             .filter(|family| family.max_bodies().is_none_or(|max| problem.body_count() <= max))
             .collect(),
     }
+}
+
+/// The scene's pinned joints that `family`'s linkage for the scene has no joint for.
+fn pinned_joints_missing(problem: &Problem, family: MechanismType) -> Vec<&str> {
+    let topology = family.family().topology(problem.body_count());
+    problem.pinned.iter().map(|(name, _)| name.as_str()).filter(|name| topology.joint(name).is_none()).collect()
 }
 
 /// Where the search starts.
@@ -723,6 +735,19 @@ fn distinct(a: &Candidate, b: &Candidate, min_shift: f64) -> bool {
 /// What to tell the person when nothing valid was found: the checks that rejected most, each with
 /// what to change.
 fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
+    if families(problem).is_empty() {
+        let joints = |family: MechanismType| {
+            let topology = family.family().topology(problem.body_count());
+            format!("the {} has {}", family.linkage_label(problem.body_count()), topology.joint_names.join(", "))
+        };
+        let chosen = chosen_families(problem);
+        let missing = chosen.first().map(|&f| pinned_joints_missing(problem, f).join(", ")).unwrap_or_default();
+        return format!(
+            "No linkage type tried has every pinned joint ({missing} missing): pinned_joints names joints as a \
+             design's mechanism.joints does; {}.",
+            chosen.into_iter().map(joints).collect::<Vec<_>>().join("; ")
+        );
+    }
     let must_hit = problem.must_hit.iter().filter(|&&hit| hit).count();
     let most_exact = families(problem)
         .into_iter()

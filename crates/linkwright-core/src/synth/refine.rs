@@ -95,10 +95,11 @@ pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, 
     let mut trial_r = Vec::new();
     for _ in 0..options.iterations {
         // The Jacobian by forward differences; a column whose step breaks a check is taken backwards,
-        // and left zero when both directions do.
+        // and left zero when both directions do, or when it is a pinned joint's (which then stays).
         let m = r.len();
         let mut jac = DMatrix::<f64>::zeros(m, x.len());
-        for k in 0..x.len() {
+        let pinned = |k: usize| k < joint_vars && ctx.pins.iter().any(|&(j, _)| j == k / 2);
+        for k in (0..x.len()).filter(|&k| !pinned(k)) {
             let h = if k < joint_vars { options.step * ctx.body_size } else { options.angle_step };
             for signed in [h, -h] {
                 let mut probe = x.clone();

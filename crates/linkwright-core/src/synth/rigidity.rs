@@ -267,6 +267,21 @@ impl RigidityModel {
         }
     }
 
+    /// The same model with the joints `pinned` held where the parameter vector has them: their
+    /// coordinates are no unknowns of any fit (their residuals stay, their columns go).
+    pub fn with_pinned(mut self, pinned: &[usize]) -> Self {
+        for block in &mut self.blocks {
+            block.vars.retain(|&v| v >= 2 * self.carriers.len() || !pinned.contains(&(v / 2)));
+        }
+        self.local.fill(usize::MAX);
+        for block in &self.blocks {
+            for (k, &v) in block.vars.iter().enumerate() {
+                self.local[v] = k;
+            }
+        }
+        self
+    }
+
     /// The same model with another iteration limit per block for [`RigidityModel::fit`] (default 100).
     pub fn with_max_iterations(mut self, max_iterations: usize) -> Self {
         self.max_iterations = max_iterations;
@@ -370,7 +385,10 @@ impl RigidityModel {
         ws: &mut FitWorkspace,
     ) -> f64 {
         let s = usable_scale(scale);
-        let block = self.blocks.iter().find(|b| b.vars.contains(&(2 * joint))).expect("every joint is in a block");
+        let holds = |b: &&Block| {
+            b.pairs.iter().any(|&(m, n)| m == joint || n == joint) || (b.slider && self.slider == Some(joint))
+        };
+        let block = self.blocks.iter().find(holds).expect("every joint a block polishes is in one");
         let finite = block.vars.iter().all(|&v| x[v].is_finite())
             && motions.iter().flatten().all(|m| m.angle().is_finite() && m.translation().is_finite());
         if !finite {
@@ -614,9 +632,16 @@ impl RigidityModel {
                 nrow.r *= inv_s2;
                 nrow.j = row.j.map(|v| v * inv_s);
             }
+            // Columns of pinned coordinates are dropped.
+            let mut kept = 0;
             for k in 0..nrow.len {
-                nrow.cols[k] = self.local[nrow.cols[k]];
+                let local = self.local[nrow.cols[k]];
+                if local != usize::MAX {
+                    (nrow.cols[kept], nrow.j[kept]) = (local, nrow.j[k]);
+                    kept += 1;
+                }
             }
+            nrow.len = kept;
             f += 0.5 * nrow.r * nrow.r;
             for k in 0..nrow.len {
                 let ck = nrow.cols[k];

@@ -84,7 +84,8 @@ impl<'c, 'p> Sampler<'c, 'p> {
                     spacing: ctx.min_spacing,
                     intermediate_turnover: !ctx.overdetermined,
                 },
-            ),
+            )
+            .with_pins(&ctx.pins),
             quick_rigidity: ctx.rigidity.clone().with_max_iterations(QUICK_FIT_ITERATIONS),
             first_inverse: ctx.problem.bodies.iter().map(|b| b.poses[0].inverse()).collect(),
             cells: PerturbationCells::new(ctx),
@@ -114,6 +115,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
                 for v in &mut x[..2 * n] {
                     *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
                 }
+                ctx.pin(x);
                 ctx.rigidity.fit(x, motions, ctx.body_size, fit).max_relative_deviation
             }
             None => {

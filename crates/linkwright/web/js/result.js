@@ -29,6 +29,7 @@ const EXPORT_FRAMES = 60;
 export function geometryKey(scene) {
   return JSON.stringify([
     scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || [], scene.must_hit_poses || [],
+    scene.pinned_joints || {},
   ]);
 }
 
