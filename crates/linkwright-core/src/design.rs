@@ -208,6 +208,31 @@ pub struct Seconds {
     pub total: f64,
 }
 
+/// Why joints of a design could not be moved ([`DesignFile::with_joints_moved`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EditError {
+    /// The design's mechanism is unusable (or there is none).
+    #[error(transparent)]
+    Design(DesignError),
+    /// The alternative asked for (first) is not among the design's (how many, second).
+    #[error("alternative {0} does not exist (the design has {1})")]
+    NoAlternative(usize, usize),
+    /// The design has no joint of this name.
+    #[error("the design has no joint called \"{0}\"")]
+    UnknownJoint(String),
+    /// The place given for this joint is not two finite numbers within the coordinate bound.
+    #[error("joint {0}: a place is two finite numbers of at most 1e6 in size")]
+    BadPlace(String),
+    /// The mechanism is not its family's linkage for the scene (another number of bodies, or parts
+    /// the family does not build).
+    #[error("the design's linkage is not one its family builds for this scene")]
+    NotItsFamilys,
+    /// The moved linkage fails this kinematic check: it no longer carries the bodies through the
+    /// poses (the front end words what to change).
+    #[error("the moved linkage fails the {0:?} check")]
+    Rejected(crate::synth::Reject),
+}
+
 /// Why a design file's mechanism cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DesignError {
@@ -435,6 +460,49 @@ impl DesignFile {
             }
         }
         out
+    }
+
+    /// The design (`alternative` `None`) or one of its alternatives with the joints `moves` placed
+    /// anew (first-pose positions by name), as a design of its own: its motion through the poses
+    /// found again and its metrics recomputed, with no alternatives and no search statistics. What a
+    /// person who drags a joint of a result gets; [`DesignFile::violations`] then says which hard
+    /// constraint the moved linkage breaks and where.
+    pub fn with_joints_moved(
+        &self,
+        problem: &Problem,
+        alternative: Option<usize>,
+        moves: &BTreeMap<String, Point>,
+    ) -> Result<DesignFile, EditError> {
+        let chosen = match alternative {
+            None => self.mechanism.as_ref(),
+            Some(i) => {
+                Some(&self.alternatives.get(i).ok_or(EditError::NoAlternative(i, self.alternatives.len()))?.mechanism)
+            }
+        };
+        let mut edited = chosen.ok_or(EditError::Design(DesignError::NoMechanism))?.clone();
+        let bound = crate::scene::limits::MAX_COORDINATE;
+        for (name, &p) in moves {
+            let joint = edited.joints.get_mut(name).ok_or_else(|| EditError::UnknownJoint(name.clone()))?;
+            if !(p.x.is_finite() && p.y.is_finite() && p.x.abs() <= bound && p.y.abs() <= bound) {
+                return Err(EditError::BadPlace(name.clone()));
+            }
+            *joint = p;
+            // The slider's guide goes through its joint's first-pose place.
+            if let Some(slider) = edited.slider.as_mut().filter(|s| &s.joint == name) {
+                slider.point = p;
+            }
+        }
+        let mechanism = edited.to_mechanism().map_err(EditError::Design)?;
+        let candidate = crate::synth::assess(problem, &mechanism).ok_or(EditError::NotItsFamilys)?;
+        let outcome = crate::synth::Outcome {
+            best: Some(candidate.map_err(EditError::Rejected)?),
+            alternatives: Vec::new(),
+            stats: Default::default(),
+            reason: None,
+        };
+        let mut file = DesignFile::from_outcome(problem, &outcome);
+        file.stats.seed = self.stats.seed;
+        Ok(file)
     }
 
     /// The design file of a synthesis outcome.

@@ -87,14 +87,14 @@ pub use mechanism::{Family, Loop, Mechanism, MechanismType, Part, PartKind, Slid
 
 // The synthesis: its entry points, what steers and observes a run, and what a run finds.
 pub use synth::{
-    synthesize, synthesize_with, Acceptance, Cancelled, Candidate, Observer, Options, Outcome, Progress, Reject,
-    RunStats, Silent, SoftTerms, Stage, Start, Term, WARM_SAMPLES,
+    assess, synthesize, synthesize_with, Acceptance, Cancelled, Candidate, Observer, Options, Outcome, Progress,
+    Reject, RunStats, Silent, SoftTerms, Stage, Start, Term, WARM_SAMPLES,
 };
 
 // The `design/1` format: the engine's answer, read back, validated and checked.
 pub use design::{
-    Alternative, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, MechanismJson, Metrics, Motion,
-    PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
+    Alternative, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, EditError, MechanismJson, Metrics,
+    Motion, PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
 };
 
 // Checking a design against its scene.

@@ -134,3 +134,42 @@ fn a_no_solution_design_carries_no_mechanism() {
     design.status = linkwright_core::Status::NoSolution;
     assert_eq!(fields(&design, &problem), ["mechanism", "motion", "metrics"]);
 }
+
+/// Moving a joint of a design gives the design of the moved linkage: its own motion found again and
+/// its metrics recomputed, which the independent check agrees with. The known four-bar passes its
+/// poses exactly; with its rocker's pivot moved by a tenth of the body's size it still moves through
+/// them, farther off. Moved no joint, it is the known design again. A pivot moved far breaks it,
+/// and the check that fails comes back as data.
+#[test]
+fn moving_a_joint_gives_the_moved_linkages_design() {
+    use linkwright_core::geom::Point;
+    use linkwright_core::{EditError, Status};
+    use std::collections::BTreeMap;
+    let (problem, design) = four_bar();
+    let d = problem.bodies[0].size;
+    let worst = |file: &DesignFile| file.metrics.as_ref().unwrap().worst_pose_error.unwrap().position_rel_d;
+
+    let same = design.with_joints_moved(&problem, None, &BTreeMap::new()).unwrap();
+    assert_eq!(same.status, Status::Ok);
+    assert_eq!(same.violations(&problem), vec![]);
+    assert!(worst(&same) < 1e-6, "the known four-bar misses by {}·d", worst(&same));
+    let (a, b) = (&same.motion.as_ref().unwrap().pose_crank_deg, &design.motion.as_ref().unwrap().pose_crank_deg);
+    assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4), "{a:?} against {b:?}");
+
+    let r0 = design.mechanism.as_ref().unwrap().joints["r0"];
+    let moved_to = Point::new(r0.x + 0.1 * d, r0.y);
+    let moves = BTreeMap::from([("r0".to_string(), moved_to)]);
+    let moved = design.with_joints_moved(&problem, None, &moves).unwrap();
+    assert_eq!(moved.mechanism.as_ref().unwrap().joints["r0"], moved_to);
+    assert!(moved.alternatives.is_empty());
+    assert!(worst(&moved) > 0.005, "moved, the linkage still passes the poses within {}·d", worst(&moved));
+    assert!(moved.violations(&problem).iter().all(|v| v.constraint != "accuracy" && v.constraint != "format"));
+
+    let far = BTreeMap::from([("r0".to_string(), Point::new(r0.x + 50.0 * d, r0.y))]);
+    assert!(matches!(design.with_joints_moved(&problem, None, &far), Err(EditError::Rejected(_))));
+    let unknown = BTreeMap::from([("x9".to_string(), r0)]);
+    assert_eq!(design.with_joints_moved(&problem, None, &unknown), Err(EditError::UnknownJoint("x9".into())));
+    assert_eq!(design.with_joints_moved(&problem, Some(0), &moves), Err(EditError::NoAlternative(0, 0)));
+    let nan = BTreeMap::from([("r0".to_string(), Point::new(f64::NAN, 0.0))]);
+    assert_eq!(design.with_joints_moved(&problem, None, &nan), Err(EditError::BadPlace("r0".into())));
+}

@@ -237,6 +237,30 @@ fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_a
     let (status, body) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "steps": 0}));
     assert_error(status, &body, 400);
 
+    // Moving a joint of the design: the moved linkage's design, its check and its motion at once.
+    let joints = design["mechanism"]["joints"].as_object().unwrap();
+    let (name, place) = joints.iter().next().unwrap();
+    let nudged = json!([place[0].as_f64().unwrap() + 0.5, place[1].as_f64().unwrap()]);
+    let (status, edited) =
+        post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": {name.as_str(): nudged}}));
+    assert_eq!(status, 200, "{edited}");
+    assert_eq!(edited["design"]["mechanism"]["joints"][name.as_str()], nudged, "{edited}");
+    assert_eq!(edited["rejected"], Value::Null);
+    assert!(edited["violations"].is_array() && edited["analysis"]["frames"].is_array(), "{edited}");
+    let edited_file = DesignFile::from_json(&edited["design"].to_string()).unwrap();
+    let agrees = edited_file.violations(&problem).iter().all(|v| v.constraint != "accuracy");
+    assert!(agrees, "the edited design's metrics are its own");
+    // Moved far, the linkage no longer makes the motion: which check fails, in words.
+    let far = json!([place[0].as_f64().unwrap() + 1e4, place[1].as_f64().unwrap()]);
+    let (status, broken) =
+        post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": {name.as_str(): far}}));
+    assert_eq!((status, &broken["design"]), (200, &Value::Null), "{broken}");
+    assert!(broken["rejected"]["check"].is_string() && broken["rejected"]["message"].is_string(), "{broken}");
+    let (status, body) = post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": {"x9": [0, 0]}}));
+    assert_error(status, &body, 422);
+    let (status, body) = post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": [1, 2]}));
+    assert_error(status, &body, 400);
+
     for kind in ["design", "animation"] {
         let mut response = agent()
             .post(server.at("/api/render"))

@@ -21,8 +21,8 @@ pub use context::Context;
 pub(crate) use context::{complete, completion_order};
 pub use evaluate::{evaluate, Candidate, Reject, Scratch};
 pub use pipeline::{
-    synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent, Stage,
-    Start, WARM_SAMPLES,
+    assess, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent,
+    Stage, Start, WARM_SAMPLES,
 };
 pub use terms::{CostWeights, SoftTerms, Term};
 

@@ -235,6 +235,39 @@ pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome,
     synthesize_with(problem, &Options::default(), observer)
 }
 
+/// A given linkage judged as the synthesis judges its samples, for a person who moved its joints:
+/// its motion through the poses and its costs, or the defect that leaves it without one. A
+/// transmission angle under the scene's bound, a collision and a missed pin are left in the motion
+/// for the re-simulation ([`verify_travel`]) to find and place, and a must-hit pose missed for the
+/// metrics' pose errors to show: the person needs to see where the linkage fails. `None` when `mechanism` is not its family's linkage for the scene's bodies
+/// (another number of bodies, or parts the family does not build).
+pub fn assess(problem: &Problem, mechanism: &Mechanism) -> Option<Result<Candidate, Reject>> {
+    let family = mechanism.topology.mechanism_type;
+    let bodies = problem.body_count();
+    if mechanism.topology.body_count != bodies || family.max_bodies().is_some_and(|max| bodies > max) {
+        return None;
+    }
+    let mut lenient = problem.clone();
+    lenient.must_hit.fill(false);
+    let ctx = Context { min_transmission_sine: 0.0, ..Context::new(&lenient, family) };
+    // The same parts, by name and by the names of the joints they carry.
+    let names = |t: &crate::mechanism::Topology, p: &crate::mechanism::Part| {
+        let mut joints: Vec<String> = p.joints.iter().map(|&j| t.joint_names[j].clone()).collect();
+        joints.sort();
+        (p.name.clone(), p.kind, joints)
+    };
+    let mut own: Vec<_> = ctx.topology.parts.iter().map(|p| names(&ctx.topology, p)).collect();
+    let mut given: Vec<_> = mechanism.topology.parts.iter().map(|p| names(&mechanism.topology, p)).collect();
+    own.sort_by(|a, b| a.0.cmp(&b.0));
+    given.sort_by(|a, b| a.0.cmp(&b.0));
+    if own != given || ctx.topology.slider_joint.is_some() != mechanism.slider.is_some() {
+        return None;
+    }
+    let joints = ctx.topology.joint_names.iter().map(|n| mechanism.joint(n)).collect::<Option<Vec<_>>>()?;
+    let mechanism = Mechanism { topology: ctx.topology.clone(), joints, slider: mechanism.slider };
+    Some(evaluate(&ctx, mechanism, None, f64::INFINITY, &mut Default::default()))
+}
+
 /// Runs the synthesis with `options` on the current rayon pool.
 pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();

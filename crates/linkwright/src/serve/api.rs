@@ -16,11 +16,13 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
+use linkwright_core::geom::Point;
 use linkwright_core::{
-    animation_svg, design_svg, synthesize_with, Acceptance, DesignFile, Mechanism, MechanismType, Options, Problem,
-    Progress, RenderInput, Scene, Start,
+    animation_svg, design_svg, synthesize_with, Acceptance, DesignFile, EditError, Mechanism, MechanismType, Options,
+    Problem, Progress, Reject, RenderInput, Scene, Start,
 };
 use serde_json::{json, Map, Value};
+use std::collections::BTreeMap;
 use std::convert::Infallible;
 use std::net::SocketAddr;
 use std::sync::Arc;
@@ -444,6 +446,82 @@ pub async fn simulate(
     };
     let analysis = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, simulation).await?;
     Ok(Json(analysis))
+}
+
+/// `POST /api/edit`: `{scene, design, alternative?, joints: {name: [x, y], ...}}` in: the design with
+/// those joints moved (first-pose places), re-derived ([`DesignFile::with_joints_moved`]), its
+/// violations and its motion analysis out; or, when the moved linkage no longer makes the motion,
+/// which check it fails and what to do.
+pub async fn edit(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<Value>, ApiError> {
+    let request = parsed(&state, body, Compound::parse).await?;
+    let alternative = match request.which()? {
+        Which::Best => None,
+        Which::Alternative(i) => Some(i),
+    };
+    let moves = joint_places(request.fields.get("joints"))?;
+    let edit = move |_: &Arc<StopFlag>| match request.design.with_joints_moved(&request.problem, alternative, &moves) {
+        Ok(design) => {
+            let violations = design.violations(&request.problem);
+            let analysis = analyze(&request.problem, &design, Which::Best, &AnalysisOptions::default())
+                .map(|a| serde_json::to_value(a).unwrap_or(Value::Null))
+                .unwrap_or(Value::Null);
+            Ok(json!({"design": design, "violations": violations, "analysis": analysis, "rejected": null}))
+        }
+        Err(EditError::Rejected(reject)) => {
+            let (check, message) = rejected_words(reject);
+            Ok(json!({"design": null, "violations": [], "analysis": null,
+                      "rejected": {"check": check, "message": message}}))
+        }
+        Err(e) => {
+            Err(ApiError::unprocessable(format!("the joints cannot be moved: {e}")).with_issue("joints", e.to_string()))
+        }
+    };
+    let answer = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, edit).await?;
+    Ok(Json(answer))
+}
+
+/// `joints` of an edit: an object of joint names to `[x, y]`.
+fn joint_places(value: Option<&Value>) -> Result<BTreeMap<String, Point>, ApiError> {
+    let bad = |message: &str| ApiError::bad_request(format!("joints: {message}")).with_issue("joints", message);
+    let Some(Value::Object(joints)) = value else {
+        return Err(bad("must be an object of joint names to [x, y]"));
+    };
+    joints
+        .iter()
+        .map(|(name, v)| match v.as_array().map(|a| a.iter().map(Value::as_f64).collect::<Vec<_>>()).as_deref() {
+            Some([Some(x), Some(y)]) => Ok((name.clone(), Point::new(*x, *y))),
+            _ => Err(bad(&format!("{name} must be [x, y], two numbers"))),
+        })
+        .collect()
+}
+
+/// What the app says of a moved linkage that fails a kinematic check: the check's word and what to do.
+fn rejected_words(reject: Reject) -> (&'static str, &'static str) {
+    match reject {
+        Reject::JointsTooClose => {
+            ("joints_too_close", "two joints of one part are too close to build: move them apart")
+        }
+        Reject::Order => {
+            ("order", "the crank can no longer pass the poses in order: move the joint back, or towards where it was")
+        }
+        Reject::Branch => {
+            ("branch", "the linkage would have to be taken apart between two poses: move the joint back a little")
+        }
+        Reject::Assembly => (
+            "assembly",
+            "the linkage locks up before it reaches the last pose: a link is too short or too long for the motion",
+        ),
+        Reject::MissedPose => ("missed_pose", "the body no longer reaches a pose it must hit: move the joint back"),
+        Reject::Transmission => ("transmission", "a link comes too close to a dead point: move the joint back"),
+        Reject::AvoidRegion => ("avoid_region", "a link enters an avoid region: move the joint away from it"),
+        Reject::Collision => ("collision", "a part hits another: move the joint away from it"),
+        Reject::Unprintable => ("unprintable", "the linkage cannot be printed: move the joints apart"),
+        Reject::Outclassed => ("outclassed", "the linkage costs more than the designs kept"),
+    }
 }
 
 /// `POST /api/render`: `{scene, design, alternative?, kind: "design" | "animation", seconds?}` in,

@@ -61,6 +61,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/design/stream", post(api::design_stream))
         .route("/api/check", post(api::check))
         .route("/api/simulate", post(api::simulate))
+        .route("/api/edit", post(api::edit))
         .route("/api/render", post(api::render))
         .route("/api/fabricate", post(fabricate::fabricate))
         .route("/api/fabricate/settings", get(fabricate::default_settings))
