@@ -256,7 +256,8 @@ fn a_design_is_design_1_that_the_verifier_accepts_and_can_be_checked_simulated_a
         post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": {name.as_str(): far}}));
     assert_eq!((status, &broken["design"]), (200, &Value::Null), "{broken}");
     assert!(broken["rejected"]["check"].is_string() && broken["rejected"]["message"].is_string(), "{broken}");
-    let (status, body) = post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": {"x9": [0, 0]}}));
+    let (status, body) =
+        post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": {"x9": [0, 0]}}));
     assert_error(status, &body, 422);
     let (status, body) = post(&server, "/api/edit", &json!({"scene": scene, "design": design, "joints": [1, 2]}));
     assert_error(status, &body, 400);

@@ -644,25 +644,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     torque_plot(page).await?;
     motion_exports(page, downloads).await?;
     live_latency(page, "garbage truck, one body", 0, 1).await?;
-    // A drag that starts on a ground pivot of the linkage shown does not move the body under it (the
-    // truck carries the pivot), and the design stays on screen.
-    let fixed = scene(page).await?["fixed_bodies"].clone();
-    let pivot = eval(
-        page,
-        "(() => { const j = document.querySelector('.layer-resultDynamic .joint[data-joint=q0]'); \
-         const r = j.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()",
-    )
-    .await?;
-    let pivot = (pivot[0].as_f64().ok_or("pivot")?, pivot[1].as_f64().ok_or("pivot")?);
-    let on_truck = format!(
-        "window.linkwright.store.scene.fixed_bodies.some((_, i) => document.elementsFromPoint({}, {}).some((e) => \
-         e.dataset?.kind === 'fixed' && Number(e.dataset.index) === i))",
-        pivot.0, pivot.1
-    );
-    assert_eq!(eval(page, &on_truck).await?, true, "the pivot lies on a fixed body");
-    drag(page, pivot, (pivot.0 + 30.0, pivot.1 + 20.0)).await?;
-    assert_eq!(scene(page).await?["fixed_bodies"], fixed);
-    assert_eq!(eval(page, "document.getElementById('player').hidden").await?, false);
+    joint_editing(page).await?;
     check_pose_errors(page, None).await?;
     // An alternative shows its own errors, then the best design again.
     if eval(page, "document.querySelector(\"#tab-result .thumb[data-which='0']\") !== null").await? == Value::Bool(true)
@@ -735,6 +717,90 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     assert_eq!(eval(page, "document.getElementById('view3d').hidden").await?, Value::Bool(true));
     folding_roof(page).await?;
     power_shovel(page).await
+}
+
+/// Editing the linkage by its joints: a ground pivot dragged with the mouse moves, the moved
+/// linkage is simulated and checked again (its design, motion and check replace the shown ones),
+/// undo and redo take the move back and forth, a typed place moves it too, Pin writes the place
+/// into the scene, and a place the linkage cannot follow leaves the design as it was and says why.
+async fn joint_editing(page: &Page) -> Result<()> {
+    let fixed = scene(page).await?["fixed_bodies"].clone();
+    let q0 = "window.linkwright.store.result.mechanism.joints.q0";
+    let before = floats(&eval(page, q0).await?);
+    let centre = eval(
+        page,
+        "(() => { const r = document.querySelector('.layer-resultDynamic .joint[data-joint=q0]').getBoundingClientRect(); \
+         return [r.x + r.width / 2, r.y + r.height / 2]; })()",
+    )
+    .await?;
+    let p = (centre[0].as_f64().ok_or("q0")?, centre[1].as_f64().ok_or("q0")?);
+    // The pivot lies on the truck: the drag must move the joint, not the body under it.
+    let on_truck = format!(
+        "window.linkwright.store.scene.fixed_bodies.some((_, i) => document.elementsFromPoint({}, {}).some((e) => \
+         e.dataset?.kind === 'fixed' && Number(e.dataset.index) === i))",
+        p.0, p.1
+    );
+    assert_eq!(eval(page, &on_truck).await?, true, "the pivot lies on a fixed body");
+    drag(page, p, (p.0 + 5.0, p.1 - 3.0)).await?;
+    let moved = format!(
+        "(() => {{ const r = window.linkwright.store.result; return r.analysis && r.verified && \
+         r.mechanism.joints.q0[0] !== {} && !window.linkwright.results.editBusy; }})()",
+        before[0]
+    );
+    until(page, &moved, Duration::from_secs(10)).await?;
+    let after = floats(&eval(page, q0).await?);
+    assert!((after[0] - before[0]).abs() > 0.0 && (after[1] - before[1]).abs() > 0.0, "{before:?} → {after:?}");
+    // The shown design is the moved linkage's own: its file, its motion (q0 in every frame) and its check.
+    assert_eq!(floats(&eval(page, "window.linkwright.store.result.design.mechanism.joints.q0").await?), after);
+    let frame_q0 = "(() => { const a = window.linkwright.store.result.analysis; \
+        return a.frames[a.frames.length - 1].joints[a.joint_names.indexOf('q0')]; })()";
+    let in_motion = floats(&eval(page, frame_q0).await?);
+    assert!((in_motion[0] - after[0]).abs() < 1e-6 && (in_motion[1] - after[1]).abs() < 1e-6);
+    let hint = eval(page, "window.linkwright.store.ui.hint").await?;
+    assert!(hint.as_str().unwrap_or_default().starts_with("Joint q0 at"), "{hint}");
+    undo(page).await?;
+    assert_eq!(floats(&eval(page, q0).await?), before, "undo brings the joint back");
+    redo(page).await?;
+    assert_eq!(floats(&eval(page, q0).await?), after, "redo moves it again");
+
+    // A typed place.
+    click(page, "[data-tab=result]").await?;
+    let typed = ((after[0] + 0.4) * 10.0).round() / 10.0;
+    eval(
+        page,
+        &format!(
+            "(() => {{ const i = document.querySelector('input[data-joint-x=q0]'); i.value = '{typed}'; \
+        i.dispatchEvent(new Event('change')); return true; }})()"
+        ),
+    )
+    .await?;
+    until(page, &format!("{q0}[0] === {typed} && !window.linkwright.results.editBusy"), Duration::from_secs(10))
+        .await?;
+    // Pinned where it is.
+    click(page, "[data-pin=q0]").await?;
+    let pin = floats(&eval(page, "window.linkwright.store.scene.pinned_joints.q0").await?);
+    assert_eq!(pin, floats(&eval(page, q0).await?));
+    // Far away the linkage cannot follow: the design stays, the hint says why.
+    let kept = eval(page, q0).await?;
+    eval(
+        page,
+        &format!(
+            "(() => {{ const i = document.querySelector('input[data-joint-x=q0]'); i.value = '{}'; \
+        i.dispatchEvent(new Event('change')); return true; }})()",
+            typed + 1e4
+        ),
+    )
+    .await?;
+    until(page, "window.linkwright.store.ui.hint.startsWith('Joint q0 cannot go to')", Duration::from_secs(10)).await?;
+    assert_eq!(eval(page, q0).await?, kept);
+    // The truck under the pivot never moved; three undos (pin, typed place, drag) give the design back.
+    assert_eq!(scene(page).await?["fixed_bodies"], fixed);
+    for _ in 0..3 {
+        undo(page).await?;
+    }
+    assert_eq!(scene(page).await?.get("pinned_joints"), None);
+    assert_eq!(floats(&eval(page, q0).await?), before);
+    Ok(())
 }
 
 /// The folding roof, whose roof swings far outside its drawn poses: Fit (F) frames the whole motion

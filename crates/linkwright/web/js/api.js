@@ -55,6 +55,10 @@ export const example = (name) => request('GET', `/api/examples/${encodeURICompon
 export const check = (scene, design) => request('POST', '/api/check', { scene, design });
 export const simulate = (scene, design, alternative = null, steps = 240) =>
   request('POST', '/api/simulate', { scene, design, alternative, steps });
+/** The design with joints moved (first-pose places by name): the moved linkage's design, its
+ * violations and its motion, or which check it fails. */
+export const edit = (scene, design, alternative, joints) =>
+  request('POST', '/api/edit', { scene, design, alternative, joints });
 export const render = (scene, design, kind, alternative = null) =>
   request('POST', '/api/render', { scene, design, kind, alternative }, { as: 'blob' });
 /** Printable parts of a design: the report, the files to download and the 3D preview. */

@@ -234,10 +234,18 @@ export class Canvas {
       const p = at(name);
       g.append(svg('path', { class: 'ground', d: `M${p[0]},${p[1]} l-9,14 h18 z` }));
     }
+    const pinned = this.store.scene.pinned_joints || {};
     a.joint_names.forEach((name) => {
       const p = at(name);
-      g.append(svg('circle', { class: 'joint', cx: p[0], cy: p[1], r: 4.5, 'data-joint': name }));
+      g.append(svg('circle', { class: name in pinned ? 'joint pinned' : 'joint', cx: p[0], cy: p[1], r: 4.5, 'data-joint': name }));
     });
+    // Where a moved joint was asked to go when the linkage cannot follow it there, and why.
+    const no = this.rejectedJoint;
+    if (no) {
+      const p = this.s(no.at);
+      g.append(svg('circle', { class: 'joint rejected', cx: p[0], cy: p[1], r: 6, 'data-rejected': no.name }));
+      g.append(svg('text', { class: 'rejected-label', x: p[0] + 10, y: p[1] - 10, text: no.message }));
+    }
   }
 
   /** Each link's length at its middle and each ground pivot's position beside it, in the scene's

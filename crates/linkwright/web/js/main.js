@@ -35,6 +35,9 @@ const tools = new Tools(root, store, canvas, view, {
   leaveResult: () => results.leave(),
   liveResult: () => !!store.ui.live && canvas.showingResult(),
   poseEdited: () => results.poseEdited(),
+  beginJointDrag: (name) => results.beginJointDrag(name),
+  moveJoint: (w) => results.moveJoint(w),
+  endJointDrag: () => results.endJointDrag(),
   deleteSelection,
   pointer: (w) => { $('coords').textContent = `x ${w[0].toFixed(1)}  y ${w[1].toFixed(1)} ${store.scene.units || 'mm'}`; },
 });
@@ -85,11 +88,13 @@ results.fitView = fit;
 
 function undo() {
   const label = store.undo();
+  results.drawFrame();
   store.hint(label ? `Undid: ${label}. (Redo: Ctrl+Shift+Z)` : 'Nothing to undo.');
 }
 
 function redo() {
   const label = store.redo();
+  results.drawFrame();
   store.hint(label ? `Redid: ${label}.` : 'Nothing to redo.');
 }
 

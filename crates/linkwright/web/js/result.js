@@ -29,7 +29,6 @@ const EXPORT_FRAMES = 60;
 export function geometryKey(scene) {
   return JSON.stringify([
     scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || [], scene.must_hit_poses || [],
-    scene.pinned_joints || {},
   ]);
 }
 
@@ -245,6 +244,89 @@ export class Results {
 
   cancel() {
     this.controller?.abort();
+  }
+
+  /** Starts moving joint `name` of the design shown, if one is shown: the animation goes to the
+   * first pose (where a design gives its joints) and waits there. */
+  beginJointDrag(name) {
+    const r = this.result;
+    if (!this.canvas.showingResult() || !r?.analysis || !r.mechanism?.joints?.[name]) return false;
+    this.setPlaying(false);
+    this.pos = 0;
+    this.drawFrame();
+    this.jointDrag = { name, before: r, target: null, moved: false, ended: false };
+    this.store.hint(`Joint ${name}: drag it; the linkage is simulated and checked again as it moves (Ctrl+Z undoes).`);
+    return true;
+  }
+
+  /** The joint being moved goes to world point `w` (at the first pose). */
+  moveJoint(w) {
+    if (!this.jointDrag) return;
+    this.jointDrag.target = w;
+    if (!this.editBusy) this.runEdit(this.jointDrag);
+  }
+
+  endJointDrag() {
+    if (!this.jointDrag) return;
+    this.jointDrag.ended = true;
+    if (!this.editBusy) this.finishJointDrag();
+  }
+
+  /** Moves joints of the design shown (`{name: [x, y]}`), as one undoable step. */
+  async placeJoints(joints) {
+    const r = this.result;
+    if (!r?.mechanism) return;
+    const [name] = Object.keys(joints);
+    this.jointDrag = { name, before: r, target: joints[name], moved: false, ended: true };
+    if (!this.editBusy) await this.runEdit(this.jointDrag);
+  }
+
+  /**
+   * Asks the server for the moved linkage, one request at a time; a place given meanwhile is sent
+   * next (only the newest). Each answer that still makes the motion becomes the design shown (a
+   * design of its own, checked); one that does not leaves the last good design up, the joint drawn
+   * red where it was asked to go, and the reason in the hint.
+   */
+  async runEdit(drag) {
+    this.editBusy = true;
+    const base = drag.before;
+    while (drag.target) {
+      const w = drag.target;
+      drag.target = null;
+      try {
+        const answer = await api.edit(base.scene, base.design, base.which, { [drag.name]: w });
+        if (answer.design) {
+          const r = newResult({ design: answer.design, scene: base.scene, key: base.key, warnings: base.warnings });
+          Object.assign(r, { mechanism: answer.design.mechanism, metrics: answer.design.metrics, analysis: answer.analysis });
+          r.verified = { ok: answer.violations.length === 0, violations: answer.violations };
+          this.store.result = r;
+          this.canvas.rejectedJoint = null;
+          drag.moved = true;
+          const broken = answer.violations[0];
+          this.store.hint(broken
+            ? `Joint ${drag.name} at (${w[0].toFixed(1)}, ${w[1].toFixed(1)}): ${broken.constraint}: ${broken.message}`
+            : `Joint ${drag.name} at (${w[0].toFixed(1)}, ${w[1].toFixed(1)}): every hard constraint holds (cost ${answer.design.metrics.cost.toFixed(3)}).`);
+        } else {
+          this.canvas.rejectedJoint = { name: drag.name, at: w, message: answer.rejected.message };
+          this.store.hint(`Joint ${drag.name} cannot go to (${w[0].toFixed(1)}, ${w[1].toFixed(1)}): ${answer.rejected.message}.`);
+        }
+      } catch (e) {
+        this.store.hint(`Cannot move joint ${drag.name}: ${e.message}`);
+      }
+      this.pos = 0;
+      this.drawFrame();
+      this.store.changed('result');
+    }
+    this.editBusy = false;
+    if (drag.ended) this.finishJointDrag();
+  }
+
+  finishJointDrag() {
+    const drag = this.jointDrag;
+    this.jointDrag = null;
+    this.canvas.rejectedJoint = null;
+    if (drag?.moved) this.store.editResult(`move joint ${drag.name}`, drag.before);
+    this.drawFrame();
   }
 
   /** Forgets the design and any error (a new scene was opened). */
@@ -492,6 +574,7 @@ export class Results {
     ].map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
     host.append(statsLine(d));
     for (const w of r.warnings || []) host.append(html('p', { class: 'note', text: `Note: ${w.field}: ${w.message}` }));
+    host.append(html('h3', { text: 'Joints' }), this.jointTable(r));
 
     const options = [null, ...d.alternatives.map((_, i) => i)];
     if (options.length > 1) {
@@ -517,6 +600,44 @@ export class Results {
       host.append(html('h3', { text: 'Loops' }), loopList(a));
       this.drawFrame();
     }
+  }
+
+  /** The joints of the mechanism shown at the first pose: type a place to move one (as a drag does),
+   * tick Pin to keep it there in the next design. */
+  jointTable(r) {
+    const units = this.store.scene.units || 'mm';
+    const pinned = this.store.scene.pinned_joints || {};
+    const row = (name) => {
+      const [x, y] = r.mechanism.joints[name];
+      const place = (axis) => (e) => {
+        const v = Number(e.target.value);
+        if (e.target.value.trim() === '' || !Number.isFinite(v)) return;
+        const p = [...r.mechanism.joints[name]];
+        p[axis] = v;
+        this.placeJoints({ [name]: p });
+      };
+      const pin = (e) => {
+        const on = e.target.checked;
+        this.store.edit(`${on ? 'pin' : 'unpin'} joint ${name}`, (s) => {
+          const pins = { ...(s.pinned_joints || {}) };
+          if (on) pins[name] = [...r.mechanism.joints[name]]; else delete pins[name];
+          if (Object.keys(pins).length) s.pinned_joints = pins; else delete s.pinned_joints;
+        });
+        this.store.hint(on
+          ? `Joint ${name} is pinned where it is: the next design keeps it there.`
+          : `Joint ${name} is free again.`);
+      };
+      return html('tr', {}, [
+        html('th', { text: name }),
+        html('td', {}, [html('input', { type: 'number', step: 'any', value: fmt(x), 'data-joint-x': name, 'aria-label': `${name} x (${units})`, onchange: place(0) })]),
+        html('td', {}, [html('input', { type: 'number', step: 'any', value: fmt(y), 'data-joint-y': name, 'aria-label': `${name} y (${units})`, onchange: place(1) })]),
+        html('td', {}, [html('label', {}, [html('input', { type: 'checkbox', checked: name in pinned, 'data-pin': name, onchange: pin }), ' pin'])]),
+      ]);
+    };
+    return html('table', { class: 'joint-table', title: `Joint places at the first pose, ${units}. Drag a joint on the canvas, or type here.` }, [
+      html('tr', {}, [html('th', { text: 'joint' }), html('th', { text: `x (${units})` }), html('th', { text: `y (${units})` }), html('th', { text: '' })]),
+      ...Object.keys(r.mechanism.joints).sort().map(row),
+    ]);
   }
 
   /** A small picture of one design at its first pose, to pick it. */

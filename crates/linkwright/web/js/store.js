@@ -1,5 +1,6 @@
 // The app's state and its undo history. The scene (the document) changes only through `edit` or a
-// `begin`/`update`/`end` gesture, each of which is one undo step; everything else is view state.
+// `begin`/`update`/`end` gesture, each of which is one undo step; so does a design whose joints the
+// person moved (`editResult`); everything else is view state.
 
 const HISTORY = 200;
 
@@ -94,6 +95,14 @@ export class Store {
     this.changed('scene');
   }
 
+  /** One undoable change of the design shown (its joints moved): `before` is the result it replaced. */
+  editResult(label, before) {
+    this.undoStack.push({ scene: JSON.stringify(this.scene), label, ui: this.uiSnapshot(), result: before });
+    if (this.undoStack.length > HISTORY) this.undoStack.shift();
+    this.redoStack = [];
+    this.changed('result');
+  }
+
   push(before, label) {
     this.undoStack.push({ scene: before, label, ui: this.uiSnapshot() });
     if (this.undoStack.length > HISTORY) this.undoStack.shift();
@@ -110,7 +119,7 @@ export class Store {
   undo() {
     const step = this.undoStack.pop();
     if (!step) return null;
-    this.redoStack.push({ scene: JSON.stringify(this.scene), label: step.label, ui: this.uiSnapshot() });
+    this.redoStack.push(this.opposite(step));
     this.restore(step);
     return step.label;
   }
@@ -118,12 +127,23 @@ export class Store {
   redo() {
     const step = this.redoStack.pop();
     if (!step) return null;
-    this.undoStack.push({ scene: JSON.stringify(this.scene), label: step.label, ui: this.uiSnapshot() });
+    this.undoStack.push(this.opposite(step));
     this.restore(step);
     return step.label;
   }
 
+  /** The step that takes back `step`: the state now, with the design shown when `step` changes it. */
+  opposite(step) {
+    const back = { scene: JSON.stringify(this.scene), label: step.label, ui: this.uiSnapshot() };
+    if ('result' in step) back.result = this.result;
+    return back;
+  }
+
   restore(step) {
+    if ('result' in step) {
+      this.result = step.result;
+      this.changed('result');
+    }
     this.scene = JSON.parse(step.scene);
     this.ui.selection = step.ui.selection;
     this.ui.pose = step.ui.pose;

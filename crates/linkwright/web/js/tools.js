@@ -116,9 +116,13 @@ export class Tools {
     }
     const joint = e.target.closest?.('[data-joint]');
     if (joint) {
-      // The linkage cannot be edited by its joints yet: the press pans, and says how to change it.
-      this.store.hint(`Joint ${joint.dataset.joint} of the design: its place comes from the poses. To change the linkage, press Edit drawing, move the poses, and design again.`);
-      this.drag = { type: 'pan', last: s };
+      // A joint of the design shown moves with the pointer, the linkage judged again as it goes.
+      if (this.actions.beginJointDrag(joint.dataset.joint)) {
+        this.drag = { type: 'joint' };
+      } else {
+        this.store.hint(`Joint ${joint.dataset.joint} of the design: show the design (▶) to move its joints.`);
+        this.drag = { type: 'pan', last: s };
+      }
       return;
     }
     const shape = e.target.closest?.('[data-kind]');
@@ -169,6 +173,10 @@ export class Tools {
       case 'vertex':
         this.store.update((sc) => S.moveVertex(sc, ui.selection, d.v, this.snapped(e), ui.pose));
         break;
+      case 'joint':
+        // Not snapped: a linkage answers to small moves, and a grid step can be too far for it.
+        this.actions.moveJoint(w);
+        break;
       case 'move': {
         const total = sub(this.snapped(e), d.start);
         const delta = sub(total, d.applied);
@@ -216,6 +224,8 @@ export class Tools {
       this.addShape(pts);
     } else if (d.type === 'vertex' || d.type === 'move' || d.type === 'rotate') {
       this.store.end();
+    } else if (d.type === 'joint') {
+      this.actions.endJointDrag();
     }
   }
 
