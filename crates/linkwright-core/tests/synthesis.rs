@@ -207,9 +207,10 @@ fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
     assert_eq!(cold.stats.samples, 2000);
 }
 
-/// With every family allowed (`auto`), a warm start searches only the families of the designs it
-/// starts from: a live redesign refines the linkage shown and must not wait for a cold search of
-/// another family.
+/// With every family allowed (`auto`), a warm start searches only the family of the design it
+/// starts from: a live redesign refines the linkage shown and must not wait for a search of another
+/// family. It starts from a design file, as the app and `design --from` do: the design and its
+/// alternatives (of several families), read back with their joints in name order.
 #[test]
 fn a_warm_start_keeps_to_the_family_it_starts_from() {
     use linkwright_core::{synthesize_with, Options, Start, WARM_SAMPLES};
@@ -220,7 +221,10 @@ fn a_warm_start_keeps_to_the_family_it_starts_from() {
     let first = synthesize(&problem, &Silent).unwrap();
     let best = first.best.as_ref().expect("a design");
     let family = best.mechanism.topology.mechanism_type;
-    let previous: Vec<_> = std::iter::once(best.mechanism.clone()).collect();
+    let file = DesignFile::from_outcome(&problem, &first);
+    let previous = file.usable_mechanisms();
+    let families: std::collections::HashSet<_> = previous.iter().map(|m| m.topology.mechanism_type).collect();
+    assert!(families.len() > 1, "the alternatives are of one family: {families:?}");
     let d = problem.bodies[0].size;
     let moved = problem.bodies[0].poses[1];
     problem.bodies[0].poses[1] = linkwright_core::geom::Rigid::new(

@@ -10,10 +10,11 @@ use super::refine::{refine_design, RefineOptions};
 use super::sample::{x_from_mechanism, SampleScratch, Sampler};
 use super::workspace::Workspace;
 use crate::kinematics::Trace;
-use crate::mechanism::{Mechanism, MechanismType};
+use crate::mechanism::{Mechanism, MechanismType, Topology};
 use crate::scene::{MechanismChoice, Problem};
 use crate::verify::{verify_travel, Travel};
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The factor on the pose noise of a second search, when the first found no design: poses
@@ -170,9 +171,12 @@ pub enum Start<'a> {
     Cold,
     /// From earlier designs of a similar scene (a previous design and its alternatives, after the
     /// person moved a pose, say): [`WARM_SAMPLES`] samples are fitted from those designs' joints to the
-    /// new poses, and the particle filter runs a quarter of its iterations. Only the families of those
-    /// designs are searched (the person refines the linkage they have, and a live redesign must keep
-    /// up); a family for which this finds nothing valid falls back to a cold start.
+    /// new poses, and the particle filter runs a quarter of its iterations. Only the family of the
+    /// first (the design refined) is searched, from those of its family: the person refines the
+    /// linkage they have, and a live redesign must keep up (the garbage truck's live steps took a
+    /// median 137 ms when each of its three families was searched, `CI=true cargo test --release -p
+    /// linkwright --test web_e2e -- --nocapture | grep latency`). If it finds nothing valid, that
+    /// family falls back to a cold start.
     Warm(&'a [Mechanism]),
 }
 
@@ -250,22 +254,37 @@ pub fn assess(problem: &Problem, mechanism: &Mechanism) -> Option<Result<Candida
     let mut lenient = problem.clone();
     lenient.must_hit.fill(false);
     let ctx = Context { min_transmission_sine: 0.0, ..Context::new(&lenient, family) };
-    // The same parts, by name and by the names of the joints they carry.
-    let names = |t: &crate::mechanism::Topology, p: &crate::mechanism::Part| {
-        let mut joints: Vec<String> = p.joints.iter().map(|&j| t.joint_names[j].clone()).collect();
-        joints.sort();
-        (p.name.clone(), p.kind, joints)
-    };
-    let mut own: Vec<_> = ctx.topology.parts.iter().map(|p| names(&ctx.topology, p)).collect();
-    let mut given: Vec<_> = mechanism.topology.parts.iter().map(|p| names(&mechanism.topology, p)).collect();
-    own.sort_by(|a, b| a.0.cmp(&b.0));
-    given.sort_by(|a, b| a.0.cmp(&b.0));
-    if own != given || ctx.topology.slider_joint.is_some() != mechanism.slider.is_some() {
+    let mechanism = on_topology(mechanism, &ctx.topology)?;
+    Some(evaluate(&ctx, mechanism, None, f64::INFINITY, &mut Default::default()))
+}
+
+/// `mechanism` on `topology` (its joints found by name), when it is that linkage: the same family,
+/// the same parts by name and by the joints they carry. A design file's mechanism lists its joints
+/// in name order, a family's topology in its own.
+fn on_topology(mechanism: &Mechanism, topology: &Arc<Topology>) -> Option<Mechanism> {
+    fn parts(t: &Topology) -> Vec<(&str, crate::mechanism::PartKind, Vec<&str>)> {
+        let mut parts: Vec<_> = t
+            .parts
+            .iter()
+            .map(|p| {
+                let mut joints: Vec<&str> = p.joints.iter().map(|&j| t.joint_names[j].as_str()).collect();
+                joints.sort_unstable();
+                (p.name.as_str(), p.kind, joints)
+            })
+            .collect();
+        parts.sort_by(|a, b| a.0.cmp(b.0));
+        parts
+    }
+    let given = &mechanism.topology;
+    let same = given.mechanism_type == topology.mechanism_type
+        && given.body_count == topology.body_count
+        && parts(given) == parts(topology)
+        && topology.slider_joint.is_some() == mechanism.slider.is_some();
+    if !same {
         return None;
     }
-    let joints = ctx.topology.joint_names.iter().map(|n| mechanism.joint(n)).collect::<Option<Vec<_>>>()?;
-    let mechanism = Mechanism { topology: ctx.topology.clone(), joints, slider: mechanism.slider };
-    Some(evaluate(&ctx, mechanism, None, f64::INFINITY, &mut Default::default()))
+    let joints = topology.joint_names.iter().map(|n| mechanism.joint(n)).collect::<Option<Vec<_>>>()?;
+    Some(Mechanism { topology: topology.clone(), joints, slider: mechanism.slider })
 }
 
 /// Runs the synthesis with `options` on the current rayon pool.
@@ -321,20 +340,22 @@ fn design_round(
     let mut valid: Vec<Candidate> = Vec::new();
     let mut best_cost: Option<f64> = None;
     let observer = run.observer;
-    // Each family's warm-start seeds: the earlier designs of its topology, as parameter vectors.
+    // Each family's warm-start seeds: the earlier designs of its topology, as parameter vectors, for
+    // the family of the design refined only.
     let seeds: Vec<Vec<Vec<f64>>> = contexts
         .iter()
         .map(|ctx| match options.start {
             Start::Cold => Vec::new(),
-            Start::Warm(previous) => previous
+            Start::Warm(previous) if previous.first().and_then(|m| on_topology(m, &ctx.topology)).is_some() => previous
                 .iter()
-                .filter(|m| *m.topology == *ctx.topology)
+                .filter_map(|m| on_topology(m, &ctx.topology))
                 .map(|m| {
                     let mut x = Vec::new();
-                    x_from_mechanism(m, &mut x);
+                    x_from_mechanism(&m, &mut x);
                     x
                 })
                 .collect(),
+            Start::Warm(_) => Vec::new(),
         })
         .collect();
     let warm = seeds.iter().any(|s| !s.is_empty());
@@ -537,10 +558,18 @@ fn run_family(
     run.stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    // A warm start begins near good designs: one particle set of valid ones is enough. So is one set
-    // of printable designs: that check costs milliseconds, and the particle filter stays near them.
-    let per_particle = if warm || run.printable.is_some() { 1 } else { VALID_PER_PARTICLE };
-    let enough = per_particle * settings.particles.max(1);
+    // A warm start begins near good designs: a quarter of a particle set of valid ones is enough for
+    // its quarter of the filter's iterations (with the print check, a slider-crank's live step took a
+    // median 173 ms checking a whole set, `CI=true cargo test --release -p linkwright --test web_e2e
+    // -- --nocapture | grep latency`). A cold start needs one set of printable designs (that check
+    // costs milliseconds, and the particle filter stays near them), or several sets of valid ones.
+    let enough = if warm {
+        (settings.particles / 4).max(1)
+    } else if run.printable.is_some() {
+        settings.particles.max(1)
+    } else {
+        VALID_PER_PARTICLE * settings.particles.max(1)
+    };
     let mut valid = check_in_order(run, stage, candidates, enough, COLLISION_BATCH_CHUNKS)?;
     run.stats.valid += valid.len();
     run.stats.seconds_collision += t.elapsed().as_secs_f64();
