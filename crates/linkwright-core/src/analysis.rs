@@ -581,6 +581,8 @@ mod tests {
         let mut scene = Scene::from_json(include_str!("../../../examples/k1_garbage_truck.json")).unwrap();
         scene.settings.samples = 3000;
         scene.settings.seed = 5;
+        // A four-bar, whose one loop the test below measures.
+        scene.mechanism = crate::scene::MechanismChoice::Only(crate::scene::MechanismType::Chain);
         let problem = Problem::new(&scene).unwrap();
         let outcome = synthesize(&problem, &Silent).unwrap();
         let design = DesignFile::from_outcome(&problem, &outcome);
@@ -623,9 +625,9 @@ mod tests {
         assert!(a.poses[0].joint_rms < 1e-9 && a.poses[0].bodies[0].max_vertex < 1e-9);
         // Frames are coarser than the engine's travel, so their margin is never below the design's.
         assert!(a.min_transmission_deg >= metrics.min_transmission_deg - 1e-9);
-        // The linkage's one loop, its links measured on the file's joints: a four-bar's frame q0–r0,
-        // input q0–p1, coupler p1–q1 and output r0–q1, or a slider-crank's crank, rod and the
-        // pivot's offset from the slider's line.
+        // The four-bar's one loop, its links measured on the file's joints: frame q0–r0, input q0–p1,
+        // coupler p1–q1 and output r0–q1 (a slider-crank's would be its crank, rod and the pivot's
+        // offset from the slider's line).
         let mechanism = design.mechanism.as_ref().unwrap();
         let at = |n: &str| mechanism.joints[n];
         assert_eq!(a.loops.len(), 1);

@@ -151,6 +151,32 @@ impl Topology {
         }
     }
 
+    /// The Stephenson-III six-bar for one moving body: a four-bar `q0 a1 b1 u0` (crank `q0 a1`,
+    /// rocker `u0 b1`) whose coupler, the ternary `link1` (`a1 b1 p1`), carries the body at `p1`; the
+    /// body's other joint `q1` turns on the ground link `r0 q1`. The body follows the coupler point's
+    /// path, turned by its own link.
+    pub fn stephenson_three() -> Topology {
+        let names = ["q0", "p1", "q1", "r0", "u0", "a1", "b1"];
+        let [q0, p1, q1, r0, u0, a1, b1] = [0, 1, 2, 3, 4, 5, 6];
+        let part = |name: &str, kind, joints: &[usize]| Part { name: name.into(), kind, joints: joints.to_vec() };
+        Topology {
+            mechanism_type: MechanismType::StephensonThree,
+            body_count: 1,
+            joint_names: names.iter().map(|n| n.to_string()).collect(),
+            parts: vec![
+                part("ground", PartKind::Fixed, &[q0, r0, u0]),
+                part("body1", PartKind::Body(0), &[p1, q1]),
+                part("crank", PartKind::Link, &[q0, a1]),
+                part("link1", PartKind::Link, &[a1, b1, p1]),
+                part("rocker", PartKind::Link, &[u0, b1]),
+                part("link2", PartKind::Link, &[r0, q1]),
+            ],
+            driver_pivot: q0,
+            driver_tip: a1,
+            slider_joint: None,
+        }
+    }
+
     /// Joints carried by links only (neither the ground nor a moving body carries them): where
     /// they are at a pose follows from the others' ([`Topology::chain`] and the slider-crank have
     /// none; the Watt-II six-bar has `u1` and `t1`).

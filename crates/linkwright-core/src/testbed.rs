@@ -11,11 +11,10 @@
 
 use crate::design::{DesignFile, MechanismJson, Metrics, Motion, SliderJson, Stats, Status, DESIGN_FORMAT};
 use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};
-use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::kinematics::{complete, completion_order, BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::synth::random::splitmix;
-use crate::synth::{complete, completion_order};
 use crate::synth::{CostWeights, SoftTerms, Term};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -63,6 +62,8 @@ pub enum Family {
     SliderCrank,
     /// The Watt-II six-bar (one moving body, [`Topology::watt_two`]).
     WattTwo,
+    /// The Stephenson-III six-bar (one moving body, [`Topology::stephenson_three`]).
+    StephensonThree,
 }
 
 impl Family {
@@ -70,7 +71,7 @@ impl Family {
     pub fn body_count(self) -> usize {
         match self {
             Family::Chain(k) => k,
-            Family::SliderCrank | Family::WattTwo => 1,
+            Family::SliderCrank | Family::WattTwo | Family::StephensonThree => 1,
         }
     }
     /// The scene's `mechanism` for this family.
@@ -79,6 +80,7 @@ impl Family {
             Family::Chain(_) => MechanismChoice::Only(MechanismType::Chain),
             Family::SliderCrank => MechanismChoice::Only(MechanismType::SliderCrank),
             Family::WattTwo => MechanismChoice::Only(MechanismType::WattTwo),
+            Family::StephensonThree => MechanismChoice::Only(MechanismType::StephensonThree),
         }
     }
     /// A short name: the family's word in files.
@@ -87,6 +89,7 @@ impl Family {
             Family::Chain(_) => MechanismType::Chain.id(),
             Family::SliderCrank => MechanismType::SliderCrank.id(),
             Family::WattTwo => MechanismType::WattTwo.id(),
+            Family::StephensonThree => MechanismType::StephensonThree.id(),
         }
     }
     fn tag(self) -> u64 {
@@ -94,6 +97,7 @@ impl Family {
             Family::Chain(k) => k as u64,
             Family::SliderCrank => 1 << 32,
             Family::WattTwo => 2 << 32,
+            Family::StephensonThree => 3 << 32,
         }
     }
 }
@@ -104,6 +108,7 @@ impl std::fmt::Display for Family {
             Family::Chain(k) => write!(f, "chain K={k}"),
             Family::SliderCrank => write!(f, "slider-crank"),
             Family::WattTwo => write!(f, "Watt-II six-bar"),
+            Family::StephensonThree => write!(f, "Stephenson-III six-bar"),
         }
     }
 }
@@ -231,6 +236,7 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
         Family::Chain(k) => draw_chain(k, rng),
         Family::SliderCrank => draw_slider_crank(rng),
         Family::WattTwo => draw_watt_two(rng),
+        Family::StephensonThree => draw_stephenson_three(rng),
     };
     let joints = &mechanism.joints;
     for (i, a) in joints.iter().enumerate() {
@@ -411,6 +417,30 @@ fn draw_watt_two(rng: &mut Xoshiro256PlusPlus) -> Mechanism {
     let t1 = near(q0, rng);
     let u1 = near(Point::new(0.5 * (u0.x + t1.x), 0.5 * (u0.y + t1.y)), rng);
     for (name, p) in [("u0", u0), ("t1", t1), ("u1", u1)] {
+        if let Some(j) = topology.joint(name) {
+            joints[j] = p;
+        }
+    }
+    Mechanism { topology, joints, slider: None }
+}
+
+/// A Stephenson-III six-bar: the body's joints near its centre one step from the origin, its ground
+/// link's pivot `r0` near the origin, and a small four-bar `q0 a1 b1 u0` between the two whose
+/// coupler holds the body's `p1`.
+fn draw_stephenson_three(rng: &mut Xoshiro256PlusPlus) -> Mechanism {
+    let topology = Arc::new(Topology::stephenson_three());
+    let centre = Point::ORIGIN + Vec2::from_angle(rng.random_range(-PI..PI)) * CENTRE_SPACING;
+    let between = Point::new(0.5 * centre.x, 0.5 * centre.y);
+    let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+    for (name, p) in [
+        ("r0", near(Point::ORIGIN, rng)),
+        ("q0", near(Point::ORIGIN, rng)),
+        ("u0", near(Point::ORIGIN, rng)),
+        ("a1", near(between, rng)),
+        ("b1", near(between, rng)),
+        ("p1", near(centre, rng)),
+        ("q1", near(centre, rng)),
+    ] {
         if let Some(j) = topology.joint(name) {
             joints[j] = p;
         }
@@ -652,6 +682,7 @@ mod tests {
         let mut out: Vec<(Family, Vec<usize>)> = (1..=6).map(|k| (Family::Chain(k), (2..=10).collect())).collect();
         out.push((Family::SliderCrank, (2..=10).collect()));
         out.push((Family::WattTwo, (2..=10).collect()));
+        out.push((Family::StephensonThree, (2..=10).collect()));
         out
     }
 

@@ -56,8 +56,8 @@ fn over_determined_motions_of_known_linkages_get_close_designs() {
 }
 
 /// Where the linkage type has the freedom to hit every pose (a four-bar or a Watt-II six-bar through up
-/// to five, any chain through two, a slider-crank through up to four), the design comes close to all
-/// of them.
+/// to five, a Stephenson-III six-bar through three as its sampler builds it, any chain through two, a
+/// slider-crank through up to four), the design comes close to all of them.
 #[test]
 fn determined_motions_of_known_linkages_are_reached() {
     for (family, poses) in [
@@ -69,6 +69,7 @@ fn determined_motions_of_known_linkages_are_reached() {
         (Family::SliderCrank, 4),
         (Family::WattTwo, 3),
         (Family::WattTwo, 4),
+        (Family::StephensonThree, 3),
     ] {
         let (label, _, worst, last) = design(family, poses, 1);
         assert!(last <= 0.005, "{label}: last pose missed by {last}·d");
@@ -137,7 +138,7 @@ fn must_hit_poses_are_reached_by_every_design() {
 /// Pinned joints stay exactly where they are pinned, in the best design and every alternative. Both
 /// ground pivots of a known four-bar pinned where that four-bar has them (its three poses are then
 /// met exactly by its own moving joints): the design reaches the poses. A pivot pinned elsewhere is
-/// kept there too, and a pin only the Watt-II six-bar has a joint for leaves `auto` that family.
+/// kept there too, and a pin only the six-bars have a joint for leaves `auto` those families.
 #[test]
 fn pinned_joints_stay_where_they_are_pinned() {
     let known = known_scene(Family::Chain(1), 3, 2, 100.0).unwrap();
@@ -170,6 +171,7 @@ fn pinned_joints_stay_where_they_are_pinned() {
     assert!(worst <= 0.01, "pinned at the known pivots, a pose is missed by {worst}·d");
     let elsewhere = at("q0") + linkwright_core::geom::Vec2::new(7.0, -3.0);
     design(&[("q0", elsewhere)]);
-    let (_, watt) = design(&[("u0", at("q0") + linkwright_core::geom::Vec2::new(-30.0, 10.0))]);
-    assert!(watt.iter().all(|m| m.mechanism_type == linkwright_core::MechanismType::WattTwo));
+    let (_, six_bars) = design(&[("u0", at("q0") + linkwright_core::geom::Vec2::new(-30.0, 10.0))]);
+    use linkwright_core::MechanismType::{StephensonThree, WattTwo};
+    assert!(six_bars.iter().all(|m| [WattTwo, StephensonThree].contains(&m.mechanism_type)));
 }

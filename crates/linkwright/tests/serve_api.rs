@@ -56,9 +56,9 @@ fn families_are_the_engines() {
     assert_eq!(status, 200);
     let list = list.as_array().unwrap();
     let ids: Vec<&str> = list.iter().filter_map(|f| f["id"].as_str()).collect();
-    assert_eq!(ids, ["chain", "slider_crank", "watt_ii"]);
+    assert_eq!(ids, ["chain", "slider_crank", "watt_ii", "stephenson_iii"]);
     assert_eq!(list[0]["max_bodies"], Value::Null);
-    assert_eq!((list[1]["max_bodies"].clone(), list[2]["max_bodies"].clone()), (json!(1), json!(1)));
+    assert!(list[1..].iter().all(|f| f["max_bodies"] == 1), "{list:?}");
     assert!(list.iter().all(|f| f["label"].is_string() && f["description"].is_string()), "{list:?}");
     for id in ids {
         let mut scene: Value = serde_json::from_str(&example_text("k1_garbage_truck")).unwrap();

@@ -380,7 +380,8 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     click(page, "[data-tab=settings]").await?;
     // The Type menu offers the engine's families (GET /api/families) after the automatic choice.
     let options = "[...document.querySelectorAll('select[data-key=mechanism] option')].map((o) => o.value).join(' ')";
-    until(page, &format!("{options} === 'auto chain slider_crank watt_ii'"), Duration::from_secs(5)).await?;
+    until(page, &format!("{options} === 'auto chain slider_crank watt_ii stephenson_iii'"), Duration::from_secs(5))
+        .await?;
     // Each of its entries fits the menu's box (text plus the arrow), not cut off.
     let (text, width) = text_and_room(page, "select[data-key=mechanism]").await?;
     assert!(text + 28.0 <= width, "the Type menu's widest entry, {text} px, does not fit its {width} px");

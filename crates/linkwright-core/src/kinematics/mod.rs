@@ -3,10 +3,12 @@
 //! motion is tracked by continuity as long as no dyad passes through a singular configuration (which
 //! the transmission-angle bound of the engine excludes).
 
+mod complete;
 mod dyad;
 mod plan;
 mod trace;
 
-pub use dyad::{circle_circle, circle_circle_branch, Branch, DyadError};
+pub use complete::{complete, completion_order, Completion};
+pub use dyad::{circle_circle, Branch, DyadError};
 pub use plan::{carried_velocity, CompileError, Plan, Step};
 pub use trace::{BodyFrames, SweepError, Trace};

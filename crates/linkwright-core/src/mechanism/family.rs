@@ -63,6 +63,7 @@ impl MechanismType {
             MechanismType::Chain => &Chain,
             MechanismType::SliderCrank => &SliderCrank,
             MechanismType::WattTwo => &WattTwo,
+            MechanismType::StephensonThree => &StephensonThree,
         }
     }
     /// What a person calls the family ([`Family::label`]).
@@ -203,6 +204,43 @@ impl Family for WattTwo {
     }
     fn stream(&self) -> u64 {
         2
+    }
+}
+
+/// The Stephenson-III six-bar (see [`Topology::stephenson_three`]).
+struct StephensonThree;
+
+impl Family for StephensonThree {
+    fn mechanism_type(&self) -> MechanismType {
+        MechanismType::StephensonThree
+    }
+    fn label(&self) -> &'static str {
+        "Stephenson-III six-bar"
+    }
+    fn description(&self) -> &'static str {
+        "Stephenson-III six-bar (one moving body)"
+    }
+    fn linkage_label(&self, _bodies: usize) -> String {
+        "Stephenson-III six-bar linkage".to_string()
+    }
+    fn topology(&self, _bodies: usize) -> Topology {
+        Topology::stephenson_three()
+    }
+    /// The body's ground link up to five poses (Burmester); its joint on the coupler follows a
+    /// four-bar's coupler curve, which passes more points than that.
+    fn max_exact_poses(&self, _bodies: usize) -> usize {
+        5
+    }
+    /// The four-bar `q0 u0 b1 a1` the body hangs from (the body's own loop is a five-bar).
+    fn loops(&self, topology: &Topology) -> Vec<Loop> {
+        let joint = |name: &str| topology.joint(name);
+        let (Some(q0), Some(u0), Some(a1), Some(b1)) = (joint("q0"), joint("u0"), joint("a1"), joint("b1")) else {
+            return Vec::new();
+        };
+        vec![Loop::FourBar { frame: [q0, u0], input: [q0, a1], coupler: [a1, b1], output: [u0, b1] }]
+    }
+    fn stream(&self) -> u64 {
+        3
     }
 }
 

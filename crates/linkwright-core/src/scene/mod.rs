@@ -119,11 +119,15 @@ pub enum MechanismType {
     /// The Watt-II six-bar: a four-bar carrying the body, driven through a second four-bar (one
     /// moving body only).
     WattTwo,
+    /// The Stephenson-III six-bar: the body hangs from a four-bar's coupler and from a ground link
+    /// (one moving body only).
+    StephensonThree,
 }
 
 impl MechanismType {
     /// Every family, in the order an automatic choice tries them.
-    pub const ALL: [MechanismType; 3] = [MechanismType::Chain, MechanismType::SliderCrank, MechanismType::WattTwo];
+    pub const ALL: [MechanismType; 4] =
+        [MechanismType::Chain, MechanismType::SliderCrank, MechanismType::WattTwo, MechanismType::StephensonThree];
 
     /// The family's word in scene and design files.
     pub const fn id(self) -> &'static str {
@@ -131,6 +135,7 @@ impl MechanismType {
             MechanismType::Chain => "chain",
             MechanismType::SliderCrank => "slider_crank",
             MechanismType::WattTwo => "watt_ii",
+            MechanismType::StephensonThree => "stephenson_iii",
         }
     }
 
@@ -154,7 +159,7 @@ impl MechanismType {
     pub fn max_bodies(self) -> Option<usize> {
         match self {
             MechanismType::Chain => None,
-            MechanismType::SliderCrank | MechanismType::WattTwo => Some(1),
+            MechanismType::SliderCrank | MechanismType::WattTwo | MechanismType::StephensonThree => Some(1),
         }
     }
 }
@@ -351,7 +356,10 @@ mod tests {
         assert_eq!(read("slider_crank").unwrap(), MechanismChoice::Only(MechanismType::SliderCrank));
         assert_eq!(read("watt_ii").unwrap(), MechanismChoice::Only(MechanismType::WattTwo));
         let unknown = read("four_bar").unwrap_err().to_string();
-        assert_eq!(unknown, "unknown variant `four_bar`, expected one of `auto`, `chain`, `slider_crank`, `watt_ii`");
+        assert_eq!(
+            unknown,
+            "unknown variant `four_bar`, expected one of `auto`, `chain`, `slider_crank`, `watt_ii`, `stephenson_iii`"
+        );
         for t in MechanismType::ALL {
             let written = serde_json::to_value(MechanismChoice::Only(t)).unwrap();
             assert_eq!(written, Value::String(t.id().into()));

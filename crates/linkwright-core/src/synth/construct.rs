@@ -34,7 +34,7 @@
 
 use super::rigidity::turns_over;
 use crate::geom::{Aabb, Point, Rigid, Vec2};
-use crate::kinematics::Plan;
+use crate::kinematics::{complete, completion_order, Completion, Plan};
 use crate::mechanism::{PartKind, Topology};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -69,6 +69,10 @@ enum Piece {
     /// A joint no rigidity equation holds (carried by links only, or a ground pivot whose links
     /// carry no other joint the ground or a body carries): drawn where the region says.
     Free(usize),
+    /// `[pivot, joint]`: a ground pivot whose link's other joint is carried by links only and placed
+    /// without that link ([`Constructor::new`]): the pivot goes to the centre of that joint's places
+    /// through the poses, so the link keeps its length (exactly through three poses).
+    Centre([usize; 2]),
 }
 
 impl Piece {
@@ -78,6 +82,7 @@ impl Piece {
             Piece::Binary(j) => j,
             Piece::Ternary(j) => j,
             Piece::Slider(q) | Piece::Free(q) => std::slice::from_ref(q),
+            Piece::Centre(pivot_and_joint) => &pivot_and_joint[..1],
         }
     }
 }
@@ -98,6 +103,8 @@ pub struct Constructor {
     link_only: Vec<bool>,
     /// Where each pinned joint must be ([`Constructor::with_pins`]).
     pins: Vec<Option<Point>>,
+    /// How the joints carried by links only are placed at a pose ([`completion_order`]).
+    completion: Vec<Completion>,
     /// A long chain ([`crate::mechanism::Family::long_chain`]).
     long_chain: bool,
 }
@@ -200,11 +207,32 @@ impl Constructor {
             })
             .collect();
         pieces.extend(topology.slider_joint.map(Piece::Slider));
+        // A ground pivot linked to a joint the completion places some other way (not from this
+        // link): nothing else keeps that link's length, so the pivot is solved for, last.
+        let completion = completion_order(topology);
+        let fixed = topology.fixed_joints();
+        let placed_from = |joint: usize, pivot: usize| {
+            completion.iter().any(
+                |step| matches!(*step, Completion::Dyad { joint: j, a, b } if j == joint && (a == pivot || b == pivot)),
+            )
+        };
+        let centres: Vec<Piece> = topology
+            .parts
+            .iter()
+            .filter(|p| p.kind == PartKind::Link)
+            .filter_map(|p| match p.joints[..] {
+                [g, j] | [j, g] if fixed.contains(&g) && link_only[j] && !placed_from(j, g) => {
+                    Some(Piece::Centre([g, j]))
+                }
+                _ => None,
+            })
+            .collect();
         let free: Vec<Piece> = (0..topology.joint_count())
-            .filter(|j| !pieces.iter().any(|piece| piece.joints().contains(j)))
+            .filter(|j| !pieces.iter().chain(&centres).any(|piece| piece.joints().contains(j)))
             .map(Piece::Free)
             .collect();
         pieces.extend(free);
+        pieces.extend(centres);
         Constructor {
             pieces,
             carriers,
@@ -213,6 +241,7 @@ impl Constructor {
             part_pairs: topology.part_pairs(),
             link_only,
             pins: vec![None; topology.joint_count()],
+            completion,
             long_chain: topology.mechanism_type.family().long_chain(topology.body_count),
         }
     }
@@ -274,11 +303,16 @@ impl Constructor {
                     Piece::Ternary(joints) => self.ternary(joints, motions, poses, rng, region, scratch),
                     Piece::Slider(q) => slider(self.carriers[q], motions, poses, rng, region),
                     Piece::Free(_) => Built::joints(&[(region.draw)(rng)], false),
+                    Piece::Centre([_, joint]) => match self.centre_of(joint, x, motions, poses) {
+                        Some(centre) => Built::joints(&[centre], false),
+                        None => return f64::INFINITY,
+                    },
                 };
                 for (k, &j) in joints.iter().enumerate() {
                     if let Some(pin) = self.pins[j] {
                         built.points[k] = pin;
-                        built.polish |= !matches!(piece, Piece::Free(_));
+                        // Only a link's or the slider's block has a fit to find the others.
+                        built.polish |= matches!(piece, Piece::Binary(_) | Piece::Ternary(_) | Piece::Slider(_));
                     }
                 }
                 if built.polish {
@@ -301,6 +335,7 @@ impl Constructor {
                 match (sound, piece) {
                     (true, _) => {}
                     (false, Piece::Ternary(_) | Piece::Free(_)) => continue,
+                    (false, Piece::Centre(_)) => return f64::INFINITY,
                     // A binary link's defect is as likely with any draw: the sample ends here,
                     // before the work of the blocks after it and of its checks.
                     (false, _) => return f64::INFINITY,
@@ -380,6 +415,46 @@ impl Constructor {
             _ => false,
         };
         apart && closed && !turned_over
+    }
+
+    /// The centre of the places `joint` (carried by links only) takes through the poses, the other
+    /// joints placed in `x`: the circumcentre through three poses, the least-squares centre through
+    /// more (the algebraic fit: linear in the centre and in r² − |c|²), the midpoint of the two
+    /// places through two. `None` when the linkage does not assemble at a pose or the places are
+    /// collinear.
+    fn centre_of(&self, joint: usize, x: &[f64], motions: &[Vec<Rigid>], poses: usize) -> Option<Point> {
+        let n = self.carriers.len();
+        let first: Vec<Point> = (0..n).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
+        let mut row = first.clone();
+        let mut places = Vec::with_capacity(poses);
+        for i in 0..poses {
+            for k in (0..n).filter(|&k| !self.link_only[k]) {
+                row[k] = carried(motions, self.carriers[k], i, first[k]);
+            }
+            complete(&self.completion, &first, &mut row).ok()?;
+            places.push(row[joint]);
+        }
+        match places[..] {
+            [] | [_] => None,
+            [p, q] => Some(Point::new(0.5 * (p.x + q.x), 0.5 * (p.y + q.y))),
+            _ => {
+                // Normal equations of 2 pᵢ·c + k = |pᵢ|², about the places' mean for conditioning.
+                let m = places.iter().fold(Vec2::ZERO, |s, p| s + (*p - Point::ORIGIN)) * (1.0 / places.len() as f64);
+                let (mut a, mut r) = ([[0.0f64; 3]; 3], [0.0f64; 3]);
+                for p in &places {
+                    let v = *p - Point::ORIGIN - m;
+                    let row = [2.0 * v.x, 2.0 * v.y, 1.0];
+                    for (i, ri) in row.iter().enumerate() {
+                        for (j, rj) in row.iter().enumerate() {
+                            a[i][j] += ri * rj;
+                        }
+                        r[i] += ri * v.norm_sq();
+                    }
+                }
+                let c = solve3(a, r)?;
+                Some(Point::ORIGIN + m + Vec2::new(c[0], c[1]))
+            }
+        }
     }
 
     /// A binary link `[a, b]`: projected from two draws for N ≤ 3, else the better of the two
@@ -548,6 +623,29 @@ fn collinear_point(near: Point, scale: f64, c: impl Fn(Point) -> f64) -> Option<
         }
     };
     Some(near + z * scale)
+}
+
+/// The solution of the 3×3 system `a c = r` by Cramer's rule, `None` when it is singular (relative
+/// to its entries' size).
+fn solve3(a: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(a);
+    let scale = a.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+    if !d.is_finite() || d.abs() <= SINGULAR * scale.powi(3) {
+        return None;
+    }
+    let mut out = [0.0; 3];
+    for (k, o) in out.iter_mut().enumerate() {
+        let mut m = a;
+        for i in 0..3 {
+            m[i][k] = r[i];
+        }
+        *o = det(m) / d;
+    }
+    Some(out)
 }
 
 /// `p` on `carrier` (the ground when `None`) carried to pose `i`.

@@ -3,7 +3,7 @@
 use super::rigidity::RigidityModel;
 use super::terms::CostWeights;
 use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
-use crate::kinematics::{circle_circle, circle_circle_branch, DyadError};
+use crate::kinematics::{complete, completion_order, Completion, DyadError};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
 use std::sync::Arc;
@@ -205,10 +205,8 @@ impl<'a> Context<'a> {
         }
     }
 
-    /// Places the joints carried by links only in `row`, a configuration whose other joints are
-    /// placed, as the parts carry them from `first` (the joints at the first pose): each keeps its
-    /// distances to the joints it is placed from, on its first-pose side of them. `Err` when two
-    /// circles do not meet there: the linkage cannot assemble in that configuration.
+    /// Places the joints carried by links only in `row` ([`complete`]), from `first`, the joints at
+    /// the first pose.
     pub fn complete(&self, first: &[Point], row: &mut [Point]) -> Result<(), DyadError> {
         complete(&self.completion, first, row)
     }
@@ -285,80 +283,6 @@ impl<'a> Context<'a> {
     }
 }
 
-/// How a joint carried by links only is placed at a pose from joints placed before it
-/// ([`Context::complete`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Completion {
-    /// On a part that also holds the placed joints `a` and `b`: carried with them.
-    Attach {
-        /// The joint placed.
-        joint: usize,
-        /// Two placed joints of its part.
-        a: usize,
-        /// See `a`.
-        b: usize,
-    },
-    /// Where two parts meet, one holding the placed joint `a`, the other `b`.
-    Dyad {
-        /// The joint placed.
-        joint: usize,
-        /// A placed joint of one of its parts.
-        a: usize,
-        /// A placed joint of another of its parts.
-        b: usize,
-    },
-}
-
-/// [`Context::complete`] in the order `completion` (see [`completion_order`]).
-pub(crate) fn complete(completion: &[Completion], first: &[Point], row: &mut [Point]) -> Result<(), DyadError> {
-    for &step in completion {
-        match step {
-            Completion::Attach { joint, a, b } => {
-                let (u, w) = (first[b] - first[a], row[b] - row[a]);
-                let scale = u.norm() * w.norm();
-                if scale <= 0.0 {
-                    return Err(DyadError::CoincidentCentres);
-                }
-                let (cos, sin) = (u.dot(w) / scale, u.cross(w) / scale);
-                let v = first[joint] - first[a];
-                row[joint] = row[a] + Vec2::new(cos * v.x - sin * v.y, sin * v.x + cos * v.y);
-            }
-            Completion::Dyad { joint, a, b } => {
-                let branch = circle_circle_branch(first[a], first[b], first[joint]);
-                let (ra, rb) = (first[joint].distance(first[a]), first[joint].distance(first[b]));
-                row[joint] = circle_circle(row[a], ra, row[b], rb, branch)?;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The order in which [`Context::complete`] places `topology`'s joints carried by links only: a
-/// joint on a part holding two placed joints first, else one where two parts holding placed joints
-/// meet. A joint that neither rule reaches is left out (no family builds one).
-pub(crate) fn completion_order(topology: &Topology) -> Vec<Completion> {
-    let link_only = topology.link_only_joints();
-    let mut placed: Vec<bool> = (0..topology.joint_count()).map(|j| !link_only.contains(&j)).collect();
-    let mut order = Vec::new();
-    loop {
-        let next = link_only.iter().copied().filter(|&j| !placed[j]).find_map(|joint| {
-            let parts = || topology.parts.iter().filter(move |p| p.joints.contains(&joint));
-            let placed_on = |part: &crate::mechanism::Part| -> Vec<usize> {
-                part.joints.iter().copied().filter(|&k| placed[k]).collect()
-            };
-            if let Some(on) = parts().map(placed_on).find(|on| on.len() >= 2) {
-                return Some(Completion::Attach { joint, a: on[0], b: on[1] });
-            }
-            let anchors: Vec<usize> = parts().filter_map(|p| placed_on(p).first().copied()).collect();
-            (anchors.len() >= 2).then(|| Completion::Dyad { joint, a: anchors[0], b: anchors[1] })
-        });
-        let Some(step) = next else { return order };
-        let (Completion::Attach { joint, .. } | Completion::Dyad { joint, .. }) = step;
-        placed[joint] = true;
-        order.push(step);
-    }
-}
-
 /// What the accuracy's outline part needs of one moving body, once per scene.
 #[derive(Clone, Debug)]
 pub struct OutlineMoments {
@@ -412,18 +336,26 @@ pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
 mod tests {
     use super::*;
     use crate::synth::testing::example;
+    use crate::testbed::Family;
 
     /// The joints only links carry, placed from the body's and the ground's joints, are where the
     /// simulation from the crank puts them (two implementations: the completion goes from the body
-    /// back to the crank, the plan from the crank to the body), along a known Watt-II six-bar's
-    /// travel and past it both ways.
+    /// back to the crank, the plan from the crank to the body), along known six-bars' travels.
     #[test]
     fn completed_joints_are_where_the_simulation_puts_them() {
+        for (family, t) in
+            [(Family::WattTwo, MechanismType::WattTwo), (Family::StephensonThree, MechanismType::StephensonThree)]
+        {
+            completed_like_simulated(family, t);
+        }
+    }
+
+    fn completed_like_simulated(family: crate::testbed::Family, t: MechanismType) {
         use crate::kinematics::Plan;
-        use crate::testbed::{known_scene, Family};
-        let known = known_scene(Family::WattTwo, 4, 3, 100.0).unwrap();
+        use crate::testbed::known_scene;
+        let known = known_scene(family, 4, 3, 100.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
-        let ctx = Context::new(&problem, MechanismType::WattTwo);
+        let ctx = Context::new(&problem, t);
         assert_eq!(ctx.completion.len(), 2);
         let first = &known.mechanism.joints;
         let plan = Plan::compile(&known.mechanism).unwrap();
@@ -442,10 +374,14 @@ mod tests {
                 assert!(completed[j].distance(simulated[j]) < 1e-9 * 100.0, "joint {j} at step {k}");
             }
         }
-        // Two joints of a part, pulled apart: no configuration.
+        // The first joint a dyad is placed from, pulled far away: no configuration.
         let mut apart = first.clone();
-        let q0 = ctx.topology.joint("q0").unwrap();
-        apart[ctx.topology.joint("u0").unwrap()] = first[q0] + Vec2::new(1e6, 0.0);
+        let far = ctx.completion.iter().find_map(|s| match *s {
+            crate::kinematics::Completion::Dyad { a, .. } => Some(a),
+            _ => None,
+        });
+        let far = far.expect("a dyad");
+        apart[far] = first[far] + Vec2::new(1e6, 0.0);
         assert!(ctx.complete(first, &mut apart).is_err());
     }
 

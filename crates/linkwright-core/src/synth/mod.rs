@@ -18,7 +18,6 @@ mod workspace;
 
 pub use collision::{check_collisions, SweepBuffers};
 pub use context::Context;
-pub(crate) use context::{complete, completion_order};
 pub use evaluate::{evaluate, Candidate, Reject, Scratch};
 pub use pipeline::{
     assess, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent,

@@ -33,6 +33,7 @@ fn grid(quick: bool) -> (Vec<(Family, Vec<usize>)>, Vec<u64>) {
             (Family::Chain(6), vec![2]),
             (Family::SliderCrank, vec![2, 4]),
             (Family::WattTwo, vec![3, 7]),
+            (Family::StephensonThree, vec![3, 7]),
         ];
         return (grid, vec![0]);
     }
@@ -45,6 +46,7 @@ fn grid(quick: bool) -> (Vec<(Family, Vec<usize>)>, Vec<u64>) {
         (Family::Chain(6), (2..=3).collect()),
         (Family::SliderCrank, (2..=5).collect()),
         (Family::WattTwo, (2..=10).collect()),
+        (Family::StephensonThree, (2..=10).collect()),
     ];
     (grid, vec![0, 1, 2])
 }
