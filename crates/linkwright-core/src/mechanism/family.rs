@@ -218,7 +218,7 @@ impl Family for StephensonThree {
         "Stephenson-III six-bar"
     }
     fn description(&self) -> &'static str {
-        "Stephenson-III six-bar (one moving body)"
+        "Stephenson-III six-bar (one body)"
     }
     fn linkage_label(&self, _bodies: usize) -> String {
         "Stephenson-III six-bar linkage".to_string()
