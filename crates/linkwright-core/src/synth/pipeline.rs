@@ -242,9 +242,10 @@ pub fn synthesize(problem: &Problem, observer: &dyn Observer) -> Result<Outcome,
 /// A given linkage judged as the synthesis judges its samples, for a person who moved its joints:
 /// its motion through the poses and its costs, or the defect that leaves it without one. A
 /// transmission angle under the scene's bound, a collision and a missed pin are left in the motion
-/// for the re-simulation ([`verify_travel`]) to find and place, and a must-hit pose missed for the
-/// metrics' pose errors to show: the person needs to see where the linkage fails. `None` when `mechanism` is not its family's linkage for the scene's bodies
-/// (another number of bodies, or parts the family does not build).
+/// for the re-simulation ([`crate::DesignFile::violations`]) to find and place, and a must-hit pose
+/// missed for the metrics' pose errors to show: the person needs to see where the linkage fails.
+/// `None` when `mechanism` is not its family's linkage for the scene's bodies (another number of
+/// bodies, or parts the family does not build).
 pub fn assess(problem: &Problem, mechanism: &Mechanism) -> Option<Result<Candidate, Reject>> {
     let family = mechanism.topology.mechanism_type;
     let bodies = problem.body_count();
