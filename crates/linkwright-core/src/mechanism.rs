@@ -130,25 +130,9 @@ impl Topology {
     /// through `link1`. The crank need not be the body's own link, so it can sit where there is room
     /// for it and turn a motor's full circle while the body's four-bar only rocks.
     pub fn watt_two() -> Topology {
-        let names = ["q0", "p1", "q1", "r0", "u0", "u1", "t1"];
         let [q0, p1, q1, r0, u0, u1, t1] = [0, 1, 2, 3, 4, 5, 6];
-        let part = |name: &str, kind, joints: &[usize]| Part { name: name.into(), kind, joints: joints.to_vec() };
-        Topology {
-            mechanism_type: MechanismType::WattTwo,
-            body_count: 1,
-            joint_names: names.iter().map(|n| n.to_string()).collect(),
-            parts: vec![
-                part("ground", PartKind::Fixed, &[q0, r0, u0]),
-                part("body1", PartKind::Body(0), &[p1, q1]),
-                part("crank", PartKind::Link, &[u0, u1]),
-                part("link1", PartKind::Link, &[u1, t1]),
-                part("link2", PartKind::Link, &[q0, p1, t1]),
-                part("rocker", PartKind::Link, &[r0, q1]),
-            ],
-            driver_pivot: u0,
-            driver_tip: u1,
-            slider_joint: None,
-        }
+        let links = [("crank", &[u0, u1][..]), ("link1", &[u1, t1]), ("link2", &[q0, p1, t1]), ("rocker", &[r0, q1])];
+        Topology::one_body_six_bar(MechanismType::WattTwo, ["u1", "t1"], links, [u0, u1])
     }
 
     /// The Stephenson-III six-bar for one moving body: a four-bar `q0 a1 b1 u0` (crank `q0 a1`,
@@ -156,23 +140,31 @@ impl Topology {
     /// body's other joint `q1` turns on the ground link `r0 q1`. The body follows the coupler point's
     /// path, turned by its own link.
     pub fn stephenson_three() -> Topology {
-        let names = ["q0", "p1", "q1", "r0", "u0", "a1", "b1"];
         let [q0, p1, q1, r0, u0, a1, b1] = [0, 1, 2, 3, 4, 5, 6];
+        let links = [("crank", &[q0, a1][..]), ("link1", &[a1, b1, p1]), ("rocker", &[u0, b1]), ("link2", &[r0, q1])];
+        Topology::one_body_six_bar(MechanismType::StephensonThree, ["a1", "b1"], links, [q0, a1])
+    }
+
+    /// A six-bar for one moving body: the ground carries `q0`, `r0`, `u0` and the body `p1`, `q1`
+    /// (joints 0–4, in the order `q0 p1 q1 r0 u0`), two more joints (5 and 6) are called `extra`,
+    /// and `links` join them; the crank turns about `driver[0]`, its tip is `driver[1]`.
+    fn one_body_six_bar(
+        mechanism_type: MechanismType,
+        extra: [&str; 2],
+        links: [(&str, &[usize]); 4],
+        driver: [usize; 2],
+    ) -> Topology {
+        let names = ["q0", "p1", "q1", "r0", "u0"].into_iter().chain(extra);
         let part = |name: &str, kind, joints: &[usize]| Part { name: name.into(), kind, joints: joints.to_vec() };
+        let mut parts = vec![part("ground", PartKind::Fixed, &[0, 3, 4]), part("body1", PartKind::Body(0), &[1, 2])];
+        parts.extend(links.iter().map(|&(name, joints)| part(name, PartKind::Link, joints)));
         Topology {
-            mechanism_type: MechanismType::StephensonThree,
+            mechanism_type,
             body_count: 1,
-            joint_names: names.iter().map(|n| n.to_string()).collect(),
-            parts: vec![
-                part("ground", PartKind::Fixed, &[q0, r0, u0]),
-                part("body1", PartKind::Body(0), &[p1, q1]),
-                part("crank", PartKind::Link, &[q0, a1]),
-                part("link1", PartKind::Link, &[a1, b1, p1]),
-                part("rocker", PartKind::Link, &[u0, b1]),
-                part("link2", PartKind::Link, &[r0, q1]),
-            ],
-            driver_pivot: q0,
-            driver_tip: a1,
+            joint_names: names.map(str::to_string).collect(),
+            parts,
+            driver_pivot: driver[0],
+            driver_tip: driver[1],
             slider_joint: None,
         }
     }

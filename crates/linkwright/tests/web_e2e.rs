@@ -767,14 +767,7 @@ async fn joint_editing(page: &Page) -> Result<()> {
     // A typed place.
     click(page, "[data-tab=result]").await?;
     let typed = ((after[0] + 0.4) * 10.0).round() / 10.0;
-    eval(
-        page,
-        &format!(
-            "(() => {{ const i = document.querySelector('input[data-joint-x=q0]'); i.value = '{typed}'; \
-        i.dispatchEvent(new Event('change')); return true; }})()"
-        ),
-    )
-    .await?;
+    type_joint_x(page, typed).await?;
     until(page, &format!("{q0}[0] === {typed} && !window.linkwright.results.editBusy"), Duration::from_secs(10))
         .await?;
     // Pinned where it is.
@@ -783,15 +776,7 @@ async fn joint_editing(page: &Page) -> Result<()> {
     assert_eq!(pin, floats(&eval(page, q0).await?));
     // Far away the linkage cannot follow: the design stays, the hint says why.
     let kept = eval(page, q0).await?;
-    eval(
-        page,
-        &format!(
-            "(() => {{ const i = document.querySelector('input[data-joint-x=q0]'); i.value = '{}'; \
-        i.dispatchEvent(new Event('change')); return true; }})()",
-            typed + 1e4
-        ),
-    )
-    .await?;
+    type_joint_x(page, typed + 1e4).await?;
     until(page, "window.linkwright.store.ui.hint.startsWith('Joint q0 cannot go to')", Duration::from_secs(10)).await?;
     assert_eq!(eval(page, q0).await?, kept);
     // The truck under the pivot never moved; three undos (pin, typed place, drag) give the design back.
@@ -801,6 +786,17 @@ async fn joint_editing(page: &Page) -> Result<()> {
     }
     assert_eq!(scene(page).await?.get("pinned_joints"), None);
     assert_eq!(floats(&eval(page, q0).await?), before);
+    Ok(())
+}
+
+/// Types `x` as the x of joint q0 in the Result tab's Joints table (the change a field reports when
+/// a person leaves it).
+async fn type_joint_x(page: &Page, x: f64) -> Result<()> {
+    let js = format!(
+        "(() => {{ const i = document.querySelector('input[data-joint-x=q0]'); i.value = '{x}'; \
+         i.dispatchEvent(new Event('change')); return true; }})()"
+    );
+    eval(page, &js).await?;
     Ok(())
 }
 

@@ -347,15 +347,19 @@ fn design_round(
         .iter()
         .map(|ctx| match options.start {
             Start::Cold => Vec::new(),
-            Start::Warm(previous) if previous.first().and_then(|m| on_topology(m, &ctx.topology)).is_some() => previous
-                .iter()
-                .filter_map(|m| on_topology(m, &ctx.topology))
-                .map(|m| {
-                    let mut x = Vec::new();
-                    x_from_mechanism(&m, &mut x);
-                    x
-                })
-                .collect(),
+            Start::Warm(previous)
+                if previous.first().is_some_and(|m| m.topology.mechanism_type == ctx.topology.mechanism_type) =>
+            {
+                previous
+                    .iter()
+                    .filter_map(|m| on_topology(m, &ctx.topology))
+                    .map(|m| {
+                        let mut x = Vec::new();
+                        x_from_mechanism(&m, &mut x);
+                        x
+                    })
+                    .collect()
+            }
             Start::Warm(_) => Vec::new(),
         })
         .collect();
