@@ -330,6 +330,38 @@ fn the_stream_reports_progress_then_the_design() {
     let design = &events.last().unwrap().1;
     assert_eq!(design["linkwright"], "design/1");
     assert_eq!(design["status"], "ok");
+
+    // A warm start that asks for the motion analysis: it comes just before the design, the same as
+    // /api/simulate gives for that design (to rounding: the design went through its JSON in between).
+    let scene = quick_garbage_truck(5000, 5);
+    let asked = json!({"scene": scene, "from": design, "analysis": true});
+    let events: Vec<(String, Value)> = stream(&server, &asked, "stream-test").collect();
+    let names: Vec<&str> = events.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names[names.len() - 2..], ["analysis", "design"], "{names:?}");
+    let (analysis, warm) = (&events[events.len() - 2].1, &events[events.len() - 1].1);
+    let (status, simulated) = post(&server, "/api/simulate", &json!({"scene": scene, "design": warm}));
+    assert_eq!(status, 200, "{simulated}");
+    assert!(same_to_rounding(analysis, &simulated), "{analysis}\n{simulated}");
+    let (status, body) = post(&server, "/api/design/stream", &json!({"scene": scene, "analysis": "yes"}));
+    assert_error(status, &body, 400);
+    assert_eq!(body["issues"][0]["field"], "analysis");
+}
+
+/// Equal JSON, numbers to within 1e-9 of their size.
+fn same_to_rounding(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0)
+        }
+        (Value::Array(x), Value::Array(y)) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(x, y)| same_to_rounding(x, y))
+        }
+        (Value::Object(x), Value::Object(y)) => {
+            x.len() == y.len() && x.iter().all(|(k, v)| y.get(k).is_some_and(|w| same_to_rounding(v, w)))
+        }
+        _ => a == b,
+    }
 }
 
 /// Waits until the server reports no running and no queued job.

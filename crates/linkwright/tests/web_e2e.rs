@@ -1044,9 +1044,18 @@ async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Res
         let fresh = "(() => { const lw = window.linkwright, r = lw.store.result; \
                      return !!r && JSON.stringify(r.scene.moving_bodies) === JSON.stringify(lw.results.liveAnswered.moving_bodies); })()";
         designed += usize::from(eval(page, fresh).await? == Value::Bool(true));
+        // While the pose is held, the design shown waits where it reaches that pose.
+        let held = format!(
+            "(() => {{ const R = window.linkwright.results, a = window.linkwright.store.result.analysis; \
+             return !R.playing && Math.abs(R.pos - a.poses[{pose}].frame) < 1e-9; }})()"
+        );
+        assert_eq!(eval(page, &held).await?, Value::Bool(true), "{label}: step {step} does not hold at the pose");
     }
     let (mx, my) = (x + 3.0 * STEPS as f64, y - 2.0 * STEPS as f64);
     mouse(page, DispatchMouseEventType::MouseReleased, mx, my, 0).await?;
+    // Let go, a design shown plays again (the last step's pose may have no design: nothing is shown).
+    let playing = "(() => { const R = window.linkwright.results; return R.playing || !R.canvas.showingResult(); })()";
+    until(page, playing, Duration::from_secs(20)).await?;
     latencies.sort_by(f64::total_cmp);
     eprintln!(
         "web_e2e: live redesign latency ({label}): median {:.0} ms, worst {:.0} ms over {STEPS} moves, {designed} redesigned",

@@ -19,7 +19,7 @@ use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings
 use linkwright_core::geom::Point;
 use linkwright_core::{
     animation_svg, design_svg, synthesize_with, Acceptance, DesignFile, EditError, Mechanism, MechanismType, Options,
-    Problem, Progress, Reject, RenderInput, Scene, Start,
+    Problem, Progress, Reject, RenderInput, Scene, Start, Status,
 };
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -195,6 +195,8 @@ struct DesignInput {
     units: String,
     previous: Vec<Mechanism>,
     settings: PrintSettings,
+    /// Whether the design's motion analysis is wanted with it (`"analysis": true`).
+    analysis: bool,
 }
 
 impl DesignInput {
@@ -210,7 +212,7 @@ impl DesignInput {
             let (scene, problem) = scene_of(text, "")?;
             printable_size(&problem, &scene.units, "")?;
             let settings = PrintSettings::default();
-            return Ok(DesignInput { problem, units: scene.units, previous: Vec::new(), settings });
+            return Ok(DesignInput { problem, units: scene.units, previous: Vec::new(), settings, analysis: false });
         };
         let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
         printable_size(&problem, &scene.units, "scene")?;
@@ -224,7 +226,25 @@ impl DesignInput {
                 file.usable_mechanisms()
             }
         };
-        Ok(DesignInput { problem, units: scene.units, previous, settings })
+        let analysis = match value.get("analysis") {
+            None | Some(Value::Null) => false,
+            Some(Value::Bool(b)) => *b,
+            Some(_) => {
+                return Err(ApiError::bad_request("analysis must be true or false")
+                    .with_issue("analysis", "must be true or false"))
+            }
+        };
+        Ok(DesignInput { problem, units: scene.units, previous, settings, analysis })
+    }
+
+    /// The motion analysis of `file`'s design when it was asked for and there is one.
+    fn analysis_of(&self, file: &DesignFile) -> Option<Value> {
+        if !self.analysis || file.status != Status::Ok {
+            return None;
+        }
+        analyze(&self.problem, file, Which::Best, &AnalysisOptions::default())
+            .ok()
+            .and_then(|a| serde_json::to_value(a).ok())
     }
 
     /// Designs the scene, as a job: it stops at its next check once `flag` is set. Designs start from
@@ -328,6 +348,7 @@ enum Note {
     Queued,
     Started,
     Progress(Progress),
+    Analysis(Value),
     Design(Box<DesignFile>),
     Cancelled(&'static str),
     Failed(String),
@@ -343,6 +364,7 @@ impl Note {
             Note::Queued => ("queued", json!({"message": "waiting for a free slot"})),
             Note::Started => ("started", json!({})),
             Note::Progress(p) => ("progress", serde_json::to_value(p).unwrap_or(Value::Null)),
+            Note::Analysis(a) => ("analysis", a.clone()),
             Note::Design(d) => ("design", serde_json::to_value(d.as_ref()).unwrap_or(Value::Null)),
             Note::Cancelled(reason) => ("cancelled", json!({ "reason": reason })),
             Note::Failed(error) => ("error", json!({ "error": error })),
@@ -385,9 +407,20 @@ pub async fn design_stream(
             // A lagging client misses a report, never blocks the run.
             let _ = progress_tx.try_send(Note::Progress(*p));
         };
-        let result = jobs.execute(running, flag.clone(), move |flag| input.design(flag, on_progress)).await;
+        let result = jobs
+            .execute(running, flag.clone(), move |flag| {
+                let file = input.design(flag, on_progress)?;
+                let analysis = input.analysis_of(&file);
+                Ok::<_, ApiError>((file, analysis))
+            })
+            .await;
         let note = match (result, flag.reason()) {
-            (Ok(Ok(file)), _) => Note::Design(Box::new(file)),
+            (Ok(Ok((file, analysis))), _) => {
+                if let Some(analysis) = analysis {
+                    let _ = tx.send(Note::Analysis(analysis)).await;
+                }
+                Note::Design(Box::new(file))
+            }
             (Ok(Err(_)), Some(reason)) => ended_note(JobEnd::Stopped(reason), deadline),
             (Ok(Err(e)), None) => Note::Failed(e.error),
             (Err(end), _) => ended_note(end, deadline),

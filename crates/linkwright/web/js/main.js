@@ -35,6 +35,7 @@ const tools = new Tools(root, store, canvas, view, {
   leaveResult: () => results.leave(),
   liveResult: () => !!store.ui.live && canvas.showingResult(),
   poseEdited: () => results.poseEdited(),
+  poseReleased: () => results.poseReleased(),
   beginJointDrag: (name) => results.beginJointDrag(name),
   moveJoint: (w) => results.moveJoint(w),
   endJointDrag: () => results.endJointDrag(),

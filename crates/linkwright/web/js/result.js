@@ -50,6 +50,7 @@ export class Results {
     this.pos = 0;
     this.dir = 1;
     this.playing = false;
+    this.heldPose = null; // the pose a live drag holds the animation at
     this.speed = 1;
     this.last = null;
     this.plot = null;
@@ -344,11 +345,28 @@ export class Results {
    */
   poseEdited() {
     if (!this.store.ui.live || this.controller || !this.lastGood()) return;
+    // While a pose is dragged the design shown waits where it reaches that pose, so the person sees
+    // the two meet as they move it (and the page leaves the cores to the redesign); it plays again
+    // when the pose is let go.
+    this.heldPose = this.store.ui.pose;
+    const poses = this.result?.analysis?.poses;
+    if (poses?.[this.heldPose]) {
+      this.setPlaying(false);
+      this.pos = poses[this.heldPose].frame;
+      this.drawFrame();
+    }
     if (this.liveBusy) {
       this.livePending = true;
       return;
     }
     this.runLive();
+  }
+
+  /** A pose dragged in live mode was let go: the design shown plays again. */
+  poseReleased() {
+    if (this.heldPose == null) return;
+    this.heldPose = null;
+    if (this.canvas.showingResult()) this.setPlaying(true);
   }
 
   lastGood() {
@@ -363,10 +381,13 @@ export class Results {
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
     try {
-      const design = await api.designStream({ scene, from: this.lastGood(), print_settings: savedPrintSettings() }, () => {});
+      // The motion analysis comes with the design: one round trip less per step of the drag.
+      let analysis = null;
+      const request = { scene, from: this.lastGood(), print_settings: savedPrintSettings(), analysis: true };
+      const design = await api.designStream(request, (name, data) => { if (name === 'analysis') analysis = data; });
       if (design?.status === 'ok') {
         this.store.result = newResult({ design, scene, key });
-        await this.select(null, { keep: true });
+        await this.select(null, { keep: true, analysis });
         this.verify();
         this.store.hint(`Live: redesigned for the moved pose (cost ${design.metrics.cost.toFixed(2)}).`);
       } else if (design) {
@@ -404,8 +425,9 @@ export class Results {
     jobText.textContent = p.text;
   }
 
-  /** Shows mechanism `which` (null: the design itself) of the current result. */
-  async select(which, { keep = false } = {}) {
+  /** Shows mechanism `which` (null: the design itself) of the current result; `analysis`, its motion
+   * analysis when it came with the design. */
+  async select(which, { keep = false, analysis = null } = {}) {
     const r = this.result;
     if (!r) return;
     if (r.which !== which) r.verified = null; // the check was of the mechanism shown before
@@ -422,8 +444,11 @@ export class Results {
     }
     try {
       const before = this.frameCount();
-      r.analysis = await api.simulate(r.scene, d, which);
-      if (keep && before > 1) {
+      r.analysis = analysis || await api.simulate(r.scene, d, which);
+      const held = keep && this.heldPose != null ? r.analysis.poses?.[this.heldPose] : null;
+      if (held) {
+        this.pos = held.frame;
+      } else if (keep && before > 1) {
         // The same place along the motion, in the new design's frames.
         this.pos = Math.min((this.pos / (before - 1)) * (r.analysis.frames.length - 1), r.analysis.frames.length - 1);
       } else {
@@ -435,7 +460,7 @@ export class Results {
       if (!keep) this.store.ui.selection = null;
       this.sync();
       this.drawFrame();
-      this.setPlaying(true);
+      this.setPlaying(!held);
     } catch (e) {
       this.error = { message: e.message, issues: e.issues || [] };
     }

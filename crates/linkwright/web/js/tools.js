@@ -224,6 +224,7 @@ export class Tools {
       this.addShape(pts);
     } else if (d.type === 'vertex' || d.type === 'move' || d.type === 'rotate') {
       this.store.end();
+      this.actions.poseReleased();
     } else if (d.type === 'joint') {
       this.actions.endJointDrag();
     }
