@@ -39,7 +39,8 @@ const CANDIDATE_CAP: usize = 2200;
 /// The collision check stops once this many particles' worth of valid designs are found: the particle
 /// filter resamples its particles from them by weight, and the lowest costs come first.
 const VALID_PER_PARTICLE: usize = 10;
-/// Candidates checked for collisions between two checks of the stopping rule.
+/// Candidates checked for collisions between two checks of the stopping rule (fewer when fewer
+/// valid ones are wanted, see [`collision_chunk`]).
 const COLLISION_CHUNK: usize = 128;
 /// At most this many chunks are swept in one parallel batch.
 const COLLISION_BATCH_CHUNKS: usize = 8;
@@ -747,6 +748,7 @@ fn check_in_order(
 ) -> Result<Vec<Candidate>, Cancelled> {
     let FamilyStage { ctx, workspace } = stage;
     let printable = run.printable;
+    let chunk = collision_chunk(enough);
     let mut valid = Vec::new();
     let mut queue = candidates.into_iter().peekable();
     let mut swept = 0;
@@ -755,10 +757,10 @@ fn check_in_order(
         let chunks = if swept == 0 {
             1
         } else {
-            let rate = (valid.len() as f64 / swept as f64).max(1.0 / COLLISION_CHUNK as f64);
-            (((enough - valid.len()) as f64 / (rate * COLLISION_CHUNK as f64)).ceil() as usize).clamp(1, batch_chunks)
+            let rate = (valid.len() as f64 / swept as f64).max(1.0 / chunk as f64);
+            (((enough - valid.len()) as f64 / (rate * chunk as f64)).ceil() as usize).clamp(1, batch_chunks)
         };
-        let batch: Vec<Candidate> = queue.by_ref().take(chunks * COLLISION_CHUNK).collect();
+        let batch: Vec<Candidate> = queue.by_ref().take(chunks * chunk).collect();
         let mut checked = batch
             .into_par_iter()
             .map_init(
@@ -775,7 +777,7 @@ fn check_in_order(
             .into_iter()
             .peekable();
         while checked.peek().is_some() && valid.len() < enough {
-            for r in checked.by_ref().take(COLLISION_CHUNK) {
+            for r in checked.by_ref().take(chunk) {
                 swept += 1;
                 match r {
                     Ok(c) => valid.push(c),
@@ -785,6 +787,14 @@ fn check_in_order(
         }
     }
     Ok(valid)
+}
+
+/// Candidates checked between two checks of the stopping rule when `enough` valid ones are wanted: a
+/// warm start wants a quarter of a particle set, and a whole chunk of print checks (a few
+/// milliseconds each for a slider-crank's guide) was most of a live step's time (the sofa bed's
+/// collision stage 28 → 15 ms, `stats.seconds.collision` of `linkwright design --from`).
+fn collision_chunk(enough: usize) -> usize {
+    COLLISION_CHUNK.min(enough.next_power_of_two().max(16))
 }
 
 /// How far some joint must move for two designs of one family to be distinct ([`DISTINCT`]·d).
