@@ -69,6 +69,7 @@ mod verify;
 mod xml;
 
 pub mod analysis;
+pub mod balance;
 pub mod fab;
 pub mod geom;
 pub mod kernels;

@@ -205,7 +205,7 @@ pub fn driving_torque(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mechanism::Topology;
     use crate::scene::{FixedBody, MovingBody, Scene};
@@ -213,15 +213,13 @@ mod tests {
     use std::sync::Arc;
 
     /// Grams per cubic centimetre of 1, solid; 6 mm bodies, 10 × 3 mm links; drawn in millimetres.
-    const MASSES: Masses =
+    pub(crate) const MASSES: Masses =
         Masses { millimetres_per_unit: 1.0, kg_per_mm3: 1e-6, body_thickness: 6.0, link_section: [10.0, 3.0] };
 
-    /// A parallelogram four-bar: crank and rocker of length r turn together, so the body (a 60 × 10
-    /// plate between them) translates along a circle of radius r. Each bar is a single body on one
-    /// pivot, τ = m g (r/2) cos θ, and the body's height changes by r sin θ, τ = m g r cos θ.
-    #[test]
-    fn a_parallelogram_needs_the_closed_form_torque() {
-        let (r, base) = (30.0, 60.0);
+    /// A parallelogram four-bar: crank `q0 p1` and rocker `r0 q1` of length `r` turn together from 30°
+    /// to 120°, so the body (a 60 × 10 plate between them) translates along a circle of radius r.
+    pub(crate) fn parallelogram() -> (Problem, Mechanism, Plan, Trace) {
+        let (r, base) = (PARALLELOGRAM_R, 60.0);
         let (from, to) = (30f64.to_radians(), 120f64.to_radians());
         let at = |theta: f64| Point::new(r * theta.cos(), r * theta.sin());
         let scene = Scene {
@@ -275,6 +273,18 @@ mod tests {
         let plan = Plan::compile(&mechanism).unwrap();
         let mut trace = Trace::default();
         trace.sweep(&plan, from, to, 1f64.to_radians()).unwrap();
+        (problem, mechanism, plan, trace)
+    }
+
+    /// Crank and rocker length of [`parallelogram`].
+    pub(crate) const PARALLELOGRAM_R: f64 = 30.0;
+
+    /// Each bar of the parallelogram is a single body on one pivot, τ = m g (r/2) cos θ, and the
+    /// plate's height changes by r sin θ, τ = m g r cos θ.
+    #[test]
+    fn a_parallelogram_needs_the_closed_form_torque() {
+        let r = PARALLELOGRAM_R;
+        let (problem, mechanism, plan, trace) = parallelogram();
         let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
 
         let plate = 600.0 * 6.0 * 1e-6;

@@ -7,9 +7,10 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
+use linkwright_core::balance::{counterbalance, Balance, Spring};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
-use linkwright_core::statics::{driving_torque, Masses};
+use linkwright_core::statics::{driving_torque, Masses, Torque};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
     PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
@@ -305,7 +306,17 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
 /// Steps of the crank's travel the torque is given at.
 const ANALYZE_STEPS: usize = 180;
 
-/// `analyze`: the torque the crank needs along the design's motion, as a table or JSON.
+/// What `analyze --json` prints: the torque and the springs that balance it, side by side.
+#[derive(serde::Serialize)]
+struct Statics<'a> {
+    #[serde(flatten)]
+    torque: &'a Torque,
+    #[serde(flatten)]
+    balance: &'a Balance,
+}
+
+/// `analyze`: the torque the crank needs along the design's motion, and the springs that balance it,
+/// as a table or JSON.
 pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&Path>) -> Result<(), Failure> {
     let (scene_file, problem) = read_problem(scene)?;
     let file = read_valid_design(design, &problem)?;
@@ -324,20 +335,29 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
     let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
+    let balance = counterbalance(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque);
     if json {
-        println!("{}", serde_json::to_string_pretty(&torque).expect("the torque serializes"));
+        let statics = Statics { torque: &torque, balance: &balance };
+        println!("{}", serde_json::to_string_pretty(&statics).expect("the torque serializes"));
         return Ok(());
     }
     // A printed model needs thousandths of a newton-metre: its torque reads better in N·mm.
     let (unit, factor) = if torque.peak_nm < 1.0 { ("N·mm", 1000.0) } else { ("N·m", 1.0) };
-    let mut out = format!("{:>10}  {:>14}\n", "crank (°)", format!("torque ({unit})"));
+    let springs = !balance.springs.is_empty();
+    let mut out = format!("{:>10}  {:>16}", "crank (°)", format!("torque ({unit})"));
+    if springs {
+        out.push_str(&format!("  {:>16}", "with springs"));
+    }
+    out.push('\n');
     let rows = torque.crank_deg.len();
     // About twenty rows of the table, always with the first and the last.
     let every = rows.div_ceil(20).max(1);
-    for (k, (deg, tau)) in torque.crank_deg.iter().zip(&torque.torque_nm).enumerate() {
-        if k % every == 0 || k + 1 == rows {
-            out.push_str(&format!("{deg:>10.1}  {:>14.3}\n", tau * factor));
+    for k in (0..rows).filter(|k| k % every == 0 || k + 1 == rows) {
+        out.push_str(&format!("{:>10.1}  {:>16.3}", torque.crank_deg[k], torque.torque_nm[k] * factor));
+        if springs {
+            out.push_str(&format!("  {:>16.3}", balance.torque_with_springs_nm[k] * factor));
         }
+        out.push('\n');
     }
     out.push_str(&format!(
         "peak {:.3} {unit} at crank {:.1}° (positive: the crank lifts the parts as it advances)\nparts:\n",
@@ -347,8 +367,62 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
     for part in &torque.parts {
         out.push_str(&format!("  {:<10} {:>9.4} kg\n", part.name, part.mass_kg));
     }
+    if springs {
+        out.push_str("counterbalance:\n");
+        for spring in &balance.springs {
+            out.push_str(&format!("  {}\n", spring_words(spring, &scene_file.units)));
+        }
+        let cut = 100.0 * (1.0 - balance.peak_with_springs_nm / torque.peak_nm);
+        out.push_str(&format!(
+            "peak with the springs {:.3} {unit} at crank {:.1}° ({cut:.0}% lower)\n",
+            balance.peak_with_springs_nm * factor,
+            balance.peak_with_springs_crank_deg
+        ));
+    } else {
+        out.push_str("counterbalance: no spring within the linkage region lowers the peak\n");
+    }
     print!("{out}");
     Ok(())
+}
+
+/// A spring as a person buys and fits it.
+fn spring_words(spring: &Spring, units: &str) -> String {
+    match spring {
+        Spring::Extension { anchors, stiffness_n_per_m, free_length, length_range, force_range_n, .. } => {
+            let [a, b] = anchors;
+            format!(
+                "extension spring, {:.3} N/mm, {free_length:.1} {units} free length hook to hook: one end on {} at \
+                 ({:.1}, {:.1}), the other on {} at ({:.1}, {:.1}) (first pose); it stretches to {:.1}–{:.1} {units}, \
+                 pulling {:.1}–{:.1} N",
+                stiffness_n_per_m / 1000.0,
+                a.part,
+                a.point.x,
+                a.point.y,
+                b.part,
+                b.point.x,
+                b.point.y,
+                length_range[0],
+                length_range[1],
+                force_range_n[0],
+                force_range_n[1]
+            )
+        }
+        Spring::Torsion {
+            part, pivot, stiffness_nm_per_rad, free_angle_deg, twist_range_deg, torque_range_nm, ..
+        } => {
+            format!(
+                "torsion spring, {:.2} N·mm per degree, at the {part}'s ground pivot ({:.1}, {:.1}); free when the \
+                 {part} is turned {free_angle_deg:.0}° from the first pose; wound {:.0}–{:.0}°, {:.3}–{:.3} N·m",
+                stiffness_nm_per_rad * 1000.0 * std::f64::consts::PI / 180.0,
+                pivot.x,
+                pivot.y,
+                twist_range_deg[0],
+                twist_range_deg[1],
+                torque_range_nm[0],
+                torque_range_nm[1]
+            )
+        }
+    }
 }
 
 /// A CSV field: quoted when it holds a comma, a quote or a line break (joint names come from the file).

@@ -55,7 +55,8 @@ enum Command {
     /// assembly sheet and fabrication.json.
     Fabricate(fabricate::FabricateArgs),
     /// The torque the crank needs to hold a design against gravity along its motion (masses of the
-    /// printed parts, or the scene's mass_kg per body)
+    /// printed parts, or the scene's mass_kg per body), and the counterbalance spring(s) that lower
+    /// its peak
     Analyze {
         scene: PathBuf,
         design: PathBuf,

@@ -197,6 +197,38 @@ fn analyze_gives_the_torque_along_the_motion() {
         assert!((sum - t).abs() <= 1e-12 * (1.0 + peak), "row {k}: the parts sum to {sum}, not {t}");
     }
 
+    // The springs that balance it: the torque with them, its peak, and each spring as the format
+    // says (anchors on parts the design has, at the first pose).
+    let balanced = numbers(&torque["torque_with_springs_nm"]);
+    assert_eq!(balanced.len(), tau.len());
+    let balanced_peak = balanced.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    assert_eq!(torque["peak_with_springs_nm"].as_f64(), Some(balanced_peak));
+    assert!(balanced_peak < peak, "{balanced_peak} against {peak}");
+    let springs = torque["springs"].as_array().unwrap();
+    assert!((1..=2).contains(&springs.len()), "{springs:?}");
+    let all_parts: Vec<&str> =
+        file["mechanism"]["parts"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap()).collect();
+    for spring in springs {
+        match spring["kind"].as_str() {
+            Some("extension") => {
+                assert!(
+                    spring["stiffness_n_per_m"].as_f64().unwrap() > 0.0
+                        && spring["free_length"].as_f64().unwrap() > 0.0
+                );
+                for (end, anchor) in spring["anchors"].as_array().unwrap().iter().enumerate() {
+                    assert!(all_parts.contains(&anchor["part"].as_str().unwrap()), "{anchor}");
+                    assert_eq!(anchor["point"], spring["ends"][0][end], "the first row's ends are the anchors");
+                }
+                assert_eq!(spring["anchors"][0]["part"], "ground");
+            }
+            Some("torsion") => {
+                assert!(all_parts.contains(&spring["part"].as_str().unwrap()), "{spring}");
+                assert!(spring["stiffness_nm_per_rad"].as_f64().unwrap() > 0.0 && spring["free_angle_deg"].is_number());
+            }
+            other => panic!("a spring of kind {other:?}"),
+        }
+    }
+
     // The body given twice its printed mass takes twice its share.
     let body = parts.iter().find(|p| p["name"] == "body1").unwrap();
     let mut heavier: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
@@ -217,5 +249,6 @@ fn analyze_gives_the_torque_along_the_motion() {
     assert!(table.status.success());
     let table = text(&table.stdout);
     assert!(table.contains("torque (N·mm)") && table.contains("peak "), "{table}");
+    assert!(table.contains("counterbalance:") && table.contains("with springs"), "{table}");
     let _ = std::fs::remove_dir_all(&dir);
 }

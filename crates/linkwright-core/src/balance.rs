@@ -1,0 +1,699 @@
+//! Counterbalance springs: one or two springs chosen so that the driver's torque against gravity
+//! ([`crate::statics`]) has the smallest peak over the travel.
+//!
+//! A spring adds its potential energy to the parts' weight: an extension spring between a ground
+//! point and a point on a moving part stores `½ k (L − L₀)²`, a torsion spring at a ground pivot
+//! `½ κ (φ − φ₀)²`. By virtual work the driver then supplies `τ + k (L − L₀) dL/dθ` (or
+//! `τ + κ (φ − φ₀) dφ/dθ`), the derivatives from the joints' exact velocities. For fixed anchors
+//! and a fixed free length the torque is linear in the stiffness, so the peak is a convex function
+//! of it: each pair of anchors and free length gets its best stiffness by a bracketing search, and
+//! the pair with the lowest peak whose spring stays clear of the bodies along the motion wins.
+//! A second spring is added on what the first leaves when it lowers the peak further.
+
+use crate::geom::{segments_cross, Point, Polygon, Rigid, Vec2};
+use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::mechanism::{Mechanism, PartKind};
+use crate::scene::Problem;
+use crate::statics::{Masses, Torque};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// An extension spring is at most this many times its free length (and never shorter than it: it
+/// only pulls), a common limit for wire extension springs.
+pub const STRETCH_RATIO: f64 = 2.0;
+/// A torsion spring is wound one way only, by at most this many degrees.
+pub const MAX_TWIST_DEG: f64 = 360.0;
+
+/// Free lengths (and free angles) tried per pair of anchors.
+const FREE_STEPS: usize = 16;
+/// Golden-section steps narrowing the stiffness bracket (the peak is convex in the stiffness) to
+/// 0.618³⁶ ≈ 3·10⁻⁸ of its width.
+const STIFFNESS_STEPS: usize = 36;
+/// Points of the linkage region tried as ground anchors, per side of its bounding box.
+const REGION_GRID: usize = 7;
+/// A second spring is kept when it lowers the peak by at least this fraction of what one leaves.
+const SECOND_SPRING_GAIN: f64 = 0.1;
+/// Rounds of choosing each of two springs again against the other.
+const PAIR_ROUNDS: usize = 3;
+/// Extension springs checked for clearance, cheapest first, before giving up on that kind.
+const CLEARANCE_TRIES: usize = 400;
+
+/// Where a spring is hooked: a part of the design and a point, scene units, at the first pose.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Anchor {
+    /// The part's name, as in the design's `mechanism.parts` (`ground` for the fixed part).
+    pub part: String,
+    /// Where on it, at the first pose.
+    pub point: Point,
+}
+
+/// A counterbalance spring and what it does along the travel.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Spring {
+    /// A wire extension spring between a ground point and a point on a moving part.
+    Extension {
+        /// The ground end first, then the moving end.
+        anchors: [Anchor; 2],
+        /// Stiffness, N/m.
+        stiffness_n_per_m: f64,
+        /// Unstretched length between the hooks, scene units.
+        free_length: f64,
+        /// Shortest and longest length along the travel, scene units.
+        length_range: [f64; 2],
+        /// Smallest and largest pull along the travel, N.
+        force_range_n: [f64; 2],
+        /// Both ends at every row of the travel, scene units.
+        ends: Vec<[Point; 2]>,
+    },
+    /// A torsion spring at a ground pivot, wound by the part turning about it.
+    Torsion {
+        /// The part that turns about the pivot (its rotation winds the spring).
+        part: String,
+        /// The ground pivot, scene units.
+        pivot: Point,
+        /// Stiffness, N·m per radian.
+        stiffness_nm_per_rad: f64,
+        /// The part's rotation from the first pose at which the spring is unwound, degrees.
+        free_angle_deg: f64,
+        /// Least and most wind along the travel, degrees.
+        twist_range_deg: [f64; 2],
+        /// Least and most torque of the spring along the travel, N·m.
+        torque_range_nm: [f64; 2],
+        /// The pivot and the part's other joint at every row of the travel, scene units.
+        ends: Vec<[Point; 2]>,
+    },
+}
+
+/// The springs chosen and the driver's torque with them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Balance {
+    /// One or two springs; none when no spring lowers the peak.
+    pub springs: Vec<Spring>,
+    /// The torque the driver supplies at each row with the springs, N·m (signs as without).
+    pub torque_with_springs_nm: Vec<f64>,
+    /// The largest |torque| with the springs, N·m.
+    pub peak_with_springs_nm: f64,
+    /// Where it occurs, degrees of crank.
+    pub peak_with_springs_crank_deg: f64,
+}
+
+/// A point carried by a part: fixed on the ground, or rigid with two joints of a moving part (given
+/// in the frame those joints span).
+#[derive(Clone, Copy, Debug)]
+struct Place {
+    part: usize,
+    joints: Option<(usize, usize)>,
+    local: Point,
+}
+
+impl Place {
+    fn at(&self, row: &[Point]) -> Point {
+        match self.joints {
+            None => self.local,
+            Some((a, c)) => Rigid::from_frame(row[a], row[c] - row[a]).apply(self.local),
+        }
+    }
+
+    /// Its velocity per radian of crank, given the joints' velocities.
+    fn velocity(&self, row: &[Point], velocity: &[Vec2]) -> Vec2 {
+        match self.joints {
+            None => Vec2::ZERO,
+            Some((a, c)) => {
+                crate::kinematics::carried_velocity([row[a], row[c]], [velocity[a], velocity[c]], self.at(row))
+            }
+        }
+    }
+}
+
+/// A spring's share of the torque per unit stiffness at each row, given its free length (or angle):
+/// `share(free)[r] = along · (x_r − free) · x'_r · unit`, x the length (m) or the angle (rad).
+struct Stretch {
+    /// The length or angle at each row (scene units or radians).
+    x: Vec<f64>,
+    /// Its derivative along the crank, per radian.
+    dx: Vec<f64>,
+    /// Metres per scene unit for lengths, 1 for angles.
+    unit: f64,
+}
+
+impl Stretch {
+    fn range(&self) -> (f64, f64) {
+        self.x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x)))
+    }
+
+    /// The torque per unit stiffness at each row with free length `free`.
+    fn share(&self, free: f64, along: f64) -> Vec<f64> {
+        self.x.iter().zip(&self.dx).map(|(x, dx)| along * (x - free) * dx * self.unit * self.unit).collect()
+    }
+
+    /// The free lengths (or angles) the spring may have: an extension spring stays between its
+    /// free length and [`STRETCH_RATIO`] times it; a torsion spring stays wound one way, by at most
+    /// [`MAX_TWIST_DEG`].
+    fn free_choices(&self, torsion: bool) -> Vec<f64> {
+        let (lo, hi) = self.range();
+        let steps = |a: f64, b: f64| -> Vec<f64> {
+            (0..FREE_STEPS).map(|i| a + (b - a) * i as f64 / (FREE_STEPS - 1) as f64).collect()
+        };
+        if torsion {
+            let twist = MAX_TWIST_DEG.to_radians();
+            if hi - lo >= twist {
+                return Vec::new();
+            }
+            // Unwound before the travel's least angle or after its largest.
+            let mut out = steps(hi - twist, lo);
+            out.extend(steps(hi, lo + twist));
+            out
+        } else if hi / STRETCH_RATIO <= lo && lo > 0.0 {
+            steps(hi / STRETCH_RATIO, lo)
+        } else {
+            Vec::new()
+        }
+    }
+}
+
+/// The best stiffness (≥ 0) for `share` added to `torque`, and the peak it leaves: the peak
+/// `max |τ + k·share|` is convex in k, so its minimum is bracketed and narrowed.
+fn best_stiffness(torque: &[f64], share: &[f64]) -> (f64, f64) {
+    let peak = |k: f64| torque.iter().zip(share).map(|(t, s)| (t + k * s).abs()).fold(0.0, f64::max);
+    let t_max = torque.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    let s_max = share.iter().fold(0.0f64, |m, s| m.max(s.abs()));
+    if s_max == 0.0 || t_max == 0.0 {
+        return (0.0, peak(0.0));
+    }
+    // Beyond 2·max|τ|/max|share| the spring alone exceeds the unbalanced peak.
+    let golden = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut lo, mut hi) = (0.0, 2.0 * t_max / s_max);
+    let (mut a, mut b) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
+    let (mut fa, mut fb) = (peak(a), peak(b));
+    for _ in 0..STIFFNESS_STEPS {
+        if fa <= fb {
+            (hi, b, fb) = (b, a, fa);
+            a = hi - golden * (hi - lo);
+            fa = peak(a);
+        } else {
+            (lo, a, fa) = (a, b, fb);
+            b = lo + golden * (hi - lo);
+            fb = peak(b);
+        }
+    }
+    let k = 0.5 * (lo + hi);
+    (k, peak(k))
+}
+
+/// One spring's fit: where it is, its stretch along the travel, stiffness and free length, and the
+/// peak it leaves.
+struct Fit {
+    kind: Kind,
+    stretch: Stretch,
+    stiffness: f64,
+    free: f64,
+    peak: f64,
+}
+
+#[derive(Clone, Copy)]
+enum Kind {
+    Extension { ground: Place, moving: Place },
+    Torsion { part: usize, pivot: usize, tip: usize },
+}
+
+/// What the search needs of the linkage along its travel.
+struct Motion<'a> {
+    problem: &'a Problem,
+    mechanism: &'a Mechanism,
+    trace: &'a Trace,
+    frames: BodyFrames,
+    /// The joints' velocities at every row.
+    velocities: Vec<Vec<Vec2>>,
+    along: f64,
+    metres: f64,
+}
+
+impl<'a> Motion<'a> {
+    /// The travel's joint velocities; `None` when it passes a dead point.
+    fn new(
+        problem: &'a Problem,
+        mechanism: &'a Mechanism,
+        plan: &Plan,
+        trace: &'a Trace,
+        masses: &Masses,
+    ) -> Option<Self> {
+        let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
+        let velocities = (0..trace.len())
+            .map(|r| {
+                let mut v = vec![Vec2::ZERO; plan.joint_count()];
+                plan.velocities(trace.thetas[r], trace.row(r), &mut v).map(|()| v)
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let along = if trace.len() > 1 && trace.thetas[trace.len() - 1] < trace.thetas[0] { -1.0 } else { 1.0 };
+        Some(Motion {
+            problem,
+            mechanism,
+            trace,
+            frames: BodyFrames::new(mechanism, &first_poses),
+            velocities,
+            along,
+            metres: masses.millimetres_per_unit / 1000.0,
+        })
+    }
+
+    fn extension(&self, ground: &Place, moving: &Place) -> Stretch {
+        let (mut x, mut dx) = (Vec::with_capacity(self.trace.len()), Vec::with_capacity(self.trace.len()));
+        for (r, velocity) in self.velocities.iter().enumerate() {
+            let row = self.trace.row(r);
+            let (a, b) = (ground.at(row), moving.at(row));
+            let length = a.distance(b);
+            x.push(length);
+            let rel = moving.velocity(row, velocity) - ground.velocity(row, velocity);
+            dx.push(if length > 0.0 { (b - a).dot(rel) / length } else { 0.0 });
+        }
+        Stretch { x, dx, unit: self.metres }
+    }
+
+    fn torsion(&self, pivot: usize, tip: usize) -> Stretch {
+        let first = self.trace.row(0)[tip] - self.trace.row(0)[pivot];
+        let (mut x, mut dx) = (Vec::with_capacity(self.trace.len()), Vec::with_capacity(self.trace.len()));
+        let mut last = 0.0;
+        for (r, velocity) in self.velocities.iter().enumerate() {
+            let row = self.trace.row(r);
+            let arm = row[tip] - row[pivot];
+            // Unwrapped rotation from the first row.
+            let mut angle = first.cross(arm).atan2(first.dot(arm));
+            angle += std::f64::consts::TAU * ((last - angle) / std::f64::consts::TAU).round();
+            last = angle;
+            x.push(angle);
+            dx.push(arm.cross(velocity[tip]) / arm.norm_sq());
+        }
+        Stretch { x, dx, unit: 1.0 }
+    }
+
+    /// The best free length and stiffness for a spring of this stretch against `torque`.
+    fn fit(&self, kind: Kind, stretch: Stretch, torque: &[f64]) -> Option<Fit> {
+        let torsion = matches!(kind, Kind::Torsion { .. });
+        let mut best: Option<Fit> = None;
+        for free in stretch.free_choices(torsion) {
+            let share = stretch.share(free, self.along);
+            let (stiffness, peak) = best_stiffness(torque, &share);
+            if stiffness > 0.0 && best.as_ref().is_none_or(|b| peak < b.peak) {
+                best = Some(Fit {
+                    kind,
+                    stretch: Stretch { x: Vec::new(), dx: Vec::new(), unit: 0.0 },
+                    stiffness,
+                    free,
+                    peak,
+                });
+            }
+        }
+        best.map(|b| Fit { stretch, ..b })
+    }
+
+    /// Whether an extension spring between these places stays out of the avoid regions along the
+    /// travel: it hangs in a layer of its own beside the links, which the bodies pass as they pass
+    /// the links (the synthesis checks links against avoid regions only, paper §5.5).
+    fn clear(&self, ground: &Place, moving: &Place) -> bool {
+        (0..self.trace.len()).all(|r| {
+            let row = self.trace.row(r);
+            let (a, b) = (ground.at(row), moving.at(row));
+            let blocked = |polygon: &Polygon| {
+                polygon.contains(a)
+                    || polygon.contains(b)
+                    || polygon.edges().any(|(p, q)| segments_cross(a, b, p, q, 0.0))
+            };
+            a != b && !self.problem.avoid.iter().any(blocked)
+        })
+    }
+
+    fn spring(&self, fit: &Fit) -> Spring {
+        let parts = &self.mechanism.topology.parts;
+        let (lo, hi) = fit.stretch.range();
+        match fit.kind {
+            Kind::Extension { ground, moving } => {
+                let row = self.trace.row(0);
+                let force = |x: f64| fit.stiffness * (x - fit.free) * self.metres;
+                Spring::Extension {
+                    anchors: [
+                        Anchor { part: parts[ground.part].name.clone(), point: ground.at(row) },
+                        Anchor { part: parts[moving.part].name.clone(), point: moving.at(row) },
+                    ],
+                    stiffness_n_per_m: fit.stiffness,
+                    free_length: fit.free,
+                    length_range: [lo, hi],
+                    force_range_n: [force(lo), force(hi)],
+                    ends: (0..self.trace.len())
+                        .map(|r| [ground.at(self.trace.row(r)), moving.at(self.trace.row(r))])
+                        .collect(),
+                }
+            }
+            Kind::Torsion { part, pivot, tip } => {
+                let twist = |x: f64| (x - fit.free).abs();
+                let (t0, t1) = (twist(lo), twist(hi));
+                let (least, most) = (t0.min(t1), t0.max(t1));
+                Spring::Torsion {
+                    part: parts[part].name.clone(),
+                    pivot: self.trace.row(0)[pivot],
+                    stiffness_nm_per_rad: fit.stiffness,
+                    free_angle_deg: fit.free.to_degrees(),
+                    twist_range_deg: [least.to_degrees(), most.to_degrees()],
+                    torque_range_nm: [fit.stiffness * least, fit.stiffness * most],
+                    ends: (0..self.trace.len()).map(|r| [self.trace.row(r)[pivot], self.trace.row(r)[tip]]).collect(),
+                }
+            }
+        }
+    }
+
+    /// The ground anchors tried: the fixed bodies' corners, the ground pivots and a grid over the
+    /// linkage region (points inside it).
+    fn ground_places(&self) -> Vec<Place> {
+        let ground = self.mechanism.topology.parts.iter().position(|p| p.kind == PartKind::Fixed).unwrap_or(0);
+        let fixed = |local: Point| Place { part: ground, joints: None, local };
+        let mut out: Vec<Place> = self
+            .problem
+            .fixed
+            .iter()
+            .flat_map(|p| p.edges())
+            .flat_map(|(v, w)| [v, v + (w - v) * 0.5])
+            .map(fixed)
+            .collect();
+        out.extend(self.mechanism.topology.fixed_joints().iter().map(|&j| fixed(self.mechanism.joints[j])));
+        let region = &self.problem.region;
+        let (mut lo, mut hi) =
+            (Point::new(f64::INFINITY, f64::INFINITY), Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
+        for v in region.vertices() {
+            lo = Point::new(lo.x.min(v.x), lo.y.min(v.y));
+            hi = Point::new(hi.x.max(v.x), hi.y.max(v.y));
+        }
+        for i in 0..REGION_GRID {
+            for j in 0..REGION_GRID {
+                let t = |k: usize| (k as f64 + 0.5) / REGION_GRID as f64;
+                let p = Point::new(lo.x + (hi.x - lo.x) * t(i), lo.y + (hi.y - lo.y) * t(j));
+                if region.contains(p) {
+                    out.push(fixed(p));
+                }
+            }
+        }
+        out
+    }
+
+    /// The moving anchors tried: each moving body's corners, and points along each link.
+    fn moving_places(&self) -> Vec<Place> {
+        let row = self.trace.row(0);
+        let carried = |part: usize, (a, c): (usize, usize), world: Point| Place {
+            part,
+            joints: Some((a, c)),
+            local: Rigid::from_frame(row[a], row[c] - row[a]).inverse().apply(world),
+        };
+        let mut out = Vec::new();
+        for (i, part) in self.mechanism.topology.parts.iter().enumerate() {
+            match part.kind {
+                PartKind::Fixed => {}
+                PartKind::Body(b) => {
+                    let (a, c, _) = self.frames.frame(b);
+                    let pose = self.frames.pose(b, row);
+                    for (v, w) in self.problem.bodies[b].outline.edges() {
+                        out.push(carried(i, (a, c), pose.apply(v)));
+                        out.push(carried(i, (a, c), pose.apply(v + (w - v) * 0.5)));
+                    }
+                }
+                PartKind::Link => {
+                    let joints = &part.joints;
+                    for (k, &a) in joints.iter().enumerate() {
+                        let c = joints[(k + 1) % joints.len()];
+                        if a == c || (joints.len() == 2 && k == 1) {
+                            continue;
+                        }
+                        for t in [0.25, 0.5, 0.75] {
+                            out.push(carried(i, (a, c), row[a] + (row[c] - row[a]) * t));
+                        }
+                    }
+                    for &j in joints {
+                        let other = joints.iter().copied().find(|&o| o != j).unwrap_or(j);
+                        if other != j && !self.mechanism.topology.fixed_joints().contains(&j) {
+                            out.push(carried(i, (j, other), row[j]));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The best spring of any kind against `torque`: the extension spring with the lowest peak that
+    /// stays clear of the bodies, or a torsion spring when that does better.
+    fn best_spring(&self, torque: &[f64]) -> Option<Fit> {
+        let grounds = self.ground_places();
+        // Independent pairs, in a fixed order whatever the thread count.
+        let mut extensions: Vec<Fit> = self
+            .moving_places()
+            .into_par_iter()
+            .flat_map_iter(|moving| {
+                grounds.iter().filter_map(move |ground| {
+                    let kind = Kind::Extension { ground: *ground, moving };
+                    self.fit(kind, self.extension(ground, &moving), torque)
+                })
+            })
+            .collect();
+        extensions.sort_by(|a, b| a.peak.total_cmp(&b.peak));
+        let extension = extensions.into_iter().take(CLEARANCE_TRIES).find(|f| match f.kind {
+            Kind::Extension { ground, moving } => self.clear(&ground, &moving),
+            Kind::Torsion { .. } => true,
+        });
+        let fixed = self.mechanism.topology.fixed_joints();
+        let torsion = self
+            .mechanism
+            .topology
+            .parts
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.kind == PartKind::Link)
+            .filter_map(|(i, p)| {
+                let pivot = *p.joints.iter().find(|j| fixed.contains(j))?;
+                let tip = *p.joints.iter().find(|j| !fixed.contains(j))?;
+                let kind = Kind::Torsion { part: i, pivot, tip };
+                self.fit(kind, self.torsion(pivot, tip), torque)
+            })
+            .min_by(|a, b| a.peak.total_cmp(&b.peak));
+        [extension, torsion].into_iter().flatten().min_by(|a, b| a.peak.total_cmp(&b.peak))
+    }
+
+    fn with(&self, torque: &[f64], fit: &Fit) -> Vec<f64> {
+        let share = fit.stretch.share(fit.free, self.along);
+        torque.iter().zip(share).map(|(t, s)| t + fit.stiffness * s).collect()
+    }
+}
+
+fn peak_of(torque: &[f64]) -> (usize, f64) {
+    torque.iter().enumerate().fold((0, 0.0), |(i, m), (k, t)| if t.abs() > m { (k, t.abs()) } else { (i, m) })
+}
+
+/// The torque with the given springs' shares added (the same travel `torque` was computed on).
+fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Balance {
+    let (at, peak) = peak_of(&balance_torque);
+    Balance {
+        springs,
+        peak_with_springs_crank_deg: torque.crank_deg.get(at).copied().unwrap_or(0.0),
+        peak_with_springs_nm: peak,
+        torque_with_springs_nm: balance_torque,
+    }
+}
+
+/// One or two springs that lower the peak of `torque` (the driver's torque of `mechanism`, compiled
+/// as `plan`, along `trace`, as [`crate::statics::driving_torque`] gives it), and the torque with them.
+pub fn counterbalance(
+    problem: &Problem,
+    mechanism: &Mechanism,
+    plan: &Plan,
+    trace: &Trace,
+    masses: &Masses,
+    torque: &Torque,
+) -> Balance {
+    let Some(motion) = Motion::new(problem, mechanism, plan, trace, masses) else {
+        // A dead point: the statics has no torque there to balance.
+        return total(torque, torque.torque_nm.clone(), Vec::new());
+    };
+    let unbalanced = torque.torque_nm.clone();
+    let Some(first) = motion.best_spring(&unbalanced) else {
+        return total(torque, unbalanced, Vec::new());
+    };
+    let one = motion.with(&unbalanced, &first);
+    let Some(mut second) = motion.best_spring(&one).filter(|s| s.peak < (1.0 - SECOND_SPRING_GAIN) * peak_of(&one).1)
+    else {
+        return total(torque, one, vec![motion.spring(&first)]);
+    };
+    // Each spring again against the weight and the other spring, while that lowers the peak: the
+    // first was chosen before the second was there.
+    let mut first = first;
+    for _ in 0..PAIR_ROUNDS {
+        let Some(better) =
+            motion.best_spring(&motion.with(&unbalanced, &second)).filter(|f| f.peak < second.peak * 0.999)
+        else {
+            break;
+        };
+        first = better;
+        match motion.best_spring(&motion.with(&unbalanced, &first)) {
+            Some(next) if next.peak < first.peak => second = next,
+            _ => break,
+        }
+    }
+    let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
+    let fits = [first, second];
+    let springs = fits.iter().map(|f| motion.spring(f)).collect();
+    total(torque, balanced, springs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::statics::tests::{parallelogram, MASSES, PARALLELOGRAM_R};
+    use crate::statics::{driving_torque, GRAVITY};
+    use crate::testbed::{known_scene, Family};
+
+    /// A spring's stored energy, J, from a row of joints.
+    type Energy = Box<dyn Fn(&[Point]) -> f64>;
+
+    /// A zero-free-length spring from a point h above the crank's pivot to a point s along the crank
+    /// stores ½k(h² + s² − 2hs sin θ): with k h s equal to the parts' m g r, their potential energy
+    /// m g r sin θ is cancelled for every θ, and the driver needs no torque at all.
+    #[test]
+    fn a_zero_free_length_spring_balances_a_parallelogram_exactly() {
+        let (problem, mechanism, plan, trace) = parallelogram();
+        let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
+        let r = PARALLELOGRAM_R;
+        let metres = 1e-3;
+        let weight: f64 =
+            torque.parts.iter().map(|p| p.mass_kg * GRAVITY * if p.name == "body1" { r } else { r / 2.0 }).sum::<f64>()
+                * metres;
+        let (h, s) = (40.0, r / 2.0);
+        let stiffness = weight / (h * s * metres * metres);
+        let motion = Motion::new(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
+        let topology = &mechanism.topology;
+        let crank = topology.parts.iter().position(|p| p.name == "crank").unwrap();
+        let (q0, p1) = (topology.joint("q0").unwrap(), topology.joint("p1").unwrap());
+        let row = trace.row(0);
+        let world = row[q0] + (row[p1] - row[q0]) * 0.5;
+        let moving = Place {
+            part: crank,
+            joints: Some((q0, p1)),
+            local: Rigid::from_frame(row[q0], row[p1] - row[q0]).inverse().apply(world),
+        };
+        let ground = Place { part: 0, joints: None, local: Point::new(0.0, h) };
+        let fit = Fit {
+            kind: Kind::Extension { ground, moving },
+            stretch: motion.extension(&ground, &moving),
+            stiffness,
+            free: 0.0,
+            peak: 0.0,
+        };
+        let balanced = motion.with(&torque.torque_nm, &fit);
+        assert!(torque.peak_nm > 1e-3, "{}", torque.peak_nm);
+        for (k, tau) in balanced.iter().enumerate() {
+            assert!(tau.abs() <= 1e-12, "row {k}: {tau} N·m left of {}", torque.torque_nm[k]);
+        }
+    }
+
+    /// The suggested springs: in tension within the stretch ratio, and the torque reported with them
+    /// is the derivative of the whole potential energy (weights and springs) along the crank, on
+    /// known linkages of every family.
+    #[test]
+    fn the_torque_with_springs_is_the_derivative_of_the_whole_potential_energy() {
+        let families = [Family::Chain(1), Family::Chain(2), Family::SliderCrank, Family::WattTwo];
+        for (seed, family) in families.into_iter().enumerate() {
+            let known = known_scene(family, 3, seed as u64, 100.0).unwrap();
+            let problem = Problem::new(&known.scene).unwrap();
+            let design = known.design();
+            let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
+            let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
+            let torque = driving_torque(&problem, mechanism, plan, trace, &MASSES).unwrap();
+            let balance = counterbalance(&problem, mechanism, plan, trace, &MASSES, &torque);
+            assert!(!balance.springs.is_empty(), "{family:?}: no spring");
+            assert!(balance.peak_with_springs_nm < torque.peak_nm, "{family:?}");
+            let motion = Motion::new(&problem, mechanism, plan, trace, &MASSES).unwrap();
+            let parts = &mechanism.topology.parts;
+            let metres = MASSES.millimetres_per_unit / 1000.0;
+            // Each spring's energy at any crank angle, from its reported anchors and free length.
+            let energies: Vec<Energy> = balance
+                .springs
+                .iter()
+                .map(|spring| -> Energy {
+                    match spring {
+                        Spring::Extension { anchors, stiffness_n_per_m, free_length, length_range, .. } => {
+                            assert!(length_range[0] >= free_length - 1e-9, "{family:?}: pushes");
+                            assert!(length_range[1] <= STRETCH_RATIO * free_length + 1e-9, "{family:?}: overstretched");
+                            let place = |anchor: &Anchor| {
+                                let part = parts.iter().position(|p| p.name == anchor.part).unwrap();
+                                let joints = match parts[part].kind {
+                                    PartKind::Fixed => None,
+                                    PartKind::Body(b) => Some((motion.frames.frame(b).0, motion.frames.frame(b).1)),
+                                    PartKind::Link => Some((parts[part].joints[0], parts[part].joints[1])),
+                                };
+                                let row = trace.row(0);
+                                let local = match joints {
+                                    None => anchor.point,
+                                    Some((a, c)) => {
+                                        Rigid::from_frame(row[a], row[c] - row[a]).inverse().apply(anchor.point)
+                                    }
+                                };
+                                Place { part, joints, local }
+                            };
+                            let (a, b) = (place(&anchors[0]), place(&anchors[1]));
+                            let (k, free) = (*stiffness_n_per_m, *free_length);
+                            Box::new(move |row: &[Point]| {
+                                let stretch = (a.at(row).distance(b.at(row)) - free) * metres;
+                                0.5 * k * stretch * stretch
+                            })
+                        }
+                        Spring::Torsion { part, stiffness_nm_per_rad, free_angle_deg, .. } => {
+                            let p = parts.iter().find(|p| &p.name == part).unwrap();
+                            let fixed = mechanism.topology.fixed_joints();
+                            let pivot = *p.joints.iter().find(|j| fixed.contains(j)).unwrap();
+                            let tip = *p.joints.iter().find(|j| !fixed.contains(j)).unwrap();
+                            let first = trace.row(0)[tip] - trace.row(0)[pivot];
+                            let (k, free) = (*stiffness_nm_per_rad, free_angle_deg.to_radians());
+                            // Small steps: the angle from the first row needs no unwrapping here
+                            // unless the part turns past a half turn, which these travels do not.
+                            Box::new(move |row: &[Point]| {
+                                let arm = row[tip] - row[pivot];
+                                let twist = first.cross(arm).atan2(first.dot(arm)) - free;
+                                0.5 * k * twist * twist
+                            })
+                        }
+                    }
+                })
+                .collect();
+            let gravity = |row: &[Point]| {
+                torque
+                    .parts
+                    .iter()
+                    .map(|p| {
+                        let index = parts.iter().position(|q| q.name == p.name).unwrap();
+                        let centre = match parts[index].kind {
+                            PartKind::Body(b) => motion.frames.pose(b, row).apply(problem.bodies[b].outline.centroid()),
+                            _ => {
+                                let js = &parts[index].joints;
+                                let sum = js.iter().fold(Vec2::ZERO, |s, &j| s + (row[j] - Point::ORIGIN));
+                                Point::ORIGIN + sum / js.len() as f64
+                            }
+                        };
+                        p.mass_kg * GRAVITY * -(centre - Point::ORIGIN).dot(problem.gravity) * metres
+                    })
+                    .sum::<f64>()
+            };
+            let energy = |theta: f64| {
+                let mut row = vec![Point::ORIGIN; plan.joint_count()];
+                plan.solve(theta, &mut row).unwrap();
+                gravity(&row) + energies.iter().map(|e| e(&row)).sum::<f64>()
+            };
+            let thetas = &trace.thetas;
+            let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
+            let scale = torque.peak_nm.max(1e-12);
+            let h = 1e-6;
+            for (&theta, &tau) in thetas.iter().zip(&balance.torque_with_springs_nm).skip(1).take(thetas.len() - 2) {
+                let difference = along * (energy(theta + h) - energy(theta - h)) / (2.0 * h);
+                assert!(
+                    (tau - difference).abs() <= 1e-4 * scale,
+                    "{family:?} at {:.2}°: {tau} against {difference}",
+                    theta.to_degrees()
+                );
+            }
+        }
+    }
+}
