@@ -840,6 +840,24 @@ async fn torque_plot(page: &Page) -> Result<()> {
     let frames = eval(page, "window.linkwright.store.result.analysis.frames.length").await?;
     assert_eq!(points, frames, "one point of the plot per frame of the motion");
     assert!(peak > 0.0);
+
+    // Springs on request: listed in words, the torque with them plotted (lower at its peak), and
+    // drawn on the canvas where the design is shown, moving with it.
+    click(page, "#tab-result button[data-action=springs]").await?;
+    until(page, "document.querySelector('#tab-result ul.springs li') !== null", Duration::from_secs(20)).await?;
+    let balanced =
+        eval(page, "window.linkwright.store.result.balance.peak_with_springs_nm").await?.as_f64().ok_or("balanced")?;
+    assert!(balanced < peak, "{balanced} against {peak}");
+    let words = eval(page, "document.querySelector('#tab-result ul.springs').textContent").await?;
+    let words = words.as_str().unwrap_or_default();
+    assert!(words.contains("N/mm") || words.contains("N·mm per degree"), "{words}");
+    let series = eval(page, "document.querySelectorAll('#tab-result polyline.torque.balanced').length").await?;
+    assert_eq!(series, Value::from(1));
+    let drawn = "(() => { const s = document.querySelector('[data-spring]'); return s ? s.outerHTML : null; })()";
+    let before = eval(page, drawn).await?;
+    assert!(before.is_string(), "a spring is drawn on the canvas");
+    eval(page, "(() => { const R = window.linkwright.results; R.setPlaying(false); R.pos = R.frameCount() - 1; R.drawFrame(); return true; })()").await?;
+    assert_ne!(eval(page, drawn).await?, before, "the spring moves with the linkage");
     Ok(())
 }
 

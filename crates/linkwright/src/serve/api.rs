@@ -15,8 +15,10 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
+use linkwright_core::balance::counterbalance;
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
 use linkwright_core::geom::Point;
+use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
     animation_svg, design_svg, synthesize_with, Acceptance, DesignFile, EditError, Mechanism, MechanismType, Options,
     Problem, Progress, Reject, RenderInput, Scene, Start, Status,
@@ -479,6 +481,40 @@ pub async fn simulate(
     };
     let analysis = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, simulation).await?;
     Ok(Json(analysis))
+}
+
+/// `POST /api/balance`: `{scene, design, alternative?, steps?}` in: the torque the crank needs along the
+/// motion (the parts as printed with the default settings, or the scene's `mass_kg`), the
+/// counterbalance springs and the torque with them, at the rows of `/api/simulate`'s frames for the
+/// same `steps`.
+pub async fn balance(
+    State(state): State<AppState>,
+    Client(client): Client,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<Value>, ApiError> {
+    let request = parsed(&state, body, Compound::parse).await?;
+    let Some(masses) = Masses::printed(&PrintSettings::default(), &request.units) else {
+        let message = format!("units \"{}\" are not a length, so the parts cannot be weighed", request.units);
+        return Err(ApiError::unprocessable(message.clone()).with_issue("scene.units", message));
+    };
+    let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
+    let replay = request.replay(steps)?;
+    let work = move |_: &Arc<StopFlag>| {
+        let torque = driving_torque(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
+            .map_err(|e| {
+                ApiError::unprocessable(format!("the torque cannot be computed: {e}"))
+                    .with_issue("design", e.to_string())
+            })?;
+        let balance =
+            counterbalance(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque);
+        let mut answer = serde_json::to_value(&torque).unwrap_or(Value::Null);
+        if let (Value::Object(answer), Ok(Value::Object(balance))) = (&mut answer, serde_json::to_value(&balance)) {
+            answer.extend(balance);
+        }
+        Ok(answer)
+    };
+    let answer = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, work).await?;
+    Ok(Json(answer))
 }
 
 /// `POST /api/edit`: `{scene, design, alternative?, joints: {name: [x, y], ...}}` in: the design with

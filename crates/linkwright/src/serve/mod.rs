@@ -62,6 +62,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/check", post(api::check))
         .route("/api/simulate", post(api::simulate))
         .route("/api/edit", post(api::edit))
+        .route("/api/balance", post(api::balance))
         .route("/api/render", post(api::render))
         .route("/api/fabricate", post(fabricate::fabricate))
         .route("/api/fabricate/settings", get(fabricate::default_settings))

@@ -53,6 +53,10 @@ export const examples = () => request('GET', '/api/examples');
 export const families = () => request('GET', '/api/families');
 export const example = (name) => request('GET', `/api/examples/${encodeURIComponent(name)}`);
 export const check = (scene, design) => request('POST', '/api/check', { scene, design });
+/** The torque along the motion, the counterbalance springs and the torque with them, at the rows of
+ * `simulate`'s frames for the same steps. */
+export const balance = (scene, design, alternative = null, steps = 240) =>
+  request('POST', '/api/balance', { scene, design, alternative, steps });
 export const simulate = (scene, design, alternative = null, steps = 240) =>
   request('POST', '/api/simulate', { scene, design, alternative, steps });
 /** The design with joints moved (first-pose places by name): the moved linkage's design, its

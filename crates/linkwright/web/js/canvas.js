@@ -234,6 +234,7 @@ export class Canvas {
       const p = at(name);
       g.append(svg('path', { class: 'ground', d: `M${p[0]},${p[1]} l-9,14 h18 z` }));
     }
+    for (const spring of frame.springs || []) g.append(this.spring(spring));
     const pinned = this.store.scene.pinned_joints || {};
     a.joint_names.forEach((name) => {
       const p = at(name);
@@ -246,6 +247,34 @@ export class Canvas {
       g.append(svg('circle', { class: 'joint rejected', cx: p[0], cy: p[1], r: 6, 'data-rejected': no.name }));
       g.append(svg('text', { class: 'rejected-label', x: p[0] + 10, y: p[1] - 10, text: no.message }));
     }
+  }
+
+  /** A counterbalance spring at a frame: an extension spring as a coil between its hooks, a torsion
+   * spring as a spiral at its pivot with an arm to the part it winds with. */
+  spring({ kind, ends }) {
+    const [a, b] = ends.map((p) => this.s(p));
+    const d = [b[0] - a[0], b[1] - a[1]], length = Math.hypot(d[0], d[1]) || 1;
+    const u = [d[0] / length, d[1] / length], n = [-u[1], u[0]];
+    if (kind === 'extension') {
+      // Straight hooks at both ends, a zigzag of fixed width between them.
+      const turns = 12, hook = Math.min(10, length * 0.15), width = 5;
+      const pts = [a, [a[0] + u[0] * hook, a[1] + u[1] * hook]];
+      for (let k = 1; k < 2 * turns; k++) {
+        const t = hook + ((length - 2 * hook) * k) / (2 * turns), side = k % 2 ? width : -width;
+        pts.push([a[0] + u[0] * t + n[0] * side, a[1] + u[1] * t + n[1] * side]);
+      }
+      pts.push([b[0] - u[0] * hook, b[1] - u[1] * hook], b);
+      return svg('polyline', { class: 'spring', points: points(pts), 'data-spring': kind });
+    }
+    const spiral = [];
+    for (let k = 0; k <= 48; k++) {
+      const angle = Math.atan2(u[1], u[0]) + (k / 48) * 4 * Math.PI, radius = 3 + (k / 48) * 9;
+      spiral.push([a[0] + Math.cos(angle) * radius, a[1] + Math.sin(angle) * radius]);
+    }
+    return svg('g', { class: 'spring', 'data-spring': kind }, [
+      svg('polyline', { points: points(spiral) }),
+      svg('line', { x1: spiral[48][0], y1: spiral[48][1], x2: a[0] + u[0] * Math.min(length, 30), y2: a[1] + u[1] * Math.min(length, 30) }),
+    ]);
   }
 
   /** Each link's length at its middle and each ground pivot's position beside it, in the scene's

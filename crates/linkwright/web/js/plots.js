@@ -98,7 +98,7 @@ function niceCeil(x) {
  * The torque the crank needs to hold the parts against gravity, against the crank angle, with the
  * poses marked, zero drawn, and a cursor at the current frame (returned for updates).
  */
-export function torquePlot(analysis) {
+export function torquePlot(analysis, balance = null) {
   const t = analysis.torque;
   const xs = t.crank_deg;
   const x0 = xs[0], x1 = xs[xs.length - 1] === x0 ? x0 + 1 : xs[xs.length - 1];
@@ -117,13 +117,22 @@ export function torquePlot(analysis) {
   }
   const pts = xs.map((x, k) => [sx(x), sy(t.torque_nm[k] * factor)]);
   root.append(svg('polyline', { class: 'series torque', points: points(pts), stroke: PATH_COLOURS[0] }));
+  const balanced = balance?.torque_with_springs_nm;
+  if (balanced?.length === xs.length && balance.springs.length) {
+    const with_ = xs.map((x, k) => [sx(x), sy(balanced[k] * factor)]);
+    root.append(svg('polyline', { class: 'series torque balanced', points: points(with_), stroke: PATH_COLOURS[1] }));
+  }
   const cursor = svg('line', { class: 'cursor', x1: PAD.l, y1: PAD.t, x2: PAD.l, y2: H - PAD.b });
   root.append(cursor);
   const mass = t.parts.reduce((m, p) => m + p.mass_kg, 0);
   const note = html('small', {
     'data-peak': t.peak_nm,
     text: `In ${unit}: positive lifts the parts as the crank advances. Peak ${(t.peak_nm * factor).toPrecision(3)} ${unit} at crank ${t.peak_crank_deg.toFixed(0)}°, ` +
-      `${(mass * 1000).toPrecision(3)} g moving (printed parts, or the masses the scene gives).`,
+      `${(mass * 1000).toPrecision(3)} g moving (printed parts, or the masses the scene gives).` +
+      (balance?.springs.length
+        ? ` With the springs (the second line): peak ${(balance.peak_with_springs_nm * factor).toPrecision(3)} ${unit}, ` +
+          `${Math.round(100 * (1 - balance.peak_with_springs_nm / Math.max(t.peak_nm, 1e-300)))}% lower.`
+        : ''),
   });
   return {
     element: html('div', { class: 'chart' }, [root, note]),
@@ -133,6 +142,23 @@ export function torquePlot(analysis) {
       cursor.setAttribute('x2', x);
     },
   };
+}
+
+/** Each counterbalance spring in words a person can buy and fit it from. */
+export function springList(balance, units) {
+  if (!balance.springs.length) {
+    return html('p', { class: 'note', text: 'No spring inside the linkage region lowers the peak torque of this design.' });
+  }
+  const at = (p) => `(${p[0].toFixed(1)}, ${p[1].toFixed(1)})`;
+  return html('ul', { class: 'springs' }, balance.springs.map((s) => html('li', {}, s.kind === 'extension'
+    ? [html('b', { text: 'Extension spring' }),
+      html('div', { text: `Rate ${(s.stiffness_n_per_m / 1000).toPrecision(3)} N/mm, free length ${s.free_length.toFixed(1)} ${units} hook to hook.` }),
+      html('div', { text: `Hook one end on the ${s.anchors[0].part} at ${at(s.anchors[0].point)} and the other on the ${s.anchors[1].part} at ${at(s.anchors[1].point)}, at the first pose.` }),
+      html('small', { text: `It stretches to ${s.length_range[0].toFixed(1)}–${s.length_range[1].toFixed(1)} ${units}, pulling ${s.force_range_n[0].toPrecision(3)}–${s.force_range_n[1].toPrecision(3)} N.` })]
+    : [html('b', { text: 'Torsion spring' }),
+      html('div', { text: `Rate ${(s.stiffness_nm_per_rad * 1000 * Math.PI / 180).toPrecision(3)} N·mm per degree, on the ${s.part}'s ground pivot at ${at(s.pivot)}.` }),
+      html('div', { text: `Unwound when the ${s.part} is turned ${s.free_angle_deg.toFixed(0)}° from the first pose.` }),
+      html('small', { text: `Wound ${s.twist_range_deg[0].toFixed(0)}–${s.twist_range_deg[1].toFixed(0)}° along the motion, ${(s.torque_range_nm[0] * 1000).toPrecision(3)}–${(s.torque_range_nm[1] * 1000).toPrecision(3)} N·mm.` })])));
 }
 
 /** Each loop with its Grashof type and link lengths. */

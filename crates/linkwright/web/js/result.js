@@ -7,7 +7,7 @@ import * as api from './api.js';
 import { bodyColour } from './canvas.js';
 import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
-import { errorPlot, loopList, torquePlot, transmissionPlot } from './plots.js';
+import { errorPlot, loopList, springList, torquePlot, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
 import { screenField } from './fields.js';
 import { newResult } from './store.js';
@@ -184,7 +184,12 @@ export class Results {
     const t = Math.max(0, Math.min(1, pos - i));
     const a = frames[i], b = frames[j];
     const mix = (x, y) => x + (y - x) * t;
+    const springs = (this.result.balance?.springs || []).filter((s) => s.ends[j]).map((s) => ({
+      kind: s.kind,
+      ends: [0, 1].map((e) => [mix(s.ends[i][e][0], s.ends[j][e][0]), mix(s.ends[i][e][1], s.ends[j][e][1])]),
+    }));
     return {
+      springs,
       crank_deg: mix(a.crank_deg, b.crank_deg),
       joints: a.joints.map((p, k) => [mix(p[0], b.joints[k][0]), mix(p[1], b.joints[k][1])]),
       bodies: a.bodies.map((p, k) => [mix(p[0], b.bodies[k][0]), mix(p[1], b.bodies[k][1]), mix(p[2], b.bodies[k][2])]),
@@ -436,6 +441,7 @@ export class Results {
     r.mechanism = which === null ? d.mechanism : d.alternatives[which]?.mechanism;
     r.metrics = which === null ? d.metrics : d.alternatives[which]?.metrics;
     r.analysis = null;
+    r.balance = null; // the springs were for the mechanism shown before
     this.plot = null;
     this.torque = null;
     if (d.status !== 'ok' || !r.mechanism) {
@@ -465,6 +471,29 @@ export class Results {
       this.error = { message: e.message, issues: e.issues || [] };
     }
     this.store.changed('result');
+  }
+
+  /** Asks for the springs that balance the mechanism shown; they are drawn and listed when they come. */
+  async suggestSprings() {
+    const r = this.result;
+    if (!r?.analysis || this.balancing) return;
+    this.balancing = true;
+    this.store.hint('Looking for counterbalance springs…');
+    try {
+      const answer = await api.balance(r.scene, r.design, r.which);
+      if (this.result === r) {
+        r.balance = answer;
+        this.store.hint(answer.springs.length
+          ? `Springs found: the peak torque drops by ${Math.round(100 * (1 - answer.peak_with_springs_nm / Math.max(answer.peak_nm, 1e-300)))}%.`
+          : 'No spring inside the linkage region lowers the peak torque of this design.');
+      }
+    } catch (e) {
+      this.store.hint(`Cannot suggest springs: ${e.message}`);
+    } finally {
+      this.balancing = false;
+      this.drawFrame();
+      this.store.changed('result');
+    }
   }
 
   /**
@@ -619,8 +648,19 @@ export class Results {
       const a = r.analysis;
       this.plot = transmissionPlot(a);
       host.append(html('h3', { text: 'Transmission angles over the motion' }), this.plot.element);
-      this.torque = a.torque ? torquePlot(a) : null;
-      if (this.torque) host.append(html('h3', { text: 'Torque to drive the crank' }), this.torque.element);
+      this.torque = a.torque ? torquePlot(a, r.balance) : null;
+      if (this.torque) {
+        host.append(html('h3', { text: 'Torque to drive the crank' }), this.torque.element);
+        host.append(html('h3', { text: 'Counterbalance springs' }));
+        if (r.balance) host.append(springList(r.balance, this.store.scene.units || 'mm'));
+        else {
+          host.append(html('button', {
+            text: 'Suggest springs', 'data-action': 'springs', disabled: this.balancing ? '' : null,
+            title: 'one or two springs that take the weight off the crank: their rate, length and where to hook them',
+            onclick: () => this.suggestSprings(),
+          }));
+        }
+      }
       host.append(html('h3', { text: 'Error at each pose' }), errorPlot(a, r.scene));
       host.append(html('h3', { text: 'Loops' }), loopList(a));
       this.drawFrame();
