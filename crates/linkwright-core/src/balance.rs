@@ -20,7 +20,7 @@ use serde::Serialize;
 
 /// An extension spring is at most this many times its free length (and never shorter than it: it
 /// only pulls), a common limit for wire extension springs.
-pub const STRETCH_RATIO: f64 = 2.0;
+pub const STRETCH_RATIO: f64 = 2.5;
 /// A torsion spring is wound one way only, by at most this many degrees.
 pub const MAX_TWIST_DEG: f64 = 360.0;
 
@@ -31,6 +31,12 @@ const FREE_STEPS: usize = 16;
 const STIFFNESS_STEPS: usize = 36;
 /// Points of the linkage region tried as ground anchors, per side of its bounding box.
 const REGION_GRID: usize = 7;
+/// Points of a body's face tried as anchors, per side of its bounding box.
+const FACE_GRID: usize = 4;
+/// The best extension springs whose anchors are then moved to a local optimum.
+const POLISHED: usize = 6;
+/// Halvings of the anchors' step while polishing, from a twentieth of the scene's size.
+const POLISH_LEVELS: usize = 7;
 /// A second spring is kept when it lowers the peak by at least this fraction of what one leaves.
 const SECOND_SPRING_GAIN: f64 = 0.1;
 /// Rounds of choosing each of two springs again against the other.
@@ -361,8 +367,8 @@ impl<'a> Motion<'a> {
         }
     }
 
-    /// The ground anchors tried: the fixed bodies' corners, the ground pivots and a grid over the
-    /// linkage region (points inside it).
+    /// The ground anchors tried: the fixed bodies' corners, edge middles and points on their faces,
+    /// the ground pivots, and points of the linkage region.
     fn ground_places(&self) -> Vec<Place> {
         let ground = self.mechanism.topology.parts.iter().position(|p| p.kind == PartKind::Fixed).unwrap_or(0);
         let fixed = |local: Point| Place { part: ground, joints: None, local };
@@ -375,26 +381,15 @@ impl<'a> Motion<'a> {
             .map(fixed)
             .collect();
         out.extend(self.mechanism.topology.fixed_joints().iter().map(|&j| fixed(self.mechanism.joints[j])));
-        let region = &self.problem.region;
-        let (mut lo, mut hi) =
-            (Point::new(f64::INFINITY, f64::INFINITY), Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
-        for v in region.vertices() {
-            lo = Point::new(lo.x.min(v.x), lo.y.min(v.y));
-            hi = Point::new(hi.x.max(v.x), hi.y.max(v.y));
-        }
-        for i in 0..REGION_GRID {
-            for j in 0..REGION_GRID {
-                let t = |k: usize| (k as f64 + 0.5) / REGION_GRID as f64;
-                let p = Point::new(lo.x + (hi.x - lo.x) * t(i), lo.y + (hi.y - lo.y) * t(j));
-                if region.contains(p) {
-                    out.push(fixed(p));
-                }
-            }
+        out.extend(inside(&self.problem.region, REGION_GRID).into_iter().map(fixed));
+        for polygon in &self.problem.fixed {
+            out.extend(inside(polygon, FACE_GRID).into_iter().map(fixed));
         }
         out
     }
 
-    /// The moving anchors tried: each moving body's corners, and points along each link.
+    /// The moving anchors tried: each moving body's corners, edge middles and points on its face (the
+    /// spring hangs beside it, hooked on a post), and points along each link.
     fn moving_places(&self) -> Vec<Place> {
         let row = self.trace.row(0);
         let carried = |part: usize, (a, c): (usize, usize), world: Point| Place {
@@ -409,9 +404,13 @@ impl<'a> Motion<'a> {
                 PartKind::Body(b) => {
                     let (a, c, _) = self.frames.frame(b);
                     let pose = self.frames.pose(b, row);
-                    for (v, w) in self.problem.bodies[b].outline.edges() {
+                    let outline = &self.problem.bodies[b].outline;
+                    for (v, w) in outline.edges() {
                         out.push(carried(i, (a, c), pose.apply(v)));
                         out.push(carried(i, (a, c), pose.apply(v + (w - v) * 0.5)));
+                    }
+                    for p in inside(outline, FACE_GRID) {
+                        out.push(carried(i, (a, c), pose.apply(p)));
                     }
                 }
                 PartKind::Link => {
@@ -453,10 +452,21 @@ impl<'a> Motion<'a> {
             })
             .collect();
         extensions.sort_by(|a, b| a.peak.total_cmp(&b.peak));
-        let extension = extensions.into_iter().take(CLEARANCE_TRIES).find(|f| match f.kind {
-            Kind::Extension { ground, moving } => self.clear(&ground, &moving),
-            Kind::Torsion { .. } => true,
-        });
+        let clear: Vec<Fit> = extensions
+            .into_iter()
+            .take(CLEARANCE_TRIES)
+            .filter(|f| match f.kind {
+                Kind::Extension { ground, moving } => self.clear(&ground, &moving),
+                Kind::Torsion { .. } => true,
+            })
+            .take(POLISHED)
+            .collect();
+        let extension = clear
+            .into_par_iter()
+            .map(|f| self.polish(f, torque))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .min_by(|a, b| a.peak.total_cmp(&b.peak));
         let fixed = self.mechanism.topology.fixed_joints();
         let torsion = self
             .mechanism
@@ -475,10 +485,82 @@ impl<'a> Motion<'a> {
         [extension, torsion].into_iter().flatten().min_by(|a, b| a.peak.total_cmp(&b.peak))
     }
 
+    /// Moves an extension spring's anchors to a local optimum of the peak (a pattern search, the
+    /// step halved when no move helps), each anchor staying on its part: the ground one inside the
+    /// linkage region or on a fixed body, one on a moving body on that body's face; one on a link
+    /// stays where it is.
+    fn polish(&self, fit: Fit, torque: &[f64]) -> Fit {
+        let Kind::Extension { moving, .. } = fit.kind else { return fit };
+        let row = self.trace.row(0);
+        let on_ground = |p: Point| self.problem.region.contains(p) || self.problem.fixed.iter().any(|f| f.contains(p));
+        let body = match self.mechanism.topology.parts[moving.part].kind {
+            PartKind::Body(b) => Some(b),
+            _ => None,
+        };
+        let on_body = |place: &Place| {
+            body.is_some_and(|b| {
+                let local = self.frames.pose(b, row).inverse().apply(place.at(row));
+                self.problem.bodies[b].outline.contains(local)
+            })
+        };
+        let mut best = fit;
+        let mut step = 0.05 * self.problem.scale;
+        for _ in 0..POLISH_LEVELS {
+            let mut moved = true;
+            while moved {
+                moved = false;
+                let Kind::Extension { ground, moving } = best.kind else { break };
+                let shifts = [Vec2::new(step, 0.0), Vec2::new(-step, 0.0), Vec2::new(0.0, step), Vec2::new(0.0, -step)];
+                let mut tries: Vec<(Place, Place)> = Vec::new();
+                for d in shifts {
+                    let g = Place { local: ground.local + d, ..ground };
+                    if on_ground(g.local) {
+                        tries.push((g, moving));
+                    }
+                    if body.is_some() {
+                        // A shift of the hook in the world at the first pose, carried into its frame.
+                        let (a, c) = moving.joints.expect("a moving anchor is carried by joints");
+                        let frame = Rigid::from_frame(row[a], row[c] - row[a]);
+                        let m = Place { local: frame.inverse().apply(moving.at(row) + d), ..moving };
+                        if on_body(&m) {
+                            tries.push((ground, m));
+                        }
+                    }
+                }
+                for (g, m) in tries {
+                    let kind = Kind::Extension { ground: g, moving: m };
+                    if let Some(f) = self.fit(kind, self.extension(&g, &m), torque) {
+                        if f.peak < best.peak && self.clear(&g, &m) {
+                            best = f;
+                            moved = true;
+                            break;
+                        }
+                    }
+                }
+            }
+            step *= 0.5;
+        }
+        best
+    }
+
     fn with(&self, torque: &[f64], fit: &Fit) -> Vec<f64> {
         let share = fit.stretch.share(fit.free, self.along);
         torque.iter().zip(share).map(|(t, s)| t + fit.stiffness * s).collect()
     }
+}
+
+/// The points of an n × n grid over `polygon`'s bounding box that lie inside it.
+fn inside(polygon: &Polygon, n: usize) -> Vec<Point> {
+    let (mut lo, mut hi) = (Point::new(f64::INFINITY, f64::INFINITY), Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for v in polygon.vertices() {
+        lo = Point::new(lo.x.min(v.x), lo.y.min(v.y));
+        hi = Point::new(hi.x.max(v.x), hi.y.max(v.y));
+    }
+    let t = |k: usize| (k as f64 + 0.5) / n as f64;
+    (0..n)
+        .flat_map(|i| (0..n).map(move |j| Point::new(lo.x + (hi.x - lo.x) * t(i), lo.y + (hi.y - lo.y) * t(j))))
+        .filter(|&p| polygon.contains(p))
+        .collect()
 }
 
 fn peak_of(torque: &[f64]) -> (usize, f64) {

@@ -841,6 +841,27 @@ async fn torque_plot(page: &Page) -> Result<()> {
     assert_eq!(points, frames, "one point of the plot per frame of the motion");
     assert!(peak > 0.0);
 
+    // A real mass for the body, typed: the design stays, the torque is weighed again with it.
+    let printed =
+        eval(page, "window.linkwright.store.result.analysis.torque.parts.find((p) => p.name === 'body1').mass_kg")
+            .await?
+            .as_f64()
+            .ok_or("printed mass")?;
+    let heavier = 10.0 * printed;
+    let js = format!(
+        "(() => {{ const i = document.querySelector('#tab-result input[data-mass=\"0\"]'); i.value = '{heavier}'; \
+         i.dispatchEvent(new Event('change')); return true; }})()"
+    );
+    eval(page, &js).await?;
+    let weighed = format!(
+        "(() => {{ const t = window.linkwright.store.result?.analysis?.torque; \
+         return !!t && Math.abs(t.parts.find((p) => p.name === 'body1').mass_kg - {heavier}) < 1e-12; }})()"
+    );
+    until(page, &weighed, Duration::from_secs(10)).await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.moving_bodies[0].mass_kg").await?.as_f64(), Some(heavier));
+    assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "the design is still shown");
+    let peak = eval(page, "window.linkwright.store.result.analysis.torque.peak_nm").await?.as_f64().ok_or("peak")?;
+
     // Springs on request: listed in words, the torque with them plotted (lower at its peak), and
     // drawn on the canvas where the design is shown, moving with it.
     click(page, "#tab-result button[data-action=springs]").await?;

@@ -28,7 +28,9 @@ const EXPORT_FRAMES = 60;
 /** What a design depends on in the drawing (settings may change without hiding it). */
 export function geometryKey(scene) {
   return JSON.stringify([
-    scene.fixed_bodies, scene.moving_bodies, scene.linkage_region || null, scene.avoid_regions || [], scene.must_hit_poses || [],
+    // A body's mass changes the torque, not the design.
+    scene.fixed_bodies, scene.moving_bodies.map(({ mass_kg, ...body }) => body), scene.linkage_region || null,
+    scene.avoid_regions || [], scene.must_hit_poses || [],
   ]);
 }
 
@@ -473,6 +475,36 @@ export class Results {
     this.store.changed('result');
   }
 
+  /** Each moving body's mass, editable: empty weighs it as printed; a real mass (a full-size bed, say)
+   * gives the torque and springs of the real thing. The torque is computed again at once. */
+  massTable(r) {
+    const parts = r.analysis.torque?.parts || [];
+    const rows = r.scene.moving_bodies.map((body, i) => {
+      const printed = parts.find((p) => p.name === `body${i + 1}`);
+      const change = (e) => {
+        const text = e.target.value.trim(), v = Number(text);
+        if (text !== '' && !(Number.isFinite(v) && v > 0 && v <= 1e5)) {
+          this.store.hint('A mass is a number of kilograms, more than 0 and at most 100000; leave it empty to weigh the printed part.');
+          return;
+        }
+        const set = (b) => { if (text === '') delete b.mass_kg; else b.mass_kg = v; };
+        this.store.edit(`mass of ${body.name}`, (s) => { set(s.moving_bodies[i]); });
+        // The design stays (a mass changes no geometry): its torque is weighed again.
+        set(r.scene.moving_bodies[i]);
+        this.select(r.which, { keep: true });
+      };
+      return html('tr', {}, [
+        html('th', { text: body.name }),
+        html('td', {}, [html('input', {
+          type: 'number', min: '0', step: 'any', 'data-mass': i, 'aria-label': `mass of ${body.name}, kg`,
+          value: body.mass_kg ?? '', placeholder: printed ? `${printed.mass_kg.toPrecision(3)} (printed)` : 'as printed',
+          onchange: change,
+        }), ' kg']),
+      ]);
+    });
+    return html('table', { class: 'masses' }, [html('tr', {}, [html('th', { text: 'Body' }), html('th', { text: 'Mass' })]), ...rows]);
+  }
+
   /** Asks for the springs that balance the mechanism shown; they are drawn and listed when they come. */
   async suggestSprings() {
     const r = this.result;
@@ -650,7 +682,7 @@ export class Results {
       host.append(html('h3', { text: 'Transmission angles over the motion' }), this.plot.element);
       this.torque = a.torque ? torquePlot(a, r.balance) : null;
       if (this.torque) {
-        host.append(html('h3', { text: 'Torque to drive the crank' }), this.torque.element);
+        host.append(html('h3', { text: 'Torque to drive the crank' }), this.torque.element, this.massTable(r));
         host.append(html('h3', { text: 'Counterbalance springs' }));
         if (r.balance) host.append(springList(r.balance, this.store.scene.units || 'mm'));
         else {
