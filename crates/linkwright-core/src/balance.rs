@@ -6,9 +6,11 @@
 //! `½ κ (φ − φ₀)²`. By virtual work the driver then supplies `τ + k (L − L₀) dL/dθ` (or
 //! `τ + κ (φ − φ₀) dφ/dθ`), the derivatives from the joints' exact velocities. For fixed anchors
 //! and a fixed free length the torque is linear in the stiffness, so the peak is a convex function
-//! of it: each pair of anchors and free length gets its best stiffness by a bracketing search, and
-//! the pair with the lowest peak whose spring stays clear of the bodies along the motion wins.
-//! A second spring is added on what the first leaves when it lowers the peak further.
+//! of it: each pair of anchors and free length gets its best stiffness by a bracketing search. The
+//! best pairs whose spring stays out of the avoid regions along the motion (it hangs in a layer of
+//! its own beside the links) have their anchors moved to a local optimum, and the lowest peak wins.
+//! A second spring is added on what the first leaves when it lowers the peak further, and the two
+//! are chosen again against each other.
 
 use crate::geom::{segments_cross, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
@@ -296,21 +298,16 @@ impl<'a> Motion<'a> {
     /// The best free length and stiffness for a spring of this stretch against `torque`.
     fn fit(&self, kind: Kind, stretch: Stretch, torque: &[f64]) -> Option<Fit> {
         let torsion = matches!(kind, Kind::Torsion { .. });
-        let mut best: Option<Fit> = None;
-        for free in stretch.free_choices(torsion) {
-            let share = stretch.share(free, self.along);
-            let (stiffness, peak) = best_stiffness(torque, &share);
-            if stiffness > 0.0 && best.as_ref().is_none_or(|b| peak < b.peak) {
-                best = Some(Fit {
-                    kind,
-                    stretch: Stretch { x: Vec::new(), dx: Vec::new(), unit: 0.0 },
-                    stiffness,
-                    free,
-                    peak,
-                });
-            }
-        }
-        best.map(|b| Fit { stretch, ..b })
+        let (stiffness, free, peak) = stretch
+            .free_choices(torsion)
+            .into_iter()
+            .map(|free| {
+                let (stiffness, peak) = best_stiffness(torque, &stretch.share(free, self.along));
+                (stiffness, free, peak)
+            })
+            .filter(|&(stiffness, _, _)| stiffness > 0.0)
+            .min_by(|a, b| a.2.total_cmp(&b.2))?;
+        Some(Fit { kind, stretch, stiffness, free, peak })
     }
 
     /// Whether an extension spring between these places stays out of the avoid regions along the
