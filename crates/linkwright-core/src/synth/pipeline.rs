@@ -794,7 +794,7 @@ fn check_in_order(
 /// milliseconds each for a slider-crank's guide) was most of a live step's time (the sofa bed's
 /// collision stage 28 → 15 ms, `stats.seconds.collision` of `linkwright design --from`).
 fn collision_chunk(enough: usize) -> usize {
-    COLLISION_CHUNK.min(enough.next_power_of_two().max(16))
+    enough.clamp(16, COLLISION_CHUNK).next_power_of_two()
 }
 
 /// How far some joint must move for two designs of one family to be distinct ([`DISTINCT`]·d).
