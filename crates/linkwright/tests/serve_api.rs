@@ -860,3 +860,32 @@ fn heavy_designs_in_flight_do_not_hold_up_the_apps_own_files() {
     }
     assert_alive(&server);
 }
+
+/// `POST /api/balance`: the torque and the springs at the rows of `/api/simulate`'s frames for the same
+/// steps, each spring's ends given at every frame.
+#[test]
+fn springs_come_at_the_simulations_frames() {
+    let server = Server::start(&[]);
+    let scene = quick_garbage_truck(3000, 5);
+    let (status, design) = post(&server, "/api/design", &scene);
+    assert_eq!(status, 200, "{design}");
+    let (status, analysis) = post(&server, "/api/simulate", &json!({"scene": scene, "design": design, "steps": 120}));
+    assert_eq!(status, 200, "{analysis}");
+    let (status, balance) = post(&server, "/api/balance", &json!({"scene": scene, "design": design, "steps": 120}));
+    assert_eq!(status, 200, "{balance}");
+    let frames = analysis["frames"].as_array().unwrap();
+    assert_eq!(balance["crank_deg"].as_array().unwrap().len(), frames.len());
+    for (k, frame) in frames.iter().enumerate() {
+        assert!((balance["crank_deg"][k].as_f64().unwrap() - frame["crank_deg"].as_f64().unwrap()).abs() < 1e-9);
+    }
+    assert_eq!(balance["torque_with_springs_nm"].as_array().unwrap().len(), frames.len());
+    assert!(balance["peak_with_springs_nm"].as_f64().unwrap() < balance["peak_nm"].as_f64().unwrap());
+    for spring in balance["springs"].as_array().unwrap() {
+        assert_eq!(spring["ends"].as_array().unwrap().len(), frames.len(), "{}", spring["kind"]);
+    }
+    let mut unitless = scene.clone();
+    unitless["units"] = json!("px");
+    let (status, body) = post(&server, "/api/balance", &json!({"scene": unitless, "design": design}));
+    assert_error(status, &body, 422);
+    assert_eq!(body["issues"][0]["field"], "scene.units");
+}

@@ -498,8 +498,8 @@ pub async fn balance(
         return Err(ApiError::unprocessable(message.clone()).with_issue("scene.units", message));
     };
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
-    let replay = request.replay(steps)?;
     let work = move |_: &Arc<StopFlag>| {
+        let replay = request.replay(steps)?;
         let torque = driving_torque(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
             .map_err(|e| {
                 ApiError::unprocessable(format!("the torque cannot be computed: {e}"))
@@ -513,7 +513,7 @@ pub async fn balance(
         }
         Ok(answer)
     };
-    let answer = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, work).await?;
+    let answer = state.jobs.run(Kind::Analysis, &client, Work::BALANCE, work).await?;
     Ok(Json(answer))
 }
 

@@ -167,6 +167,10 @@ impl Work {
         noun: "simulation",
         advice: "ask for fewer steps, and check that the scene's units and sizes are what you meant",
     };
+    pub const BALANCE: Work = Work {
+        noun: "spring search",
+        advice: "ask for fewer steps, or run `linkwright analyze` on the command line, which has no time limit",
+    };
     pub const PICTURE: Work =
         Work { noun: "picture", advice: "check that the scene's units and sizes are what you meant" };
 
