@@ -635,7 +635,14 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     if shots.is_some() {
         tokio::time::sleep(Duration::from_millis(1300)).await;
         screenshot(page, shots, "garbage_truck.png").await?;
-        eval(page, "document.getElementById('tab-result').scrollTop = 1e6").await?;
+        // The torque plot with the springs that balance it, drawn on the canvas too.
+        click(page, "#tab-result button[data-action=springs]").await?;
+        until(page, "document.querySelector('#tab-result ul.springs') !== null", Duration::from_secs(20)).await?;
+        eval(
+            page,
+            "[...document.querySelectorAll('#tab-result h3')].find((h) => h.textContent.startsWith('Torque')).scrollIntoView()",
+        )
+        .await?;
         tokio::time::sleep(Duration::from_millis(700)).await;
         screenshot(page, shots, "analysis.png").await?;
         eval(page, "document.getElementById('tab-result').scrollTop = 0").await?;
