@@ -16,7 +16,7 @@ use crate::geom::{segments_cross, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, PartKind};
 use crate::scene::Problem;
-use crate::statics::{Masses, Torque};
+use crate::statics::{peak, Masses, Torque};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -104,6 +104,18 @@ pub struct Balance {
     pub peak_with_springs_nm: f64,
     /// Where it occurs, degrees of crank.
     pub peak_with_springs_crank_deg: f64,
+}
+
+/// The torque along a travel and the springs that balance it, side by side: the document
+/// `linkwright analyze --json` prints and `POST /api/balance` answers.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Balanced<'a> {
+    /// The torque without springs.
+    #[serde(flatten)]
+    pub torque: &'a Torque,
+    /// The springs and the torque with them.
+    #[serde(flatten)]
+    pub balance: &'a Balance,
 }
 
 /// A point carried by a part: fixed on the ground, or rigid with two joints of a moving part (given
@@ -548,25 +560,19 @@ impl<'a> Motion<'a> {
 
 /// The points of an n × n grid over `polygon`'s bounding box that lie inside it.
 fn inside(polygon: &Polygon, n: usize) -> Vec<Point> {
-    let (mut lo, mut hi) = (Point::new(f64::INFINITY, f64::INFINITY), Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
-    for v in polygon.vertices() {
-        lo = Point::new(lo.x.min(v.x), lo.y.min(v.y));
-        hi = Point::new(hi.x.max(v.x), hi.y.max(v.y));
-    }
+    let b = polygon.aabb();
     let t = |k: usize| (k as f64 + 0.5) / n as f64;
     (0..n)
-        .flat_map(|i| (0..n).map(move |j| Point::new(lo.x + (hi.x - lo.x) * t(i), lo.y + (hi.y - lo.y) * t(j))))
+        .flat_map(|i| {
+            (0..n).map(move |j| Point::new(b.min.x + (b.max.x - b.min.x) * t(i), b.min.y + (b.max.y - b.min.y) * t(j)))
+        })
         .filter(|&p| polygon.contains(p))
         .collect()
 }
 
-fn peak_of(torque: &[f64]) -> (usize, f64) {
-    torque.iter().enumerate().fold((0, 0.0), |(i, m), (k, t)| if t.abs() > m { (k, t.abs()) } else { (i, m) })
-}
-
 /// The torque with the given springs' shares added (the same travel `torque` was computed on).
 fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Balance {
-    let (at, peak) = peak_of(&balance_torque);
+    let (at, peak) = peak(&balance_torque);
     Balance {
         springs,
         peak_with_springs_crank_deg: torque.crank_deg.get(at).copied().unwrap_or(0.0),
@@ -594,7 +600,7 @@ pub fn counterbalance(
         return total(torque, unbalanced, Vec::new());
     };
     let one = motion.with(&unbalanced, &first);
-    let Some(mut second) = motion.best_spring(&one).filter(|s| s.peak < (1.0 - SECOND_SPRING_GAIN) * peak_of(&one).1)
+    let Some(mut second) = motion.best_spring(&one).filter(|s| s.peak < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1)
     else {
         return total(torque, one, vec![motion.spring(&first)]);
     };
@@ -622,7 +628,7 @@ pub fn counterbalance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::statics::tests::{parallelogram, MASSES, PARALLELOGRAM_R};
+    use crate::statics::tests::{parallelogram, weight_energy, MASSES, PARALLELOGRAM_R};
     use crate::statics::{driving_torque, GRAVITY};
     use crate::testbed::{known_scene, Family};
 
@@ -738,28 +744,11 @@ mod tests {
                     }
                 })
                 .collect();
-            let gravity = |row: &[Point]| {
-                torque
-                    .parts
-                    .iter()
-                    .map(|p| {
-                        let index = parts.iter().position(|q| q.name == p.name).unwrap();
-                        let centre = match parts[index].kind {
-                            PartKind::Body(b) => motion.frames.pose(b, row).apply(problem.bodies[b].outline.centroid()),
-                            _ => {
-                                let js = &parts[index].joints;
-                                let sum = js.iter().fold(Vec2::ZERO, |s, &j| s + (row[j] - Point::ORIGIN));
-                                Point::ORIGIN + sum / js.len() as f64
-                            }
-                        };
-                        p.mass_kg * GRAVITY * -(centre - Point::ORIGIN).dot(problem.gravity) * metres
-                    })
-                    .sum::<f64>()
-            };
             let energy = |theta: f64| {
                 let mut row = vec![Point::ORIGIN; plan.joint_count()];
                 plan.solve(theta, &mut row).unwrap();
-                gravity(&row) + energies.iter().map(|e| e(&row)).sum::<f64>()
+                weight_energy(&problem, mechanism, &motion.frames, &MASSES, &row)
+                    + energies.iter().map(|e| e(&row)).sum::<f64>()
             };
             let thetas = &trace.thetas;
             let along = (thetas[thetas.len() - 1] - thetas[0]).signum();

@@ -152,6 +152,12 @@ impl Part {
     }
 }
 
+/// Where a torque is largest in magnitude along a travel, and that magnitude (0 for no rows).
+pub(crate) fn peak(torque_nm: &[f64]) -> (usize, f64) {
+    let at = (0..torque_nm.len()).max_by(|&a, &b| torque_nm[a].abs().total_cmp(&torque_nm[b].abs())).unwrap_or(0);
+    (at, torque_nm.get(at).map_or(0.0, |t| t.abs()))
+}
+
 /// The torque the driver of `mechanism` (compiled as `plan`) supplies at every row of `trace` to hold
 /// its moving parts against gravity, with each part's share.
 pub fn driving_torque(
@@ -194,11 +200,11 @@ pub fn driving_torque(
         }
         torque_nm.push(total);
     }
-    let peak = (0..torque_nm.len()).max_by(|&a, &b| torque_nm[a].abs().total_cmp(&torque_nm[b].abs())).unwrap_or(0);
+    let (at, peak_nm) = peak(&torque_nm);
     Ok(Torque {
         crank_deg: trace.thetas.iter().map(|t| t.to_degrees()).collect(),
-        peak_nm: torque_nm[peak].abs(),
-        peak_crank_deg: trace.thetas[peak].to_degrees(),
+        peak_nm,
+        peak_crank_deg: trace.thetas[at].to_degrees(),
         torque_nm,
         parts: loads,
     })
@@ -215,6 +221,23 @@ pub(crate) mod tests {
     /// Grams per cubic centimetre of 1, solid; 6 mm bodies, 10 × 3 mm links; drawn in millimetres.
     pub(crate) const MASSES: Masses =
         Masses { millimetres_per_unit: 1.0, kg_per_mm3: 1e-6, body_thickness: 6.0, link_section: [10.0, 3.0] };
+
+    /// The moving parts' potential energy in the scene's gravity, J, with the joints at `row`: from
+    /// their positions alone, what the driving torque is the derivative of.
+    pub(crate) fn weight_energy(
+        problem: &Problem,
+        mechanism: &Mechanism,
+        frames: &BodyFrames,
+        masses: &Masses,
+        row: &[Point],
+    ) -> f64 {
+        let still = vec![Vec2::ZERO; row.len()];
+        let height = |p: Point| -(p - Point::ORIGIN).dot(problem.gravity) * masses.millimetres_per_unit / 1000.0;
+        parts(problem, mechanism, masses)
+            .iter()
+            .map(|p| p.mass_kg * GRAVITY * height(p.centre(frames, row, &still).0))
+            .sum()
+    }
 
     /// A parallelogram four-bar: crank `q0 p1` and rocker `r0 q1` of length `r` turn together from 30°
     /// to 120°, so the body (a 60 × 10 plate between them) translates along a circle of radius r.
@@ -335,14 +358,10 @@ pub(crate) mod tests {
             let design = known.design();
             let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
             let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &MASSES).unwrap();
-            let parts = parts(&problem, &replay.mechanism, &MASSES);
-            let frames = &replay.frames;
             let energy = |theta: f64| {
                 let mut row = vec![Point::ORIGIN; replay.plan.joint_count()];
                 replay.plan.solve(theta, &mut row).unwrap();
-                let still = vec![Vec2::ZERO; row.len()];
-                let height = |p: Point| -(p - Point::ORIGIN).dot(problem.gravity);
-                parts.iter().map(|p| p.mass_kg * GRAVITY * height(p.centre(frames, &row, &still).0) * 1e-3).sum::<f64>()
+                weight_energy(&problem, &replay.mechanism, &replay.frames, &MASSES, &row)
             };
             let thetas = &replay.trace.thetas;
             let along = (thetas[thetas.len() - 1] - thetas[0]).signum();

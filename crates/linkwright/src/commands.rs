@@ -7,10 +7,10 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
-use linkwright_core::balance::{counterbalance, Balance, Spring};
+use linkwright_core::balance::{counterbalance, Balanced, Spring};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
-use linkwright_core::statics::{driving_torque, Masses, Torque};
+use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
     PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
@@ -306,15 +306,6 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
 /// Steps of the crank's travel the torque is given at.
 const ANALYZE_STEPS: usize = 180;
 
-/// What `analyze --json` prints: the torque and the springs that balance it, side by side.
-#[derive(serde::Serialize)]
-struct Statics<'a> {
-    #[serde(flatten)]
-    torque: &'a Torque,
-    #[serde(flatten)]
-    balance: &'a Balance,
-}
-
 /// `analyze`: the torque the crank needs along the design's motion, and the springs that balance it,
 /// as a table or JSON.
 pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&Path>) -> Result<(), Failure> {
@@ -337,8 +328,8 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
     let balance = counterbalance(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque);
     if json {
-        let statics = Statics { torque: &torque, balance: &balance };
-        println!("{}", serde_json::to_string_pretty(&statics).expect("the torque serializes"));
+        let balanced = Balanced { torque: &torque, balance: &balance };
+        println!("{}", serde_json::to_string_pretty(&balanced).expect("the torque serializes"));
         return Ok(());
     }
     // A printed model needs thousandths of a newton-metre: its torque reads better in N·mm.

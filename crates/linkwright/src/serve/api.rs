@@ -15,7 +15,7 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
-use linkwright_core::balance::counterbalance;
+use linkwright_core::balance::{counterbalance, Balanced};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
 use linkwright_core::geom::Point;
 use linkwright_core::statics::{driving_torque, Masses};
@@ -507,11 +507,7 @@ pub async fn balance(
             })?;
         let balance =
             counterbalance(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque);
-        let mut answer = serde_json::to_value(&torque).unwrap_or(Value::Null);
-        if let (Value::Object(answer), Ok(Value::Object(balance))) = (&mut answer, serde_json::to_value(&balance)) {
-            answer.extend(balance);
-        }
-        Ok(answer)
+        Ok(serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null))
     };
     let answer = state.jobs.run(Kind::Analysis, &client, Work::BALANCE, work).await?;
     Ok(Json(answer))
