@@ -104,13 +104,19 @@ export class Results {
   /** While the result is shown, moves its animation to input pose `i` and pauses there; false when
    * no result is shown (the pose bar then selects the pose for editing). */
   showPose(i) {
-    const poses = this.result?.analysis?.poses;
-    if (!this.store.ui.showResult || !poses?.[i]) return false;
-    this.setPlaying(false);
-    this.pos = poses[i].frame;
-    this.drawFrame();
+    if (!this.store.ui.showResult || !this.pauseAt(i)) return false;
     this.store.setUi({ pose: i });
     this.store.hint(`Pose ${i + 1}, as the design reaches it. Press Play to move on, or Edit drawing to change the poses.`);
+    return true;
+  }
+
+  /** Pauses the animation where the design shown reaches input pose `i`; false when it has no such pose. */
+  pauseAt(i) {
+    const pose = this.result?.analysis?.poses?.[i];
+    if (!pose) return false;
+    this.setPlaying(false);
+    this.pos = pose.frame;
+    this.drawFrame();
     return true;
   }
 
@@ -356,12 +362,7 @@ export class Results {
     // the two meet as they move it (and the page leaves the cores to the redesign); it plays again
     // when the pose is let go.
     this.heldPose = this.store.ui.pose;
-    const poses = this.result?.analysis?.poses;
-    if (poses?.[this.heldPose]) {
-      this.setPlaying(false);
-      this.pos = poses[this.heldPose].frame;
-      this.drawFrame();
-    }
+    this.pauseAt(this.heldPose);
     if (this.liveBusy) {
       this.livePending = true;
       return;
@@ -480,7 +481,8 @@ export class Results {
   massTable(r) {
     const parts = r.analysis.torque?.parts || [];
     const rows = r.scene.moving_bodies.map((body, i) => {
-      const printed = parts.find((p) => p.name === `body${i + 1}`);
+      const part = r.mechanism.parts.find((p) => p.kind === 'body' && p.body === i);
+      const printed = parts.find((p) => p.name === part?.name);
       const change = (e) => {
         const text = e.target.value.trim(), v = Number(text);
         if (text !== '' && !(Number.isFinite(v) && v > 0 && v <= 1e5)) {
