@@ -6,11 +6,12 @@
 //! `½ κ (φ − φ₀)²`. By virtual work the driver then supplies `τ + k (L − L₀) dL/dθ` (or
 //! `τ + κ (φ − φ₀) dφ/dθ`), the derivatives from the joints' exact velocities. For fixed anchors
 //! and a fixed free length the torque is linear in the stiffness, so the peak is a convex function
-//! of it: each pair of anchors and free length gets its best stiffness by a bracketing search. The
-//! best pairs whose spring stays out of the avoid regions along the motion (it hangs in a layer of
-//! its own beside the links) have their anchors moved to a local optimum, and the lowest peak wins.
-//! A second spring is added on what the first leaves when it lowers the peak further, and the two
-//! are chosen again against each other.
+//! of it: each pair of anchors and free length gets its best stiffness by a bracketing search (every
+//! pair screened on a quarter of the rows, the best again on all). The best pairs whose spring stays
+//! out of the avoid regions along the motion (it hangs in a layer of its own beside the links) have
+//! their anchors moved to a local optimum, and the lowest peak wins. The best single springs of the
+//! moving parts each start a pair: a second spring added on what the first leaves, then the two
+//! chosen again against each other; the best pair is kept when it lowers the peak enough further.
 
 use crate::geom::{segments_cross, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
@@ -43,8 +44,15 @@ const POLISH_LEVELS: usize = 7;
 const SECOND_SPRING_GAIN: f64 = 0.1;
 /// Rounds of choosing each of two springs again against the other.
 const PAIR_ROUNDS: usize = 3;
+/// Moving parts whose best single spring starts a search for a pair: the parts' best single springs
+/// can lower the peak alike while only some leave room for a second (the folding table's crank and
+/// top both 41% alone, 41% and 69% with a second).
+const PAIR_SEEDS: usize = 2;
 /// Extension springs checked for clearance, cheapest first, before giving up on that kind.
 const CLEARANCE_TRIES: usize = 400;
+/// Every pair of anchors is screened at every this-many-th row of the travel (and the last) before
+/// the best [`CLEARANCE_TRIES`] are fitted at every row.
+const SCREEN_STRIDE: usize = 4;
 
 /// Where a spring is hooked: a part of the design and a point, scene units, at the first pose.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -148,6 +156,7 @@ impl Place {
 
 /// A spring's share of the torque per unit stiffness at each row, given its free length (or angle):
 /// `share(free)[r] = along · (x_r − free) · x'_r · unit`, x the length (m) or the angle (rad).
+#[derive(Clone)]
 struct Stretch {
     /// The length or angle at each row (scene units or radians).
     x: Vec<f64>,
@@ -165,6 +174,11 @@ impl Stretch {
     /// The torque per unit stiffness at each row with free length `free`.
     fn share(&self, free: f64, along: f64) -> Vec<f64> {
         self.x.iter().zip(&self.dx).map(|(x, dx)| along * (x - free) * dx * self.unit * self.unit).collect()
+    }
+
+    /// [`Stretch::share`] at the given rows only.
+    fn share_at(&self, free: f64, along: f64, rows: &[usize]) -> Vec<f64> {
+        rows.iter().map(|&r| along * (self.x[r] - free) * self.dx[r] * self.unit * self.unit).collect()
     }
 
     /// The free lengths (or angles) the spring may have: an extension spring stays between its
@@ -223,6 +237,7 @@ fn best_stiffness(torque: &[f64], share: &[f64]) -> (f64, f64) {
 
 /// One spring's fit: where it is, its stretch along the travel, stiffness and free length, and the
 /// peak it leaves.
+#[derive(Clone)]
 struct Fit {
     kind: Kind,
     stretch: Stretch,
@@ -309,12 +324,21 @@ impl<'a> Motion<'a> {
 
     /// The best free length and stiffness for a spring of this stretch against `torque`.
     fn fit(&self, kind: Kind, stretch: Stretch, torque: &[f64]) -> Option<Fit> {
+        self.fit_at(kind, stretch, &Rows::all(torque))
+    }
+
+    /// [`Motion::fit`] judged at some rows only.
+    fn fit_at(&self, kind: Kind, stretch: Stretch, rows: &Rows) -> Option<Fit> {
         let torsion = matches!(kind, Kind::Torsion { .. });
         let (stiffness, free, peak) = stretch
             .free_choices(torsion)
             .into_iter()
             .map(|free| {
-                let (stiffness, peak) = best_stiffness(torque, &stretch.share(free, self.along));
+                let share = match &rows.rows {
+                    None => stretch.share(free, self.along),
+                    Some(rows) => stretch.share_at(free, self.along, rows),
+                };
+                let (stiffness, peak) = best_stiffness(&rows.torque, &share);
                 (stiffness, free, peak)
             })
             .filter(|&(stiffness, _, _)| stiffness > 0.0)
@@ -445,25 +469,33 @@ impl<'a> Motion<'a> {
         out
     }
 
-    /// The best spring of any kind against `torque`: the extension spring with the lowest peak that
-    /// stays clear of the bodies, or a torsion spring when that does better.
-    fn best_spring(&self, torque: &[f64]) -> Option<Fit> {
+    /// The best spring of any kind against `torque` (hooked on moving part `on` only, when given): the
+    /// extension spring with the lowest peak that stays clear of the bodies, or a torsion spring when
+    /// that does better.
+    fn best_spring(&self, torque: &[f64], on: Option<usize>) -> Option<Fit> {
         let grounds = self.ground_places();
-        // Independent pairs, in a fixed order whatever the thread count.
-        let mut extensions: Vec<Fit> = self
-            .moving_places()
+        let mut movings = self.moving_places();
+        movings.retain(|m| on.is_none_or(|part| m.part == part));
+        // Every pair is first judged at every SCREEN_STRIDE-th row (and the last), the best of them
+        // again at every row. Independent pairs, in a fixed order whatever the thread count.
+        let screen = Rows::strided(torque, SCREEN_STRIDE);
+        let mut extensions: Vec<Fit> = movings
             .into_par_iter()
             .flat_map_iter(|moving| {
+                let screen = &screen;
                 grounds.iter().filter_map(move |ground| {
                     let kind = Kind::Extension { ground: *ground, moving };
-                    self.fit(kind, self.extension(ground, &moving), torque)
+                    self.fit_at(kind, self.extension(ground, &moving), screen)
                 })
             })
             .collect();
         extensions.sort_by(|a, b| a.peak.total_cmp(&b.peak));
+        extensions.truncate(CLEARANCE_TRIES);
+        let mut extensions: Vec<Fit> =
+            extensions.into_par_iter().filter_map(|f| self.fit(f.kind, f.stretch, torque)).collect();
+        extensions.sort_by(|a, b| a.peak.total_cmp(&b.peak));
         let clear: Vec<Fit> = extensions
             .into_iter()
-            .take(CLEARANCE_TRIES)
             .filter(|f| match f.kind {
                 Kind::Extension { ground, moving } => self.clear(&ground, &moving),
                 Kind::Torsion { .. } => true,
@@ -483,7 +515,7 @@ impl<'a> Motion<'a> {
             .parts
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.kind == PartKind::Link)
+            .filter(|&(i, p)| p.kind == PartKind::Link && on.is_none_or(|part| part == i))
             .filter_map(|(i, p)| {
                 let pivot = *p.joints.iter().find(|j| fixed.contains(j))?;
                 let tip = *p.joints.iter().find(|j| !fixed.contains(j))?;
@@ -558,6 +590,29 @@ impl<'a> Motion<'a> {
     }
 }
 
+/// The torque at the rows a fit is judged on.
+struct Rows {
+    /// Those rows, `None` for every row.
+    rows: Option<Vec<usize>>,
+    /// The torque at them.
+    torque: Vec<f64>,
+}
+
+impl Rows {
+    fn all(torque: &[f64]) -> Rows {
+        Rows { rows: None, torque: torque.to_vec() }
+    }
+
+    /// Every `stride`-th row and the last.
+    fn strided(torque: &[f64], stride: usize) -> Rows {
+        let mut rows: Vec<usize> = (0..torque.len()).step_by(stride).collect();
+        if torque.len() > 1 && rows.last() != Some(&(torque.len() - 1)) {
+            rows.push(torque.len() - 1);
+        }
+        Rows { torque: rows.iter().map(|&r| torque[r]).collect(), rows: Some(rows) }
+    }
+}
+
 /// The points of an n × n grid over `polygon`'s bounding box that lie inside it.
 fn inside(polygon: &Polygon, n: usize) -> Vec<Point> {
     let b = polygon.aabb();
@@ -596,33 +651,55 @@ pub fn counterbalance(
         return total(torque, torque.torque_nm.clone(), Vec::new());
     };
     let unbalanced = torque.torque_nm.clone();
-    let Some(first) = motion.best_spring(&unbalanced) else {
+    // The best single spring on each moving part, best first (on a tie, the part listed first).
+    let mut singles: Vec<Fit> = (0..mechanism.topology.parts.len())
+        .filter(|&p| mechanism.topology.parts[p].kind != PartKind::Fixed)
+        .filter_map(|p| motion.best_spring(&unbalanced, Some(p)))
+        .collect();
+    singles.sort_by(|a, b| a.peak.total_cmp(&b.peak));
+    let Some(single) = singles.first() else {
         return total(torque, unbalanced, Vec::new());
     };
-    let one = motion.with(&unbalanced, &first);
-    let Some(mut second) = motion.best_spring(&one).filter(|s| s.peak < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1)
-    else {
-        return total(torque, one, vec![motion.spring(&first)]);
-    };
-    // Each spring again against the weight and the other spring, while that lowers the peak: the
-    // first was chosen before the second was there.
-    let mut first = first;
-    for _ in 0..PAIR_ROUNDS {
-        let Some(better) =
-            motion.best_spring(&motion.with(&unbalanced, &second)).filter(|f| f.peak < second.peak * 0.999)
-        else {
-            break;
-        };
-        first = better;
-        match motion.best_spring(&motion.with(&unbalanced, &first)) {
-            Some(next) if next.peak < first.peak => second = next,
-            _ => break,
+    let one = motion.with(&unbalanced, single);
+    // A second spring is kept when the best pair lowers the peak by enough more than one spring.
+    let pair = singles
+        .iter()
+        .take(PAIR_SEEDS)
+        .filter_map(|first| motion.pair_from(&unbalanced, first.clone()))
+        .min_by(|a, b| a.2.total_cmp(&b.2))
+        .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1);
+    match pair {
+        Some((first, second, _)) => {
+            let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
+            let springs = [first, second].iter().map(|f| motion.spring(f)).collect();
+            total(torque, balanced, springs)
         }
+        None => total(torque, one, vec![motion.spring(single)]),
     }
-    let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
-    let fits = [first, second];
-    let springs = fits.iter().map(|f| motion.spring(f)).collect();
-    total(torque, balanced, springs)
+}
+
+impl Motion<'_> {
+    /// The best second spring beside `first` against `unbalanced`, then each of the two chosen again
+    /// against the other while that lowers the peak (the first was chosen before the second was
+    /// there); the two and the peak they leave.
+    fn pair_from(&self, unbalanced: &[f64], first: Fit) -> Option<(Fit, Fit, f64)> {
+        let mut second = self.best_spring(&self.with(unbalanced, &first), None)?;
+        let mut first = first;
+        for _ in 0..PAIR_ROUNDS {
+            let Some(better) =
+                self.best_spring(&self.with(unbalanced, &second), None).filter(|f| f.peak < second.peak * 0.999)
+            else {
+                break;
+            };
+            first = better;
+            match self.best_spring(&self.with(unbalanced, &first), None) {
+                Some(next) if next.peak < first.peak => second = next,
+                _ => break,
+            }
+        }
+        let (_, both) = peak(&self.with(&self.with(unbalanced, &first), &second));
+        Some((first, second, both))
+    }
 }
 
 #[cfg(test)]
