@@ -324,21 +324,21 @@ impl<'a> Motion<'a> {
 
     /// The best free length and stiffness for a spring of this stretch against `torque`.
     fn fit(&self, kind: Kind, stretch: Stretch, torque: &[f64]) -> Option<Fit> {
-        self.fit_at(kind, stretch, &Rows::all(torque))
+        self.fit_at(kind, stretch, torque, None)
     }
 
-    /// [`Motion::fit`] judged at some rows only.
-    fn fit_at(&self, kind: Kind, stretch: Stretch, rows: &Rows) -> Option<Fit> {
+    /// [`Motion::fit`] judged at `rows` only (every row when `None`), `torque` given at those rows.
+    fn fit_at(&self, kind: Kind, stretch: Stretch, torque: &[f64], rows: Option<&[usize]>) -> Option<Fit> {
         let torsion = matches!(kind, Kind::Torsion { .. });
         let (stiffness, free, peak) = stretch
             .free_choices(torsion)
             .into_iter()
             .map(|free| {
-                let share = match &rows.rows {
+                let share = match rows {
                     None => stretch.share(free, self.along),
                     Some(rows) => stretch.share_at(free, self.along, rows),
                 };
-                let (stiffness, peak) = best_stiffness(&rows.torque, &share);
+                let (stiffness, peak) = best_stiffness(torque, &share);
                 (stiffness, free, peak)
             })
             .filter(|&(stiffness, _, _)| stiffness > 0.0)
@@ -478,14 +478,18 @@ impl<'a> Motion<'a> {
         movings.retain(|m| on.is_none_or(|part| m.part == part));
         // Every pair is first judged at every SCREEN_STRIDE-th row (and the last), the best of them
         // again at every row. Independent pairs, in a fixed order whatever the thread count.
-        let screen = Rows::strided(torque, SCREEN_STRIDE);
+        let mut rows: Vec<usize> = (0..torque.len()).step_by(SCREEN_STRIDE).collect();
+        if rows.last().is_some_and(|&r| r + 1 < torque.len()) {
+            rows.push(torque.len() - 1);
+        }
+        let screened: Vec<f64> = rows.iter().map(|&r| torque[r]).collect();
+        let (rows, screened) = (&rows, &screened);
         let mut extensions: Vec<Fit> = movings
             .into_par_iter()
             .flat_map_iter(|moving| {
-                let screen = &screen;
                 grounds.iter().filter_map(move |ground| {
                     let kind = Kind::Extension { ground: *ground, moving };
-                    self.fit_at(kind, self.extension(ground, &moving), screen)
+                    self.fit_at(kind, self.extension(ground, &moving), screened, Some(rows))
                 })
             })
             .collect();
@@ -584,32 +588,31 @@ impl<'a> Motion<'a> {
         best
     }
 
+    /// The best second spring beside `first` against `unbalanced`, then each of the two chosen again
+    /// against the other while that lowers the peak (the first was chosen before the second was
+    /// there); the two and the peak they leave.
+    fn pair_from(&self, unbalanced: &[f64], first: Fit) -> Option<(Fit, Fit, f64)> {
+        let mut second = self.best_spring(&self.with(unbalanced, &first), None)?;
+        let mut first = first;
+        for _ in 0..PAIR_ROUNDS {
+            let Some(better) =
+                self.best_spring(&self.with(unbalanced, &second), None).filter(|f| f.peak < second.peak * 0.999)
+            else {
+                break;
+            };
+            first = better;
+            match self.best_spring(&self.with(unbalanced, &first), None) {
+                Some(next) if next.peak < first.peak => second = next,
+                _ => break,
+            }
+        }
+        let (_, both) = peak(&self.with(&self.with(unbalanced, &first), &second));
+        Some((first, second, both))
+    }
+
     fn with(&self, torque: &[f64], fit: &Fit) -> Vec<f64> {
         let share = fit.stretch.share(fit.free, self.along);
         torque.iter().zip(share).map(|(t, s)| t + fit.stiffness * s).collect()
-    }
-}
-
-/// The torque at the rows a fit is judged on.
-struct Rows {
-    /// Those rows, `None` for every row.
-    rows: Option<Vec<usize>>,
-    /// The torque at them.
-    torque: Vec<f64>,
-}
-
-impl Rows {
-    fn all(torque: &[f64]) -> Rows {
-        Rows { rows: None, torque: torque.to_vec() }
-    }
-
-    /// Every `stride`-th row and the last.
-    fn strided(torque: &[f64], stride: usize) -> Rows {
-        let mut rows: Vec<usize> = (0..torque.len()).step_by(stride).collect();
-        if torque.len() > 1 && rows.last() != Some(&(torque.len() - 1)) {
-            rows.push(torque.len() - 1);
-        }
-        Rows { torque: rows.iter().map(|&r| torque[r]).collect(), rows: Some(rows) }
     }
 }
 
@@ -675,30 +678,6 @@ pub fn counterbalance(
             total(torque, balanced, springs)
         }
         None => total(torque, one, vec![motion.spring(single)]),
-    }
-}
-
-impl Motion<'_> {
-    /// The best second spring beside `first` against `unbalanced`, then each of the two chosen again
-    /// against the other while that lowers the peak (the first was chosen before the second was
-    /// there); the two and the peak they leave.
-    fn pair_from(&self, unbalanced: &[f64], first: Fit) -> Option<(Fit, Fit, f64)> {
-        let mut second = self.best_spring(&self.with(unbalanced, &first), None)?;
-        let mut first = first;
-        for _ in 0..PAIR_ROUNDS {
-            let Some(better) =
-                self.best_spring(&self.with(unbalanced, &second), None).filter(|f| f.peak < second.peak * 0.999)
-            else {
-                break;
-            };
-            first = better;
-            match self.best_spring(&self.with(unbalanced, &first), None) {
-                Some(next) if next.peak < first.peak => second = next,
-                _ => break,
-            }
-        }
-        let (_, both) = peak(&self.with(&self.with(unbalanced, &first), &second));
-        Some((first, second, both))
     }
 }
 
