@@ -245,6 +245,15 @@ fn analyze_gives_the_torque_along_the_motion() {
         assert!((share(&doubled, k) - 2.0 * share(&torque, k)).abs() <= 1e-12 * (1.0 + peak));
     }
 
+    // The springs are searched in parallel, and found the same on one thread.
+    let one_thread = std::process::Command::new(env!("CARGO_BIN_EXE_linkwright"))
+        .args(["analyze", &scene, design.to_str().unwrap(), "--json"])
+        .env("RAYON_NUM_THREADS", "1")
+        .output()
+        .unwrap();
+    assert!(one_thread.status.success(), "stderr: {}", text(&one_thread.stderr));
+    assert_eq!(serde_json::from_slice::<Value>(&one_thread.stdout).unwrap(), torque);
+
     let table = linkwright(&["analyze", &scene, design.to_str().unwrap()]);
     assert!(table.status.success());
     let table = text(&table.stdout);
