@@ -735,9 +735,14 @@ async fn joint_editing(page: &Page) -> Result<()> {
     let fixed = scene(page).await?["fixed_bodies"].clone();
     let q0 = "window.linkwright.store.result.mechanism.joints.q0";
     let before = floats(&eval(page, q0).await?);
+    // A point of q0's disc where q0 is the joint on top (another joint may be drawn over part of it).
     let centre = eval(
         page,
         "(() => { const r = document.querySelector('.layer-resultDynamic .joint[data-joint=q0]').getBoundingClientRect(); \
+         const on = (x, y) => document.elementFromPoint(x, y)?.closest('.joint')?.dataset.joint === 'q0'; \
+         for (let k = 0; k <= 8; k++) { const a = k * Math.PI / 4, s = k === 0 ? 0 : 0.3; \
+           const x = r.x + r.width * (0.5 + s * Math.cos(a)), y = r.y + r.height * (0.5 + s * Math.sin(a)); \
+           if (on(x, y)) return [x, y]; } \
          return [r.x + r.width / 2, r.y + r.height / 2]; })()",
     )
     .await?;
