@@ -346,6 +346,56 @@ pub(crate) mod tests {
         }
     }
 
+    /// Virtual work along every bundled example: the torque on a design of each (a short search,
+    /// weighed as printed with the default settings, or by the masses the scene gives) against central
+    /// differences of the energy from the parts' positions alone.
+    #[test]
+    fn torque_is_the_derivative_of_the_potential_energy_along_every_bundled_example() {
+        const EXAMPLES: [(&str, &str); 13] = [
+            ("k1_bulldozer", include_str!("../../../examples/k1_bulldozer.json")),
+            ("k1_car_roof", include_str!("../../../examples/k1_car_roof.json")),
+            ("k1_excavator", include_str!("../../../examples/k1_excavator.json")),
+            ("k1_garbage_truck", include_str!("../../../examples/k1_garbage_truck.json")),
+            ("k1_monitor", include_str!("../../../examples/k1_monitor.json")),
+            ("k1_sofa_bed", include_str!("../../../examples/k1_sofa_bed.json")),
+            ("k1_table", include_str!("../../../examples/k1_table.json")),
+            ("k1_wall_bed_full_size", include_str!("../../../examples/k1_wall_bed_full_size.json")),
+            ("k2_folding_roof2", include_str!("../../../examples/k2_folding_roof2.json")),
+            ("k2_wall_bed", include_str!("../../../examples/k2_wall_bed.json")),
+            ("k2_wall_chair", include_str!("../../../examples/k2_wall_chair.json")),
+            ("k3_folding_roof", include_str!("../../../examples/k3_folding_roof.json")),
+            ("k3_power_shovel", include_str!("../../../examples/k3_power_shovel.json")),
+        ];
+        for (name, json) in EXAMPLES {
+            let mut scene = Scene::from_json(json).unwrap();
+            scene.settings.samples = 3000;
+            scene.settings.iterations = 2;
+            let problem = Problem::new(&scene).unwrap();
+            let outcome = crate::synthesize(&problem, &crate::Silent).unwrap();
+            let design = crate::DesignFile::from_outcome(&problem, &outcome);
+            assert!(design.mechanism.is_some(), "{name}: {:?}", design.reason);
+            let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
+            let masses = Masses::printed(&PrintSettings::default(), &scene.units).unwrap();
+            let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses).unwrap();
+            let energy = |theta: f64| {
+                let mut row = vec![Point::ORIGIN; replay.plan.joint_count()];
+                replay.plan.solve(theta, &mut row).unwrap();
+                weight_energy(&problem, &replay.mechanism, &replay.frames, &masses, &row)
+            };
+            let thetas = &replay.trace.thetas;
+            let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
+            let h = 1e-6;
+            for (&theta, &tau) in thetas.iter().zip(&torque.torque_nm).skip(1).take(thetas.len() - 2) {
+                let difference = along * (energy(theta + h) - energy(theta - h)) / (2.0 * h);
+                assert!(
+                    (tau - difference).abs() <= 1e-5 * torque.peak_nm,
+                    "{name} at {:.2}°: {tau} against {difference}",
+                    theta.to_degrees()
+                );
+            }
+        }
+    }
+
     /// Virtual work: the torque is the derivative of the potential energy Σ m g h along the crank,
     /// here against central differences of the energy from the parts' positions alone, on linkages of
     /// every family (known mechanisms, so each design exists), turning either way.
