@@ -18,6 +18,7 @@ use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, PartKind};
 use crate::scene::Problem;
 use crate::statics::{peak, Masses, Torque};
+use crate::{Cancelled, Observer};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -262,6 +263,8 @@ struct Motion<'a> {
     velocities: Vec<Vec<Vec2>>,
     along: f64,
     metres: f64,
+    /// Asked between pieces of the search whether to stop.
+    observer: &'a dyn Observer,
 }
 
 impl<'a> Motion<'a> {
@@ -272,6 +275,7 @@ impl<'a> Motion<'a> {
         plan: &Plan,
         trace: &'a Trace,
         masses: &Masses,
+        observer: &'a dyn Observer,
     ) -> Option<Self> {
         let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();
         let velocities = (0..trace.len())
@@ -289,6 +293,7 @@ impl<'a> Motion<'a> {
             velocities,
             along,
             metres: masses.millimetres_per_unit / 1000.0,
+            observer,
         })
     }
 
@@ -473,6 +478,9 @@ impl<'a> Motion<'a> {
     /// extension spring with the lowest peak that stays clear of the bodies, or a torsion spring when
     /// that does better.
     fn best_spring(&self, torque: &[f64], on: Option<usize>) -> Option<Fit> {
+        if self.observer.cancelled() {
+            return None;
+        }
         let grounds = self.ground_places();
         let mut movings = self.moving_places();
         movings.retain(|m| on.is_none_or(|part| m.part == part));
@@ -487,7 +495,9 @@ impl<'a> Motion<'a> {
         let mut extensions: Vec<Fit> = movings
             .into_par_iter()
             .flat_map_iter(|moving| {
-                grounds.iter().filter_map(move |ground| {
+                // Once cancelled, the rest is skipped (the caller answers `Cancelled`).
+                let go_on = !self.observer.cancelled();
+                grounds.iter().take_while(move |_| go_on).filter_map(move |ground| {
                     let kind = Kind::Extension { ground: *ground, moving };
                     self.fit_at(kind, self.extension(ground, &moving), screened, Some(rows))
                 })
@@ -551,6 +561,9 @@ impl<'a> Motion<'a> {
         let mut best = fit;
         let mut step = 0.05 * self.problem.scale;
         for _ in 0..POLISH_LEVELS {
+            if self.observer.cancelled() {
+                break;
+            }
             let mut moved = true;
             while moved {
                 moved = false;
@@ -641,6 +654,8 @@ fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Bal
 
 /// One or two springs that lower the peak of `torque` (the driver's torque of `mechanism`, compiled
 /// as `plan`, along `trace`, as [`crate::statics::driving_torque`] gives it), and the torque with them.
+/// The search takes seconds on multi-body linkages: it stops soon after `observer` says it is
+/// cancelled, and then returns [`Cancelled`].
 pub fn counterbalance(
     problem: &Problem,
     mechanism: &Mechanism,
@@ -648,20 +663,23 @@ pub fn counterbalance(
     trace: &Trace,
     masses: &Masses,
     torque: &Torque,
-) -> Balance {
-    let Some(motion) = Motion::new(problem, mechanism, plan, trace, masses) else {
+    observer: &dyn Observer,
+) -> Result<Balance, Cancelled> {
+    let Some(motion) = Motion::new(problem, mechanism, plan, trace, masses, observer) else {
         // A dead point: the statics has no torque there to balance.
-        return total(torque, torque.torque_nm.clone(), Vec::new());
+        return Ok(total(torque, torque.torque_nm.clone(), Vec::new()));
     };
+    let go_on = || if observer.cancelled() { Err(Cancelled) } else { Ok(()) };
     let unbalanced = torque.torque_nm.clone();
     // The best single spring on each moving part, best first (on a tie, the part listed first).
     let mut singles: Vec<Fit> = (0..mechanism.topology.parts.len())
         .filter(|&p| mechanism.topology.parts[p].kind != PartKind::Fixed)
         .filter_map(|p| motion.best_spring(&unbalanced, Some(p)))
         .collect();
+    go_on()?;
     singles.sort_by(|a, b| a.peak.total_cmp(&b.peak));
     let Some(single) = singles.first() else {
-        return total(torque, unbalanced, Vec::new());
+        return Ok(total(torque, unbalanced, Vec::new()));
     };
     let one = motion.with(&unbalanced, single);
     // A second spring is kept when the best pair lowers the peak by enough more than one spring.
@@ -671,14 +689,15 @@ pub fn counterbalance(
         .filter_map(|first| motion.pair_from(&unbalanced, first.clone()))
         .min_by(|a, b| a.2.total_cmp(&b.2))
         .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1);
-    match pair {
+    go_on()?;
+    Ok(match pair {
         Some((first, second, _)) => {
             let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
             let springs = [first, second].iter().map(|f| motion.spring(f)).collect();
             total(torque, balanced, springs)
         }
         None => total(torque, one, vec![motion.spring(single)]),
-    }
+    })
 }
 
 #[cfg(test)]
@@ -705,7 +724,7 @@ mod tests {
                 * metres;
         let (h, s) = (40.0, r / 2.0);
         let stiffness = weight / (h * s * metres * metres);
-        let motion = Motion::new(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
+        let motion = Motion::new(&problem, &mechanism, &plan, &trace, &MASSES, &crate::Silent).unwrap();
         let topology = &mechanism.topology;
         let crank = topology.parts.iter().position(|p| p.name == "crank").unwrap();
         let (q0, p1) = (topology.joint("q0").unwrap(), topology.joint("p1").unwrap());
@@ -744,10 +763,10 @@ mod tests {
             let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
             let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
             let torque = driving_torque(&problem, mechanism, plan, trace, &MASSES).unwrap();
-            let balance = counterbalance(&problem, mechanism, plan, trace, &MASSES, &torque);
+            let balance = counterbalance(&problem, mechanism, plan, trace, &MASSES, &torque, &crate::Silent).unwrap();
             assert!(!balance.springs.is_empty(), "{family:?}: no spring");
             assert!(balance.peak_with_springs_nm < torque.peak_nm, "{family:?}");
-            let motion = Motion::new(&problem, mechanism, plan, trace, &MASSES).unwrap();
+            let motion = Motion::new(&problem, mechanism, plan, trace, &MASSES, &crate::Silent).unwrap();
             let parts = &mechanism.topology.parts;
             let metres = MASSES.millimetres_per_unit / 1000.0;
             // Each spring's energy at any crank angle, from its reported anchors and free length.
@@ -819,5 +838,21 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A search its observer cancels stops and says so, instead of answering with fewer springs.
+    #[test]
+    fn a_cancelled_search_stops_and_says_so() {
+        struct Cancelling;
+        impl Observer for Cancelling {
+            fn cancelled(&self) -> bool {
+                true
+            }
+        }
+        let (problem, mechanism, plan, trace) = parallelogram();
+        let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
+        assert_eq!(counterbalance(&problem, &mechanism, &plan, &trace, &MASSES, &torque, &Cancelling), Err(Cancelled));
+        let balance = counterbalance(&problem, &mechanism, &plan, &trace, &MASSES, &torque, &crate::Silent).unwrap();
+        assert!(!balance.springs.is_empty());
     }
 }

@@ -13,7 +13,7 @@ use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
-    PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
+    PoseMiss, Problem, Progress, Reject, RenderInput, Silent, Stage, Start, Status,
 };
 use std::path::{Path, PathBuf};
 
@@ -326,7 +326,8 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
     let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
-    let balance = counterbalance(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque);
+    let balance = counterbalance(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque, &Silent)
+        .expect("a silent search is never cancelled");
     if json {
         let balanced = Balanced { torque: &torque, balance: &balance };
         println!("{}", serde_json::to_string_pretty(&balanced).expect("the torque serializes"));

@@ -888,4 +888,13 @@ fn springs_come_at_the_simulations_frames() {
     let (status, body) = post(&server, "/api/balance", &json!({"scene": unitless, "design": design}));
     assert_error(status, &body, 422);
     assert_eq!(body["issues"][0]["field"], "scene.units");
+
+    // A search longer than the server allows is stopped at the deadline, and frees its slot.
+    let strict = Server::start(&["--job-seconds", "1"]);
+    let long = json!({"scene": scene, "design": design, "steps": 5000});
+    let (status, body) = post(&strict, "/api/balance", &long);
+    assert_error(status, &body, 503);
+    let message = body["error"].as_str().unwrap();
+    assert!(message.contains("spring search") && message.contains("limit of 1 s"), "{message}");
+    wait_idle(&strict, Duration::from_secs(5));
 }

@@ -498,15 +498,26 @@ pub async fn balance(
         return Err(ApiError::unprocessable(message.clone()).with_issue("scene.units", message));
     };
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
-    let work = move |_: &Arc<StopFlag>| {
+    let work = move |flag: &Arc<StopFlag>| {
         let replay = request.replay(steps)?;
         let torque = driving_torque(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
             .map_err(|e| {
                 ApiError::unprocessable(format!("the torque cannot be computed: {e}"))
                     .with_issue("design", e.to_string())
             })?;
-        let balance =
-            counterbalance(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque);
+        // The search stops when the job does (its deadline, or the client gone): the answer then says
+        // why (`Jobs::run`).
+        let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
+        let balance = counterbalance(
+            &request.problem,
+            &replay.mechanism,
+            &replay.plan,
+            &replay.trace,
+            &masses,
+            &torque,
+            &observer,
+        )
+        .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
         Ok(serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null))
     };
     let answer = state.jobs.run(Kind::Analysis, &client, Work::BALANCE, work).await?;
