@@ -703,7 +703,7 @@ pub fn counterbalance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::statics::tests::{parallelogram, weight_energy, MASSES, PARALLELOGRAM_R};
+    use crate::statics::tests::{assert_energy_derivative, parallelogram, weight_energy, MASSES, PARALLELOGRAM_R};
     use crate::statics::{driving_torque, GRAVITY};
     use crate::testbed::{known_scene, Family};
 
@@ -819,24 +819,18 @@ mod tests {
                     }
                 })
                 .collect();
-            let energy = |theta: f64| {
-                let mut row = vec![Point::ORIGIN; plan.joint_count()];
-                plan.solve(theta, &mut row).unwrap();
-                weight_energy(&problem, mechanism, &motion.frames, &MASSES, &row)
-                    + energies.iter().map(|e| e(&row)).sum::<f64>()
-            };
-            let thetas = &trace.thetas;
-            let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
-            let scale = torque.peak_nm.max(1e-12);
-            let h = 1e-6;
-            for (&theta, &tau) in thetas.iter().zip(&balance.torque_with_springs_nm).skip(1).take(thetas.len() - 2) {
-                let difference = along * (energy(theta + h) - energy(theta - h)) / (2.0 * h);
-                assert!(
-                    (tau - difference).abs() <= 1e-4 * scale,
-                    "{family:?} at {:.2}°: {tau} against {difference}",
-                    theta.to_degrees()
-                );
-            }
+            let bound = 1e-4 * torque.peak_nm;
+            assert_energy_derivative(
+                &format!("{family:?}"),
+                plan,
+                trace,
+                &balance.torque_with_springs_nm,
+                bound,
+                |row| {
+                    weight_energy(&problem, mechanism, &motion.frames, &MASSES, row)
+                        + energies.iter().map(|e| e(row)).sum::<f64>()
+                },
+            );
         }
     }
 

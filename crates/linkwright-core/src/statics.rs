@@ -374,25 +374,8 @@ pub(crate) mod tests {
             let outcome = crate::synthesize(&problem, &crate::Silent).unwrap();
             let design = crate::DesignFile::from_outcome(&problem, &outcome);
             assert!(design.mechanism.is_some(), "{name}: {:?}", design.reason);
-            let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
             let masses = Masses::printed(&PrintSettings::default(), &scene.units).unwrap();
-            let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses).unwrap();
-            let energy = |theta: f64| {
-                let mut row = vec![Point::ORIGIN; replay.plan.joint_count()];
-                replay.plan.solve(theta, &mut row).unwrap();
-                weight_energy(&problem, &replay.mechanism, &replay.frames, &masses, &row)
-            };
-            let thetas = &replay.trace.thetas;
-            let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
-            let h = 1e-6;
-            for (&theta, &tau) in thetas.iter().zip(&torque.torque_nm).skip(1).take(thetas.len() - 2) {
-                let difference = along * (energy(theta + h) - energy(theta - h)) / (2.0 * h);
-                assert!(
-                    (tau - difference).abs() <= 1e-5 * torque.peak_nm,
-                    "{name} at {:.2}°: {tau} against {difference}",
-                    theta.to_degrees()
-                );
-            }
+            assert_virtual_work(name, &problem, &design, &masses);
         }
     }
 
@@ -405,26 +388,45 @@ pub(crate) mod tests {
         for (seed, family) in families.into_iter().enumerate() {
             let known = known_scene(family, 3, seed as u64, 100.0).unwrap();
             let problem = Problem::new(&known.scene).unwrap();
-            let design = known.design();
-            let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
-            let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &MASSES).unwrap();
-            let energy = |theta: f64| {
-                let mut row = vec![Point::ORIGIN; replay.plan.joint_count()];
-                replay.plan.solve(theta, &mut row).unwrap();
-                weight_energy(&problem, &replay.mechanism, &replay.frames, &MASSES, &row)
-            };
-            let thetas = &replay.trace.thetas;
-            let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
-            let scale = torque.peak_nm.max(1e-12);
-            let h = 1e-6;
-            for (&theta, &tau) in thetas.iter().zip(&torque.torque_nm).skip(1).take(thetas.len() - 2) {
-                let difference = along * (energy(theta + h) - energy(theta - h)) / (2.0 * h);
-                assert!(
-                    (tau - difference).abs() <= 1e-5 * scale,
-                    "{family:?} at {:.2}°: {tau} against {difference}",
-                    theta.to_degrees()
-                );
-            }
+            assert_virtual_work(&format!("{family:?}"), &problem, &known.design(), &MASSES);
+        }
+    }
+
+    /// Virtual work on the best mechanism of `design`: its driving torque against central differences
+    /// of the parts' potential energy from their positions alone.
+    fn assert_virtual_work(label: &str, problem: &Problem, design: &crate::DesignFile, masses: &Masses) {
+        let replay = crate::analysis::Replay::new(problem, design, crate::analysis::Which::Best, 90).unwrap();
+        let torque = driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, masses).unwrap();
+        assert_energy_derivative(label, &replay.plan, &replay.trace, &torque.torque_nm, 1e-5 * torque.peak_nm, |row| {
+            weight_energy(problem, &replay.mechanism, &replay.frames, masses, row)
+        });
+    }
+
+    /// Asserts that `torque_nm` (N·m, one value per row of `trace`) is, at every row but the ends, the
+    /// central difference along the travel of `energy` (J, from a row of joints) to within `bound`.
+    pub(crate) fn assert_energy_derivative(
+        label: &str,
+        plan: &Plan,
+        trace: &Trace,
+        torque_nm: &[f64],
+        bound: f64,
+        energy: impl Fn(&[Point]) -> f64,
+    ) {
+        let at = |theta: f64| {
+            let mut row = vec![Point::ORIGIN; plan.joint_count()];
+            plan.solve(theta, &mut row).unwrap();
+            energy(&row)
+        };
+        let thetas = &trace.thetas;
+        let along = (thetas[thetas.len() - 1] - thetas[0]).signum();
+        let h = 1e-6;
+        for (&theta, &tau) in thetas.iter().zip(torque_nm).skip(1).take(thetas.len() - 2) {
+            let difference = along * (at(theta + h) - at(theta - h)) / (2.0 * h);
+            assert!(
+                (tau - difference).abs() <= bound,
+                "{label} at {:.2}°: {tau} against {difference}",
+                theta.to_degrees()
+            );
         }
     }
 }
