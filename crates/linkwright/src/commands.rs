@@ -371,7 +371,7 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
             balance.peak_with_springs_crank_deg
         ));
     } else {
-        out.push_str("counterbalance: no spring within the linkage region lowers the peak\n");
+        out.push_str("counterbalance: no spring hooked on the fixed bodies, in the linkage region or on the moving parts lowers the peak\n");
     }
     print!("{out}");
     Ok(())

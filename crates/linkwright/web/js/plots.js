@@ -131,7 +131,7 @@ export function torquePlot(analysis, balance = null) {
       `${(mass * 1000).toPrecision(3)} g moving (printed parts, or the masses the scene gives).` +
       (balance?.springs.length
         ? ` With the springs (the second line): peak ${(balance.peak_with_springs_nm * factor).toPrecision(3)} ${unit}, ` +
-          `${Math.round(100 * (1 - balance.peak_with_springs_nm / Math.max(t.peak_nm, 1e-300)))}% lower.`
+          `${springCut(balance)}% lower.`
         : ''),
   });
   return {
@@ -144,11 +144,17 @@ export function torquePlot(analysis, balance = null) {
   };
 }
 
+/** What the app says when no spring helps: the search hooks springs on the fixed bodies, in the
+ * linkage region and on the moving parts. */
+export const NO_SPRING = 'No spring hooked on the fixed bodies, in the linkage region or on the moving parts lowers the peak torque of this design.';
+
+/** How much lower the springs of `balance` make the peak torque, in whole percent. */
+export const springCut = (balance) =>
+  Math.round(100 * (1 - balance.peak_with_springs_nm / Math.max(balance.peak_nm, 1e-300)));
+
 /** Each counterbalance spring in words a person can buy and fit it from. */
 export function springList(balance, units) {
-  if (!balance.springs.length) {
-    return html('p', { class: 'note', text: 'No spring inside the linkage region lowers the peak torque of this design.' });
-  }
+  if (!balance.springs.length) return html('p', { class: 'note', text: NO_SPRING });
   const at = (p) => `(${p[0].toFixed(1)}, ${p[1].toFixed(1)})`;
   return html('ul', { class: 'springs' }, balance.springs.map((s) => html('li', {}, s.kind === 'extension'
     ? [html('b', { text: 'Extension spring' }),

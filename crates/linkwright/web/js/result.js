@@ -7,7 +7,7 @@ import * as api from './api.js';
 import { bodyColour } from './canvas.js';
 import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
-import { errorPlot, loopList, springList, torquePlot, transmissionPlot } from './plots.js';
+import { errorPlot, loopList, NO_SPRING, springCut, springList, torquePlot, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
 import { screenField } from './fields.js';
 import { newResult } from './store.js';
@@ -518,8 +518,8 @@ export class Results {
       if (this.result === r) {
         r.balance = answer;
         this.store.hint(answer.springs.length
-          ? `Springs found: the peak torque drops by ${Math.round(100 * (1 - answer.peak_with_springs_nm / Math.max(answer.peak_nm, 1e-300)))}%.`
-          : 'No spring inside the linkage region lowers the peak torque of this design.');
+          ? `Springs found: the peak torque drops by ${springCut(answer)}%.`
+          : NO_SPRING);
       }
     } catch (e) {
       this.store.hint(`Cannot suggest springs: ${e.message}`);
