@@ -55,13 +55,28 @@ const CLEARANCE_TRIES: usize = 400;
 /// the best [`CLEARANCE_TRIES`] are fitted at every row.
 const SCREEN_STRIDE: usize = 4;
 
-/// Where a spring is hooked: a part of the design and a point, scene units, at the first pose.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Anchor {
-    /// The part's name, as in the design's `mechanism.parts` (`ground` for the fixed part).
-    pub part: String,
-    /// Where on it, at the first pose.
-    pub point: Point,
+pub use crate::fab::Anchor;
+
+/// What the spring search may choose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringSearch {
+    /// Whether torsion springs may be chosen (fabrication hooks extension springs only).
+    pub torsion: bool,
+    /// The most springs (1 or 2).
+    pub most: usize,
+    /// Anchors on a link stay at least this far from its joints (scene units) unless on one: room
+    /// for a printed hook beside the joint's pin.
+    pub clear_of_joints: f64,
+}
+
+impl SpringSearch {
+    /// What `analyze` reports: one or two springs of either kind, anywhere.
+    pub const ANALYSIS: SpringSearch = SpringSearch { torsion: true, most: 2, clear_of_joints: 0.0 };
+
+    /// Up to `most` extension springs that fabrication with `dims` can hook.
+    pub fn hooked(dims: &crate::fab::Dims, most: usize) -> SpringSearch {
+        SpringSearch { torsion: false, most, clear_of_joints: dims.hook_clear_of_joints() }
+    }
 }
 
 /// A counterbalance spring and what it does along the travel.
@@ -265,6 +280,8 @@ struct Motion<'a> {
     metres: f64,
     /// Asked between pieces of the search whether to stop.
     observer: &'a dyn Observer,
+    /// What may be chosen.
+    search: SpringSearch,
 }
 
 impl<'a> Motion<'a> {
@@ -294,6 +311,7 @@ impl<'a> Motion<'a> {
             along,
             metres: masses.millimetres_per_unit / 1000.0,
             observer,
+            search: SpringSearch::ANALYSIS,
         })
     }
 
@@ -459,7 +477,10 @@ impl<'a> Motion<'a> {
                             continue;
                         }
                         for t in [0.25, 0.5, 0.75] {
-                            out.push(carried(i, (a, c), row[a] + (row[c] - row[a]) * t));
+                            let at = row[a] + (row[c] - row[a]) * t;
+                            if joints.iter().all(|&j| row[j].distance(at) >= self.search.clear_of_joints) {
+                                out.push(carried(i, (a, c), at));
+                            }
                         }
                     }
                     for &j in joints {
@@ -529,7 +550,7 @@ impl<'a> Motion<'a> {
             .parts
             .iter()
             .enumerate()
-            .filter(|&(i, p)| p.kind == PartKind::Link && on.is_none_or(|part| part == i))
+            .filter(|&(i, p)| self.search.torsion && p.kind == PartKind::Link && on.is_none_or(|part| part == i))
             .filter_map(|(i, p)| {
                 let pivot = *p.joints.iter().find(|j| fixed.contains(j))?;
                 let tip = *p.joints.iter().find(|j| !fixed.contains(j))?;
@@ -653,9 +674,10 @@ fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Bal
 }
 
 /// One or two springs that lower the peak of `torque` (the driver's torque of `mechanism`, compiled
-/// as `plan`, along `trace`, as [`crate::statics::driving_torque`] gives it), and the torque with them.
-/// The search takes seconds on multi-body linkages: it stops soon after `observer` says it is
-/// cancelled, and then returns [`Cancelled`].
+/// as `plan`, along `trace`, as [`crate::statics::driving_torque`] gives it), and the torque with them,
+/// as `search` allows. The search takes seconds on multi-body linkages: it stops soon after
+/// `observer` says it is cancelled, and then returns [`Cancelled`].
+#[allow(clippy::too_many_arguments, reason = "the motion, its statics, what to choose and when to stop")]
 pub fn counterbalance(
     problem: &Problem,
     mechanism: &Mechanism,
@@ -663,12 +685,32 @@ pub fn counterbalance(
     trace: &Trace,
     masses: &Masses,
     torque: &Torque,
+    search: SpringSearch,
     observer: &dyn Observer,
 ) -> Result<Balance, Cancelled> {
-    let Some(motion) = Motion::new(problem, mechanism, plan, trace, masses, observer) else {
+    let choices = counterbalance_choices(problem, mechanism, plan, trace, masses, torque, search, observer)?;
+    Ok(choices.into_iter().next().unwrap_or_else(|| total(torque, torque.torque_nm.clone(), Vec::new())))
+}
+
+/// What [`counterbalance`] chooses, then the next best choices: the best single spring of each
+/// moving part, best first (a choice's springs may not fit where the first's do not, in print). Empty
+/// when no spring lowers the peak (or the travel passes a dead point).
+#[allow(clippy::too_many_arguments, reason = "the motion, its statics, what to choose and when to stop")]
+pub fn counterbalance_choices(
+    problem: &Problem,
+    mechanism: &Mechanism,
+    plan: &Plan,
+    trace: &Trace,
+    masses: &Masses,
+    torque: &Torque,
+    search: SpringSearch,
+    observer: &dyn Observer,
+) -> Result<Vec<Balance>, Cancelled> {
+    let Some(mut motion) = Motion::new(problem, mechanism, plan, trace, masses, observer) else {
         // A dead point: the statics has no torque there to balance.
-        return Ok(total(torque, torque.torque_nm.clone(), Vec::new()));
+        return Ok(Vec::new());
     };
+    motion.search = search;
     let go_on = || if observer.cancelled() { Err(Cancelled) } else { Ok(()) };
     let unbalanced = torque.torque_nm.clone();
     // The best single spring on each moving part, best first (on a tie, the part listed first).
@@ -679,25 +721,26 @@ pub fn counterbalance(
     go_on()?;
     singles.sort_by(|a, b| a.peak.total_cmp(&b.peak));
     let Some(single) = singles.first() else {
-        return Ok(total(torque, unbalanced, Vec::new()));
+        return Ok(Vec::new());
     };
     let one = motion.with(&unbalanced, single);
     // A second spring is kept when the best pair lowers the peak by enough more than one spring.
     let pair = singles
         .iter()
-        .take(PAIR_SEEDS)
+        .take(if search.most >= 2 { PAIR_SEEDS } else { 0 })
         .filter_map(|first| motion.pair_from(&unbalanced, first.clone()))
         .min_by(|a, b| a.2.total_cmp(&b.2))
         .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1);
     go_on()?;
-    Ok(match pair {
-        Some((first, second, _)) => {
-            let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
-            let springs = [first, second].iter().map(|f| motion.spring(f)).collect();
-            total(torque, balanced, springs)
-        }
-        None => total(torque, one, vec![motion.spring(single)]),
-    })
+    let mut choices = Vec::new();
+    if let Some((first, second, _)) = pair {
+        let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
+        choices.push(total(torque, balanced, [first, second].iter().map(|f| motion.spring(f)).collect()));
+    }
+    for fit in &singles {
+        choices.push(total(torque, motion.with(&unbalanced, fit), vec![motion.spring(fit)]));
+    }
+    Ok(choices)
 }
 
 #[cfg(test)]
@@ -763,7 +806,17 @@ mod tests {
             let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
             let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
             let torque = driving_torque(&problem, mechanism, plan, trace, &MASSES).unwrap();
-            let balance = counterbalance(&problem, mechanism, plan, trace, &MASSES, &torque, &crate::Silent).unwrap();
+            let balance = counterbalance(
+                &problem,
+                mechanism,
+                plan,
+                trace,
+                &MASSES,
+                &torque,
+                SpringSearch::ANALYSIS,
+                &crate::Silent,
+            )
+            .unwrap();
             assert!(!balance.springs.is_empty(), "{family:?}: no spring");
             assert!(balance.peak_with_springs_nm < torque.peak_nm, "{family:?}");
             let motion = Motion::new(&problem, mechanism, plan, trace, &MASSES, &crate::Silent).unwrap();
@@ -845,8 +898,21 @@ mod tests {
         }
         let (problem, mechanism, plan, trace) = parallelogram();
         let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
-        assert_eq!(counterbalance(&problem, &mechanism, &plan, &trace, &MASSES, &torque, &Cancelling), Err(Cancelled));
-        let balance = counterbalance(&problem, &mechanism, &plan, &trace, &MASSES, &torque, &crate::Silent).unwrap();
+        assert_eq!(
+            counterbalance(&problem, &mechanism, &plan, &trace, &MASSES, &torque, SpringSearch::ANALYSIS, &Cancelling),
+            Err(Cancelled)
+        );
+        let balance = counterbalance(
+            &problem,
+            &mechanism,
+            &plan,
+            &trace,
+            &MASSES,
+            &torque,
+            SpringSearch::ANALYSIS,
+            &crate::Silent,
+        )
+        .unwrap();
         assert!(!balance.springs.is_empty());
     }
 }

@@ -72,6 +72,7 @@ pub mod analysis;
 pub mod balance;
 pub mod fab;
 pub mod geom;
+pub mod hooked;
 pub mod kernels;
 pub mod kinematics;
 pub mod statics;

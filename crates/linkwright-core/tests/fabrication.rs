@@ -61,7 +61,7 @@ fn try_fabricated(name: &str, samples: usize) -> Result<(Problem, fab::Fabricati
     let mut fabricated = Vec::new();
     for c in std::iter::once(best).chain(&outcome.alternatives) {
         assert!(printable.check(&c.mechanism, &c.trace), "{name}: the engine offered a design its check refuses");
-        let f = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings)
+        let f = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[])
             .map_err(|e| format!("{name}: a design the engine offered does not fabricate: {e}"))?;
         fabricated.push(f);
     }
@@ -80,7 +80,7 @@ fn feasibility_check_agrees_with_fabrication() {
         let (mut accepted, mut refused) = (0, 0);
         for c in outcome.best.iter().chain(&outcome.alternatives) {
             let quick = check.diagnose(&c.mechanism, &c.trace);
-            match fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings) {
+            match fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[]) {
                 Ok(f) if f.off_bed().is_empty() => {
                     assert!(quick.is_ok(), "{name}: the check refused a design that fabricates: {quick:?}");
                     assert_sound(name, &f);
@@ -266,8 +266,14 @@ fn perturbed_designs_fabricate_soundly_or_fail_cleanly() {
             j.y += rng.random_range(-15.0..15.0);
         }
         let t = travel(&base);
-        match fab::fabricate(&p, 1.0, &m, Travel { start: t.start, end: t.start + 0.3 * (t.end - t.start) }, &settings)
-        {
+        match fab::fabricate(
+            &p,
+            1.0,
+            &m,
+            Travel { start: t.start, end: t.start + 0.3 * (t.end - t.start) },
+            &settings,
+            &[],
+        ) {
             Ok(f) => {
                 assert_sound("perturbed garbage truck", &f);
                 ok += 1;
@@ -288,9 +294,9 @@ fn a_scene_in_centimetres_gets_parts_of_the_same_physical_size() {
         .best
         .iter()
         .chain(&outcome.alternatives)
-        .find(|c| fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings).is_ok());
+        .find(|c| fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[]).is_ok());
     let Some(c) = c else { panic!("no fabricable design") };
-    let mm = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings).unwrap();
+    let mm = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[]).unwrap();
     let link_mm = mm.parts.iter().find(|p| p.role == fab::Role::Link).unwrap();
     let (lo, hi) = link_mm.print_mesh.bounds();
     // Thickness of a link in mm is the setting, whatever the unit.

@@ -7,13 +7,12 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
-use linkwright_core::balance::{counterbalance, Balanced, Spring};
+use linkwright_core::balance::{Balanced, SpringSearch};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
-use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
-    PoseMiss, Problem, Progress, Reject, RenderInput, Silent, Stage, Start, Status,
+    PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
 };
 use std::path::{Path, PathBuf};
 
@@ -135,7 +134,8 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     }
     if args.fabricate {
         if outcome.best.is_some() {
-            let line = crate::fabricate::run(&scene, &problem, &file, &print_settings, &out_dir.join("fabrication"))?;
+            let line =
+                crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &out_dir.join("fabrication"))?;
             // Keep stdout the design JSON alone with --json.
             if args.json {
                 eprintln!("{line}");
@@ -303,31 +303,19 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
     Ok(())
 }
 
-/// Steps of the crank's travel the torque is given at.
-const ANALYZE_STEPS: usize = 180;
-
 /// `analyze`: the torque the crank needs along the design's motion, and the springs that balance it,
 /// as a table or JSON.
 pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&Path>) -> Result<(), Failure> {
     let (scene_file, problem) = read_problem(scene)?;
     let file = read_valid_design(design, &problem)?;
     let settings = crate::fabricate::read_settings(print_settings)?;
-    let masses = Masses::printed(&settings, &scene_file.units).ok_or_else(|| {
-        Failure::Input(format!(
-            "error: {}: units \"{}\" are not a length; set them to mm, cm, m, in or ft to weigh the parts",
-            scene.display(),
-            scene_file.units
-        ))
-    })?;
-    if file.mechanism.is_none() {
-        return Err(Failure::Input(format!("error: {}: has no mechanism (status no_solution)", design.display())));
-    }
-    let replay = Replay::new(&problem, &file, Which::Best, ANALYZE_STEPS)
-        .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
-    let torque = driving_torque(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
-        .map_err(|e| Failure::Input(format!("error: {}: {e}", design.display())))?;
-    let balance = counterbalance(&problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque, &Silent)
-        .expect("a silent search is never cancelled");
+    let (torque, balance) = crate::springs::counterbalanced(
+        (scene, &scene_file),
+        &problem,
+        (design, &file),
+        &settings,
+        SpringSearch::ANALYSIS,
+    )?;
     if json {
         let balanced = Balanced { torque: &torque, balance: &balance };
         println!("{}", serde_json::to_string_pretty(&balanced).expect("the torque serializes"));
@@ -362,7 +350,7 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
     if springs {
         out.push_str("counterbalance:\n");
         for spring in &balance.springs {
-            out.push_str(&format!("  {}\n", spring_words(spring, &scene_file.units)));
+            out.push_str(&format!("  {}\n", crate::springs::spring_words(spring, &scene_file.units)));
         }
         let cut = 100.0 * (1.0 - balance.peak_with_springs_nm / torque.peak_nm);
         out.push_str(&format!(
@@ -375,46 +363,6 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
     }
     print!("{out}");
     Ok(())
-}
-
-/// A spring as a person buys and fits it.
-fn spring_words(spring: &Spring, units: &str) -> String {
-    match spring {
-        Spring::Extension { anchors, stiffness_n_per_m, free_length, length_range, force_range_n, .. } => {
-            let [a, b] = anchors;
-            format!(
-                "extension spring, {:.3} N/mm, {free_length:.1} {units} free length hook to hook: one end on {} at \
-                 ({:.1}, {:.1}), the other on {} at ({:.1}, {:.1}) (first pose); it stretches to {:.1}–{:.1} {units}, \
-                 pulling {:.1}–{:.1} N",
-                stiffness_n_per_m / 1000.0,
-                a.part,
-                a.point.x,
-                a.point.y,
-                b.part,
-                b.point.x,
-                b.point.y,
-                length_range[0],
-                length_range[1],
-                force_range_n[0],
-                force_range_n[1]
-            )
-        }
-        Spring::Torsion {
-            part, pivot, stiffness_nm_per_rad, free_angle_deg, twist_range_deg, torque_range_nm, ..
-        } => {
-            format!(
-                "torsion spring, {:.2} N·mm per degree, at the {part}'s ground pivot ({:.1}, {:.1}); free when the \
-                 {part} is turned {free_angle_deg:.0}° from the first pose; wound {:.0}–{:.0}°, {:.3}–{:.3} N·m",
-                stiffness_nm_per_rad * 1000.0 * std::f64::consts::PI / 180.0,
-                pivot.x,
-                pivot.y,
-                twist_range_deg[0],
-                twist_range_deg[1],
-                torque_range_nm[0],
-                torque_range_nm[1]
-            )
-        }
-    }
 }
 
 /// A CSV field: quoted when it holds a comma, a quote or a line break (joint names come from the file).

@@ -1,13 +1,15 @@
-//! `linkwright fabricate SCENE DESIGN -o DIR [--settings PRINT.json]`: printable parts, plates,
-//! profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`).
+//! `linkwright fabricate SCENE DESIGN -o DIR [--settings PRINT.json] [--springs]`: printable parts,
+//! plates, profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`),
+//! with hooks for its counterbalance springs when asked.
 
 use crate::files::{read_problem, read_valid_design, remove_if_present, write_atomically};
 use crate::Failure;
 use clap::Args;
 use linkwright_core::fab::{
-    bundle, fabricate_design_or_alternative, is_safe_relative_path, PrintSettings, FIXED_FILES,
+    bundle, fabricate_design_or_alternative, is_safe_relative_path, Chosen, FabError, PrintSettings, FIXED_FILES,
 };
-use linkwright_core::{DesignFile, Problem, Scene};
+use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
+use linkwright_core::{DesignFile, Problem, Scene, Silent};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -23,6 +25,11 @@ pub struct FabricateArgs {
     /// Print settings (JSON, millimetres; missing fields keep their defaults).
     #[arg(long)]
     settings: Option<PathBuf>,
+    /// Give the parts hooks for counterbalance springs: the extension springs that balance the parts
+    /// printed with these settings (as `analyze` chooses them, without torsion springs, and only where
+    /// hooks fit), hung beyond the links
+    #[arg(long)]
+    springs: bool,
 }
 
 /// Reads print settings, or the defaults.
@@ -44,7 +51,7 @@ pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
     let (scene, problem) = read_problem(&args.scene)?;
     let design = read_valid_design(&args.design, &problem)?;
     let settings = read_settings(args.settings.as_deref())?;
-    let summary = run(&scene, &problem, &design, &settings, &args.output)?;
+    let summary = run(&scene, &problem, &design, &settings, args.springs, &args.output)?;
     println!("{summary}");
     Ok(())
 }
@@ -55,14 +62,43 @@ pub fn run(
     problem: &Problem,
     design: &DesignFile,
     settings: &PrintSettings,
+    springs: bool,
     out_dir: &Path,
 ) -> Result<String, Failure> {
     if out_dir.exists() && !out_dir.is_dir() {
         return Err(Failure::Input(format!("error: -o {}: exists and is not a directory", out_dir.display())));
     }
-    let chosen = fabricate_design_or_alternative(problem, &scene.units, design, settings)
-        .map_err(|e| Failure::Input(format!("error: cannot fabricate: {e}")))?;
-    let bundle = bundle(&chosen.fabrication).map_err(|e| Failure::Input(format!("error: cannot fabricate: {e}")))?;
+    let cannot = |e: &dyn std::fmt::Display| Failure::Input(format!("error: cannot fabricate: {e}"));
+    // Springs are hooked on the design's own parts: no alternative stands in for it.
+    let mut words = String::new();
+    let chosen = if springs {
+        let hooked = fabricate_with_springs(problem, &scene.units, design, settings, &Silent).map_err(|e| {
+            let remedy = match e {
+                HookedError::Fab(FabError::NoRoomForSprings | FabError::SpringHook { .. }) => {
+                    " (or leave out --springs)"
+                }
+                _ => "",
+            };
+            Failure::Input(format!("error: cannot fabricate with springs: {e}{remedy}"))
+        })?;
+        let Hooked { fabrication, torque, balance } = hooked;
+        for (n, spring) in balance.springs.iter().enumerate() {
+            words.push_str(&format!("\nspring {}: {}", n + 1, crate::springs::spring_words(spring, &scene.units)));
+        }
+        if balance.springs.is_empty() {
+            words.push_str("\nnote: no extension spring lowers the crank's peak torque, so the parts have no hooks");
+        } else {
+            let cut = 100.0 * (1.0 - balance.peak_with_springs_nm / torque.peak_nm);
+            words.push_str(&format!(
+                "\nthe springs lower the crank's peak torque by {cut:.0}% (`linkwright analyze` may find better ones \
+                 that cannot be hooked); the assembly sheet says where each hangs"
+            ));
+        }
+        Chosen { used: 0, fabrication, passed_over: None }
+    } else {
+        fabricate_design_or_alternative(problem, &scene.units, design, settings).map_err(|e| cannot(&e))?
+    };
+    let bundle = bundle(&chosen.fabrication).map_err(|e| cannot(&e))?;
     // The library names parts safely; a path that would leave the folder anyway is a bug, refused.
     if let Some((path, _)) = bundle.files.iter().find(|(path, _)| !is_safe_relative_path(path)) {
         return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
@@ -102,6 +138,7 @@ pub fn run(
     if !r.checks.ok() {
         line.push_str("\nwarning: the fabrication checks found problems (see fabrication.json \"checks\")");
     }
+    line.push_str(&words);
     Ok(line)
 }
 

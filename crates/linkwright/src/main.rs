@@ -6,6 +6,7 @@ mod commands;
 mod fabricate;
 mod files;
 mod serve;
+mod springs;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

@@ -139,3 +139,36 @@ print(json.dumps(out))
         assert!(g["volume"].as_f64().unwrap() > 0.0, "{g}");
     }
 }
+
+#[test]
+fn fabricate_with_springs_hooks_them_and_says_what_to_buy() {
+    let dir = workdir("springs");
+    let design = design_and_fabricate(&dir).join("design.json");
+    let out = dir.join("fab");
+    let run = linkwright(&[
+        "fabricate",
+        &example("k1_garbage_truck"),
+        design.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--springs",
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let stdout = text(&run.stdout);
+    assert!(stdout.contains("spring 1: extension spring") && stdout.contains("% (`linkwright analyze`"), "{stdout}");
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(out.join("fabrication.json")).unwrap()).unwrap();
+    let springs = report["springs"].as_array().unwrap();
+    assert!(!springs.is_empty(), "{report}");
+    for spring in springs {
+        let hooks = spring["hooks"].as_array().unwrap();
+        assert_eq!(hooks.len(), 2, "{spring}");
+        assert!(hooks.iter().all(|h| !h["on"].as_str().unwrap().is_empty()), "{spring}");
+        assert!(spring["axis_height_mm"].as_f64().unwrap() > 0.0, "{spring}");
+    }
+    let checks = &report["checks"];
+    for k in ["meshes", "supports", "intersections", "seats", "ordering", "springs"] {
+        assert!(checks[k].as_array().unwrap().is_empty(), "{k}: {checks}");
+    }
+    let steps = report["assembly"].as_array().unwrap();
+    assert!(steps.iter().any(|s| s.as_str().unwrap().starts_with("Spring 1: an extension spring")), "{steps:?}");
+}

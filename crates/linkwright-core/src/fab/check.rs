@@ -4,9 +4,10 @@
 //! enters a body) at any row of the motion, decided exactly on the parts' prisms with a polygon
 //! library's overlap predicate (only the bodies as drawn may touch each other: that is the synthesis's
 //! concern); every pin is coaxial with its holes at every row, with the set radial clearance and its
-//! holes within its shaft; every recorded constraint holds.
+//! holes within its shaft; every recorded constraint holds; every spring has its hooks at its axis and
+//! meets no part between them (its coil taken as wide as a link) at any row.
 
-use super::depth::{violations, Constraint};
+use super::depth::{violations, Constraint, Face};
 use super::parts::{Prism, Role};
 use super::Fabrication;
 use crate::geom::{point_segment_distance, Aabb, Point, Rigid};
@@ -26,6 +27,8 @@ pub struct CheckReport {
     pub seats: Vec<String>,
     /// Recorded constraints the layers break.
     pub ordering: Vec<String>,
+    /// Springs without a hook at an end, or meeting a part along the motion.
+    pub springs: Vec<String>,
     /// Rows of the motion checked.
     pub rows: usize,
     /// Pairs of prisms whose overlap was decided by the polygon predicate.
@@ -40,6 +43,7 @@ impl CheckReport {
             && self.intersections.is_empty()
             && self.seats.is_empty()
             && self.ordering.is_empty()
+            && self.springs.is_empty()
     }
 }
 
@@ -61,7 +65,59 @@ pub fn check(fab: &Fabrication) -> CheckReport {
     supports(fab, &mut report);
     intersections(fab, &mut report);
     seats(fab, &mut report);
+    springs(fab, &mut report);
     report
+}
+
+/// Each spring, a cylinder as wide as a link around its axis between its hooks: at its first pose each
+/// end is on a hook (a prism spanning the axis's height and holding the end), and at no row does any
+/// other prism reaching its height come within its radius.
+fn springs(fab: &Fabrication, report: &mut CheckReport) {
+    let d = &fab.dims;
+    let radius = d.half_width;
+    let mut poses: Vec<Rigid> = Vec::new();
+    for (n, _) in fab.springs.iter().enumerate() {
+        let face = fab.ordering.spring_face[n];
+        let front = d.spring_axis(super::sheet::layers_on(fab, face), fab.ordering.spring_level[n]);
+        let axis = if face == Face::Front { front } else { -d.body_thickness - front };
+        let coil = (axis - radius, axis + radius);
+        let mut hooked = [false; 2];
+        'rows: for r in 0..fab.trace.len() {
+            let row = fab.trace.row(r);
+            fab.layout.carrier_poses(row, &mut poses);
+            let ends = [fab.layout.hook_at(2 * n, row, &poses), fab.layout.hook_at(2 * n + 1, row, &poses)];
+            for p in &fab.parts {
+                for pr in p.prisms.iter().filter(|pr| pr.z.0 < coil.1 && pr.z.1 > coil.0) {
+                    let outline: Vec<Point> = pr.outline.iter().map(|&q| poses[p.carrier].apply(q)).collect();
+                    let polygon = crate::geom::Polygon::new(outline);
+                    let holds: Vec<bool> = ends.iter().map(|&e| polygon.contains(e)).collect();
+                    if holds.contains(&true) {
+                        // One of the spring's own hooks.
+                        if r == 0 && pr.z.0 <= axis && pr.z.1 >= axis {
+                            hooked[0] |= holds[0];
+                            hooked[1] |= holds[1];
+                        }
+                        continue;
+                    }
+                    let near = polygon.edges().any(|(a, b)| super::shapes::core_distance(&ends, &[a, b]) < radius);
+                    if near {
+                        report.springs.push(format!(
+                            "spring {} meets {} at crank {:.2}°",
+                            n + 1,
+                            p.name,
+                            fab.trace.thetas[r].to_degrees()
+                        ));
+                        break 'rows;
+                    }
+                }
+            }
+        }
+        for (e, end) in ["ground", "moving"].iter().enumerate() {
+            if !hooked[e] {
+                report.springs.push(format!("spring {}: no hook at its {end} end", n + 1));
+            }
+        }
+    }
 }
 
 /// A prism in the world: contours, box, heights.

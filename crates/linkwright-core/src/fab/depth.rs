@@ -15,14 +15,21 @@
 //! - [`Constraint::Outermost`]: the slider guide (or the frame holding the slot) is the outermost member
 //!   on its joint (the pin comes from the body side and runs in the slot);
 //! - [`Constraint::OppositeFaces`]: two pillars (posts or pins standing on different bodies) that meet
-//!   during the motion must stand on opposite faces of the bodies.
+//!   during the motion must stand on opposite faces of the bodies;
+//! - [`Constraint::UnderHook`]: a member passing over a spring's hook lies below what the hook stands
+//!   on (the springs hang beyond the outermost layer of their face, so the hook rises through every
+//!   layer above its base), or on the other face;
+//! - [`Constraint::SpringsApart`]: two springs whose coils meet during the motion hang on opposite faces
+//!   or at different levels beyond the layers; [`Constraint::SpringOverHook`]: a spring passing over
+//!   another's hook hangs on the other face or at a higher level.
 //!
-//! All members on one joint share a face. The solver minimises the layers on the busier face.
+//! All members on one joint share a face, and so do both hooks of a spring and whatever they stand on.
+//! The solver minimises the layers on the busier face.
 
-use super::layout::Layout;
+use super::layout::{HookBase, Layout};
 use super::settings::Faces;
 use super::FabError;
-use crate::geom::{Point, Rigid};
+use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::Trace;
 use pumpkin_conflict_resolvers::resolvers::ResolutionResolver;
 use pumpkin_core::results::{ProblemSolution, SatisfactionResult};
@@ -40,6 +47,8 @@ pub enum PillarRef {
     Post(usize),
     /// The pin of this joint, fused to a body or the ground.
     Pin(usize),
+    /// This spring hook, standing on a body or the ground ([`super::HookBase::Body`]).
+    Hook(usize),
 }
 
 /// One recorded ordering constraint (indices are members of the [`Layout`] and joints).
@@ -93,6 +102,30 @@ pub enum Constraint {
         /// The other pillar.
         b: PillarRef,
     },
+    /// `member` passes over spring hook `hook`, so when on the hook's face it lies below what the hook
+    /// stands on (below every member on the joint, for a hook on a joint's pin; nowhere, for a hook
+    /// standing on a body).
+    UnderHook {
+        /// The member that passes over the hook.
+        member: usize,
+        /// The hook, an index into [`Layout::hooks`](super::Layout::hooks).
+        hook: usize,
+    },
+    /// The coils of springs `a` and `b` meet along the motion, so on one face they hang at different
+    /// levels.
+    SpringsApart {
+        /// One spring.
+        a: usize,
+        /// The other.
+        b: usize,
+    },
+    /// Spring `spring` passes over `hook` of another spring, so on one face it hangs at a higher level.
+    SpringOverHook {
+        /// The spring that passes over.
+        spring: usize,
+        /// The hook, an index into [`Layout::hooks`](super::Layout::hooks).
+        hook: usize,
+    },
     /// Every member of `L_joint` is on one face (always imposed; never recorded, only reported broken).
     SameFace {
         /// The joint.
@@ -124,6 +157,11 @@ pub struct Ordering {
     pub face: Vec<Face>,
     /// Each member's layer on its face (1 next to the bodies), indexed like [`Layout::members`].
     pub layer: Vec<u32>,
+    /// The face each spring hangs on, beyond its outermost layer.
+    pub spring_face: Vec<Face>,
+    /// Each spring's level beyond the layers of its face (0 nearest), so that springs of one face
+    /// pass over each other and over each other's hooks ([`super::Dims::spring_axis`]).
+    pub spring_level: Vec<u32>,
     /// The most layers on either face.
     pub layers: u32,
     /// True when the solver proved that fewer layers are impossible.
@@ -146,11 +184,24 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
         .filter(|(_, x)| x.post.is_some())
         .map(|(i, x)| (PillarRef::Post(i), x.carrier))
         .chain(layout.body_pins.iter().enumerate().filter_map(|(j, p)| p.map(|p| (PillarRef::Pin(j), p.carrier))))
+        .chain(
+            layout
+                .hooks
+                .iter()
+                .enumerate()
+                .filter(|(_, h)| h.base == HookBase::Body)
+                .map(|(k, h)| (PillarRef::Hook(k), h.carrier)),
+        )
         .collect();
     let pillar_radius = |p: PillarRef| match p {
         PillarRef::Post(_) => d.post_collar_radius,
         PillarRef::Pin(_) => d.boss_radius,
+        PillarRef::Hook(_) => d.cap_base_radius,
     };
+    let hook_reach = hw + d.cap_base_radius + margin;
+    // Two springs meet when their coils (no wider than a link) come closer than the clearance.
+    let spring_reach = 2.0 * hw + margin;
+    let mut hook_at: Vec<Point> = vec![Point::ORIGIN; layout.hooks.len()];
     let mut pillar_at: Vec<Point> = vec![Point::ORIGIN; pillars.len()];
     // Each member's core box, for a cheap test before the exact distance.
     let mut boxes: Vec<(Point, Point)> = vec![(Point::ORIGIN, Point::ORIGIN); m];
@@ -179,7 +230,11 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
             pillar_at[k] = match p {
                 PillarRef::Post(i) => poses[carrier].apply(members[i].post.unwrap_or_default()),
                 PillarRef::Pin(j) => row[j],
+                PillarRef::Hook(h) => poses[carrier].apply(layout.hooks[h].at),
             };
+        }
+        for (k, at) in hook_at.iter_mut().enumerate() {
+            *at = layout.hook_at(k, row, &poses);
         }
         let mut note = |c: Constraint| {
             out.constraints.entry(c).or_insert(deg);
@@ -220,6 +275,23 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
                     _ => {}
                 }
             }
+            // Spring hooks the member passes over.
+            for (k, hook) in layout.hooks.iter().enumerate() {
+                let own = match hook.base {
+                    HookBase::Member(i) => i == a,
+                    HookBase::Joint(j) => layout.joint_members[j].contains(&a),
+                    HookBase::Body => false,
+                };
+                if own
+                    || !moving(members[a].carrier, hook.carrier)
+                    || gap(&boxes[a], &(hook_at[k], hook_at[k])) >= hook_reach
+                {
+                    continue;
+                }
+                if super::shapes::point_core_distance(hook_at[k], &cores[a]) < hook_reach {
+                    note(Constraint::UnderHook { member: a, hook: k });
+                }
+            }
             // Pins carried by members.
             for (j, lj) in layout.joint_members.iter().enumerate() {
                 if layout.body_pins[j].is_some() || lj.contains(&a) || lj.is_empty() {
@@ -242,6 +314,22 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
                 }
                 if pillar_at[k].distance(pillar_at[l]) < pillar_radius(pk) + pillar_radius(pl) + margin {
                     note(Constraint::OppositeFaces { a: pk, b: pl });
+                }
+            }
+        }
+        // Spring s hangs between hooks 2s and 2s + 1.
+        let springs = layout.spring_count();
+        let ends = |s: usize| [hook_at[2 * s], hook_at[2 * s + 1]];
+        for a in 0..springs {
+            for b in a + 1..springs {
+                if super::shapes::core_distance(&ends(a), &ends(b)) < spring_reach {
+                    note(Constraint::SpringsApart { a, b });
+                }
+            }
+            for k in (0..layout.hooks.len()).filter(|&k| layout.hooks[k].spring != a) {
+                let [p, q] = ends(a);
+                if point_segment_distance(hook_at[k], p, q) < hw + d.cap_base_radius + margin {
+                    note(Constraint::SpringOverHook { spring: a, hook: k });
                 }
             }
         }
@@ -272,7 +360,8 @@ pub(crate) enum NoOrdering {
 pub fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> Result<Ordering, NoOrdering> {
     let m = layout.members.len();
     if m == 0 {
-        return Ok(Ordering { face: vec![], layer: vec![], layers: 0, optimal: true });
+        let (spring_face, spring_level) = (vec![], vec![]);
+        return Ok(Ordering { face: vec![], layer: vec![], spring_face, spring_level, layers: 0, optimal: true });
     }
     let started = std::time::Instant::now();
     let remaining = || (budget_s - started.elapsed().as_secs_f64()).max(0.001);
@@ -376,10 +465,40 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
         same_cache.insert(key, e);
         e
     };
+    // Each spring's face, shared with whatever its hooks stand on.
+    let springs = layout.spring_count();
+    let spring_front: Vec<Literal> = (0..springs).map(|_| if two { solver.new_literal() } else { truth }).collect();
+    let level: Vec<DomainId> = (0..springs).map(|_| solver.new_bounded_integer(0, springs as i32 - 1)).collect();
+    // `spring_same(a, b)` ⇔ springs a and b hang on the same face.
+    let spring_same = |solver: &mut Solver, a: usize, b: usize| -> Literal {
+        if !two {
+            return truth;
+        }
+        let e = solver.new_literal();
+        let (sa, sb) = (spring_front[a], spring_front[b]);
+        solver.add_clause([t(e), t(sa), t(sb)], tag);
+        solver.add_clause([t(e), f(sa), f(sb)], tag);
+        solver.add_clause([f(e), f(sa), t(sb)], tag);
+        solver.add_clause([f(e), t(sa), f(sb)], tag);
+        e
+    };
+    for hook in &layout.hooks {
+        let base = match hook.base {
+            HookBase::Member(i) => Some(i),
+            HookBase::Joint(j) => layout.joint_members[j].first().copied(),
+            HookBase::Body => None,
+        };
+        if let (Some(i), true) = (base, two) {
+            let (a, b) = (spring_front[hook.spring], front[i]);
+            solver.add_clause([f(a), t(b)], tag);
+            solver.add_clause([t(a), f(b)], tag);
+        }
+    }
     let pillar_face = |p: PillarRef| -> Option<Literal> {
         match p {
             PillarRef::Post(i) => Some(front[i]),
             PillarRef::Pin(j) => layout.joint_members[j].first().map(|&i| front[i]),
+            PillarRef::Hook(k) => Some(spring_front[layout.hooks[k].spring]),
         }
     };
     for &c in recorded.constraints.keys() {
@@ -414,6 +533,38 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
                         .implied_by(above);
                 }
             }
+            Constraint::UnderHook { member, hook } => {
+                let on = spring_front[layout.hooks[hook].spring];
+                let below: Vec<usize> = match layout.hooks[hook].base {
+                    HookBase::Member(i) => vec![i],
+                    HookBase::Joint(j) => layout.joint_members[j].clone(),
+                    HookBase::Body => {
+                        // Nothing can pass over a hook standing on a body: the member is on the other face.
+                        if !two {
+                            return Outcome::Unsat;
+                        }
+                        solver.add_clause([f(on), f(front[member])], tag);
+                        solver.add_clause([t(on), t(front[member])], tag);
+                        continue;
+                    }
+                };
+                let Some(&first) = below.first() else { continue };
+                let e = same(&mut solver, member, first);
+                for l in below {
+                    solver.add_constraint(pumpkin_constraints::binary_less_than(z[member], z[l], tag)).implied_by(e);
+                }
+            }
+            Constraint::SpringsApart { a, b } => {
+                let e = spring_same(&mut solver, a, b);
+                solver.add_constraint(pumpkin_constraints::binary_not_equals(level[a], level[b], tag)).implied_by(e);
+            }
+            Constraint::SpringOverHook { spring, hook } => {
+                let other = layout.hooks[hook].spring;
+                let e = spring_same(&mut solver, spring, other);
+                solver
+                    .add_constraint(pumpkin_constraints::binary_less_than(level[other], level[spring], tag))
+                    .implied_by(e);
+            }
             // Imposed for every joint above.
             Constraint::SameFace { .. } => {}
             Constraint::OppositeFaces { a, b } => {
@@ -437,7 +588,10 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
             let face: Vec<Face> =
                 front.iter().map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back }).collect();
             let (layer, layers) = compress(&layer, &face);
-            Outcome::Sat(Ordering { face, layer, layers, optimal: false })
+            let spring_face =
+                spring_front.iter().map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back }).collect();
+            let spring_level = level.iter().map(|&v| sol.get_integer_value(v).max(0) as u32).collect();
+            Outcome::Sat(Ordering { face, layer, spring_face, spring_level, layers, optimal: false })
         }
         SatisfactionResult::Unsatisfiable(..) => Outcome::Unsat,
         SatisfactionResult::Unknown(..) => Outcome::Unknown,
@@ -490,8 +644,27 @@ pub fn violations(layout: &Layout, recorded: &Recorded, o: &Ordering) -> Vec<Con
                 let face = |p: PillarRef| match p {
                     PillarRef::Post(i) => Some(o.face[i]),
                     PillarRef::Pin(j) => lj(j).first().map(|&i| o.face[i]),
+                    PillarRef::Hook(k) => o.spring_face.get(layout.hooks[k].spring).copied(),
                 };
                 face(a) != face(b) || face(a).is_none()
+            }
+            Constraint::UnderHook { member, hook } => {
+                let h = &layout.hooks[hook];
+                let on = o.spring_face.get(h.spring).copied();
+                on != Some(o.face[member])
+                    || match h.base {
+                        HookBase::Member(i) => z(member) < z(i),
+                        HookBase::Joint(j) => lj(j).iter().all(|&l| z(member) < z(l)),
+                        HookBase::Body => false,
+                    }
+            }
+            Constraint::SpringsApart { a, b } => {
+                o.spring_face.get(a) != o.spring_face.get(b) || o.spring_level.get(a) != o.spring_level.get(b)
+            }
+            Constraint::SpringOverHook { spring, hook } => {
+                let other = layout.hooks[hook].spring;
+                o.spring_face.get(spring) != o.spring_face.get(other)
+                    || o.spring_level.get(other) < o.spring_level.get(spring)
             }
             Constraint::SameFace { joint } => lj(joint).windows(2).all(|w| same(w[0], w[1])),
         };

@@ -1,7 +1,7 @@
 //! Connecting the linkage to the bodies (paper §7.1): which printed members exist (links, joint
 //! connectors, the slider guide, the frame of a scene without a fixed body), which rigid carrier each
 //! rides on, where connector posts stand on the bodies ([`super::posts`]), and which joints are pins
-//! fused straight onto a body.
+//! fused straight onto a body, and where the hooks of counterbalance springs stand ([`Hook`]).
 
 use super::posts::{self, Pad, Pillar, SceneShapes};
 use super::settings::Dims;
@@ -9,6 +9,7 @@ use super::FabError;
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::{BodyFrames, Trace};
 use crate::mechanism::{Mechanism, PartKind};
+use serde::{Deserialize, Serialize};
 
 /// A rigid thing the printed members ride on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -33,6 +34,61 @@ pub enum MemberKind {
     /// A scene without a fixed body: a plate on its own layer joining the ground joints (and holding
     /// the slider's slot), which the hand holds or a base is fixed to.
     Frame,
+    /// A bar fixed to a body (or the ground) by a square post, carrying a spring's hook where the
+    /// body has no room for it.
+    Bracket,
+}
+
+/// Where a counterbalance spring is hooked: a part of the design and a point on it, scene units, at
+/// the first pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Anchor {
+    /// The part's name, as in the design's `mechanism.parts` (the fixed part for a ground anchor).
+    pub part: String,
+    /// Where on it, at the first pose.
+    pub point: Point,
+}
+
+/// An extension spring to hook: its ground end, then its moving end.
+pub type SpringEnds = [Anchor; 2];
+
+/// What a spring's hook stands on. The hook is a capped pin pointing away from the bodies; the
+/// springs hang beyond the outermost layer of their face, so every part the hook rises through must
+/// stay clear of it along the motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HookBase {
+    /// The slab of its carrier (a moving body or the ground).
+    Body,
+    /// This member: a link (its plate reaching the anchor), a bracket, or the frame.
+    Member(usize),
+    /// The pin of this joint, lengthened beyond the outermost member on it.
+    Joint(usize),
+}
+
+/// One hook of a counterbalance spring.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hook {
+    /// The spring's index in the springs asked for; its two hooks are the ground end, then the moving end.
+    pub spring: usize,
+    /// Index into [`Layout::carriers`]: what carries the hook.
+    pub carrier: usize,
+    /// Where it stands, carrier frame.
+    pub at: Point,
+    /// What it stands on.
+    pub base: HookBase,
+}
+
+/// Why a spring's anchor has no hook.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HookRefusal {
+    /// The design has no part of that name.
+    NoSuchPart,
+    /// The point is not a finite number.
+    NotFinite,
+    /// On a link, too close to one of its joints for a hook beside the joint's pin (and not on it).
+    BesideJoint,
+    /// No place on the body for the post of a bracket reaching the anchor.
+    NoRoom,
 }
 
 /// The slot a slider's pin runs in.
@@ -75,7 +131,7 @@ impl Member {
         match self.kind {
             MemberKind::Connector => self.core.get(1).copied(),
             MemberKind::Link | MemberKind::Frame => self.core.get(k).copied(),
-            MemberKind::Guide => None,
+            MemberKind::Guide | MemberKind::Bracket => None,
         }
     }
 }
@@ -107,6 +163,8 @@ pub struct Layout {
     /// Round pads added to bodies too thin for a post. They are fused to the body's outline, in the
     /// bodies' plane, and checked against every other body along the motion.
     pub pads: Vec<Pad>,
+    /// The hooks of the counterbalance springs, two per spring (ground end first).
+    pub hooks: Vec<Hook>,
     /// The frame's foot in a scene without a fixed body: a disc in the bodies' plane, standing on the
     /// table where no body comes along the motion, carrying the frame's post.
     pub foot: Option<Pad>,
@@ -119,12 +177,16 @@ impl Layout {
     /// Connects every joint of `mechanism` to the parts that carry it. `trace` is the motion (its rows
     /// give the slider's stroke).
     /// With `body_pins`, a joint lying deep inside its body gets a pin fused to the body; without, every
-    /// body joint gets a connector (as in the paper), which leaves the solver more freedom.
+    /// body joint gets a connector (as in the paper), which leaves the solver more freedom. Each of
+    /// `springs` gets a hook at both ends, placed like a joint's pin: on the joint when the anchor is
+    /// one, on a link's plate (widened to reach it), fused to the body when deep inside it, otherwise on
+    /// a bracket from a post.
     pub(crate) fn new(
         shapes: &SceneShapes,
         mechanism: &Mechanism,
         trace: &Trace,
         body_pins: bool,
+        springs: &[SpringEnds],
     ) -> Result<Layout, FabError> {
         let topo = &mechanism.topology;
         let dims = shapes.dims;
@@ -356,6 +418,98 @@ impl Layout {
                 slot: frame_slot,
             });
         }
+
+        // The springs' hooks, after every joint (the joints' posts take the best places).
+        let mut hooks = Vec::new();
+        let row0 = trace.row(0);
+        for (s, ends) in springs.iter().enumerate() {
+            for anchor in ends {
+                let refuse = |why| FabError::SpringHook { spring: s + 1, part: anchor.part.clone(), why };
+                let Some(pi) = topo.parts.iter().position(|p| p.name == anchor.part) else {
+                    return Err(refuse(HookRefusal::NoSuchPart));
+                };
+                if !(anchor.point.x.is_finite() && anchor.point.y.is_finite()) {
+                    return Err(refuse(HookRefusal::NotFinite));
+                }
+                let part = &topo.parts[pi];
+                let ci = match part.kind {
+                    PartKind::Fixed => 0,
+                    PartKind::Body(b) => 1 + b,
+                    PartKind::Link => carriers.iter().position(|&c| c == Carrier::Link(pi)).unwrap_or(0),
+                };
+                let pose0 = match carriers[ci] {
+                    Carrier::Ground => Rigid::IDENTITY,
+                    Carrier::Body(b) => frames.pose(b, row0),
+                    Carrier::Link(_) => link_frame(row0[link_frames[ci].0], row0[link_frames[ci].1]),
+                };
+                let at = pose0.inverse().apply(anchor.point);
+                let mut hook = Hook { spring: s, carrier: ci, at, base: HookBase::Body };
+                // An anchor on one of the part's joints hooks on that joint's pin.
+                let on_joint = |j: &&usize| {
+                    row0[**j].distance(anchor.point) <= 1e-9 * (1.0 + anchor.point.distance(Point::ORIGIN))
+                };
+                if let Some(&j) = part.joints.iter().find(on_joint) {
+                    hook.base = HookBase::Joint(j);
+                    hooks.push(hook);
+                    continue;
+                }
+                // Links and the frame carry nothing but their plate; bodies have regions.
+                let regions: &[super::shapes::Region] =
+                    if ci < 1 + shapes.bodies.len() { shapes.carrier_regions(ci) } else { &[] };
+                let plate = members.iter().position(|m| {
+                    m.carrier == ci
+                        && (m.kind == MemberKind::Link || (regions.is_empty() && m.kind == MemberKind::Frame))
+                });
+                if let Some(mi) = plate {
+                    // The plate is widened to the anchor; the hook must clear the holes of its joints.
+                    let holes = members[mi].joints.len().min(members[mi].core.len());
+                    if members[mi].core[..holes].iter().any(|c| c.distance(at) < dims.hook_clear_of_joints()) {
+                        return Err(refuse(HookRefusal::BesideJoint));
+                    }
+                    members[mi].core.push(at);
+                    hook.base = HookBase::Member(mi);
+                    hooks.push(hook);
+                    continue;
+                }
+                let depth = |p: Point| regions.iter().map(|r| r.depth(p)).fold(f64::NEG_INFINITY, f64::max);
+                let free = pillars[ci].iter().all(|&(q, rq)| at.distance(q) >= dims.cap_base_radius + rq + dims.wall);
+                if body_pins && depth(at) >= dims.pin_depth() && free {
+                    pillars[ci].push((at, dims.cap_base_radius));
+                    hooks.push(hook);
+                    continue;
+                }
+                let swept_here = |p: Point| swept(ci, p);
+                let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), ci, p, r, &pads);
+                let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == ci).copied().collect();
+                let query = posts::Query {
+                    regions,
+                    thin: &shapes.thin[ci],
+                    target: (at, at),
+                    min_reach: dims.cap_base_radius + dims.post_collar_radius + dims.wall,
+                    placed: &pillars[ci],
+                    pads: &carrier_pads,
+                    pad_hit: &hit,
+                };
+                let site = posts::place(&query, &posts::Rules { clear: &|_, _| true, swept: &swept_here }, &dims)
+                    .map_err(|_| refuse(HookRefusal::NoRoom))?;
+                if let Some(radius) = site.pad {
+                    pads.push(Pad { carrier: ci, centre: site.at, radius });
+                }
+                pillars[ci].push((site.at, dims.post_collar_radius));
+                hook.base = HookBase::Member(members.len());
+                hooks.push(hook);
+                let end = if hooks.len() % 2 == 1 { "ground" } else { "moving" };
+                members.push(Member {
+                    name: format!("spring{}_{end}_bracket", s + 1),
+                    kind: MemberKind::Bracket,
+                    carrier: ci,
+                    core: vec![site.at, at],
+                    joints: Vec::new(),
+                    post: Some(site.at),
+                    slot: None,
+                });
+            }
+        }
         let layout = Layout {
             carriers,
             link_frames,
@@ -364,6 +518,7 @@ impl Layout {
             body_pins: pins,
             slider_joint: topo.slider_joint,
             pads,
+            hooks,
             foot,
             dims,
             frames,
@@ -397,6 +552,20 @@ impl Layout {
                 super::plates::misfit(&core, self.dims.half_width * mm, bed).map(|f| (i, f))
             })
             .collect()
+    }
+
+    /// Where hook `k` stands in the configuration `row`, given every carrier's pose there.
+    pub fn hook_at(&self, k: usize, row: &[Point], poses: &[Rigid]) -> Point {
+        let hook = &self.hooks[k];
+        match hook.base {
+            HookBase::Joint(j) => row[j],
+            _ => poses[hook.carrier].apply(hook.at),
+        }
+    }
+
+    /// How many springs have hooks.
+    pub fn spring_count(&self) -> usize {
+        self.hooks.iter().map(|h| h.spring + 1).max().unwrap_or(0)
     }
 
     /// The member whose name is `name`.

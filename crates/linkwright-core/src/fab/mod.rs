@@ -49,12 +49,15 @@ use posts::SceneShapes;
 pub use bundle::{assembled_meshes, bundle, Bundle, FIXED_FILES};
 pub use check::{check, CheckReport};
 pub use depth::{violations as ordering_violations, Constraint, Face, Ordering, PillarRef, Recorded};
-pub use layout::{BodyPin, Carrier, Layout, Member, MemberKind, Slot};
+pub use layout::{Anchor, BodyPin, Carrier, Hook, HookBase, HookRefusal, Layout, Member, MemberKind, Slot, SpringEnds};
 pub use names::is_safe_relative_path;
 pub use parts::{Heights, HoleSeat, Part, PinSeat, Prism, Role, SlotSeat};
 pub use plates::Misfit;
 pub use posts::Pad;
-pub use report::{ConstraintReport, Layers, Oversized, PartReport, PlateReport, Report, Totals, FABRICATION_FORMAT};
+pub use report::{
+    ConstraintReport, HookReport, Layers, Oversized, PartReport, PlateReport, Report, SpringReport, Totals,
+    FABRICATION_FORMAT,
+};
 pub use settings::{millimetres_per_unit, Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
 pub use solid::Mesh;
 use std::time::Instant;
@@ -154,6 +157,35 @@ pub enum FabError {
     )]
     /// The design fails its check against the scene ([`crate::DesignFile::violations`]).
     FailsCheck(Vec<crate::verify::Violation>),
+    #[error("spring {spring}'s anchor on {part}: {}", hook_words(*.why))]
+    /// A spring's anchor has no place for its hook.
+    SpringHook {
+        /// The spring, counted from 1.
+        spring: usize,
+        /// The part it is anchored on, as given.
+        part: String,
+        /// Why.
+        why: HookRefusal,
+    },
+    #[error(
+        "no depth ordering leaves room for the springs' hooks: some part passes over a hook along the motion \
+         (paper §7.2 with the springs hung beyond the outermost layer); allow both faces with \"faces\": \"both\", \
+         or fabricate without the springs"
+    )]
+    /// An ordering exists without the springs, but none with their hooks.
+    NoRoomForSprings,
+}
+
+fn hook_words(why: HookRefusal) -> &'static str {
+    match why {
+        HookRefusal::NoSuchPart => "the design has no part of that name",
+        HookRefusal::NotFinite => "the point is not a finite number",
+        HookRefusal::BesideJoint => {
+            "the point is on a link, too close to one of its joints for a hook beside the joint's pin \
+             (hook it on the joint itself, or farther along the link)"
+        }
+        HookRefusal::NoRoom => "the body has no room for the post of a bracket reaching the point",
+    }
 }
 
 /// Items of a message, one after the other.
@@ -183,6 +215,8 @@ pub struct Fabrication {
     pub settings: PrintSettings,
     /// The print settings in scene units.
     pub dims: Dims,
+    /// The counterbalance springs hooked, as asked for (their hooks are in the layout).
+    pub springs: Vec<SpringEnds>,
     /// The printed members and what carries each.
     pub layout: Layout,
     /// The ordering constraints recorded along the motion.
@@ -227,13 +261,35 @@ pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabE
 }
 
 /// Fabricates `mechanism` moving through `travel` in the scene of `problem`, drawn in units of
-/// `mm_per_unit` millimetres.
+/// `mm_per_unit` millimetres, with a hook at both ends of each of `springs` (the counterbalance
+/// springs of [`crate::balance`], for instance).
 pub fn fabricate(
     problem: &Problem,
     mm_per_unit: f64,
     mechanism: &Mechanism,
     travel: Travel,
     settings: &PrintSettings,
+    springs: &[SpringEnds],
+) -> Result<Fabrication, FabError> {
+    let made = fabricate_once(problem, mm_per_unit, mechanism, travel, settings, springs);
+    match made {
+        Err(FabError::NoOrdering | FabError::OrderingTimedOut) if !springs.is_empty() => {
+            match fabricate_once(problem, mm_per_unit, mechanism, travel, settings, &[]) {
+                Ok(_) => Err(FabError::NoRoomForSprings),
+                Err(_) => made,
+            }
+        }
+        made => made,
+    }
+}
+
+fn fabricate_once(
+    problem: &Problem,
+    mm_per_unit: f64,
+    mechanism: &Mechanism,
+    travel: Travel,
+    settings: &PrintSettings,
+    springs: &[SpringEnds],
 ) -> Result<Fabrication, FabError> {
     let issues = settings.validate();
     if !issues.is_empty() {
@@ -262,7 +318,7 @@ pub fn fabricate(
         }
         let attempt = built[k].get_or_insert_with(|| {
             let t0 = Instant::now();
-            let attempt = Layout::new(&shapes, mechanism, &trace, body_pins).map(|l| {
+            let attempt = Layout::new(&shapes, mechanism, &trace, body_pins, springs).map(|l| {
                 let r = depth::record(&l, &trace);
                 (l, r)
             });
@@ -306,6 +362,7 @@ pub fn fabricate(
     let t3 = Instant::now();
     Ok(Fabrication {
         scene_name: problem.name.clone(),
+        springs: springs.to_vec(),
         joint_names: mechanism.topology.joint_names.clone(),
         settings: settings.clone(),
         dims,
@@ -359,6 +416,18 @@ pub fn fabricate_design(
     design: &crate::design::DesignFile,
     settings: &PrintSettings,
 ) -> Result<Fabrication, FabError> {
+    fabricate_design_with_springs(problem, units, design, settings, &[])
+}
+
+/// [`fabricate_design`] with a hook at both ends of each of `springs`, anchored on the design's parts
+/// (not on an alternative's).
+pub fn fabricate_design_with_springs(
+    problem: &Problem,
+    units: &str,
+    design: &crate::design::DesignFile,
+    settings: &PrintSettings,
+    springs: &[SpringEnds],
+) -> Result<Fabrication, FabError> {
     let mm = millimetres_per_unit(units).ok_or_else(|| FabError::Units(units.to_string()))?;
     let issues = design.validate(problem);
     if !issues.is_empty() {
@@ -373,7 +442,7 @@ pub fn fabricate_design(
     }
     let mechanism = mj.to_mechanism().map_err(|e| FabError::Mismatch(e.to_string()))?;
     let travel = Travel { start: motion.crank_start_deg.to_radians(), end: motion.crank_end_deg.to_radians() };
-    fabricate(problem, mm, &mechanism, travel, settings)
+    fabricate(problem, mm, &mechanism, travel, settings, springs)
 }
 
 /// What [`fabricate_design_or_alternative`] made.
@@ -543,7 +612,7 @@ impl FeasibilityCheck {
         let faces = if self.faces == Faces::One { Faces::One } else { Faces::Both };
         let mut first = None;
         for body_pins in [true, false] {
-            let (error, pinned) = match Layout::new(&self.shapes, mechanism, trace, body_pins) {
+            let (error, pinned) = match Layout::new(&self.shapes, mechanism, trace, body_pins, &[]) {
                 Err(e) => (e, true),
                 Ok(layout) => {
                     let misfits = layout.off_bed(&self.bed);

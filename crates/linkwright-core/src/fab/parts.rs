@@ -6,10 +6,11 @@
 //! inside it, otherwise to the innermost member (paper fig. 9e puts it on the middle one; printing
 //! flat needs it on the innermost, pointing outwards). Every member but the outermost has a boss up
 //! to the next member, so the stack is held with an axial gap between neighbours; the pin ends in a
-//! snap cap above the outermost member.
+//! snap cap above the outermost member. A spring's hook is such a pin, standing on what carries it and
+//! capped beyond the spring's axis.
 
 use super::depth::{Face, Ordering};
-use super::layout::{Layout, MemberKind};
+use super::layout::{HookBase, Layout, MemberKind};
 use super::posts::SceneShapes;
 use super::settings::Dims;
 use super::shapes::{circle, rounded_outline, stadium};
@@ -35,6 +36,8 @@ pub enum Role {
     Ground,
     /// The frame holding the ground joints of a scene without a fixed body.
     Frame,
+    /// A bar fixed to a body (or the ground) by a square post, carrying a spring's hook.
+    SpringBracket,
 }
 
 /// A prism: a planar region (outline minus holes) between two heights, in a part's frame.
@@ -177,9 +180,28 @@ pub fn build(
         .collect();
     let bottom = |i: usize| d.layer_bottom(ordering.layer[i]);
     let top = |i: usize| d.layer_top(ordering.layer[i]);
-    let cap_base = |stack: &[usize]| stack.last().map_or(0.0, |&i| top(i) + d.gap);
-    let pin_steps = |base: f64, collar_top: f64, stack: &[usize]| -> (Vec<(f64, RingShape)>, f64) {
-        let zc = cap_base(stack);
+    // The springs hang beyond the outermost layer of their face.
+    let outermost =
+        |f: Face| (0..members.len()).filter(|&i| ordering.face[i] == f).map(|i| ordering.layer[i]).max().unwrap_or(0);
+    let hook_cap =
+        |spring: usize| d.hook_cap_base(outermost(ordering.spring_face[spring]), ordering.spring_level[spring]);
+    let hook_stud = |c: Point, base: f64, spring: usize| {
+        let zc = hook_cap(spring);
+        let steps = vec![(base, RingShape::Circle(d.pin_radius)), (zc, RingShape::Circle(d.cap_base_radius))];
+        Spec::Stud { c, steps, top: zc + d.cap_height, tip: Some(RingShape::Circle(d.cap_tip_radius)) }
+    };
+    // A pin ends in a snap cap above the outermost member on its joint, or beyond the spring's axis
+    // when a spring hooks on it.
+    let cap_base = |j: usize| {
+        let hooked = layout.hooks.iter().find(|h| h.base == HookBase::Joint(j));
+        match (hooked, stacks[j].last()) {
+            (Some(h), _) => hook_cap(h.spring),
+            (None, Some(&i)) => top(i) + d.gap,
+            (None, None) => 0.0,
+        }
+    };
+    let pin_steps = |base: f64, collar_top: f64, j: usize| -> (Vec<(f64, RingShape)>, f64) {
+        let zc = cap_base(j);
         let mut steps = Vec::new();
         if collar_top > base + 1e-9 {
             steps.push((base, RingShape::Circle(d.boss_radius)));
@@ -220,8 +242,8 @@ pub fn build(
             };
             if pos == 0 && layout.body_pins[j].is_none() {
                 let collar_top = stack.get(1).map_or(z1, |&n| bottom(n) - d.gap);
-                let (steps, tip) = pin_steps(z1, collar_top, stack);
-                pin_of_joint[j] = Some((part_index, at, zr(z1, cap_base(stack))));
+                let (steps, tip) = pin_steps(z1, collar_top, j);
+                pin_of_joint[j] = Some((part_index, at, zr(z1, cap_base(j))));
                 specs.push(Spec::Stud { c: at, steps, top: tip, tip: Some(RingShape::Circle(d.cap_tip_radius)) });
             } else if pos + 1 < stack.len() {
                 let boss_top = bottom(stack[pos + 1]) - d.gap;
@@ -235,12 +257,16 @@ pub fn build(
         if let Some(p) = m.post {
             specs.push(Spec::Socket { c: p, half: d.post_half + d.clearance });
         }
+        for h in layout.hooks.iter().filter(|h| h.base == HookBase::Member(i)) {
+            specs.push(hook_stud(h.at, z1, h.spring));
+        }
         let outline = rounded_outline(&m.core, d.half_width, seg);
         let role = match m.kind {
             MemberKind::Link => Role::Link,
             MemberKind::Connector => Role::Connector,
             MemberKind::Guide => Role::Guide,
             MemberKind::Frame => Role::Frame,
+            MemberKind::Bracket => Role::SpringBracket,
         };
         let part = assemble(
             m.name.clone(),
@@ -270,10 +296,18 @@ pub fn build(
             let stack = &stacks[j];
             let Some(&first) = stack.first() else { continue };
             let face = ordering.face[first];
-            let (steps, tip) = pin_steps(0.0, bottom(first) - d.gap, stack);
-            pin_here.push((j, bp.at, face, (0.0, cap_base(stack))));
+            let (steps, tip) = pin_steps(0.0, bottom(first) - d.gap, j);
+            pin_here.push((j, bp.at, face, (0.0, cap_base(j))));
             let spec = Spec::Stud { c: bp.at, steps, top: tip, tip: Some(RingShape::Circle(d.cap_tip_radius)) };
             if face == Face::Front {
+                front.push(spec)
+            } else {
+                back.push(spec)
+            }
+        }
+        for h in layout.hooks.iter().filter(|h| h.base == HookBase::Body && h.carrier == c) {
+            let spec = hook_stud(h.at, 0.0, h.spring);
+            if ordering.spring_face[h.spring] == Face::Front {
                 front.push(spec)
             } else {
                 back.push(spec)

@@ -32,6 +32,8 @@ pub struct Report {
     pub oversized: Vec<Oversized>,
     /// Part count, volume and mass of the whole linkage.
     pub totals: Totals,
+    /// The counterbalance springs hooked, each with its hooks.
+    pub springs: Vec<SpringReport>,
     /// The recorded ordering constraints, with member and joint names.
     pub constraints: Vec<ConstraintReport>,
     /// The assembly steps, in order, as sentences.
@@ -88,6 +90,29 @@ pub struct PartReport {
     pub mass_g: f64,
     /// Triangles of its mesh.
     pub triangles: usize,
+}
+
+/// A counterbalance spring and where its hooks stand.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpringReport {
+    /// The face of the bodies it hangs beyond, outside every layer there.
+    pub face: Face,
+    /// Height of its axis above that face, mm.
+    pub axis_height_mm: f64,
+    /// The widest spring the room around it takes (a link's width), mm.
+    pub max_outer_diameter_mm: f64,
+    /// Its two hooks, the ground end first.
+    pub hooks: Vec<HookReport>,
+}
+
+/// One hook of a spring.
+#[derive(Clone, Debug, Serialize)]
+pub struct HookReport {
+    /// Where the spring is anchored, as asked for.
+    #[serde(flatten)]
+    pub anchor: super::Anchor,
+    /// The printed part the hook stands on, in words.
+    pub on: String,
 }
 
 /// One print bed's worth of parts.
@@ -183,6 +208,25 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
                     ("structure", format!("pillars {a:?} and {b:?} meet: opposite faces"))
                 }
                 Constraint::SameFace { joint: j } => ("structure", format!("every part on {} on one face", joint(j))),
+                Constraint::UnderHook { member, hook } => (
+                    "structure",
+                    format!(
+                        "{} passes over the hook of spring {}: below what the hook stands on, or on the other face",
+                        names(member),
+                        fab.layout.hooks[hook].spring + 1
+                    ),
+                ),
+                Constraint::SpringsApart { a, b } => {
+                    ("structure", format!("springs {} and {} meet: opposite faces or different levels", a + 1, b + 1))
+                }
+                Constraint::SpringOverHook { spring, hook } => (
+                    "structure",
+                    format!(
+                        "spring {} passes over a hook of spring {}: the other face or a higher level",
+                        spring + 1,
+                        fab.layout.hooks[hook].spring + 1
+                    ),
+                ),
             };
             ConstraintReport { equation, text, at_deg: at }
         })
@@ -211,6 +255,25 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
             .collect(),
         oversized: plates.oversized.iter().map(|&k| oversized(fab, k)).collect(),
         parts,
+        springs: (0..fab.springs.len())
+            .map(|n| {
+                let face = fab.ordering.spring_face[n];
+                SpringReport {
+                    face,
+                    axis_height_mm: fab
+                        .dims
+                        .spring_axis(super::sheet::layers_on(fab, face), fab.ordering.spring_level[n])
+                        * s,
+                    max_outer_diameter_mm: 2.0 * fab.dims.half_width * s,
+                    hooks: (0..2)
+                        .map(|e| HookReport {
+                            anchor: fab.springs[n][e].clone(),
+                            on: super::sheet::hook_holder(fab, 2 * n + e),
+                        })
+                        .collect(),
+                }
+            })
+            .collect(),
         constraints,
         assembly: super::sheet::steps(fab),
         seconds: fab.timings,

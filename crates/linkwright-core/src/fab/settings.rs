@@ -311,6 +311,24 @@ impl Dims {
     pub fn layer_top(&self, k: u32) -> f64 {
         self.layer_bottom(k) + self.thickness
     }
+    /// Height of the axis of a spring at `level` (0 nearest) above a face with `layers` layers: beyond
+    /// the snap caps of the outermost layer by the clearance and a spring's radius (a spring is taken to
+    /// be no wider than a link), and each level beyond the hook caps of the level below likewise.
+    pub fn spring_axis(&self, layers: u32, level: u32) -> f64 {
+        let top = if layers == 0 { 0.0 } else { self.layer_top(layers) };
+        let first = top + self.gap + self.cap_height + self.gap + self.half_width;
+        first + f64::from(level) * (self.thickness + self.cap_height + self.gap + 2.0 * self.half_width)
+    }
+    /// Height of the snap cap on the hooks of a spring at `level`: a part's thickness above the
+    /// spring's axis, room for the spring's loop.
+    pub fn hook_cap_base(&self, layers: u32, level: u32) -> f64 {
+        self.spring_axis(layers, level) + self.thickness
+    }
+    /// Least distance from a joint of a link to a spring's hook on it (not on the joint): the joint's
+    /// boss and the hook's cap side by side, with the radial clearance.
+    pub fn hook_clear_of_joints(&self) -> f64 {
+        self.boss_radius + self.cap_base_radius + self.clearance
+    }
     /// Least depth inside a body for a pin fused to it (its collar and a wall).
     pub fn pin_depth(&self) -> f64 {
         self.boss_radius + self.wall

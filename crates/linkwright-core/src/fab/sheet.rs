@@ -2,7 +2,7 @@
 //! pins and posts) and the order in which to put the parts together.
 
 use super::depth::Face;
-use super::layout::MemberKind;
+use super::layout::{HookBase, MemberKind};
 use super::parts::Role;
 use super::Fabrication;
 use crate::geom::{Aabb, Point, Rigid};
@@ -84,8 +84,49 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
             }
         }
     }
+    let axis = |spring: usize| {
+        let (face, level) = (fab.ordering.spring_face[spring], fab.ordering.spring_level[spring]);
+        fab.dims.spring_axis(layers_on(fab, face), level) * fab.dims.mm_per_unit
+    };
+    for (n, _) in fab.springs.iter().enumerate() {
+        let face = fab.ordering.spring_face[n];
+        let hooks: Vec<String> = (0..2).map(|e| hook_holder(fab, 2 * n + e)).collect();
+        out.push(format!(
+            "Spring {}: an extension spring of at most {:.1} mm outer diameter, hung {:.1} mm beyond the {} face: hook \
+             one end on the hook of {} and the other on the hook of {}.",
+            n + 1,
+            2.0 * fab.dims.half_width * fab.dims.mm_per_unit,
+            axis(n),
+            if face == Face::Front { "front" } else { "back" },
+            hooks[0],
+            hooks[1]
+        ));
+    }
     out.push("Turn the crank (or move a body by hand) from the first pose to the last: nothing should rub.".into());
     out
+}
+
+/// The most layers of any member on `face`.
+pub(super) fn layers_on(fab: &Fabrication, face: Face) -> u32 {
+    (0..fab.layout.members.len())
+        .filter(|&i| fab.ordering.face[i] == face)
+        .map(|i| fab.ordering.layer[i])
+        .max()
+        .unwrap_or(0)
+}
+
+/// The printed part hook `k` stands on, in words.
+pub(super) fn hook_holder(fab: &Fabrication, k: usize) -> String {
+    let hook = &fab.layout.hooks[k];
+    match hook.base {
+        HookBase::Member(i) => fab.parts.iter().find(|p| p.member == Some(i)).map_or("?".into(), |p| p.name.clone()),
+        HookBase::Joint(j) => {
+            let holder =
+                fab.seats.iter().find(|s| s.joint == j).map_or("?".into(), |s| fab.parts[s.pin_part].name.clone());
+            format!("{holder} (the pin at {}, lengthened)", fab.layout_joint_name(j))
+        }
+        HookBase::Body => carrier_name(fab, hook.carrier, Some(hook.at)),
+    }
 }
 
 /// The body part (or piece of it) that holds the point `at` of `carrier`.
@@ -149,6 +190,7 @@ pub fn assembly_svg(fab: &Fabrication) -> String {
             Role::Body => "#f4d58d",
             Role::Ground | Role::Frame => "#bdbdbd",
             Role::Connector => "#8ecae6",
+            Role::SpringBracket => "#ffb703",
             Role::Guide => "#90be6d",
             Role::Link => {
                 if p.face == Face::Front {

@@ -15,7 +15,7 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
-use linkwright_core::balance::{counterbalance, Balanced};
+use linkwright_core::balance::{counterbalance, Balanced, SpringSearch};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
 use linkwright_core::geom::Point;
 use linkwright_core::statics::{driving_torque, Masses};
@@ -312,6 +312,16 @@ impl Compound {
         }
     }
 
+    /// An optional yes-or-no option (absent or null: no).
+    pub fn flag(&self, name: &str) -> Result<bool, ApiError> {
+        match self.fields.get(name) {
+            None | Some(Value::Null) => Ok(false),
+            Some(Value::Bool(b)) => Ok(*b),
+            Some(_) => Err(ApiError::bad_request(format!("{name} must be true or false"))
+                .with_issue(name, "must be true or false")),
+        }
+    }
+
     /// An optional positive integer option, at most `max`.
     fn count(&self, name: &str, default: usize, max: usize) -> Result<usize, ApiError> {
         match self.fields.get(name) {
@@ -515,6 +525,7 @@ pub async fn balance(
             &replay.trace,
             &masses,
             &torque,
+            SpringSearch::ANALYSIS,
             &observer,
         )
         .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;

@@ -5,6 +5,7 @@
 use super::api::{parsed, print_settings, printable_size, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
 use super::error::ApiError;
+use super::jobs::JobObserver;
 use super::jobs::{Kind, StopFlag, Work};
 use super::preview::{preview, Preview};
 use axum::body::Bytes;
@@ -14,9 +15,14 @@ use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::Which;
-use linkwright_core::fab::{bundle, fabricate_design_or_alternative, sanitize, FabError, PrintSettings, Report};
-use linkwright_core::{DesignFile, Problem};
+use linkwright_core::balance::Balanced;
+use linkwright_core::fab::{
+    bundle, fabricate_design_or_alternative, sanitize, Chosen, FabError, PrintSettings, Report,
+};
+use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
+use linkwright_core::{DesignFile, Problem, Progress};
 use serde::Serialize;
+use serde_json::Value;
 use std::sync::Arc;
 
 /// What a fabrication request asks for, checked.
@@ -29,14 +35,17 @@ struct Request {
     /// itself, `i + 1` when the request names `alternatives[i]`.
     offset: usize,
     settings: PrintSettings,
+    /// Whether to search extension springs and give the parts hooks for them.
+    springs: bool,
 }
 
 impl Request {
-    /// `{scene, design, settings?, alternative?}`.
+    /// `{scene, design, settings?, alternative?, springs?}`.
     fn parse(text: &str) -> Result<Request, ApiError> {
         let compound = Compound::parse(text)?;
         let settings = print_settings(compound.fields.get("settings"), "settings")?;
         let which = compound.which()?;
+        let springs = compound.flag("springs")?;
         let Compound { problem, units, mut design, .. } = compound;
         printable_size(&problem, &units, "scene")?;
         if design.mechanism.is_none() {
@@ -63,13 +72,36 @@ impl Request {
                 );
             }
         };
-        Ok(Request { problem, units, design, offset, settings })
+        Ok(Request { problem, units, design, offset, settings, springs })
     }
 
-    /// Fabricates and bundles the design (or its first alternative that can be fabricated).
-    fn make(&self) -> Result<Made, ApiError> {
-        let chosen = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
-            .map_err(cannot)?;
+    /// Fabricates and bundles the design (or its first alternative that can be fabricated; with
+    /// springs, the design itself, whose parts they hook on).
+    fn make(&self, flag: &Arc<StopFlag>) -> Result<Made, ApiError> {
+        let (chosen, balance) = if self.springs {
+            // The spring search stops with the job (its deadline, or the client gone).
+            let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
+            let hooked = fabricate_with_springs(&self.problem, &self.units, &self.design, &self.settings, &observer)
+                .map_err(|e| match e {
+                    HookedError::Fab(e) => cannot(e),
+                    HookedError::Cancelled => {
+                        ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled")
+                    }
+                    HookedError::Units(_) => {
+                        ApiError::unprocessable(e.to_string()).with_issue("scene.units", e.to_string())
+                    }
+                    HookedError::Statics(_) => {
+                        ApiError::unprocessable(e.to_string()).with_issue("design", e.to_string())
+                    }
+                })?;
+            let Hooked { fabrication, torque, balance } = hooked;
+            let balance = serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null);
+            (Chosen { used: 0, fabrication, passed_over: None }, Some(balance))
+        } else {
+            let chosen = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
+                .map_err(cannot)?;
+            (chosen, None)
+        };
         let (which, fab) = (chosen.used, chosen.fabrication);
         let bundle = bundle(&fab).map_err(cannot)?;
         let preview = preview(&fab);
@@ -80,7 +112,7 @@ impl Request {
         let stored = Stored::new(scene, bundle.files).map_err(|e| {
             ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("internal error: {e}; please report it"))
         })?;
-        Ok(Made { used: self.offset + which, report: bundle.report, preview, stored })
+        Ok(Made { used: self.offset + which, report: bundle.report, preview, stored, balance })
     }
 }
 
@@ -100,6 +132,7 @@ struct Made {
     report: Report,
     preview: Preview,
     stored: Stored,
+    balance: Option<Value>,
 }
 
 /// The answer of `POST /api/fabricate`.
@@ -113,6 +146,9 @@ pub struct Answer {
     checks_ok: bool,
     /// The `fabrication.json` document.
     report: Report,
+    /// With `springs`: the torque and the springs hooked, as `POST /api/balance` answers them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    balance: Option<Value>,
     files: Vec<FileEntry>,
     /// All the files in one zip.
     zip: FileEntry,
@@ -129,8 +165,9 @@ struct FileEntry {
     url: String,
 }
 
-/// `POST /api/fabricate`: `{scene, design, settings?, alternative?}` in; the report, the files to
-/// download and the 3D preview out.
+/// `POST /api/fabricate`: `{scene, design, settings?, alternative?, springs?}` in; the report, the files
+/// to download and the 3D preview out (with `springs: true`, the parts carry hooks for the extension
+/// springs that balance them, and `balance` says which).
 pub async fn fabricate(
     State(state): State<AppState>,
     Client(client): Client,
@@ -140,9 +177,9 @@ pub async fn fabricate(
     // A client that hangs up while the job waits in line frees its place at once. A running
     // fabrication cannot be stopped midway (the library has no cancellation hook); it finishes, still
     // counted as running, and its answer is dropped.
-    let make = move |_: &Arc<StopFlag>| request.make();
+    let make = move |flag: &Arc<StopFlag>| request.make(flag);
     let made = state.jobs.run(Kind::Fabrication, &client, Work::FABRICATION, make).await?;
-    let Made { used, report, preview, stored } = made;
+    let Made { used, report, preview, stored, balance } = made;
     let (id, stored) = state.bundles.insert(stored);
     let entry = |name: &str, bytes: &Bytes| FileEntry {
         name: name.to_string(),
@@ -157,6 +194,7 @@ pub async fn fabricate(
         id,
         used,
         report,
+        balance,
         preview,
     }))
 }

@@ -66,8 +66,8 @@ export const edit = (scene, design, alternative, joints) =>
 export const render = (scene, design, kind, alternative = null) =>
   request('POST', '/api/render', { scene, design, kind, alternative }, { as: 'blob' });
 /** Printable parts of a design: the report, the files to download and the 3D preview. */
-export const fabricate = (scene, design, settings, alternative = null, signal = undefined) =>
-  request('POST', '/api/fabricate', { scene, design, settings, alternative }, { signal });
+export const fabricate = (scene, design, settings, alternative = null, signal = undefined, springs = false) =>
+  request('POST', '/api/fabricate', { scene, design, settings, alternative, springs }, { signal });
 export const printDefaults = () => request('GET', '/api/fabricate/settings');
 
 /**

@@ -3,6 +3,7 @@
 
 import * as api from './api.js';
 import { partColour, partKind, Preview3D, ROLE_COLOURS } from './preview3d.js';
+import { springCut, springList } from './plots.js';
 import { html } from './svg.js';
 
 const SAVED = 'linkwright.print.v1';
@@ -81,7 +82,7 @@ export function savedPrintSettings() {
 function loadSaved() {
   try {
     const saved = JSON.parse(localStorage.getItem(SAVED) || 'null');
-    if (saved && typeof saved.values === 'object') return { values: saved.values, faces: saved.faces || 'auto' };
+    if (saved && typeof saved.values === 'object') return { values: saved.values, faces: saved.faces || 'auto', springs: !!saved.springs };
   } catch {
     // Unavailable storage: start from the defaults.
   }
@@ -140,7 +141,8 @@ export class Fabricator {
     this.made = null;
     this.store.changed('result');
     try {
-      const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, this.job.controller.signal);
+      const springs = !!this.print.springs;
+      const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, this.job.controller.signal, springs);
       this.made = { ...target, answer };
       const report = answer.report;
       this.show(answer.preview);
@@ -233,6 +235,13 @@ export class Fabricator {
           title: 'Build printable parts for this linkage with the print settings above',
           onclick: () => this.run(),
         }),
+        html('label', { class: 'check', title: 'Search the extension springs that balance the printed parts and give the parts hooks for them' }, [
+          html('input', {
+            type: 'checkbox', id: 'fab-springs', checked: !!this.print.springs,
+            onchange: (e) => { this.print.springs = e.target.checked; this.saveSettings(); },
+          }),
+          ' Hooks for counterbalance springs',
+        ]),
       ]));
     }
     if (error) {
@@ -315,11 +324,11 @@ export class Fabricator {
     }
     if (!answer.checks_ok) {
       const c = report.checks;
-      warn('Some checks failed', [...c.meshes, ...c.intersections, ...c.seats, ...c.ordering].join('; '));
+      warn('Some checks failed', [...c.meshes, ...c.intersections, ...c.seats, ...c.ordering, ...c.springs].join('; '));
     }
     const count = (role) => report.parts.filter((p) => p.role === role).length;
     const kinds = [
-      [count('link') + count('guide'), 'link'], [count('connector'), 'connector'],
+      [count('link') + count('guide'), 'link'], [count('connector'), 'connector'], [count('spring_bracket'), 'spring bracket'],
       [count('body'), 'moving body', 'moving bodies'], [count('ground'), 'fixed piece'],
     ].filter(([n]) => n > 0).map(([n, one, many]) => plural(n, one, many)).join(', ');
     const s = report.settings;
@@ -330,9 +339,22 @@ export class Fabricator {
       ['Print volume', `${(report.totals.volume_mm3 / 1000).toFixed(1)} cm³`],
       ['Mass (estimate)', `${report.totals.mass_g.toFixed(0)} g at ${Math.round(s.fill_fraction * 100)}% fill`],
     ].map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
+    if (answer.balance) out.push(...this.springs(answer));
     out.push(...this.downloads(answer));
     out.push(html('h3', { text: 'Putting it together' }));
     out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: step }))));
+    return out;
+  }
+
+  /** The springs the parts are hooked for: what to buy, and where each hangs. */
+  springs(answer) {
+    const balance = answer.balance, units = (this.results.result?.scene || this.store.scene)?.units || 'mm';
+    const out = [html('h3', { text: 'Counterbalance springs' })];
+    if (balance.springs.length) {
+      out.push(html('p', { class: 'note', text: `They lower the crank's peak torque by ${springCut(balance)}%. `
+        + 'Each hangs beyond the links, on hooks printed on the parts (see Putting it together).' }));
+    }
+    out.push(springList(balance, units));
     return out;
   }
 

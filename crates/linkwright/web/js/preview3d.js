@@ -17,6 +17,7 @@ export const ROLE_COLOURS = {
   crank: ['#b03a2e', 'Crank (turn it)'],
   connector: ['#2a9d8f', 'Connector and pins'],
   guide: ['#8e5cc2', 'Slider guide'],
+  spring_bracket: ['#e9c46a', 'Spring bracket'],
 };
 
 const BACKGROUND = [0.965, 0.972, 0.98];

@@ -1,0 +1,101 @@
+//! Counterbalance springs on printed parts: the springs [`crate::balance`] chooses for a design, and its
+//! fabrication ([`crate::fab`]) with a hook at both ends of each.
+//!
+//! Only extension springs get hooks, and only where the parts leave them room along the motion: the
+//! search's choices are tried best first (the best pair, then the best single spring of each moving
+//! part) until one's hooks fit.
+
+use crate::analysis::{AnalysisOptions, Replay, Which};
+use crate::balance::{counterbalance_choices, Balance, Spring, SpringSearch};
+use crate::design::DesignFile;
+use crate::fab::{fabricate_design_with_springs, millimetres_per_unit, Dims, FabError, Fabrication, PrintSettings};
+use crate::scene::Problem;
+use crate::statics::{driving_torque, Masses, Torque};
+use crate::{Cancelled, Observer};
+
+/// A fabrication with hooks for the springs that balance it.
+#[derive(Clone, Debug)]
+pub struct Hooked {
+    /// The parts, with a hook at both ends of each spring of `balance`.
+    pub fabrication: Fabrication,
+    /// The crank's torque without springs (the parts as printed, or the scene's masses).
+    pub torque: Torque,
+    /// The springs hooked (none when no extension spring lowers the peak) and the torque with them.
+    pub balance: Balance,
+}
+
+/// Why a design cannot be fabricated with springs.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum HookedError {
+    /// The scene's units are not a length, so nothing can be weighed.
+    #[error("the scene's units \"{0}\" are not a length, so the parts cannot be weighed; use mm, cm, m, in or ft")]
+    Units(String),
+    /// The design cannot be simulated or weighed (why).
+    #[error("the springs cannot be chosen: {0}")]
+    Statics(String),
+    /// The fabrication failed (with or without the springs).
+    #[error(transparent)]
+    Fab(#[from] FabError),
+    /// The observer asked to stop.
+    #[error("the spring search was cancelled")]
+    Cancelled,
+}
+
+impl From<Cancelled> for HookedError {
+    fn from(_: Cancelled) -> HookedError {
+        HookedError::Cancelled
+    }
+}
+
+/// Fabricates `design` (not an alternative) with hooks for the extension springs that balance its
+/// parts as printed with `settings` (or the scene's masses): the first of the search's choices whose
+/// hooks fit. A design no spring helps is fabricated without hooks.
+pub fn fabricate_with_springs(
+    problem: &Problem,
+    units: &str,
+    design: &DesignFile,
+    settings: &PrintSettings,
+    observer: &dyn Observer,
+) -> Result<Hooked, HookedError> {
+    let mm = millimetres_per_unit(units).ok_or_else(|| HookedError::Units(units.to_string()))?;
+    let masses = Masses::printed(settings, units).ok_or_else(|| HookedError::Units(units.to_string()))?;
+    let replay = Replay::new(problem, design, Which::Best, AnalysisOptions::default().steps)
+        .map_err(|e| HookedError::Statics(e.to_string()))?;
+    let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
+    let torque =
+        driving_torque(problem, mechanism, plan, trace, &masses).map_err(|e| HookedError::Statics(e.to_string()))?;
+    let search = SpringSearch::hooked(&Dims::new(settings, mm), 2);
+    let choices = counterbalance_choices(problem, mechanism, plan, trace, &masses, &torque, search, observer)?;
+    let mut refused = None;
+    for balance in choices {
+        let ends: Vec<_> = balance
+            .springs
+            .iter()
+            .filter_map(|s| match s {
+                Spring::Extension { anchors, .. } => Some(anchors.clone()),
+                Spring::Torsion { .. } => None,
+            })
+            .collect();
+        match fabricate_design_with_springs(problem, units, design, settings, &ends) {
+            Ok(fabrication) => return Ok(Hooked { fabrication, torque, balance }),
+            Err(e @ (FabError::NoRoomForSprings | FabError::SpringHook { .. })) => {
+                refused.get_or_insert(e);
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+    match refused {
+        Some(e) => Err(e.into()),
+        // No spring lowers the peak: the parts without hooks.
+        None => {
+            let fabrication = fabricate_design_with_springs(problem, units, design, settings, &[])?;
+            let balance = Balance {
+                springs: Vec::new(),
+                peak_with_springs_nm: torque.peak_nm,
+                peak_with_springs_crank_deg: torque.peak_crank_deg,
+                torque_with_springs_nm: torque.torque_nm.clone(),
+            };
+            Ok(Hooked { fabrication, torque, balance })
+        }
+    }
+}
