@@ -614,6 +614,32 @@ fn fabrication_lists_serves_and_zips_every_file_and_previews_the_motion() {
 }
 
 #[test]
+fn fabrication_with_springs_hooks_the_springs_it_answers() {
+    let server = Server::start(&[]);
+    let (scene, design) = quick_design(&server);
+    let (status, made) = post(&server, "/api/fabricate", &json!({"scene": scene, "design": design, "springs": true}));
+    assert_eq!(status, 200, "{made}");
+    let (balance, report) = (&made["balance"], &made["report"]);
+    let springs = balance["springs"].as_array().unwrap();
+    assert!(!springs.is_empty(), "{balance}");
+    assert!(springs.iter().all(|s| s["kind"] == "extension"), "{balance}");
+    assert!(balance["peak_with_springs_nm"].as_f64().unwrap() < balance["peak_nm"].as_f64().unwrap());
+    // Every spring answered has its hooks in the report, at the same anchors.
+    let hooked = report["springs"].as_array().unwrap();
+    assert_eq!(hooked.len(), springs.len(), "{report}");
+    for (spring, hooks) in springs.iter().zip(hooked) {
+        for (anchor, hook) in spring["anchors"].as_array().unwrap().iter().zip(hooks["hooks"].as_array().unwrap()) {
+            assert_eq!((&anchor["part"], &anchor["point"]), (&hook["part"], &hook["point"]));
+        }
+    }
+    assert_eq!(made["checks_ok"], json!(true), "{}", report["checks"]);
+    // Without it, no hooks and no balance.
+    let (status, plain) = post(&server, "/api/fabricate", &json!({"scene": scene, "design": design}));
+    assert_eq!(status, 200);
+    assert!(plain.get("balance").is_none() && plain["report"]["springs"] == json!([]), "{plain}");
+}
+
+#[test]
 fn fabrication_names_bad_settings_and_designs_it_cannot_make() {
     let server = Server::start(&[]);
     let (scene, design) = quick_design(&server);
@@ -645,6 +671,9 @@ fn fabrication_names_bad_settings_and_designs_it_cannot_make() {
     let (status, body) = fabricate(&design, json!({"alternative": 99}));
     assert_error(status, &body, 422);
     assert_eq!(body["issues"][0]["field"], "alternative");
+    let (status, body) = fabricate(&design, json!({"springs": "yes"}));
+    assert_error(status, &body, 400);
+    assert_eq!(body["issues"][0]["field"], "springs");
 
     // A design that found no linkage has nothing to fabricate.
     let mut nothing = design.clone();
