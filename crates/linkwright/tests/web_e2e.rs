@@ -720,6 +720,22 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
         tokio::time::sleep(Duration::from_millis(700)).await;
         screenshot(page, shots, "fabrication.png").await?;
     }
+    // Again with hooks for counterbalance springs: what to buy, and where each hangs.
+    click(page, "#fab-springs").await?;
+    click(page, "#btn-fabricate").await?;
+    until(page, "document.querySelector('#tab-result ul.springs') !== null", Duration::from_secs(60)).await?;
+    let springs = eval(page, "document.querySelector('#tab-result ul.springs').textContent").await?;
+    assert!(springs.as_str().unwrap_or_default().contains("Extension spring"), "{springs}");
+    let steps =
+        eval(page, "[...document.querySelectorAll('#tab-result ol.steps li')].map(li => li.textContent)").await?;
+    let steps: Vec<&str> = steps.as_array().ok_or("no steps")?.iter().filter_map(Value::as_str).collect();
+    assert!(steps.iter().any(|s| s.starts_with("Spring 1: an extension spring")), "{steps:?}");
+    if shots.is_some() {
+        eval(page, "document.querySelector('#tab-result ul.springs').scrollIntoView() || true").await?;
+        tokio::time::sleep(Duration::from_millis(700)).await;
+        screenshot(page, shots, "fabrication_springs.png").await?;
+    }
+    click(page, "#fab-springs").await?;
     // Back to the drawing.
     click(page, "#btn-3d").await?;
     assert_eq!(eval(page, "document.getElementById('view3d').hidden").await?, Value::Bool(true));

@@ -371,7 +371,7 @@ export class Fabricator {
       if (!p) return html('small', { text: purpose(file.name) });
       const size = p.size_mm.map((v) => v.toFixed(0)).join(' × ');
       return html('small', {}, [html('i', { class: 'swatch', style: `background:${partColour(meshes.get(p.name) || p)}` }),
-        ` ${p.role}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
+        ` ${p.role.replace('_', ' ')}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
     };
     for (const [title, test] of FILE_GROUPS) {
       const files = answer.files.filter((f) => test(f.name));
