@@ -692,8 +692,8 @@ pub fn counterbalance(
     Ok(choices.into_iter().next().unwrap_or_else(|| total(torque, torque.torque_nm.clone(), Vec::new())))
 }
 
-/// What [`counterbalance`] chooses, then the next best choices: the best single spring of each
-/// moving part, best first (a choice's springs may not fit where the first's do not, in print). Empty
+/// What [`counterbalance`] chooses, then the next best choices: the other pair worth a second
+/// spring, if any, then the best single spring of each moving part, best first (a choice's springs may not fit where the first's do not, in print). Empty
 /// when no spring lowers the peak (or the travel passes a dead point).
 #[allow(clippy::too_many_arguments, reason = "the motion, its statics, what to choose and when to stop")]
 pub fn counterbalance_choices(
@@ -724,16 +724,17 @@ pub fn counterbalance_choices(
         return Ok(Vec::new());
     };
     let one = motion.with(&unbalanced, single);
-    // A second spring is kept when the best pair lowers the peak by enough more than one spring.
-    let pair = singles
+    // A second spring is kept when a pair lowers the peak by enough more than one spring.
+    let mut pairs: Vec<(Fit, Fit, f64)> = singles
         .iter()
         .take(if search.most >= 2 { PAIR_SEEDS } else { 0 })
         .filter_map(|first| motion.pair_from(&unbalanced, first.clone()))
-        .min_by(|a, b| a.2.total_cmp(&b.2))
-        .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1);
+        .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1)
+        .collect();
+    pairs.sort_by(|a, b| a.2.total_cmp(&b.2));
     go_on()?;
     let mut choices = Vec::new();
-    if let Some((first, second, _)) = pair {
+    for (first, second, _) in pairs {
         let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
         choices.push(total(torque, balanced, [first, second].iter().map(|f| motion.spring(f)).collect()));
     }

@@ -2,8 +2,9 @@
 //! fabrication ([`crate::fab`]) with a hook at both ends of each.
 //!
 //! Only extension springs get hooks, and only where the parts leave them room along the motion: the
-//! search's choices are tried best first (the best pair, then the best single spring of each moving
-//! part) until one's hooks fit.
+//! search's choices are tried best first (the pairs worth a second spring, then the best single spring
+//! of each moving part) until one's hooks fit; when none does, the search again with anchors on links
+//! kept clear of their joints.
 
 use crate::analysis::{AnalysisOptions, Replay, Which};
 use crate::balance::{counterbalance_choices, Balance, Spring, SpringSearch};
@@ -64,24 +65,32 @@ pub fn fabricate_with_springs(
     let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
     let torque =
         driving_torque(problem, mechanism, plan, trace, &masses).map_err(|e| HookedError::Statics(e.to_string()))?;
-    let search = SpringSearch::hooked(&Dims::new(settings, mm), 2);
-    let choices = counterbalance_choices(problem, mechanism, plan, trace, &masses, &torque, search, observer)?;
+    // The search anywhere first (a link's anchor beside a joint only fails its own try), then, when
+    // none of its choices fits, with anchors on links clear of their joints.
+    let clear = SpringSearch::hooked(&Dims::new(settings, mm), 2);
+    let anywhere = SpringSearch { clear_of_joints: 0.0, ..clear };
     let mut refused = None;
-    for balance in choices {
-        let ends: Vec<_> = balance
-            .springs
-            .iter()
-            .filter_map(|s| match s {
-                Spring::Extension { anchors, .. } => Some(anchors.clone()),
-                Spring::Torsion { .. } => None,
-            })
-            .collect();
-        match fabricate_design_with_springs(problem, units, design, settings, &ends) {
-            Ok(fabrication) => return Ok(Hooked { fabrication, torque, balance }),
-            Err(e @ (FabError::NoRoomForSprings | FabError::SpringHook { .. })) => {
-                refused.get_or_insert(e);
+    for search in [anywhere, clear] {
+        let choices = counterbalance_choices(problem, mechanism, plan, trace, &masses, &torque, search, observer)?;
+        for balance in choices {
+            // Each try is a fabrication, which cannot stop midway: the search stops between them.
+            if observer.cancelled() {
+                return Err(HookedError::Cancelled);
             }
-            Err(e) => return Err(e.into()),
+            let ends: Vec<_> = balance
+                .springs
+                .iter()
+                .filter_map(|s| match s {
+                    Spring::Extension { anchors, .. } => Some(anchors.clone()),
+                    Spring::Torsion { .. } => None,
+                })
+                .collect();
+            match fabricate_design_with_springs(problem, units, design, settings, &ends) {
+                Ok(fabrication) => return Ok(Hooked { fabrication, torque, balance }),
+                // The last refusal is told: that of the search with anchors clear of the joints.
+                Err(e @ (FabError::NoRoomForSprings | FabError::SpringHook { .. })) => refused = Some(e),
+                Err(e) => return Err(e.into()),
+            }
         }
     }
     match refused {
