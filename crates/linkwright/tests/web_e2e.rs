@@ -730,6 +730,10 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
         eval(page, "[...document.querySelectorAll('#tab-result ol.steps li')].map(li => li.textContent)").await?;
     let steps: Vec<&str> = steps.as_array().ok_or("no steps")?.iter().filter_map(Value::as_str).collect();
     assert!(steps.iter().any(|s| s.starts_with("Spring 1: an extension spring")), "{steps:?}");
+    // The springs are drawn in 3D with the parts, and the legend names them.
+    let legend = eval(page, "[...document.querySelectorAll('#view3d-legend span')].map(s => s.textContent)").await?;
+    let legend: Vec<&str> = legend.as_array().ok_or("no legend")?.iter().filter_map(Value::as_str).collect();
+    assert!(legend.contains(&"Spring") && legend.contains(&"Spring bracket"), "{legend:?}");
     if shots.is_some() {
         eval(page, "document.querySelector('#tab-result ul.springs').scrollIntoView() || true").await?;
         tokio::time::sleep(Duration::from_millis(700)).await;

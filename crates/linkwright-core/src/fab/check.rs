@@ -7,7 +7,7 @@
 //! holes within its shaft; every recorded constraint holds; every spring has its hooks at its axis and
 //! meets no part between them (its coil taken as wide as a link) at any row.
 
-use super::depth::{violations, Constraint, Face};
+use super::depth::{violations, Constraint};
 use super::parts::{Prism, Role};
 use super::Fabrication;
 use crate::geom::{point_segment_distance, Aabb, Point, Rigid};
@@ -77,9 +77,7 @@ fn springs(fab: &Fabrication, report: &mut CheckReport) {
     let radius = d.half_width;
     let mut poses: Vec<Rigid> = Vec::new();
     for (n, _) in fab.springs.iter().enumerate() {
-        let face = fab.ordering.spring_face[n];
-        let front = d.spring_axis(super::sheet::layers_on(fab, face), fab.ordering.spring_level[n]);
-        let axis = if face == Face::Front { front } else { -d.body_thickness - front };
+        let axis = fab.spring_axis_z(n);
         let coil = (axis - radius, axis + radius);
         let mut hooked = [false; 2];
         'rows: for r in 0..fab.trace.len() {

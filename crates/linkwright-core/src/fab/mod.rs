@@ -510,6 +510,29 @@ impl Fabrication {
     pub fn off_bed(&self) -> Vec<(usize, plates::Misfit)> {
         self.layout.off_bed(&self.settings.bed)
     }
+
+    /// The most layers of any member on `face`.
+    pub fn layers_on(&self, face: Face) -> u32 {
+        (0..self.layout.members.len())
+            .filter(|&i| self.ordering.face[i] == face)
+            .map(|i| self.ordering.layer[i])
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// How far spring `n`'s axis lies beyond the face it hangs on, scene units ([`Dims::spring_axis`]).
+    pub fn spring_axis(&self, n: usize) -> f64 {
+        let (face, level) = (self.ordering.spring_face[n], self.ordering.spring_level[n]);
+        self.dims.spring_axis(self.layers_on(face), level)
+    }
+
+    /// The height of spring `n`'s axis in the parts' frame (z = 0 the bodies' front face), scene units.
+    pub fn spring_axis_z(&self, n: usize) -> f64 {
+        match self.ordering.spring_face[n] {
+            Face::Front => self.spring_axis(n),
+            Face::Back => -self.dims.body_thickness - self.spring_axis(n),
+        }
+    }
 }
 
 /// [`FabError::OffBed`] for the members of `layout` in `misfits`.

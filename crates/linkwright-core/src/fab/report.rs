@@ -173,13 +173,6 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
             }
         })
         .collect();
-    let per_face = |f: Face| {
-        (0..fab.ordering.layer.len())
-            .filter(|&i| fab.ordering.face[i] == f)
-            .map(|i| fab.ordering.layer[i])
-            .max()
-            .unwrap_or(0)
-    };
     let names = |i: usize| fab.layout.members[i].name.clone();
     let joint = |j: usize| fab.layout_joint_name(j);
     let constraints = fab
@@ -238,8 +231,8 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
         mm_per_unit: s,
         settings: fab.settings.clone(),
         layers: Layers {
-            front: per_face(Face::Front),
-            back: per_face(Face::Back),
+            front: fab.layers_on(Face::Front),
+            back: fab.layers_on(Face::Back),
             count: fab.ordering.layers,
             optimal: fab.ordering.optimal,
         },
@@ -256,22 +249,16 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
         oversized: plates.oversized.iter().map(|&k| oversized(fab, k)).collect(),
         parts,
         springs: (0..fab.springs.len())
-            .map(|n| {
-                let face = fab.ordering.spring_face[n];
-                SpringReport {
-                    face,
-                    axis_height_mm: fab
-                        .dims
-                        .spring_axis(super::sheet::layers_on(fab, face), fab.ordering.spring_level[n])
-                        * s,
-                    max_outer_diameter_mm: 2.0 * fab.dims.half_width * s,
-                    hooks: (0..2)
-                        .map(|e| HookReport {
-                            anchor: fab.springs[n][e].clone(),
-                            on: super::sheet::hook_holder(fab, 2 * n + e),
-                        })
-                        .collect(),
-                }
+            .map(|n| SpringReport {
+                face: fab.ordering.spring_face[n],
+                axis_height_mm: fab.spring_axis(n) * s,
+                max_outer_diameter_mm: 2.0 * fab.dims.half_width * s,
+                hooks: (0..2)
+                    .map(|e| HookReport {
+                        anchor: fab.springs[n][e].clone(),
+                        on: super::sheet::hook_holder(fab, 2 * n + e),
+                    })
+                    .collect(),
             })
             .collect(),
         constraints,

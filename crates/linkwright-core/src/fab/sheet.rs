@@ -84,10 +84,6 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
             }
         }
     }
-    let axis = |spring: usize| {
-        let (face, level) = (fab.ordering.spring_face[spring], fab.ordering.spring_level[spring]);
-        fab.dims.spring_axis(layers_on(fab, face), level) * fab.dims.mm_per_unit
-    };
     for (n, _) in fab.springs.iter().enumerate() {
         let face = fab.ordering.spring_face[n];
         let hooks: Vec<String> = (0..2).map(|e| hook_holder(fab, 2 * n + e)).collect();
@@ -96,7 +92,7 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
              one end on the hook of {} and the other on the hook of {}.",
             n + 1,
             2.0 * fab.dims.half_width * fab.dims.mm_per_unit,
-            axis(n),
+            fab.spring_axis(n) * fab.dims.mm_per_unit,
             if face == Face::Front { "front" } else { "back" },
             hooks[0],
             hooks[1]
@@ -104,15 +100,6 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
     }
     out.push("Turn the crank (or move a body by hand) from the first pose to the last: nothing should rub.".into());
     out
-}
-
-/// The most layers of any member on `face`.
-pub(super) fn layers_on(fab: &Fabrication, face: Face) -> u32 {
-    (0..fab.layout.members.len())
-        .filter(|&i| fab.ordering.face[i] == face)
-        .map(|i| fab.ordering.layer[i])
-        .max()
-        .unwrap_or(0)
 }
 
 /// The printed part hook `k` stands on, in words.

@@ -23,6 +23,20 @@ pub struct Preview {
     /// Per row, every carrier's pose as `x, y, angle_deg` one after another (`3 × carriers` numbers);
     /// angles unwrapped along the motion so they interpolate smoothly.
     pub poses: Vec<Vec<f64>>,
+    /// The counterbalance springs hooked, each a coil between its hooks.
+    pub springs: Vec<SpringPreview>,
+}
+
+/// A counterbalance spring: a coil between its two hooks, along its axis.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpringPreview {
+    /// Each hook as `[carrier, x, y]`: the carrier it rides on (an index into each row of
+    /// [`Preview::poses`]) and its place in that carrier's frame, mm.
+    pub hooks: [[f64; 3]; 2],
+    /// Height of the spring's axis, mm (z = 0 the bodies' front face).
+    pub z: f64,
+    /// The coil's radius, mm.
+    pub radius: f64,
 }
 
 /// One part's mesh in its carrier's frame, at its assembled height (z = 0 is the bodies' front face).
@@ -90,6 +104,19 @@ pub fn preview(fab: &Fabrication) -> Preview {
         carriers,
         crank_deg: fab.trace.thetas.iter().map(|t| round(t.to_degrees(), PER_DEG)).collect(),
         poses,
+        springs: (0..fab.springs.len())
+            .map(|n| {
+                let hook = |k: usize| {
+                    let h = &fab.layout.hooks[2 * n + k];
+                    [h.carrier as f64, round(h.at.x * mm, PER_MM), round(h.at.y * mm, PER_MM)]
+                };
+                SpringPreview {
+                    hooks: [hook(0), hook(1)],
+                    z: round(fab.spring_axis_z(n) * mm, PER_MM),
+                    radius: round(fab.dims.half_width * mm, PER_MM),
+                }
+            })
+            .collect(),
     }
 }
 

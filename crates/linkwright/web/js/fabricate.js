@@ -182,6 +182,7 @@ export class Fabricator {
     }
     if (!this.preview.available) return;
     const kinds = new Set(preview.parts.map(partKind));
+    if (preview.springs?.length) kinds.add('spring');
     this.els.legend.replaceChildren(...Object.entries(ROLE_COLOURS).filter(([kind]) => kinds.has(kind))
       .map(([, [colour, label]]) => html('span', {}, [html('i', { style: `background:${colour}` }), label])));
     this.preview.load(preview);

@@ -18,7 +18,37 @@ export const ROLE_COLOURS = {
   connector: ['#2a9d8f', 'Connector and pins'],
   guide: ['#8e5cc2', 'Slider guide'],
   spring_bracket: ['#e9c46a', 'Spring bracket'],
+  spring: ['#5c677d', 'Spring'],
 };
+
+/** Coils of the drawn springs, and their wire's radius as a share of the coil's. */
+const COILS = 10;
+const WIRE = 0.16;
+
+/**
+ * A spring of unit length along x and unit coil radius: a wire tube around a helix from x = 0 to 1.
+ * Drawn with a model matrix that stretches x to the hooks' distance, so the coils spread as it does.
+ */
+function unitSpring() {
+  const steps = COILS * 12, sides = 6, positions = [], indices = [];
+  for (let i = 0; i <= steps; i++) {
+    const t = i / steps, a = 2 * Math.PI * COILS * t;
+    const radial = [0, Math.cos(a), Math.sin(a)];
+    for (let k = 0; k < sides; k++) {
+      const b = (2 * Math.PI * k) / sides, c = Math.cos(b) * WIRE, s = Math.sin(b) * WIRE;
+      // The wire's section: across the coil a share of its radius, along the axis a share of the pitch
+      // (both stretch with the spring).
+      positions.push(t + (s / WIRE) * (0.3 / COILS), radial[1] * (1 + c), radial[2] * (1 + c));
+    }
+  }
+  for (let i = 0; i < steps; i++) {
+    for (let k = 0; k < sides; k++) {
+      const a = i * sides + k, b = i * sides + ((k + 1) % sides), c = a + sides, d = b + sides;
+      indices.push(a, b, d, a, d, c);
+    }
+  }
+  return { positions, indices };
+}
 
 const BACKGROUND = [0.965, 0.972, 0.98];
 const IDENTITY = planar(0, 0, 0);
@@ -138,6 +168,22 @@ export class Preview3D {
       return { vao, buffers: [positions, indices], count: part.indices.length, carrier: part.carrier, colour: rgb(partColour(part)) };
     });
     this.poses = preview.poses;
+    this.springs = preview.springs || [];
+    if (this.springs.length && !this.springMesh) {
+      const { positions, indices } = unitSpring();
+      const vao = gl.createVertexArray();
+      gl.bindVertexArray(vao);
+      const buffer = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(positions), gl.STATIC_DRAW);
+      gl.enableVertexAttribArray(this.position);
+      gl.vertexAttribPointer(this.position, 3, gl.FLOAT, false, 0, 0);
+      const index = gl.createBuffer();
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, index);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(indices), gl.STATIC_DRAW);
+      gl.bindVertexArray(null);
+      this.springMesh = { vao, count: indices.length };
+    }
     this.bounds = motionBounds(preview);
     this.reset();
   }
@@ -204,6 +250,22 @@ export class Preview3D {
       gl.uniform3fv(this.at.u_colour, p.colour);
       gl.bindVertexArray(p.vao);
       gl.drawElements(gl.TRIANGLES, p.count, gl.UNSIGNED_INT, 0);
+    }
+    // Each spring from its ground hook to its moving hook, wherever their carriers have them now.
+    if (this.springMesh) {
+      gl.uniform3fv(this.at.u_colour, rgb(ROLE_COLOURS.spring[0]));
+      gl.bindVertexArray(this.springMesh.vao);
+      for (const spring of this.springs) {
+        const [a, b] = spring.hooks.map(([carrier, x, y]) => {
+          const m = models[carrier] || IDENTITY;
+          return [m[0] * x + m[4] * y + m[12], m[1] * x + m[5] * y + m[13]];
+        });
+        const along = [b[0] - a[0], b[1] - a[1]], length = Math.hypot(...along) || 1, r = spring.radius;
+        const across = [-along[1] / length * r, along[0] / length * r];
+        gl.uniformMatrix4fv(this.at.u_model, false, new Float32Array([
+          along[0], along[1], 0, 0, across[0], across[1], 0, 0, 0, 0, r, 0, a[0], a[1], spring.z, 1]));
+        gl.drawElements(gl.TRIANGLES, this.springMesh.count, gl.UNSIGNED_INT, 0);
+      }
     }
     gl.bindVertexArray(null);
     this.frames += 1;
