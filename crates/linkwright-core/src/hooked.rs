@@ -3,13 +3,15 @@
 //!
 //! Only extension springs get hooks, and only where the parts leave them room along the motion: the
 //! search's choices are tried best first (the pairs worth a second spring, then the best single spring
-//! of each moving part) until one's hooks fit; when none does, the search again with anchors on links
-//! kept clear of their joints.
+//! of each moving part) until one's hooks fit; when none does and some anchor on a link lay beside a
+//! joint, the search again with anchors on links kept clear of their joints.
 
 use crate::analysis::{AnalysisOptions, Replay, Which};
 use crate::balance::{counterbalance_choices, Balance, Spring, SpringSearch};
 use crate::design::DesignFile;
-use crate::fab::{fabricate_design_with_springs, millimetres_per_unit, Dims, FabError, Fabrication, PrintSettings};
+use crate::fab::{
+    fabricate_design_with_springs, millimetres_per_unit, Dims, FabError, Fabrication, HookRefusal, PrintSettings,
+};
 use crate::scene::Problem;
 use crate::statics::{driving_torque, Masses, Torque};
 use crate::{Cancelled, Observer};
@@ -34,9 +36,17 @@ pub enum HookedError {
     /// The design cannot be simulated or weighed (why).
     #[error("the springs cannot be chosen: {0}")]
     Statics(String),
-    /// The fabrication failed (with or without the springs).
+    /// The design cannot be fabricated, or a spring's anchor has no hook ([`FabError::SpringHook`]).
     #[error(transparent)]
     Fab(#[from] FabError),
+    /// The design is fabricated without springs, but no depth ordering leaves room for the hooks of
+    /// any choice of springs.
+    #[error(
+        "no depth ordering leaves room for the springs' hooks: some part passes over a hook along the motion \
+         (paper §7.2 with the springs hung beyond the outermost layer); allow both faces with \"faces\": \"both\", \
+         or fabricate without the springs"
+    )]
+    NoRoomForSprings,
     /// The observer asked to stop.
     #[error("the spring search was cancelled")]
     Cancelled,
@@ -65,12 +75,15 @@ pub fn fabricate_with_springs(
     let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
     let torque =
         driving_torque(problem, mechanism, plan, trace, &masses).map_err(|e| HookedError::Statics(e.to_string()))?;
+    // The design must fabricate without springs; an ordering that fails with them fails for their hooks.
+    let plain = fabricate_design_with_springs(problem, units, design, settings, &[])?;
     // The search anywhere first (a link's anchor beside a joint only fails its own try), then, when
-    // none of its choices fits, with anchors on links clear of their joints.
+    // that refused some, with anchors on links clear of their joints.
     let clear = SpringSearch::hooked(&Dims::new(settings, mm), 2);
     let anywhere = SpringSearch { clear_of_joints: 0.0, ..clear };
     let mut refused = None;
     for search in [anywhere, clear] {
+        let mut beside_joint = false;
         let choices = counterbalance_choices(problem, mechanism, plan, trace, &masses, &torque, search, observer)?;
         for balance in choices {
             // Each try is a fabrication, which cannot stop midway: the search stops between them.
@@ -85,26 +98,32 @@ pub fn fabricate_with_springs(
                     Spring::Torsion { .. } => None,
                 })
                 .collect();
+            // The last refusal is told.
             match fabricate_design_with_springs(problem, units, design, settings, &ends) {
                 Ok(fabrication) => return Ok(Hooked { fabrication, torque, balance }),
-                // The last refusal is told: that of the search with anchors clear of the joints.
-                Err(e @ (FabError::NoRoomForSprings | FabError::SpringHook { .. })) => refused = Some(e),
+                Err(FabError::NoOrdering | FabError::OrderingTimedOut) => refused = Some(HookedError::NoRoomForSprings),
+                Err(e @ FabError::SpringHook { why, .. }) => {
+                    beside_joint |= why == HookRefusal::BesideJoint;
+                    refused = Some(e.into());
+                }
                 Err(e) => return Err(e.into()),
             }
         }
+        if !beside_joint {
+            break;
+        }
     }
     match refused {
-        Some(e) => Err(e.into()),
+        Some(e) => Err(e),
         // No spring lowers the peak: the parts without hooks.
         None => {
-            let fabrication = fabricate_design_with_springs(problem, units, design, settings, &[])?;
             let balance = Balance {
                 springs: Vec::new(),
                 peak_with_springs_nm: torque.peak_nm,
                 peak_with_springs_crank_deg: torque.peak_crank_deg,
                 torque_with_springs_nm: torque.torque_nm.clone(),
             };
-            Ok(Hooked { fabrication, torque, balance })
+            Ok(Hooked { fabrication: plain, torque, balance })
         }
     }
 }

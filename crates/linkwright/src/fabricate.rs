@@ -74,7 +74,7 @@ pub fn run(
     let chosen = if springs {
         let hooked = fabricate_with_springs(problem, &scene.units, design, settings, &Silent).map_err(|e| {
             let remedy = match e {
-                HookedError::Fab(FabError::NoRoomForSprings | FabError::SpringHook { .. }) => {
+                HookedError::NoRoomForSprings | HookedError::Fab(FabError::SpringHook { .. }) => {
                     " (or leave out --springs)"
                 }
                 _ => "",

@@ -167,13 +167,6 @@ pub enum FabError {
         /// Why.
         why: HookRefusal,
     },
-    #[error(
-        "no depth ordering leaves room for the springs' hooks: some part passes over a hook along the motion \
-         (paper §7.2 with the springs hung beyond the outermost layer); allow both faces with \"faces\": \"both\", \
-         or fabricate without the springs"
-    )]
-    /// An ordering exists without the springs, but none with their hooks.
-    NoRoomForSprings,
 }
 
 fn hook_words(why: HookRefusal) -> &'static str {
@@ -264,26 +257,6 @@ pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabE
 /// `mm_per_unit` millimetres, with a hook at both ends of each of `springs` (the counterbalance
 /// springs of [`crate::balance`], for instance).
 pub fn fabricate(
-    problem: &Problem,
-    mm_per_unit: f64,
-    mechanism: &Mechanism,
-    travel: Travel,
-    settings: &PrintSettings,
-    springs: &[SpringEnds],
-) -> Result<Fabrication, FabError> {
-    let made = fabricate_once(problem, mm_per_unit, mechanism, travel, settings, springs);
-    match made {
-        Err(FabError::NoOrdering | FabError::OrderingTimedOut) if !springs.is_empty() => {
-            match fabricate_once(problem, mm_per_unit, mechanism, travel, settings, &[]) {
-                Ok(_) => Err(FabError::NoRoomForSprings),
-                Err(_) => made,
-            }
-        }
-        made => made,
-    }
-}
-
-fn fabricate_once(
     problem: &Problem,
     mm_per_unit: f64,
     mechanism: &Mechanism,

@@ -93,6 +93,10 @@ impl Request {
                     HookedError::Statics(_) => {
                         ApiError::unprocessable(e.to_string()).with_issue("design", e.to_string())
                     }
+                    HookedError::NoRoomForSprings => {
+                        ApiError::unprocessable(format!("cannot fabricate this design with springs: {e}"))
+                            .with_issue("springs", e.to_string())
+                    }
                 })?;
             let Hooked { fabrication, torque, balance } = hooked;
             let balance = serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null);
