@@ -76,7 +76,7 @@ fn springs(fab: &Fabrication, report: &mut CheckReport) {
     let d = &fab.dims;
     let radius = d.half_width;
     let mut poses: Vec<Rigid> = Vec::new();
-    for (n, _) in fab.springs.iter().enumerate() {
+    for n in 0..fab.springs.len() {
         let axis = fab.spring_axis_z(n);
         let coil = (axis - radius, axis + radius);
         let mut hooked = [false; 2];

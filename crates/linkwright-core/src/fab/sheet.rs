@@ -84,7 +84,7 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
             }
         }
     }
-    for (n, _) in fab.springs.iter().enumerate() {
+    for n in 0..fab.springs.len() {
         let face = fab.ordering.spring_face[n];
         let hooks: Vec<String> = (0..2).map(|e| hook_holder(fab, 2 * n + e)).collect();
         out.push(format!(
