@@ -360,7 +360,9 @@ pub(crate) enum NoOrdering {
 pub fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> Result<Ordering, NoOrdering> {
     let m = layout.members.len();
     if m == 0 {
-        let (spring_face, spring_level) = (vec![], vec![]);
+        // Nothing to hang beyond: each spring on the front face, one level each.
+        let springs = layout.spring_count();
+        let (spring_face, spring_level) = (vec![Face::Front; springs], (0..springs as u32).collect());
         return Ok(Ordering { face: vec![], layer: vec![], spring_face, spring_level, layers: 0, optimal: true });
     }
     let started = std::time::Instant::now();
