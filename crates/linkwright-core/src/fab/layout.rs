@@ -238,9 +238,7 @@ impl Layout {
         // Joints on the ground and on bodies: a pin fused to the body when the joint lies deep inside
         // it, otherwise a connector from a post (see [`super::posts`]). Without a fixed body, the ground
         // joints are held by a printed frame instead.
-        let mut pillars: Vec<Vec<Pillar>> = vec![Vec::new(); carriers.len()];
         let mut pins = vec![None; n];
-        let mut pads: Vec<Pad> = Vec::new();
         let mut connectors: Vec<Vec<(Point, Point)>> = vec![Vec::new(); carriers.len()];
         let mut frame_joints: Vec<usize> = Vec::new();
         // Where the links are at every row (world), to keep posts out of their way.
@@ -263,6 +261,8 @@ impl Layout {
         // Every carrier's pose along the motion, for pads (computed when a body needs one).
         let poses = std::cell::OnceCell::new();
         let poses = || poses.get_or_init(|| posts::Poses::new(&frames, trace));
+        let mut standing =
+            Standing { shapes, poses: &poses, pillars: vec![Vec::new(); carriers.len()], pads: Vec::new() };
         let sweep_reach = dims.half_width + dims.post_collar_radius + dims.clearance;
         // A preference only (validity comes from the recorded constraints), so every few rows suffice.
         let stride = trace.len().div_ceil(90).max(1);
@@ -287,10 +287,7 @@ impl Layout {
             let to_local = carrier_first_pose(carrier, shapes).inverse();
             for &j in &part.joints {
                 let at = to_local.apply(mechanism.joints[j]);
-                let depth = |p: Point| regions.iter().map(|r| r.depth(p)).fold(f64::NEG_INFINITY, f64::max);
-                let free = pillars[ci].iter().all(|&(q, rq)| at.distance(q) >= dims.boss_radius + rq + dims.wall);
-                if body_pins && depth(at) >= dims.pin_depth() && free {
-                    pillars[ci].push((at, dims.boss_radius));
+                if body_pins && standing.fuse(ci, at, dims.boss_radius) {
                     pins[j] = Some(BodyPin { carrier: ci, at });
                     continue;
                 }
@@ -311,24 +308,11 @@ impl Layout {
                     })
                 };
                 let swept_here = |p: Point| swept(ci, p);
-                let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), ci, p, r, &pads);
-                let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == ci).copied().collect();
-                let query = posts::Query {
-                    regions,
-                    thin: &shapes.thin[ci],
-                    target: (at, at),
-                    min_reach: dims.boss_radius + dims.post_collar_radius + dims.wall,
-                    placed: &pillars[ci],
-                    pads: &carrier_pads,
-                    pad_hit: &hit,
-                };
-                let site = posts::place(&query, &posts::Rules { clear: &clear, swept: &swept_here }, &dims)
+                let rules = posts::Rules { clear: &clear, swept: &swept_here };
+                let min_reach = dims.boss_radius + dims.post_collar_radius + dims.wall;
+                let post = standing
+                    .post(ci, (at, at), min_reach, &rules)
                     .map_err(|e| refusal(e, &topo.joint_names[j], carrier))?;
-                if let Some(radius) = site.pad {
-                    pads.push(Pad { carrier: ci, centre: site.at, radius });
-                }
-                let post = site.at;
-                pillars[ci].push((post, dims.post_collar_radius));
                 connectors[ci].push((post, at));
                 joint_members[j].push(members.len());
                 members.push(Member {
@@ -357,32 +341,20 @@ impl Layout {
                 frame_slot = Some(slot);
             } else {
                 let swept_here = |p: Point| swept(0, p);
-                let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), 0, p, r, &pads);
+                let rules = posts::Rules { clear: &|_, _| true, swept: &swept_here };
                 // Clear of the slider's own members running along the slot.
-                let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == 0).copied().collect();
-                let query = posts::Query {
-                    regions: &shapes.ground,
-                    thin: &shapes.thin[0],
-                    target: slot.ends,
-                    min_reach: dims.half_width + dims.post_collar_radius + dims.wall,
-                    placed: &pillars[0],
-                    pads: &carrier_pads,
-                    pad_hit: &hit,
-                };
-                let site = posts::place(&query, &posts::Rules { clear: &|_, _| true, swept: &swept_here }, &dims)
+                let min_reach = dims.half_width + dims.post_collar_radius + dims.wall;
+                let post = standing
+                    .post(0, slot.ends, min_reach, &rules)
                     .map_err(|e| refusal(e, &format!("{} (slider guide)", topo.joint_names[j]), Carrier::Ground))?;
-                if let Some(radius) = site.pad {
-                    pads.push(Pad { carrier: 0, centre: site.at, radius });
-                }
-                pillars[0].push((site.at, dims.post_collar_radius));
                 joint_members[j].push(members.len());
                 members.push(Member {
                     name: "slider_guide".into(),
                     kind: MemberKind::Guide,
                     carrier: 0,
-                    core: vec![slot.ends.0, slot.ends.1, site.at],
+                    core: vec![slot.ends.0, slot.ends.1, post],
                     joints: vec![j],
-                    post: Some(site.at),
+                    post: Some(post),
                     slot: Some(slot),
                 });
             }
@@ -399,7 +371,7 @@ impl Layout {
                 core.extend([slot.ends.0, slot.ends.1]);
                 joints.push(slot.joint);
             }
-            let hit = |p: Point| posts::pad_hit(shapes, poses(), 0, p, dims.post_depth(), &pads).is_some();
+            let hit = |p: Point| posts::pad_hit(shapes, poses(), 0, p, dims.post_depth(), &standing.pads).is_some();
             let at = posts::foot(&core, &dims, &|p| swept(0, p), &hit);
             if let Some(p) = at {
                 core.push(p);
@@ -471,31 +443,14 @@ impl Layout {
                     hooks.push(hook);
                     continue;
                 }
-                let depth = |p: Point| regions.iter().map(|r| r.depth(p)).fold(f64::NEG_INFINITY, f64::max);
-                let free = pillars[ci].iter().all(|&(q, rq)| at.distance(q) >= dims.cap_base_radius + rq + dims.wall);
-                if body_pins && depth(at) >= dims.pin_depth() && free {
-                    pillars[ci].push((at, dims.cap_base_radius));
+                if body_pins && standing.fuse(ci, at, dims.cap_base_radius) {
                     hooks.push(hook);
                     continue;
                 }
                 let swept_here = |p: Point| swept(ci, p);
-                let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), ci, p, r, &pads);
-                let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == ci).copied().collect();
-                let query = posts::Query {
-                    regions,
-                    thin: &shapes.thin[ci],
-                    target: (at, at),
-                    min_reach: dims.cap_base_radius + dims.post_collar_radius + dims.wall,
-                    placed: &pillars[ci],
-                    pads: &carrier_pads,
-                    pad_hit: &hit,
-                };
-                let site = posts::place(&query, &posts::Rules { clear: &|_, _| true, swept: &swept_here }, &dims)
-                    .map_err(|_| refuse(HookRefusal::NoRoom))?;
-                if let Some(radius) = site.pad {
-                    pads.push(Pad { carrier: ci, centre: site.at, radius });
-                }
-                pillars[ci].push((site.at, dims.post_collar_radius));
+                let rules = posts::Rules { clear: &|_, _| true, swept: &swept_here };
+                let min_reach = dims.cap_base_radius + dims.post_collar_radius + dims.wall;
+                let post = standing.post(ci, (at, at), min_reach, &rules).map_err(|_| refuse(HookRefusal::NoRoom))?;
                 hook.base = HookBase::Member(members.len());
                 hooks.push(hook);
                 let end = if hooks.len() % 2 == 1 { "ground" } else { "moving" };
@@ -503,9 +458,9 @@ impl Layout {
                     name: format!("spring{}_{end}_bracket", s + 1),
                     kind: MemberKind::Bracket,
                     carrier: ci,
-                    core: vec![site.at, at],
+                    core: vec![post, at],
                     joints: Vec::new(),
-                    post: Some(site.at),
+                    post: Some(post),
                     slot: None,
                 });
             }
@@ -517,7 +472,7 @@ impl Layout {
             joint_members,
             body_pins: pins,
             slider_joint: topo.slider_joint,
-            pads,
+            pads: standing.pads,
             hooks,
             foot,
             dims,
@@ -571,6 +526,60 @@ impl Layout {
     /// The member whose name is `name`.
     pub fn member(&self, name: &str) -> Option<usize> {
         self.members.iter().position(|m| m.name == name)
+    }
+}
+
+/// The pillars standing on every carrier so far (index as [`Layout::carriers`]), and the pads fused to
+/// thin bodies for their posts, while joints, the guide and spring hooks are placed one after another.
+struct Standing<'a> {
+    shapes: &'a SceneShapes,
+    /// Every carrier's pose along the motion, computed when a pad is first tested.
+    poses: &'a dyn Fn() -> &'a posts::Poses,
+    pillars: Vec<Vec<Pillar>>,
+    pads: Vec<Pad>,
+}
+
+impl Standing<'_> {
+    /// Fuses a pillar of `radius` to carrier `ci` at `at` when it lies deep enough inside the carrier
+    /// for a pin and clear of the pillars there; whether it did.
+    fn fuse(&mut self, ci: usize, at: Point, radius: f64) -> bool {
+        let dims = &self.shapes.dims;
+        let depth = self.shapes.carrier_regions(ci).iter().map(|r| r.depth(at)).fold(f64::NEG_INFINITY, f64::max);
+        let free = self.pillars[ci].iter().all(|&(q, rq)| at.distance(q) >= radius + rq + dims.wall);
+        let fused = depth >= dims.pin_depth() && free;
+        if fused {
+            self.pillars[ci].push((at, radius));
+        }
+        fused
+    }
+
+    /// A square post on carrier `ci` reaching `target` and at least `min_reach` from it ([`posts::place`]
+    /// with `rules`), standing among the carrier's pillars, with the pad it needs on a thin body.
+    fn post(
+        &mut self,
+        ci: usize,
+        target: (Point, Point),
+        min_reach: f64,
+        rules: &posts::Rules,
+    ) -> Result<Point, posts::Refusal> {
+        let (shapes, poses, pads) = (self.shapes, self.poses, &self.pads);
+        let hit = |p: Point, r: f64| posts::pad_hit(shapes, poses(), ci, p, r, pads);
+        let carrier_pads: Vec<Pad> = pads.iter().filter(|p| p.carrier == ci).copied().collect();
+        let query = posts::Query {
+            regions: shapes.carrier_regions(ci),
+            thin: &shapes.thin[ci],
+            target,
+            min_reach,
+            placed: &self.pillars[ci],
+            pads: &carrier_pads,
+            pad_hit: &hit,
+        };
+        let site = posts::place(&query, rules, &shapes.dims)?;
+        if let Some(radius) = site.pad {
+            self.pads.push(Pad { carrier: ci, centre: site.at, radius });
+        }
+        self.pillars[ci].push((site.at, shapes.dims.post_collar_radius));
+        Ok(site.at)
     }
 }
 
