@@ -663,6 +663,13 @@ fn inside(polygon: &Polygon, n: usize) -> Vec<Point> {
 }
 
 /// The torque with the given springs' shares added (the same travel `torque` was computed on).
+impl Balance {
+    /// No spring: the driver's torque as it is.
+    pub fn none(torque: &Torque) -> Balance {
+        total(torque, torque.torque_nm.clone(), Vec::new())
+    }
+}
+
 fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Balance {
     let (at, peak) = peak(&balance_torque);
     Balance {
@@ -689,7 +696,7 @@ pub fn counterbalance(
     observer: &dyn Observer,
 ) -> Result<Balance, Cancelled> {
     let choices = counterbalance_choices(problem, mechanism, plan, trace, masses, torque, search, observer)?;
-    Ok(choices.into_iter().next().unwrap_or_else(|| total(torque, torque.torque_nm.clone(), Vec::new())))
+    Ok(choices.into_iter().next().unwrap_or_else(|| Balance::none(torque)))
 }
 
 /// What [`counterbalance`] chooses, then the next best choices: the other pair worth a second

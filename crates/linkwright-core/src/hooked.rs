@@ -10,7 +10,8 @@ use crate::analysis::{AnalysisOptions, Replay, Which};
 use crate::balance::{counterbalance_choices, Balance, Spring, SpringSearch};
 use crate::design::DesignFile;
 use crate::fab::{
-    fabricate_design_with_springs, millimetres_per_unit, Dims, FabError, Fabrication, HookRefusal, PrintSettings,
+    checked_design, fabricate, millimetres_per_unit, Dims, FabError, Fabrication, HookRefusal, PrintSettings,
+    SpringEnds,
 };
 use crate::scene::Problem;
 use crate::statics::{driving_torque, Masses, Torque};
@@ -70,13 +71,16 @@ pub fn fabricate_with_springs(
 ) -> Result<Hooked, HookedError> {
     let mm = millimetres_per_unit(units).ok_or_else(|| HookedError::Units(units.to_string()))?;
     let masses = Masses::printed(settings, units).ok_or_else(|| HookedError::Units(units.to_string()))?;
+    // The design is checked once, and must fabricate without springs: an ordering that fails with
+    // them then fails for their hooks.
+    let (fab_mechanism, travel) = checked_design(problem, design)?;
+    let fabricated = |ends: &[SpringEnds]| fabricate(problem, mm, &fab_mechanism, travel, settings, ends);
+    let plain = fabricated(&[])?;
     let replay = Replay::new(problem, design, Which::Best, AnalysisOptions::default().steps)
         .map_err(|e| HookedError::Statics(e.to_string()))?;
     let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
     let torque =
         driving_torque(problem, mechanism, plan, trace, &masses).map_err(|e| HookedError::Statics(e.to_string()))?;
-    // The design must fabricate without springs; an ordering that fails with them fails for their hooks.
-    let plain = fabricate_design_with_springs(problem, units, design, settings, &[])?;
     // The search anywhere first (a link's anchor beside a joint only fails its own try), then, when
     // that refused some, with anchors on links clear of their joints.
     let clear = SpringSearch::hooked(&Dims::new(settings, mm), 2);
@@ -99,7 +103,7 @@ pub fn fabricate_with_springs(
                 })
                 .collect();
             // The last refusal is told.
-            match fabricate_design_with_springs(problem, units, design, settings, &ends) {
+            match fabricated(&ends) {
                 Ok(fabrication) => return Ok(Hooked { fabrication, torque, balance }),
                 Err(FabError::NoOrdering | FabError::OrderingTimedOut) => refused = Some(HookedError::NoRoomForSprings),
                 Err(e @ FabError::SpringHook { why, .. }) => {
@@ -116,14 +120,6 @@ pub fn fabricate_with_springs(
     match refused {
         Some(e) => Err(e),
         // No spring lowers the peak: the parts without hooks.
-        None => {
-            let balance = Balance {
-                springs: Vec::new(),
-                peak_with_springs_nm: torque.peak_nm,
-                peak_with_springs_crank_deg: torque.peak_crank_deg,
-                torque_with_springs_nm: torque.torque_nm.clone(),
-            };
-            Ok(Hooked { fabrication: plain, torque, balance })
-        }
+        None => Ok(Hooked { fabrication: plain, balance: Balance::none(&torque), torque }),
     }
 }

@@ -32,6 +32,7 @@ use super::FabError;
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::Trace;
 use pumpkin_conflict_resolvers::resolvers::ResolutionResolver;
+use pumpkin_core::proof::ConstraintTag;
 use pumpkin_core::results::{ProblemSolution, SatisfactionResult};
 use pumpkin_core::termination::TimeBudget;
 use pumpkin_core::variables::{DomainId, Literal};
@@ -458,12 +459,7 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
         if let Some(&l) = same_cache.get(&key) {
             return l;
         }
-        let e = solver.new_literal();
-        let (sa, sb) = (front[a], front[b]);
-        solver.add_clause([t(e), t(sa), t(sb)], tag);
-        solver.add_clause([t(e), f(sa), f(sb)], tag);
-        solver.add_clause([f(e), f(sa), t(sb)], tag);
-        solver.add_clause([f(e), t(sa), f(sb)], tag);
+        let e = equal_literal(solver, front[a], front[b], tag);
         same_cache.insert(key, e);
         e
     };
@@ -473,16 +469,11 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
     let level: Vec<DomainId> = (0..springs).map(|_| solver.new_bounded_integer(0, springs as i32 - 1)).collect();
     // `spring_same(a, b)` ⇔ springs a and b hang on the same face.
     let spring_same = |solver: &mut Solver, a: usize, b: usize| -> Literal {
-        if !two {
-            return truth;
+        if two {
+            equal_literal(solver, spring_front[a], spring_front[b], tag)
+        } else {
+            truth
         }
-        let e = solver.new_literal();
-        let (sa, sb) = (spring_front[a], spring_front[b]);
-        solver.add_clause([t(e), t(sa), t(sb)], tag);
-        solver.add_clause([t(e), f(sa), f(sb)], tag);
-        solver.add_clause([f(e), f(sa), t(sb)], tag);
-        solver.add_clause([f(e), t(sa), f(sb)], tag);
-        e
     };
     for hook in &layout.hooks {
         let base = match hook.base {
@@ -600,6 +591,17 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
     }
 }
 
+/// A new literal true exactly when `a` and `b` are equal (two faces' literals: the same face).
+fn equal_literal(solver: &mut Solver, a: Literal, b: Literal, tag: ConstraintTag) -> Literal {
+    let (t, f) = (|l: Literal| l.get_true_predicate(), |l: Literal| l.get_false_predicate());
+    let e = solver.new_literal();
+    solver.add_clause([t(e), t(a), t(b)], tag);
+    solver.add_clause([t(e), f(a), f(b)], tag);
+    solver.add_clause([f(e), f(a), t(b)], tag);
+    solver.add_clause([f(e), t(a), f(b)], tag);
+    e
+}
+
 /// Renumbers the layers of each face to 1, 2, ... keeping their order (the constraints only compare
 /// layers, so this keeps every one of them), and returns the most layers on a face.
 fn compress(layer: &[u32], face: &[Face]) -> (Vec<u32>, u32) {
@@ -675,6 +677,13 @@ pub fn violations(layout: &Layout, recorded: &Recorded, o: &Ordering) -> Vec<Con
         }
     }
     out
+}
+
+impl Ordering {
+    /// The most layers of any member on `face` (0 when none is there).
+    pub fn layers_on(&self, face: Face) -> u32 {
+        self.face.iter().zip(&self.layer).filter(|(f, _)| **f == face).map(|(_, &l)| l).max().unwrap_or(0)
+    }
 }
 
 impl From<NoOrdering> for FabError {

@@ -402,6 +402,16 @@ pub fn fabricate_design_with_springs(
     springs: &[SpringEnds],
 ) -> Result<Fabrication, FabError> {
     let mm = millimetres_per_unit(units).ok_or_else(|| FabError::Units(units.to_string()))?;
+    let (mechanism, travel) = checked_design(problem, design)?;
+    fabricate(problem, mm, &mechanism, travel, settings, springs)
+}
+
+/// The mechanism and travel of a design file that is valid ([`crate::design::DesignFile::validate`])
+/// and passes its check against the scene ([`crate::design::DesignFile::violations`]).
+pub(crate) fn checked_design(
+    problem: &Problem,
+    design: &crate::design::DesignFile,
+) -> Result<(Mechanism, Travel), FabError> {
     let issues = design.validate(problem);
     if !issues.is_empty() {
         return Err(FabError::Invalid(issues));
@@ -415,7 +425,7 @@ pub fn fabricate_design_with_springs(
     }
     let mechanism = mj.to_mechanism().map_err(|e| FabError::Mismatch(e.to_string()))?;
     let travel = Travel { start: motion.crank_start_deg.to_radians(), end: motion.crank_end_deg.to_radians() };
-    fabricate(problem, mm, &mechanism, travel, settings, springs)
+    Ok((mechanism, travel))
 }
 
 /// What [`fabricate_design_or_alternative`] made.
@@ -484,19 +494,10 @@ impl Fabrication {
         self.layout.off_bed(&self.settings.bed)
     }
 
-    /// The most layers of any member on `face`.
-    pub fn layers_on(&self, face: Face) -> u32 {
-        (0..self.layout.members.len())
-            .filter(|&i| self.ordering.face[i] == face)
-            .map(|i| self.ordering.layer[i])
-            .max()
-            .unwrap_or(0)
-    }
-
     /// How far spring `n`'s axis lies beyond the face it hangs on, scene units ([`Dims::spring_axis`]).
     pub fn spring_axis(&self, n: usize) -> f64 {
         let (face, level) = (self.ordering.spring_face[n], self.ordering.spring_level[n]);
-        self.dims.spring_axis(self.layers_on(face), level)
+        self.dims.spring_axis(self.ordering.layers_on(face), level)
     }
 
     /// The height of spring `n`'s axis in the parts' frame (z = 0 the bodies' front face), scene units.

@@ -181,10 +181,9 @@ pub fn build(
     let bottom = |i: usize| d.layer_bottom(ordering.layer[i]);
     let top = |i: usize| d.layer_top(ordering.layer[i]);
     // The springs hang beyond the outermost layer of their face.
-    let outermost =
-        |f: Face| (0..members.len()).filter(|&i| ordering.face[i] == f).map(|i| ordering.layer[i]).max().unwrap_or(0);
-    let hook_cap =
-        |spring: usize| d.hook_cap_base(outermost(ordering.spring_face[spring]), ordering.spring_level[spring]);
+    let hook_cap = |spring: usize| {
+        d.hook_cap_base(ordering.layers_on(ordering.spring_face[spring]), ordering.spring_level[spring])
+    };
     let hook_stud = |c: Point, base: f64, spring: usize| {
         let zc = hook_cap(spring);
         let steps = vec![(base, RingShape::Circle(d.pin_radius)), (zc, RingShape::Circle(d.cap_base_radius))];

@@ -231,8 +231,8 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
         mm_per_unit: s,
         settings: fab.settings.clone(),
         layers: Layers {
-            front: fab.layers_on(Face::Front),
-            back: fab.layers_on(Face::Back),
+            front: fab.ordering.layers_on(Face::Front),
+            back: fab.ordering.layers_on(Face::Back),
             count: fab.ordering.layers,
             optimal: fab.ordering.optimal,
         },

@@ -46,14 +46,7 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
         fab.seats.iter().find(|s| s.joint == j).map_or("?".into(), |s| parts[s.pin_part].name.clone())
     };
     for face in [Face::Front, Face::Back] {
-        let max = members
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| fab.ordering.face[*i] == face)
-            .map(|(i, _)| fab.ordering.layer[i])
-            .max();
-        let Some(max) = max else { continue };
-        for k in 1..=max {
+        for k in 1..=fab.ordering.layers_on(face) {
             for (i, m) in
                 members.iter().enumerate().filter(|(i, _)| fab.ordering.face[*i] == face && fab.ordering.layer[*i] == k)
             {
