@@ -31,11 +31,13 @@ const SORT_BLOCK: usize = 4096;
 /// The share of the sampling stage's progress that screening takes (the rest is simulation).
 const SCREENING_SHARE: f64 = 0.7;
 /// Defect-free candidates kept for the collision check, lowest cost first: a bound on memory (each
-/// holds its simulated travel) that never drops a candidate the particle filter would prefer. Where
-/// few candidates are collision-free (the sofa bed, 1 in 6) it also bounds how many valid designs are
-/// found: at 2,000 the sofa bed found 5% fewer over 24 seeds than before the speed work, whose sampler
-/// found its candidates elsewhere; at 2,200 every Table-1 object finds as many (docs/performance.md).
-const CANDIDATE_CAP: usize = 2200;
+/// holds its simulated travel) and on the samples simulated (only those whose cost floor is under the
+/// costliest kept one are). Where few candidates are collision-free (the folding table, 1 in 8) it
+/// also bounds how many valid designs the particle filter starts from, and fewer, cheaper ones served
+/// it as well: over seeds 0–9 every Table-1 object's best cost at 1,500 was that at 2,200 or lower on
+/// average (the two-body car 4.04 → 3.98, the three-body car 6.73 → 6.66), for runs up to 14% shorter
+/// (docs/performance.md, "The candidate cap").
+const CANDIDATE_CAP: usize = 1500;
 /// The collision check stops once this many particles' worth of valid designs are found: the particle
 /// filter resamples its particles from them by weight, and the lowest costs come first.
 const VALID_PER_PARTICLE: usize = 10;
