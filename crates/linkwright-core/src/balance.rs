@@ -662,14 +662,19 @@ fn inside(polygon: &Polygon, n: usize) -> Vec<Point> {
         .collect()
 }
 
-/// The torque with the given springs' shares added (the same travel `torque` was computed on).
 impl Balance {
     /// No spring: the driver's torque as it is.
     pub fn none(torque: &Torque) -> Balance {
         total(torque, torque.torque_nm.clone(), Vec::new())
     }
+
+    /// How much lower the springs make the peak than `torque`'s (the torque without them), percent.
+    pub fn peak_lowered_percent(&self, torque: &Torque) -> f64 {
+        100.0 * (1.0 - self.peak_with_springs_nm / torque.peak_nm)
+    }
 }
 
+/// The torque with the given springs' shares added (the same travel `torque` was computed on).
 fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Balance {
     let (at, peak) = peak(&balance_torque);
     Balance {
@@ -680,75 +685,77 @@ fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Bal
     }
 }
 
-/// One or two springs that lower the peak of `torque` (the driver's torque of `mechanism`, compiled
-/// as `plan`, along `trace`, as [`crate::statics::driving_torque`] gives it), and the torque with them,
-/// as `search` allows. The search takes seconds on multi-body linkages: it stops soon after
-/// `observer` says it is cancelled, and then returns [`Cancelled`].
-#[allow(clippy::too_many_arguments, reason = "the motion, its statics, what to choose and when to stop")]
-pub fn counterbalance(
-    problem: &Problem,
-    mechanism: &Mechanism,
-    plan: &Plan,
-    trace: &Trace,
-    masses: &Masses,
-    torque: &Torque,
-    search: SpringSearch,
-    observer: &dyn Observer,
-) -> Result<Balance, Cancelled> {
-    let choices = counterbalance_choices(problem, mechanism, plan, trace, masses, torque, search, observer)?;
-    Ok(choices.into_iter().next().unwrap_or_else(|| Balance::none(torque)))
+/// What a spring search balances: `mechanism` (compiled as `plan`) moving along `trace` in the scene
+/// of `problem`, its parts weighing `masses`, and the driver's `torque` along it as
+/// [`crate::statics::driving_torque`] gives it.
+#[derive(Clone, Copy)]
+pub struct Balancing<'a> {
+    /// The scene.
+    pub problem: &'a Problem,
+    /// The linkage.
+    pub mechanism: &'a Mechanism,
+    /// The linkage compiled.
+    pub plan: &'a Plan,
+    /// Its travel.
+    pub trace: &'a Trace,
+    /// Its parts' masses.
+    pub masses: &'a Masses,
+    /// The driver's torque along `trace`, without springs.
+    pub torque: &'a Torque,
 }
 
-/// What [`counterbalance`] chooses, then the next best choices: the other pair worth a second
-/// spring, if any, then the best single spring of each moving part, best first (a choice's springs may not fit where the first's do not, in print). Empty
-/// when no spring lowers the peak (or the travel passes a dead point).
-#[allow(clippy::too_many_arguments, reason = "the motion, its statics, what to choose and when to stop")]
-pub fn counterbalance_choices(
-    problem: &Problem,
-    mechanism: &Mechanism,
-    plan: &Plan,
-    trace: &Trace,
-    masses: &Masses,
-    torque: &Torque,
-    search: SpringSearch,
-    observer: &dyn Observer,
-) -> Result<Vec<Balance>, Cancelled> {
-    let Some(mut motion) = Motion::new(problem, mechanism, plan, trace, masses, observer) else {
-        // A dead point: the statics has no torque there to balance.
-        return Ok(Vec::new());
-    };
-    motion.search = search;
-    let go_on = || if observer.cancelled() { Err(Cancelled) } else { Ok(()) };
-    let unbalanced = torque.torque_nm.clone();
-    // The best single spring on each moving part, best first (on a tie, the part listed first).
-    let mut singles: Vec<Fit> = (0..mechanism.topology.parts.len())
-        .filter(|&p| mechanism.topology.parts[p].kind != PartKind::Fixed)
-        .filter_map(|p| motion.best_spring(&unbalanced, Some(p)))
-        .collect();
-    go_on()?;
-    singles.sort_by(|a, b| a.peak.total_cmp(&b.peak));
-    let Some(single) = singles.first() else {
-        return Ok(Vec::new());
-    };
-    let one = motion.with(&unbalanced, single);
-    // A second spring is kept when a pair lowers the peak by enough more than one spring.
-    let mut pairs: Vec<(Fit, Fit, f64)> = singles
-        .iter()
-        .take(if search.most >= 2 { PAIR_SEEDS } else { 0 })
-        .filter_map(|first| motion.pair_from(&unbalanced, first.clone()))
-        .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1)
-        .collect();
-    pairs.sort_by(|a, b| a.2.total_cmp(&b.2));
-    go_on()?;
-    let mut choices = Vec::new();
-    for (first, second, _) in pairs {
-        let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
-        choices.push(total(torque, balanced, [first, second].iter().map(|f| motion.spring(f)).collect()));
+impl Balancing<'_> {
+    /// One or two springs that lower the peak of the torque, and the torque with them, as `search`
+    /// allows ([`Balance::none`] when none does). The search takes seconds on multi-body linkages: it
+    /// stops soon after `observer` says it is cancelled, and then returns [`Cancelled`].
+    pub fn best(&self, search: SpringSearch, observer: &dyn Observer) -> Result<Balance, Cancelled> {
+        let choices = self.choices(search, observer)?;
+        Ok(choices.into_iter().next().unwrap_or_else(|| Balance::none(self.torque)))
     }
-    for fit in &singles {
-        choices.push(total(torque, motion.with(&unbalanced, fit), vec![motion.spring(fit)]));
+
+    /// What [`Balancing::best`] chooses, then the next best choices: the other pairs worth a second
+    /// spring, then the best single spring of each moving part, best first (where the first's springs
+    /// cannot be printed, another's may). Empty when no spring lowers the peak (or the travel passes a
+    /// dead point).
+    pub fn choices(&self, search: SpringSearch, observer: &dyn Observer) -> Result<Vec<Balance>, Cancelled> {
+        let Balancing { problem, mechanism, plan, trace, masses, torque } = *self;
+        let Some(mut motion) = Motion::new(problem, mechanism, plan, trace, masses, observer) else {
+            // A dead point: the statics has no torque there to balance.
+            return Ok(Vec::new());
+        };
+        motion.search = search;
+        let go_on = || if observer.cancelled() { Err(Cancelled) } else { Ok(()) };
+        let unbalanced = torque.torque_nm.clone();
+        // The best single spring on each moving part, best first (on a tie, the part listed first).
+        let mut singles: Vec<Fit> = (0..mechanism.topology.parts.len())
+            .filter(|&p| mechanism.topology.parts[p].kind != PartKind::Fixed)
+            .filter_map(|p| motion.best_spring(&unbalanced, Some(p)))
+            .collect();
+        go_on()?;
+        singles.sort_by(|a, b| a.peak.total_cmp(&b.peak));
+        let Some(single) = singles.first() else {
+            return Ok(Vec::new());
+        };
+        let one = motion.with(&unbalanced, single);
+        // A second spring is kept when a pair lowers the peak by enough more than one spring.
+        let mut pairs: Vec<(Fit, Fit, f64)> = singles
+            .iter()
+            .take(if search.most >= 2 { PAIR_SEEDS } else { 0 })
+            .filter_map(|first| motion.pair_from(&unbalanced, first.clone()))
+            .filter(|pair| pair.2 < (1.0 - SECOND_SPRING_GAIN) * peak(&one).1)
+            .collect();
+        pairs.sort_by(|a, b| a.2.total_cmp(&b.2));
+        go_on()?;
+        let mut choices = Vec::new();
+        for (first, second, _) in pairs {
+            let balanced = motion.with(&motion.with(&unbalanced, &first), &second);
+            choices.push(total(torque, balanced, [first, second].iter().map(|f| motion.spring(f)).collect()));
+        }
+        for fit in &singles {
+            choices.push(total(torque, motion.with(&unbalanced, fit), vec![motion.spring(fit)]));
+        }
+        Ok(choices)
     }
-    Ok(choices)
 }
 
 #[cfg(test)]
@@ -814,17 +821,8 @@ mod tests {
             let replay = crate::analysis::Replay::new(&problem, &design, crate::analysis::Which::Best, 90).unwrap();
             let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
             let torque = driving_torque(&problem, mechanism, plan, trace, &MASSES).unwrap();
-            let balance = counterbalance(
-                &problem,
-                mechanism,
-                plan,
-                trace,
-                &MASSES,
-                &torque,
-                SpringSearch::ANALYSIS,
-                &crate::Silent,
-            )
-            .unwrap();
+            let balancing = Balancing { problem: &problem, mechanism, plan, trace, masses: &MASSES, torque: &torque };
+            let balance = balancing.best(SpringSearch::ANALYSIS, &crate::Silent).unwrap();
             assert!(!balance.springs.is_empty(), "{family:?}: no spring");
             assert!(balance.peak_with_springs_nm < torque.peak_nm, "{family:?}");
             let motion = Motion::new(&problem, mechanism, plan, trace, &MASSES, &crate::Silent).unwrap();
@@ -906,21 +904,16 @@ mod tests {
         }
         let (problem, mechanism, plan, trace) = parallelogram();
         let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
-        assert_eq!(
-            counterbalance(&problem, &mechanism, &plan, &trace, &MASSES, &torque, SpringSearch::ANALYSIS, &Cancelling),
-            Err(Cancelled)
-        );
-        let balance = counterbalance(
-            &problem,
-            &mechanism,
-            &plan,
-            &trace,
-            &MASSES,
-            &torque,
-            SpringSearch::ANALYSIS,
-            &crate::Silent,
-        )
-        .unwrap();
+        let balancing = Balancing {
+            problem: &problem,
+            mechanism: &mechanism,
+            plan: &plan,
+            trace: &trace,
+            masses: &MASSES,
+            torque: &torque,
+        };
+        assert_eq!(balancing.best(SpringSearch::ANALYSIS, &Cancelling), Err(Cancelled));
+        let balance = balancing.best(SpringSearch::ANALYSIS, &crate::Silent).unwrap();
         assert!(!balance.springs.is_empty());
     }
 }

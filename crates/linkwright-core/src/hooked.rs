@@ -7,7 +7,7 @@
 //! joint, the search again with anchors on links kept clear of their joints.
 
 use crate::analysis::{AnalysisOptions, Replay, Which};
-use crate::balance::{counterbalance_choices, Balance, Spring, SpringSearch};
+use crate::balance::{Balance, Balancing, Spring, SpringSearch};
 use crate::design::DesignFile;
 use crate::fab::{
     checked_design, fabricate, millimetres_per_unit, Dims, FabError, Fabrication, HookRefusal, PrintSettings,
@@ -81,6 +81,7 @@ pub fn fabricate_with_springs(
     let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
     let torque =
         driving_torque(problem, mechanism, plan, trace, &masses).map_err(|e| HookedError::Statics(e.to_string()))?;
+    let balancing = Balancing { problem, mechanism, plan, trace, masses: &masses, torque: &torque };
     // The search anywhere first (a link's anchor beside a joint only fails its own try), then, when
     // that refused some, with anchors on links clear of their joints.
     let clear = SpringSearch::hooked(&Dims::new(settings, mm), 2);
@@ -88,7 +89,7 @@ pub fn fabricate_with_springs(
     let mut refused = None;
     for search in [anywhere, clear] {
         let mut beside_joint = false;
-        let choices = counterbalance_choices(problem, mechanism, plan, trace, &masses, &torque, search, observer)?;
+        let choices = balancing.choices(search, observer)?;
         for balance in choices {
             // Each try is a fabrication, which cannot stop midway: the search stops between them.
             if observer.cancelled() {

@@ -7,7 +7,7 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
-use linkwright_core::balance::{Balanced, SpringSearch};
+use linkwright_core::balance::Balanced;
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
@@ -309,13 +309,8 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
     let (scene_file, problem) = read_problem(scene)?;
     let file = read_valid_design(design, &problem)?;
     let settings = crate::fabricate::read_settings(print_settings)?;
-    let (torque, balance) = crate::springs::counterbalanced(
-        (scene, &scene_file),
-        &problem,
-        (design, &file),
-        &settings,
-        SpringSearch::ANALYSIS,
-    )?;
+    let (torque, balance) =
+        crate::springs::counterbalanced((scene, &scene_file), &problem, (design, &file), &settings)?;
     if json {
         let balanced = Balanced { torque: &torque, balance: &balance };
         println!("{}", serde_json::to_string_pretty(&balanced).expect("the torque serializes"));
@@ -352,7 +347,7 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
         for spring in &balance.springs {
             out.push_str(&format!("  {}\n", crate::springs::spring_words(spring, &scene_file.units)));
         }
-        let cut = 100.0 * (1.0 - balance.peak_with_springs_nm / torque.peak_nm);
+        let cut = balance.peak_lowered_percent(&torque);
         out.push_str(&format!(
             "peak with the springs {:.3} {unit} at crank {:.1}° ({cut:.0}% lower)\n",
             balance.peak_with_springs_nm * factor,

@@ -88,7 +88,7 @@ pub fn run(
         if balance.springs.is_empty() {
             words.push_str("\nnote: no extension spring lowers the crank's peak torque, so the parts have no hooks");
         } else {
-            let cut = 100.0 * (1.0 - balance.peak_with_springs_nm / torque.peak_nm);
+            let cut = balance.peak_lowered_percent(&torque);
             words.push_str(&format!(
                 "\nthe springs lower the crank's peak torque by {cut:.0}% (`linkwright analyze` may find better ones \
                  that cannot be hooked); the assembly sheet says where each hangs"

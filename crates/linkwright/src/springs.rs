@@ -3,7 +3,7 @@
 
 use crate::Failure;
 use linkwright_core::analysis::{Replay, Which};
-use linkwright_core::balance::{counterbalance, Balance, Spring, SpringSearch};
+use linkwright_core::balance::{Balance, Balancing, Spring, SpringSearch};
 use linkwright_core::fab::PrintSettings;
 use linkwright_core::statics::{driving_torque, Masses, Torque};
 use linkwright_core::{DesignFile, Problem, Scene, Silent};
@@ -13,13 +13,13 @@ use std::path::Path;
 pub const ANALYZE_STEPS: usize = 180;
 
 /// The torque the crank needs along the design's motion (masses of the parts printed with
-/// `settings`, or the scene's), and the springs `search` allows that lower its peak. Paths are for messages.
+/// `settings`, or the scene's), and the springs of either kind that lower its peak (what `analyze`
+/// reports). Paths are for messages.
 pub fn counterbalanced(
     (scene_path, scene): (&Path, &Scene),
     problem: &Problem,
     (design_path, design): (&Path, &DesignFile),
     settings: &PrintSettings,
-    search: SpringSearch,
 ) -> Result<(Torque, Balance), Failure> {
     let masses = Masses::printed(settings, &scene.units).ok_or_else(|| {
         Failure::Input(format!(
@@ -35,9 +35,10 @@ pub fn counterbalanced(
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design_path.display())))?;
     let torque = driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
         .map_err(|e| Failure::Input(format!("error: {}: {e}", design_path.display())))?;
-    let balance =
-        counterbalance(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses, &torque, search, &Silent)
-            .expect("a silent search is never cancelled");
+    let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
+    let balance = Balancing { problem, mechanism, plan, trace, masses: &masses, torque: &torque }
+        .best(SpringSearch::ANALYSIS, &Silent)
+        .expect("a silent search is never cancelled");
     Ok((torque, balance))
 }
 

@@ -46,20 +46,19 @@ fn design_with_fabricate_writes_every_file() {
     assert!(report["layers"]["count"].as_u64().unwrap() >= 1);
 }
 
-/// `linkwright fabricate` of the garbage truck's `design` into `dir/fab`, with print settings `json`.
+/// `linkwright fabricate` of the garbage truck's `design` into `dir/fab`, with the options `more`.
+fn fabricate_into(dir: &Path, design: &Path, more: &[&str]) -> Output {
+    let out = dir.join("fab");
+    let scene = example("k1_garbage_truck");
+    let args = ["fabricate", &scene, design.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    linkwright(&[&args[..], more].concat())
+}
+
+/// [`fabricate_into`] with print settings `json`.
 fn fabricate_with_settings(dir: &Path, design: &Path, json: &str) -> Output {
     let settings = dir.join("print.json");
     std::fs::write(&settings, json).unwrap();
-    let out = dir.join("fab");
-    linkwright(&[
-        "fabricate",
-        &example("k1_garbage_truck"),
-        design.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--settings",
-        settings.to_str().unwrap(),
-    ])
+    fabricate_into(dir, design, &["--settings", settings.to_str().unwrap()])
 }
 
 #[test]
@@ -145,14 +144,7 @@ fn fabricate_with_springs_hooks_them_and_says_what_to_buy() {
     let dir = workdir("springs");
     let design = design_and_fabricate(&dir).join("design.json");
     let out = dir.join("fab");
-    let run = linkwright(&[
-        "fabricate",
-        &example("k1_garbage_truck"),
-        design.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--springs",
-    ]);
+    let run = fabricate_into(&dir, &design, &["--springs"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
     let stdout = text(&run.stdout);
     assert!(stdout.contains("spring 1: extension spring") && stdout.contains("% (`linkwright analyze`"), "{stdout}");

@@ -74,7 +74,7 @@ pub fn check(fab: &Fabrication) -> CheckReport {
 /// other prism reaching its height come within its radius.
 fn springs(fab: &Fabrication, report: &mut CheckReport) {
     let d = &fab.dims;
-    let radius = d.half_width;
+    let radius = d.spring_radius();
     let mut poses: Vec<Rigid> = Vec::new();
     for n in 0..fab.springs.len() {
         let axis = fab.spring_axis_z(n);

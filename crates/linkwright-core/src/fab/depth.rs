@@ -200,8 +200,8 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
         PillarRef::Hook(_) => d.cap_base_radius,
     };
     let hook_reach = hw + d.cap_base_radius + margin;
-    // Two springs meet when their coils (no wider than a link) come closer than the clearance.
-    let spring_reach = 2.0 * hw + margin;
+    // A spring's coil meets what comes within its radius and the clearance of its axis.
+    let coil_reach = d.spring_radius() + margin;
     let mut hook_at: Vec<Point> = vec![Point::ORIGIN; layout.hooks.len()];
     let mut pillar_at: Vec<Point> = vec![Point::ORIGIN; pillars.len()];
     // Each member's core box, for a cheap test before the exact distance.
@@ -323,13 +323,13 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
         let ends = |s: usize| [hook_at[2 * s], hook_at[2 * s + 1]];
         for a in 0..springs {
             for b in a + 1..springs {
-                if super::shapes::core_distance(&ends(a), &ends(b)) < spring_reach {
+                if super::shapes::core_distance(&ends(a), &ends(b)) < coil_reach + d.spring_radius() {
                     note(Constraint::SpringsApart { a, b });
                 }
             }
             for k in (0..layout.hooks.len()).filter(|&k| layout.hooks[k].spring != a) {
                 let [p, q] = ends(a);
-                if point_segment_distance(hook_at[k], p, q) < hw + d.cap_base_radius + margin {
+                if point_segment_distance(hook_at[k], p, q) < coil_reach + d.cap_base_radius {
                     note(Constraint::SpringOverHook { spring: a, hook: k });
                 }
             }

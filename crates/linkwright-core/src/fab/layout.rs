@@ -395,7 +395,7 @@ impl Layout {
         let mut hooks = Vec::new();
         let row0 = trace.row(0);
         for (s, ends) in springs.iter().enumerate() {
-            for anchor in ends {
+            for (anchor, end) in ends.iter().zip(["ground", "moving"]) {
                 let refuse = |why| FabError::SpringHook { spring: s + 1, part: anchor.part.clone(), why };
                 let Some(pi) = topo.parts.iter().position(|p| p.name == anchor.part) else {
                     return Err(refuse(HookRefusal::NoSuchPart));
@@ -453,7 +453,6 @@ impl Layout {
                 let post = standing.post(ci, (at, at), min_reach, &rules).map_err(|_| refuse(HookRefusal::NoRoom))?;
                 hook.base = HookBase::Member(members.len());
                 hooks.push(hook);
-                let end = if hooks.len() % 2 == 1 { "ground" } else { "moving" };
                 members.push(Member {
                     name: format!("spring{}_{end}_bracket", s + 1),
                     kind: MemberKind::Bracket,

@@ -252,7 +252,7 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
             .map(|n| SpringReport {
                 face: fab.ordering.spring_face[n],
                 axis_height_mm: fab.spring_axis(n) * s,
-                max_outer_diameter_mm: 2.0 * fab.dims.half_width * s,
+                max_outer_diameter_mm: 2.0 * fab.dims.spring_radius() * s,
                 hooks: (0..2)
                     .map(|e| HookReport {
                         anchor: fab.springs[n][e].clone(),

@@ -311,13 +311,18 @@ impl Dims {
     pub fn layer_top(&self, k: u32) -> f64 {
         self.layer_bottom(k) + self.thickness
     }
+    /// The room a counterbalance spring has around its axis: a spring is taken to be no wider than a
+    /// link, so it has a link's half width.
+    pub fn spring_radius(&self) -> f64 {
+        self.half_width
+    }
     /// Height of the axis of a spring at `level` (0 nearest) above a face with `layers` layers: beyond
-    /// the snap caps of the outermost layer by the clearance and a spring's radius (a spring is taken to
-    /// be no wider than a link), and each level beyond the hook caps of the level below likewise.
+    /// the snap caps of the outermost layer by the clearance and a spring's radius, and each level
+    /// beyond the hook caps of the level below likewise.
     pub fn spring_axis(&self, layers: u32, level: u32) -> f64 {
         let top = if layers == 0 { 0.0 } else { self.layer_top(layers) };
-        let first = top + self.gap + self.cap_height + self.gap + self.half_width;
-        first + f64::from(level) * (self.thickness + self.cap_height + self.gap + 2.0 * self.half_width)
+        let first = top + self.gap + self.cap_height + self.gap + self.spring_radius();
+        first + f64::from(level) * (self.thickness + self.cap_height + self.gap + 2.0 * self.spring_radius())
     }
     /// Height of the snap cap on the hooks of a spring at `level`: a part's thickness above the
     /// spring's axis, room for the spring's loop.

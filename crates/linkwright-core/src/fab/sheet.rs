@@ -41,17 +41,16 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
         out.push("Bodies printed in two halves: after finishing the front face, turn the object over and build the back face the same way, then glue or press the halves together.".into());
     }
     let joint = |j: usize| fab.layout_joint_name(j);
-    let part_of = |i: usize| parts.iter().find(|p| p.member == Some(i)).map_or("?", |p| p.name.as_str());
-    let pin_holder = |j: usize| -> String {
-        fab.seats.iter().find(|s| s.joint == j).map_or("?".into(), |s| parts[s.pin_part].name.clone())
-    };
     for face in [Face::Front, Face::Back] {
         for k in 1..=fab.ordering.layers_on(face) {
             for (i, m) in
                 members.iter().enumerate().filter(|(i, _)| fab.ordering.face[*i] == face && fab.ordering.layer[*i] == k)
             {
-                let mut s =
-                    format!("{} face, layer {k}: {}", if face == Face::Front { "Front" } else { "Back" }, part_of(i));
+                let mut s = format!(
+                    "{} face, layer {k}: {}",
+                    if face == Face::Front { "Front" } else { "Back" },
+                    member_part(fab, i)
+                );
                 if matches!(m.kind, MemberKind::Connector | MemberKind::Guide) {
                     let _ = write!(s, " — its square socket onto the post on {}", carrier_name(fab, m.carrier, m.post));
                 }
@@ -59,11 +58,11 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
                     let seat = fab.seats.iter().find(|x| x.joint == j);
                     let carries = seat.is_some_and(|x| parts[x.pin_part].member == Some(i));
                     if m.slot.is_some_and(|slot| slot.joint == j) {
-                        let _ = write!(s, "; its slot over the pin at {} (of {})", joint(j), pin_holder(j));
+                        let _ = write!(s, "; its slot over the pin at {} (of {})", joint(j), pin_holder(fab, j));
                     } else if carries {
                         let _ = write!(s, "; its pin at {} points up", joint(j));
                     } else {
-                        let _ = write!(s, "; its hole at {} over the pin of {}", joint(j), pin_holder(j));
+                        let _ = write!(s, "; its hole at {} over the pin of {}", joint(j), pin_holder(fab, j));
                     }
                     let outermost = fab.layout.joint_members[j].iter().all(|&o| o == i || fab.ordering.layer[o] < k);
                     if outermost && !carries {
@@ -84,7 +83,7 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
             "Spring {}: an extension spring of at most {:.1} mm outer diameter, hung {:.1} mm beyond the {} face: hook \
              one end on the hook of {} and the other on the hook of {}.",
             n + 1,
-            2.0 * fab.dims.half_width * fab.dims.mm_per_unit,
+            2.0 * fab.dims.spring_radius() * fab.dims.mm_per_unit,
             fab.spring_axis(n) * fab.dims.mm_per_unit,
             if face == Face::Front { "front" } else { "back" },
             hooks[0],
@@ -99,14 +98,20 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
 pub(super) fn hook_holder(fab: &Fabrication, k: usize) -> String {
     let hook = &fab.layout.hooks[k];
     match hook.base {
-        HookBase::Member(i) => fab.parts.iter().find(|p| p.member == Some(i)).map_or("?".into(), |p| p.name.clone()),
-        HookBase::Joint(j) => {
-            let holder =
-                fab.seats.iter().find(|s| s.joint == j).map_or("?".into(), |s| fab.parts[s.pin_part].name.clone());
-            format!("{holder} (the pin at {}, lengthened)", fab.layout_joint_name(j))
-        }
+        HookBase::Member(i) => member_part(fab, i).to_string(),
+        HookBase::Joint(j) => format!("{} (the pin at {}, lengthened)", pin_holder(fab, j), fab.layout_joint_name(j)),
         HookBase::Body => carrier_name(fab, hook.carrier, Some(hook.at)),
     }
+}
+
+/// The name of the part printed for member `i`.
+fn member_part(fab: &Fabrication, i: usize) -> &str {
+    fab.parts.iter().find(|p| p.member == Some(i)).map_or("?", |p| p.name.as_str())
+}
+
+/// The name of the part whose pin serves joint `j`.
+fn pin_holder(fab: &Fabrication, j: usize) -> &str {
+    fab.seats.iter().find(|s| s.joint == j).map_or("?", |s| fab.parts[s.pin_part].name.as_str())
 }
 
 /// The body part (or piece of it) that holds the point `at` of `carrier`.

@@ -15,7 +15,7 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
-use linkwright_core::balance::{counterbalance, Balanced, SpringSearch};
+use linkwright_core::balance::{Balanced, Balancing, SpringSearch};
 use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
 use linkwright_core::geom::Point;
 use linkwright_core::statics::{driving_torque, Masses};
@@ -518,17 +518,12 @@ pub async fn balance(
         // The search stops when the job does (its deadline, or the client gone): the answer then says
         // why (`Jobs::run`).
         let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
-        let balance = counterbalance(
-            &request.problem,
-            &replay.mechanism,
-            &replay.plan,
-            &replay.trace,
-            &masses,
-            &torque,
-            SpringSearch::ANALYSIS,
-            &observer,
-        )
-        .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
+        let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
+        let balancing =
+            Balancing { problem: &request.problem, mechanism, plan, trace, masses: &masses, torque: &torque };
+        let balance = balancing
+            .best(SpringSearch::ANALYSIS, &observer)
+            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
         Ok(serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null))
     };
     let answer = state.jobs.run(Kind::Analysis, &client, Work::BALANCE, work).await?;

@@ -113,7 +113,7 @@ pub fn preview(fab: &Fabrication) -> Preview {
                 SpringPreview {
                     hooks: [hook(0), hook(1)],
                     z: round(fab.spring_axis_z(n) * mm, PER_MM),
-                    radius: round(fab.dims.half_width * mm, PER_MM),
+                    radius: round(fab.dims.spring_radius() * mm, PER_MM),
                 }
             })
             .collect(),

@@ -153,39 +153,30 @@ export class Preview3D {
       gl.deleteVertexArray(p.vao);
       p.buffers.forEach((b) => gl.deleteBuffer(b));
     }
-    this.parts = preview.parts.map((part) => {
-      const vao = gl.createVertexArray();
-      gl.bindVertexArray(vao);
-      const positions = gl.createBuffer();
-      gl.bindBuffer(gl.ARRAY_BUFFER, positions);
-      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(part.positions), gl.STATIC_DRAW);
-      gl.enableVertexAttribArray(this.position);
-      gl.vertexAttribPointer(this.position, 3, gl.FLOAT, false, 0, 0);
-      const indices = gl.createBuffer();
-      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indices);
-      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(part.indices), gl.STATIC_DRAW);
-      gl.bindVertexArray(null);
-      return { vao, buffers: [positions, indices], count: part.indices.length, carrier: part.carrier, colour: rgb(partColour(part)) };
-    });
+    this.parts = preview.parts.map((part) =>
+      ({ ...this.mesh(part), carrier: part.carrier, colour: rgb(partColour(part)) }));
     this.poses = preview.poses;
     this.springs = preview.springs || [];
-    if (this.springs.length && !this.springMesh) {
-      const { positions, indices } = unitSpring();
-      const vao = gl.createVertexArray();
-      gl.bindVertexArray(vao);
-      const buffer = gl.createBuffer();
-      gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(positions), gl.STATIC_DRAW);
-      gl.enableVertexAttribArray(this.position);
-      gl.vertexAttribPointer(this.position, 3, gl.FLOAT, false, 0, 0);
-      const index = gl.createBuffer();
-      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, index);
-      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(indices), gl.STATIC_DRAW);
-      gl.bindVertexArray(null);
-      this.springMesh = { vao, count: indices.length };
-    }
+    if (this.springs.length && !this.springMesh) this.springMesh = this.mesh(unitSpring());
     this.bounds = motionBounds(preview);
     this.reset();
+  }
+
+  /** A triangle mesh (`positions`, `indices`) uploaded: its vertex array, buffers and index count. */
+  mesh({ positions, indices }) {
+    const gl = this.gl;
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    const vertices = gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, vertices);
+    gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(positions), gl.STATIC_DRAW);
+    gl.enableVertexAttribArray(this.position);
+    gl.vertexAttribPointer(this.position, 3, gl.FLOAT, false, 0, 0);
+    const elements = gl.createBuffer();
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, elements);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(indices), gl.STATIC_DRAW);
+    gl.bindVertexArray(null);
+    return { vao, buffers: [vertices, elements], count: indices.length };
   }
 
   /** Shows the configuration at fraction `t` of the motion (0 the first pose, 1 the last). */
