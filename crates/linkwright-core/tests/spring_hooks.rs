@@ -58,6 +58,18 @@ fn the_check_finds_a_spring_hung_where_its_hooks_are_not() {
 }
 
 #[test]
+fn the_check_finds_a_part_in_a_springs_way() {
+    // Every member said to lie on the first layer: the springs' axes come down among the parts, which
+    // stay at their real heights.
+    let met = hooked().iter().filter(|h| !h.fabrication.springs.is_empty()).any(|h| {
+        let mut lowered = h.fabrication.clone();
+        lowered.ordering.layer.iter_mut().for_each(|l| *l = 1);
+        check(&lowered).springs.iter().any(|s| s.contains(" meets "))
+    });
+    assert!(met, "no spring brought down among the parts meets one");
+}
+
+#[test]
 fn anchors_on_unknown_parts_or_off_the_numbers_are_refused_with_their_spring() {
     let known = known_scene(Family::Chain(1), 3, 3, 100.0).expect("a known scene");
     let problem = Problem::new(&known.scene).expect("a valid scene");
