@@ -80,8 +80,9 @@ pub mod testbed;
 
 // The `scene/1` format, its validation, and the problem every later stage reads.
 pub use scene::{
-    limits, validate as validate_scene, FixedBody, Issue, MechanismChoice, MovingBody, MovingBodyProblem, ParseError,
-    PoseMiss, Problem, Scene, Settings, Severity, Weights, SCENE_FORMAT,
+    limits, validate as validate_scene, Build, BuildParseError, FixedBody, Issue, Material, MechanismChoice,
+    ModelScale, MovingBody, MovingBodyProblem, ParseError, PoseMiss, Problem, Ratio, Scene, Settings, Severity,
+    Weights, MAX_RATIO_TERM, SCENE_FORMAT,
 };
 
 // Linkages: their families, structure (topology) and dimensions (joints at the first pose).

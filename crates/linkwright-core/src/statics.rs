@@ -269,6 +269,8 @@ pub(crate) mod tests {
                 ],
                 poses: vec![[at(from).x, at(from).y, 0.0], [at(to).x, at(to).y, 0.0]],
                 mass_kg: None,
+                material: None,
+                thickness: None,
                 extra: Default::default(),
             }],
             linkage_region: None,
@@ -279,6 +281,7 @@ pub(crate) mod tests {
             pinned_joints: Default::default(),
             weights: Default::default(),
             settings: Default::default(),
+            build: Default::default(),
             extra: Default::default(),
         };
         let problem = Problem::new(&scene).expect("a valid scene");

@@ -550,6 +550,8 @@ fn assemble(family: Family, seed: u64, drawn: Drawn, pose_crank: Vec<f64>, scale
                 polygon: scaled_polygon(outline),
                 poses,
                 mass_kg: None,
+                material: None,
+                thickness: None,
                 extra: Default::default(),
             }
         })
@@ -591,6 +593,7 @@ fn assemble(family: Family, seed: u64, drawn: Drawn, pose_crank: Vec<f64>, scale
         mechanism: family.choice(),
         weights,
         settings: Settings::default(),
+        build: Default::default(),
         extra: Default::default(),
     };
     KnownScene { family, seed, scene, mechanism: known, pose_crank, metrics, slider_stroke }

@@ -1,9 +1,11 @@
 //! The `scene/1` format: what a person wants (bodies, poses, regions, settings), its validation, and
 //! the immutable [`Problem`] every later stage reads.
 
+mod build;
 mod problem;
 mod validate;
 
+pub use build::{Build, BuildParseError, Material, ModelScale, Ratio, MAX_RATIO_TERM};
 pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
 pub use validate::{limits, validate, Issue, Severity};
 
@@ -64,9 +66,17 @@ pub struct Scene {
     /// Settings of the search.
     #[serde(default)]
     pub settings: Settings,
+    /// How the object is to be built (default `model:auto`): a printed model at a scale, which the
+    /// synthesis checks every linkage can be printed at, or full size in a workshop material.
+    #[serde(default, skip_serializing_if = "is_default_build")]
+    pub build: Build,
     /// Top-level fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
+}
+
+fn is_default_build(build: &Build) -> bool {
+    *build == Build::default()
 }
 
 fn default_units() -> String {
@@ -102,6 +112,12 @@ pub struct MovingBody {
     /// part's, from its outline and the print settings).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
+    /// What the real body is made of, for its mass when `mass_kg` is not given (with `thickness`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<Material>,
+    /// The real body's thickness, scene units (with `material`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness: Option<f64>,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,

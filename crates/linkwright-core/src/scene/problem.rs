@@ -19,6 +19,8 @@ pub struct MovingBodyProblem {
     pub size: f64,
     /// The scene's mass for the body, kilograms, when it gives one.
     pub mass_kg: Option<f64>,
+    /// The scene's material and thickness (scene units) for the body, when it gives them.
+    pub stock: Option<(super::Material, f64)>,
 }
 
 impl MovingBodyProblem {
@@ -93,6 +95,8 @@ pub struct Problem {
     pub must_hit: Vec<bool>,
     /// The diagonal of everything drawn: the length every absolute tolerance is a fraction of.
     pub scale: f64,
+    /// How the object is to be built.
+    pub build: super::Build,
     /// Warnings found while validating (errors make [`Problem::new`] fail).
     pub warnings: Vec<Issue>,
 }
@@ -115,6 +119,7 @@ impl Problem {
                     name: b.name.clone(),
                     size: bb.width().min(bb.height()),
                     mass_kg: b.mass_kg,
+                    stock: b.material.zip(b.thickness),
                     poses: b.poses.iter().map(|&p| Rigid::from_pose(p)).collect(),
                     outline,
                 }
@@ -166,6 +171,7 @@ impl Problem {
             weights: scene.weights.clone(),
             settings: scene.settings.clone(),
             scale: drawn.map_or(1.0, |d| d.diagonal()),
+            build: scene.build,
             warnings: issues,
         })
     }

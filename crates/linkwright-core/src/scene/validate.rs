@@ -365,6 +365,21 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
                 );
             }
         }
+        match (body.material, body.thickness) {
+            (_, Some(t)) if !(t.is_finite() && t > 0.0 && t <= MAX_COORDINATE) => out.error(
+                format!("moving_bodies[{k}].thickness"),
+                format!("is {t}; give the body's thickness in the scene's units, more than 0"),
+            ),
+            (Some(_), None) => out.error(
+                format!("moving_bodies[{k}].thickness"),
+                "is missing: a body with a material needs its thickness (scene units) for its mass".to_string(),
+            ),
+            (None, Some(_)) => out.error(
+                format!("moving_bodies[{k}].material"),
+                "is missing: a body with a thickness needs its material (plywood, aluminium or steel)".to_string(),
+            ),
+            _ => {}
+        }
         for (i, pose) in body.poses.iter().enumerate() {
             if !pose_is_usable(pose) {
                 out.error(
@@ -995,6 +1010,8 @@ mod tests {
             polygon: rect(-10.0, 0.0, 40.0, 10.0),
             poses: vec![[30.0, 130.0, 0.0], [300.0, 100.0, 0.0]],
             mass_kg: None,
+            material: None,
+            thickness: None,
             extra: Map::new(),
         };
         s.moving_bodies.push(bar);
