@@ -3,7 +3,7 @@
 
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
-use crate::scene::{PoseMiss, Problem};
+use crate::scene::{Build, PoseMiss, Problem};
 use crate::verify::{pose_misses, verify_travel, Travel, Violation};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -38,6 +38,30 @@ pub struct DesignFile {
     pub alternatives: Vec<Alternative>,
     /// What the run that made the file did.
     pub stats: Stats,
+    /// The build the design was checked for and whether it can be built so (absent in files written
+    /// before builds, and for a design edited by hand).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub build: Option<BuildRecord>,
+}
+
+/// The build a design was checked for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BuildRecord {
+    /// The build as the scene asked for it (`model:auto`, `model:1:10`, `full:plywood`).
+    pub asked: Build,
+    /// The build the design was checked for: the asked one with an `auto` scale decided
+    /// (`model:1:5`).
+    pub checked: Build,
+    /// Whether the design can be built that way (a model: it passed the print check at its scale;
+    /// full size: always). A design that cannot is still the best valid linkage.
+    pub buildable: bool,
+    /// Why it cannot, and what would help, in numbers (only when it cannot).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// The model's extent, width and height in millimetres: everything drawn at the model's scale
+    /// (a model only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_mm: Option<[f64; 2]>,
 }
 
 /// Whether a design file holds a design.
@@ -499,6 +523,7 @@ impl DesignFile {
             alternatives: Vec::new(),
             stats: Default::default(),
             reason: None,
+            unbuildable: false,
         };
         let mut file = DesignFile::from_outcome(problem, &outcome);
         file.stats.seed = self.stats.seed;
@@ -546,6 +571,7 @@ impl DesignFile {
                 seed: problem.settings.seed,
                 failed_check: s.failed_verification,
             },
+            build: None,
         }
     }
 }

@@ -96,7 +96,7 @@ pub use synth::{
 
 // The `design/1` format: the engine's answer, read back, validated and checked.
 pub use design::{
-    Alternative, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, EditError, MechanismJson, Metrics,
+    Alternative, BuildRecord, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, EditError, MechanismJson, Metrics,
     Motion, PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
 };
 

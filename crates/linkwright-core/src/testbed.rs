@@ -186,6 +186,7 @@ impl KnownScene {
             metrics: Some(self.metrics.clone()),
             alternatives: Vec::new(),
             stats: Stats { seed: self.seed, ..Stats::default() },
+            build: None,
         }
     }
 }

@@ -141,6 +141,10 @@ pub struct Outcome {
     pub stats: RunStats,
     /// Why there is no design and what to change, when there is none.
     pub reason: Option<String>,
+    /// True when the run had a check ([`Options::printable`]) that no valid linkage passed: `best`
+    /// is then the valid linkage of lowest cost, which the check refuses (a design is never lost to
+    /// that check alone), and there are no alternatives.
+    pub unbuildable: bool,
 }
 
 /// The families a scene asks for: those its mechanism choice allows for its number of moving bodies
@@ -295,8 +299,13 @@ fn on_topology(mechanism: &Mechanism, topology: &Arc<Topology>) -> Option<Mechan
 pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();
     let families = families(problem);
-    let mut run =
-        Run { printable: options.printable, observer, stats: RunStats::default(), rejected: [0; Reject::ALL.len()] };
+    let mut run = Run {
+        printable: options.printable,
+        observer,
+        stats: RunStats::default(),
+        rejected: [0; Reject::ALL.len()],
+        refused: None,
+    };
     let contexts: Vec<Context> = families
         .iter()
         .map(|&family| {
@@ -326,10 +335,11 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     }
     stats.rejected = Reject::ALL.iter().copied().zip(rejected).filter(|&(_, n)| n > 0).collect();
     stats.seconds_total = started.elapsed().as_secs_f64();
+    let unbuildable = options.printable.is_some() && picked.first().is_some_and(|c| !c.printable);
     let mut picked = picked.into_iter();
     let best = picked.next();
     let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
-    Ok(Outcome { best, alternatives: picked.collect(), stats, reason })
+    Ok(Outcome { best, alternatives: picked.collect(), stats, reason, unbuildable })
 }
 
 /// One search over every family (`contexts`, with their `workspaces`): sampling, checks and the
@@ -393,8 +403,12 @@ fn design_round(
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let t = Instant::now();
-    let picked = pick_designs(problem, valid, run)?;
+    let mut picked = pick_designs(problem, valid, run)?;
     run.stats.seconds_printability += t.elapsed().as_secs_f64();
+    // Valid linkages the print check alone refused: the best of them is the answer, marked.
+    if picked.is_empty() {
+        picked.extend(run.refused.take());
+    }
     let t = Instant::now();
     let picked = finish_designs(problem, contexts, workspaces, picked, run)?;
     run.stats.seconds_refinement += t.elapsed().as_secs_f64();
@@ -421,13 +435,13 @@ fn pick_designs(problem: &Problem, valid: Vec<Candidate>, run: &mut Run) -> Resu
                 batch.push(c);
             }
         }
-        let checked: Vec<Result<Candidate, Reject>> = match run.printable {
+        let checked: Vec<Result<Candidate, (Reject, Candidate)>> = match run.printable {
             Some(check) => batch.into_par_iter().map(|c| mark_printable(check, c)).collect(),
             None => batch.into_iter().map(Ok).collect(),
         };
         for r in checked {
             match r {
-                Err(reject) => run.reject(reject),
+                Err((reject, c)) => run.refuse(reject, c),
                 Ok(c) if picked.len() < wanted && picked.iter().all(|p| distinct(p, &c, min_shift)) => picked.push(c),
                 Ok(_) => {}
             }
@@ -459,10 +473,10 @@ fn finish_designs(
             let f = family_of(&c).expect("every design comes from one of the run's families");
             let mut refined = refine_design(&contexts[f], &c, &options, &mut workspaces[f].judging.take());
             if let Some(check) = printable {
-                if !refined.printable && !check.accepts(&refined.mechanism, &refined.trace) {
-                    refined = c;
-                } else {
+                if refined.printable || check.accepts(&refined.mechanism, &refined.trace) {
                     refined.printable = true;
+                } else if c.printable {
+                    refined = c;
                 }
             }
             let poses: Vec<f64> = refined.pose_thetas().map(f64::to_degrees).collect();
@@ -483,13 +497,14 @@ fn finish_designs(
     Ok(out)
 }
 
-/// `c` marked printable, or why not (a candidate already found printable is not checked again).
-fn mark_printable(check: &dyn Acceptance, mut c: Candidate) -> Result<Candidate, Reject> {
+/// `c` marked printable, or why not with `c` (a candidate already found printable is not checked
+/// again).
+fn mark_printable(check: &dyn Acceptance, mut c: Candidate) -> Result<Candidate, (Reject, Candidate)> {
     c.printable = c.printable || check.accepts(&c.mechanism, &c.trace);
     if c.printable {
         Ok(c)
     } else {
-        Err(Reject::Unprintable)
+        Err((Reject::Unprintable, c))
     }
 }
 
@@ -509,11 +524,21 @@ struct Run<'a> {
     stats: RunStats,
     /// Candidates rejected, per [`Reject`].
     rejected: [usize; Reject::ALL.len()],
+    /// The valid candidate of lowest cost that the print check refused (the first found of equal cost).
+    refused: Option<Candidate>,
 }
 
 impl Run<'_> {
     fn reject(&mut self, reject: Reject) {
         self.rejected[reject as usize] += 1;
+    }
+
+    /// Counts `reject`; when the print check refused `c`, keeps it if it is the cheapest so far.
+    fn refuse(&mut self, reject: Reject, c: Candidate) {
+        self.reject(reject);
+        if reject == Reject::Unprintable && self.refused.as_ref().is_none_or(|r| c.cost < r.cost) {
+            self.refused = Some(c);
+        }
     }
 
     /// `Err` once the person has cancelled the run.
@@ -768,14 +793,14 @@ fn check_in_order(
             .map_init(
                 || workspace.judging.take(),
                 |buffers, c| {
-                    check_collisions(ctx, &c, &mut buffers.sweep)?;
+                    check_collisions(ctx, &c, &mut buffers.sweep).map_err(Err)?;
                     match printable {
-                        Some(check) => mark_printable(check, c),
+                        Some(check) => mark_printable(check, c).map_err(Ok),
                         None => Ok(c),
                     }
                 },
             )
-            .collect::<Vec<Result<Candidate, Reject>>>()
+            .collect::<Vec<Result<Candidate, Result<(Reject, Candidate), Reject>>>>()
             .into_iter()
             .peekable();
         while checked.peek().is_some() && valid.len() < enough {
@@ -783,7 +808,8 @@ fn check_in_order(
                 swept += 1;
                 match r {
                     Ok(c) => valid.push(c),
-                    Err(reject) => run.reject(reject),
+                    Err(Ok((reject, c))) => run.refuse(reject, c),
+                    Err(Err(reject)) => run.reject(reject),
                 }
             }
         }
@@ -909,7 +935,13 @@ mod tests {
     impl Run<'static> {
         /// A run with no printability check, that nobody follows.
         fn quiet() -> Self {
-            Run { printable: None, observer: &Silent, stats: RunStats::default(), rejected: [0; Reject::ALL.len()] }
+            Run {
+                printable: None,
+                observer: &Silent,
+                stats: RunStats::default(),
+                rejected: [0; Reject::ALL.len()],
+                refused: None,
+            }
         }
     }
 
