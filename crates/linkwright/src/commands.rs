@@ -8,11 +8,11 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
 use linkwright_core::balance::Balanced;
-use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck};
+use linkwright_core::fab::BuildPlan;
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
-    animation_svg, design_svg, pose_misses, synthesize_with, Acceptance, DesignFile, Observer, Options, Outcome,
-    PoseMiss, Problem, Progress, Reject, RenderInput, Stage, Start, Status,
+    animation_svg, design_svg, pose_misses, synthesize_with, Build, DesignFile, Observer, Options, Outcome, PoseMiss,
+    Problem, Progress, RenderInput, Stage, Start, Status,
 };
 use std::path::{Path, PathBuf};
 
@@ -48,8 +48,14 @@ pub struct DesignArgs {
     print_settings: Option<PathBuf>,
     /// Accept designs that cannot be printed (joints too close for pins, no depth ordering of the
     /// links): the paper's synthesis alone, for designs built some other way.
-    #[arg(long, conflicts_with = "fabricate")]
+    #[arg(long, conflicts_with_all = ["fabricate", "build"])]
     no_print_check: bool,
+    /// How the object is built (overrides the scene's `build`): model:auto (a printed model at the
+    /// scale nearest 1:1 that fits the bed, the default), model:1:10 (a printed model at that scale:
+    /// the design must print at it), or full:plywood, full:aluminium, full:steel (full size, cut in a
+    /// workshop: no print check).
+    #[arg(long, value_name = "BUILD", value_parser = crate::build_choice())]
+    build: Option<Build>,
 }
 
 /// Shows progress as a bar on stderr (hidden when stderr is not a terminal).
@@ -77,19 +83,25 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         if let Some(samples) = args.samples {
             scene.settings.samples = samples;
         }
+        if let Some(build) = args.build {
+            scene.build = build;
+        }
     })?;
     let print_settings = crate::fabricate::read_settings(args.print_settings.as_deref())?;
-    let printable = if args.no_print_check {
+    let plan = if args.no_print_check {
         None
     } else {
-        let mm = millimetres_per_unit(&scene.units).ok_or_else(|| {
+        let plan = BuildPlan::new(&problem, &print_settings).map_err(|_| {
             Failure::Input(format!(
                 "error: {}: units: \"{}\" is not a known unit; use mm, cm, m, in or ft (or --no-print-check)",
                 args.scene.display(),
                 scene.units
             ))
         })?;
-        Some(FeasibilityCheck::new(&problem, &print_settings, mm))
+        for note in &plan.notes {
+            eprintln!("warning: {note} (--build {} now)", plan.asked);
+        }
+        Some(plan)
     };
     let out_dir = args.output.clone().unwrap_or_else(|| {
         Path::new("out").join(args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default())
@@ -114,23 +126,24 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         None => Vec::new(),
     };
     let start = if previous.is_empty() { Start::Cold } else { Start::Warm(&previous) };
-    let options = Options { start, printable: printable.as_ref().map(|c| c as &dyn Acceptance) };
+    let options = Options { start, printable: plan.as_ref().and_then(BuildPlan::acceptance) };
     let outcome = pool.install(|| synthesize_with(&problem, &options, &observer)).expect("the CLI never cancels");
     observer.0.finish_and_clear();
 
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
     remove_earlier_outputs(&out_dir, outcome.best.is_none())?;
-    let (file, json) = write_outputs(&problem, &outcome, &out_dir)?;
+    let (file, json) = write_outputs(&problem, &outcome, plan.as_ref(), &out_dir)?;
     if args.json {
         println!("{json}");
     } else {
         println!("{}", summary(&file, &problem, &scene.units, &out_dir));
     }
-    // The library names the print settings to change; the remedy only this command has is its own.
-    let unprintable = outcome.stats.rejected.iter().any(|&(r, n)| r == Reject::Unprintable && n > 0);
-    if outcome.best.is_none() && unprintable {
-        eprintln!("hint: --no-print-check designs without the print check (for linkages built another way)");
+    // The library says what would help; the remedy only this command has is its own.
+    if outcome.unbuildable {
+        eprintln!("hint: --build model:1:N prints the model at another scale, --build full:plywood builds it full size");
+    } else if outcome.best.is_none() && plan.as_ref().is_some_and(|p| !p.notes.is_empty()) {
+        eprintln!("hint: --build model:auto picks a scale that suits the drawing");
     }
     if args.fabricate {
         if outcome.best.is_some() {
@@ -171,7 +184,12 @@ fn remove_earlier_outputs(out_dir: &Path, no_design: bool) -> Result<(), Failure
 /// are independent, so each is built and written (its flush to disk included) on its own thread: the
 /// run waits for the slowest file rather than for all three in turn, and the disk's flushes overlap.
 /// On failure, the message is the first file's in that order.
-fn write_outputs(problem: &Problem, outcome: &Outcome, out_dir: &Path) -> Result<(DesignFile, String), Failure> {
+fn write_outputs(
+    problem: &Problem,
+    outcome: &Outcome,
+    plan: Option<&BuildPlan>,
+    out_dir: &Path,
+) -> Result<(DesignFile, String), Failure> {
     std::thread::scope(|s| {
         let pictures = outcome.best.as_ref().map(|best| {
             let input =
@@ -181,7 +199,10 @@ fn write_outputs(problem: &Problem, outcome: &Outcome, out_dir: &Path) -> Result
             let design = s.spawn(move || write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes()));
             (design, animation)
         });
-        let file = DesignFile::from_outcome(problem, outcome);
+        let mut file = DesignFile::from_outcome(problem, outcome);
+        if let Some(plan) = plan {
+            plan.finish(outcome, &mut file);
+        }
         let json = file.to_json();
         let written = write_atomically(&out_dir.join("design.json"), json.as_bytes());
         let pictures = pictures.map(|(design, animation)| (joined(design), joined(animation)));
@@ -214,12 +235,13 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
     let counts = format!("{} valid of {} samples, {:.2} s, seed {}", s.valid, s.samples, s.seconds.total, s.seed);
     match (&file.status, &file.mechanism, &file.metrics) {
         (Status::Ok, Some(m), Some(x)) => format!(
-            "{}: {} with {} joints{}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}), \
+            "{}: {} with {} joints{}{}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}), \
              min transmission {:.1}°; {counts} -> {}",
             file.scene,
             kind_name(m),
             m.joints.len(),
             pose_reach(problem, &x.pose_errors, units),
+            file.build.as_ref().map_or(String::new(), build_words),
             x.cost,
             x.accuracy,
             x.smoothness,
@@ -234,6 +256,21 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
             file.reason.as_deref().unwrap_or(""),
             out_dir.join("design.json").display()
         ),
+    }
+}
+
+/// How the design is built, for the summary: "; a printed model at 1:5, 430 × 470 mm".
+fn build_words(record: &linkwright_core::BuildRecord) -> String {
+    let how = match record.checked {
+        Build::Full(material) => format!("full size, {}", material.id()),
+        _ => {
+            let size = record.model_mm.map_or(String::new(), |[w, h]| format!(", {w:.0} × {h:.0} mm"));
+            format!("a printed model at {}{size}", record.checked.to_string().trim_start_matches("model:"))
+        }
+    };
+    match &record.reason {
+        Some(reason) if !record.buildable => format!("; NOT buildable as {how}: {reason}"),
+        _ => format!("; {how}"),
     }
 }
 

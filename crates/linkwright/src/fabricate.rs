@@ -113,8 +113,12 @@ pub fn run(
     }
     let r = &bundle.report;
     let mut line = format!(
-        "{}: {} parts on {} layer(s) (front {}, back {}), {} plate(s), {:.0} g; ordering {:.3} s, meshing {:.3} s -> {}",
+        "{}: a printed model at {}, {:.0} × {:.0} mm: {} parts on {} layer(s) (front {}, back {}), {} plate(s), {:.0} g; \
+         ordering {:.3} s, meshing {:.3} s -> {}",
         r.scene,
+        r.scale,
+        r.model_mm[0],
+        r.model_mm[1],
         r.totals.parts,
         r.layers.count,
         r.layers.front,

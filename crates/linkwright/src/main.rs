@@ -26,6 +26,11 @@ fn sample_count() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=linkwright_core::limits::MAX_SAMPLES as u64)
 }
 
+/// `--build`: model:auto, model:1:10, full:plywood, ... (the scene format's words).
+fn build_choice() -> impl clap::builder::TypedValueParser<Value = linkwright_core::Build> {
+    |text: &str| text.parse::<linkwright_core::Build>().map_err(|e| e.to_string())
+}
+
 /// Turn a sketch of an object and its key poses into a working linkage.
 #[derive(Parser, Debug)]
 #[command(name = "linkwright", version, about, long_about = None)]

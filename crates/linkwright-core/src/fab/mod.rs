@@ -25,6 +25,7 @@
 //! k on the front face spans `layer_bottom(k)..layer_top(k)`, and the back face mirrors it. Geometry is
 //! built in scene units; exporters write millimetres. Nothing here does I/O: exporters return bytes.
 
+mod build;
 mod bundle;
 mod check;
 mod depth;
@@ -46,6 +47,7 @@ use crate::mechanism::Mechanism;
 use crate::scene::Problem;
 use posts::SceneShapes;
 
+pub use build::{model_scale, BuildPlan, SizeNote, PIN_SPACINGS_PER_BODY};
 pub use bundle::{assembled_meshes, bundle, Bundle, FIXED_FILES};
 pub use check::{check, CheckReport};
 pub use depth::{violations as ordering_violations, Constraint, Face, Ordering, PillarRef, Recorded};
@@ -208,6 +210,10 @@ pub struct Fabrication {
     pub settings: PrintSettings,
     /// The print settings in scene units.
     pub dims: Dims,
+    /// The model's scale: the parts are the drawing at this scale.
+    pub scale: crate::scene::Ratio,
+    /// The model's extent, width and height in millimetres: everything drawn at the model's scale.
+    pub model_mm: [f64; 2],
     /// The counterbalance springs hooked, as asked for (their hooks are in the layout).
     pub springs: Vec<SpringEnds>,
     /// The printed members and what carries each.
@@ -339,6 +345,8 @@ pub fn fabricate(
         joint_names: mechanism.topology.joint_names.clone(),
         settings: settings.clone(),
         dims,
+        scale: crate::scene::Ratio::ONE,
+        model_mm: build::drawn_mm(problem, mm_per_unit),
         layout,
         recorded,
         ordering,
@@ -402,8 +410,11 @@ pub fn fabricate_design_with_springs(
     springs: &[SpringEnds],
 ) -> Result<Fabrication, FabError> {
     let mm = millimetres_per_unit(units).ok_or_else(|| FabError::Units(units.to_string()))?;
+    let scale = model_scale(problem, mm, Some(design), settings);
     let (mechanism, travel) = checked_design(problem, design)?;
-    fabricate(problem, mm, &mechanism, travel, settings, springs)
+    let mut fabrication = fabricate(problem, mm * scale.factor(), &mechanism, travel, settings, springs)?;
+    fabrication.scale = scale;
+    Ok(fabrication)
 }
 
 /// The mechanism and travel of a design file that is valid ([`crate::design::DesignFile::validate`])

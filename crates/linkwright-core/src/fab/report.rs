@@ -18,8 +18,14 @@ pub struct Report {
     pub linkwright: &'static str,
     /// The scene's name.
     pub scene: String,
-    /// Millimetres per scene unit.
+    /// Millimetres of the printed parts per scene unit (the object's millimetres per unit times the
+    /// model's scale).
     pub mm_per_unit: f64,
+    /// The model's scale (`1:10`: a tenth of the object's size).
+    pub scale: String,
+    /// The model's extent at its first pose, width and height in millimetres: everything drawn, at
+    /// the model's scale.
+    pub model_mm: [f64; 2],
     /// The print settings used.
     pub settings: super::PrintSettings,
     /// How many layers the depth ordering uses on each face.
@@ -229,6 +235,8 @@ pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report
         linkwright: FABRICATION_FORMAT,
         scene: fab.scene_name.clone(),
         mm_per_unit: s,
+        scale: fab.scale.to_string(),
+        model_mm: fab.model_mm,
         settings: fab.settings.clone(),
         layers: Layers {
             front: fab.ordering.layers_on(Face::Front),

@@ -1,0 +1,324 @@
+//! The build a scene asks for, made concrete: a printed model's scale (an `auto` scale decided from
+//! the drawing), the print check the synthesis runs at that scale, and what a design's file records
+//! about it (whether it can be built so, and if not why, in numbers).
+//!
+//! **Why the auto scale is decided from the drawing, before the search.** The synthesis compares
+//! candidates by costs measured in fractions of the body size; it needs one print check for all of
+//! them, so that a cheaper linkage is never refused only because it was judged at another scale. The
+//! drawing bounds what the links can be: their joints lie in the linkage region at the first pose (the
+//! region a person draws, or everything drawn at the first pose), so a link is at most the region's
+//! diagonal long, and the smallest body is where two pins must fit side by side. Deciding before the
+//! search costs nothing (no second search), and the choice is scale-free: the series is closed under
+//! a factor of 10, so the same object drawn 100 times as large gets a scale 100 times as small, the
+//! same model in millimetres, and the same linkage.
+
+use super::settings::{Bed, Dims};
+use super::{millimetres_per_unit, FabError, FeasibilityCheck, PrintSettings};
+use crate::design::{BuildRecord, DesignFile, Status};
+use crate::geom::Aabb;
+use crate::mechanism::{Mechanism, PartKind};
+use crate::scene::{Build, ModelScale, Problem, Ratio};
+use crate::synth::{Acceptance, Outcome};
+
+/// The smallest body of a model must be this many times the least spacing of two pins: a body
+/// carries two joints or a joint and a connector post, about its size apart, and links drawn between
+/// bodies that small end up shorter still.
+pub const PIN_SPACINGS_PER_BODY: f64 = 2.0;
+
+/// What is wrong with a drawing's size for a build, with the numbers (at the model's scale).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SizeNote {
+    /// The linkage region is larger than the print area at this scale: long links would not fit.
+    #[error(
+        "at {scale} the linkage region is {reach_mm:.0} mm across, more than the {usable_mm:.0} mm print area \
+         (links that long would not fit the bed){}",
+        fits.map_or(String::new(), |r| format!(": print at {r} or smaller"))
+    )]
+    TooLarge {
+        /// The model's scale.
+        scale: Ratio,
+        /// The region's diagonal in the model, mm.
+        reach_mm: f64,
+        /// The print area's shorter side (the bed minus its margins), mm.
+        usable_mm: f64,
+        /// The largest scale of the series at which it fits.
+        fits: Option<Ratio>,
+    },
+    /// The smallest body is too small at this scale for two pins side by side.
+    #[error(
+        "at {scale} the smallest moving body is {body_mm:.2} mm across, less than the {need_mm:.1} mm its pins \
+         and connectors need{}",
+        fits.map_or(String::new(), |r| format!(": print at {r} or larger"))
+    )]
+    TooSmall {
+        /// The model's scale.
+        scale: Ratio,
+        /// The smallest body's size d in the model, mm.
+        body_mm: f64,
+        /// What the print settings need ([`PIN_SPACINGS_PER_BODY`] pin spacings), mm.
+        need_mm: f64,
+        /// The smallest scale of the series at which it is large enough.
+        fits: Option<Ratio>,
+    },
+}
+
+/// A scene's build made concrete for one set of print settings.
+#[derive(Clone, Debug)]
+pub struct BuildPlan {
+    /// The build the scene asks for.
+    pub asked: Build,
+    /// The build designs are checked for: a model's scale decided, or full size.
+    pub checked: Build,
+    /// Millimetres per unit of the drawing (the real object).
+    pub object_mm_per_unit: f64,
+    /// What is wrong with the drawing's size for the build (empty when nothing is).
+    pub notes: Vec<SizeNote>,
+    /// The everything-drawn box, scene units.
+    drawn: Aabb,
+    /// The print area's shorter side, mm.
+    usable_mm: f64,
+    /// A link's width, mm.
+    link_width: f64,
+    /// The print check at the model's scale (none for a full-size build).
+    check: Option<FeasibilityCheck>,
+}
+
+/// How the drawing's size compares with what a model needs, in scene units and millimetres.
+struct Sizes {
+    /// The linkage region's diagonal, mm of the object.
+    reach_mm: f64,
+    /// The smallest body's size d, mm of the object.
+    body_mm: f64,
+    /// The print area's shorter side, mm.
+    usable_mm: f64,
+    /// A link's width, mm.
+    link_width: f64,
+    /// What the smallest body must be in the model, mm.
+    need_mm: f64,
+}
+
+impl Sizes {
+    fn new(problem: &Problem, mm_per_unit: f64, settings: &PrintSettings) -> Sizes {
+        let d = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
+        Sizes {
+            reach_mm: problem.region.aabb().diagonal() * mm_per_unit,
+            body_mm: d * mm_per_unit,
+            usable_mm: usable_mm(&settings.bed),
+            link_width: settings.link_width,
+            need_mm: PIN_SPACINGS_PER_BODY * Dims::new(settings, 1.0).min_joint_spacing(),
+        }
+    }
+    /// Whether a link as long as the region fits the print area at `scale`.
+    fn fits(&self, scale: Ratio) -> bool {
+        scale.factor() * self.reach_mm + self.link_width <= self.usable_mm
+    }
+    /// Whether the smallest body is large enough for its pins at `scale`.
+    fn large_enough(&self, scale: Ratio) -> bool {
+        scale.factor() * self.body_mm >= self.need_mm
+    }
+    /// The scale of the series nearest 1:1 that fits and is large enough; when none is both, the
+    /// largest that fits (the bed is a hard limit, and small links are refused one by one); when
+    /// none fits, the smallest.
+    fn auto(&self) -> Ratio {
+        let series = Ratio::series();
+        let distance = |r: &Ratio| r.factor().ln().abs();
+        // The smaller of two scales as near 1:1 (fewer, smaller parts).
+        series
+            .iter()
+            .filter(|&&r| self.fits(r) && self.large_enough(r))
+            .min_by(|a, b| distance(a).total_cmp(&distance(b)).then(a.factor().total_cmp(&b.factor())))
+            .or_else(|| series.iter().find(|&&r| self.fits(r)))
+            .copied()
+            .unwrap_or(series[series.len() - 1])
+    }
+    /// What is wrong at `scale`.
+    fn notes(&self, scale: Ratio) -> Vec<SizeNote> {
+        let series = Ratio::series();
+        let mut notes = Vec::new();
+        if !self.fits(scale) {
+            notes.push(SizeNote::TooLarge {
+                scale,
+                reach_mm: scale.factor() * self.reach_mm,
+                usable_mm: self.usable_mm,
+                fits: series.iter().copied().find(|&r| self.fits(r)),
+            });
+        }
+        if !self.large_enough(scale) {
+            notes.push(SizeNote::TooSmall {
+                scale,
+                body_mm: scale.factor() * self.body_mm,
+                need_mm: self.need_mm,
+                fits: series.iter().rev().copied().find(|&r| self.large_enough(r)),
+            });
+        }
+        notes
+    }
+}
+
+/// The print area's shorter side: the bed minus its margins, mm.
+fn usable_mm(bed: &Bed) -> f64 {
+    (bed.width - 2.0 * bed.margin).min(bed.depth - 2.0 * bed.margin)
+}
+
+impl BuildPlan {
+    /// The scene's build (`problem.build`) made concrete with `settings`: an `auto` model scale
+    /// decided from the drawing, and the print check at the model's scale. Fails when the scene's
+    /// units are not a length.
+    pub fn new(problem: &Problem, settings: &PrintSettings) -> Result<BuildPlan, FabError> {
+        let object_mm_per_unit =
+            millimetres_per_unit(&problem.units).ok_or_else(|| FabError::Units(problem.units.clone()))?;
+        let sizes = Sizes::new(problem, object_mm_per_unit, settings);
+        let (checked, notes) = match problem.build {
+            Build::Model(ModelScale::Auto) => {
+                let scale = sizes.auto();
+                (Build::Model(ModelScale::Fixed(scale)), sizes.notes(scale))
+            }
+            Build::Model(ModelScale::Fixed(scale)) => (problem.build, sizes.notes(scale)),
+            Build::Full(_) => (problem.build, Vec::new()),
+        };
+        let check = match checked {
+            Build::Model(ModelScale::Fixed(scale)) => {
+                Some(FeasibilityCheck::new(problem, settings, object_mm_per_unit * scale.factor()))
+            }
+            _ => None,
+        };
+        let drawn = drawn_box(problem);
+        Ok(BuildPlan { asked: problem.build, checked, object_mm_per_unit, notes, drawn, usable_mm: sizes.usable_mm, link_width: settings.link_width, check })
+    }
+
+    /// The model's scale (none for a full-size build).
+    pub fn model_scale(&self) -> Option<Ratio> {
+        match self.checked {
+            Build::Model(ModelScale::Fixed(scale)) => Some(scale),
+            _ => None,
+        }
+    }
+
+    /// Millimetres of the printed model per unit of the drawing (none for a full-size build).
+    pub fn model_mm_per_unit(&self) -> Option<f64> {
+        self.model_scale().map(|s| self.object_mm_per_unit * s.factor())
+    }
+
+    /// The check every design must pass for this build: printable at the model's scale (none for a
+    /// full-size build, whose parts are cut to size).
+    pub fn acceptance(&self) -> Option<&dyn Acceptance> {
+        self.check.as_ref().map(|c| c as &dyn Acceptance)
+    }
+
+    /// The model's extent, width and height in millimetres: everything drawn at its scale.
+    pub fn model_mm(&self) -> Option<[f64; 2]> {
+        self.model_mm_per_unit().map(|mm| [self.drawn.width() * mm, self.drawn.height() * mm])
+    }
+
+    /// What a design file records of the build for `outcome`: whether its best design can be built
+    /// so, and if not why, with the numbers and what would help.
+    pub fn record(&self, outcome: &Outcome) -> BuildRecord {
+        let buildable = !outcome.unbuildable;
+        let reason = match (&outcome.best, &self.check) {
+            (Some(best), Some(check)) if !buildable => {
+                let error = check.diagnose(&best.mechanism, &best.trace).err();
+                Some(self.unbuildable_reason(&best.mechanism, error))
+            }
+            _ => None,
+        };
+        BuildRecord { asked: self.asked, checked: self.checked, buildable, reason, model_mm: self.model_mm() }
+    }
+
+    /// Records the build in `file` (the design file of `outcome`), and when there is no design and the
+    /// drawing's size is the likely cause, says so first in its reason.
+    pub fn finish(&self, outcome: &Outcome, file: &mut DesignFile) {
+        file.build = Some(self.record(outcome));
+        if file.status == Status::NoSolution && !self.notes.is_empty() {
+            let size: Vec<String> = self.notes.iter().map(|n| n.to_string()).collect();
+            let rest = file.reason.take().unwrap_or_default();
+            file.reason = Some(format!("The drawing's size does not suit the build {}: {}. {rest}", self.asked, size.join("; ")));
+        }
+    }
+
+    /// Why `mechanism` cannot be printed at the model's scale (the print check's `error`), in numbers,
+    /// with the scale that would do or the full-size build.
+    fn unbuildable_reason(&self, mechanism: &Mechanism, error: Option<FabError>) -> String {
+        let Some(scale) = self.model_scale() else { return String::new() };
+        let mm = self.object_mm_per_unit;
+        let f = scale.factor();
+        let (shortest, longest) = link_extremes(mechanism);
+        let series = Ratio::series();
+        match error {
+            Some(FabError::OffBed { .. }) => {
+                let fits = series.iter().find(|r| r.factor() * longest * mm + self.link_width <= self.usable_mm);
+                format!(
+                    "its links are up to {:.0} mm long ({:.0} mm in the model at {scale}), more than the {:.0} mm \
+                     print area: {}build it full size",
+                    longest * mm,
+                    longest * mm * f,
+                    self.usable_mm,
+                    fits.map_or(String::new(), |r| format!("print at {r} or smaller, or "))
+                )
+            }
+            Some(FabError::JointsTooClose { need_mm, .. }) => {
+                let fits = series.iter().rev().find(|r| r.factor() * shortest * mm >= need_mm);
+                format!(
+                    "two joints of one link are {:.1} mm apart ({:.2} mm in the model at {scale}), closer than the \
+                     {need_mm:.1} mm two pins need: {}build it full size",
+                    shortest * mm,
+                    shortest * mm * f,
+                    fits.map_or(String::new(), |r| format!("print at {r} or larger, or "))
+                )
+            }
+            Some(e) => format!("at {scale}, {e}; or build it full size"),
+            None => format!("it cannot be printed at {scale}; build it full size"),
+        }
+    }
+}
+
+/// The scale a design is printed at, for a drawing of `mm_per_unit` millimetres per unit: the
+/// scene's model scale when it fixes one; with `auto`, the scale `design` was checked at when it
+/// records one for `auto`, else the one the drawing decides ([`BuildPlan`]). A full-size build's
+/// printed model takes the `auto` scale too.
+pub fn model_scale(
+    problem: &Problem,
+    mm_per_unit: f64,
+    design: Option<&DesignFile>,
+    settings: &PrintSettings,
+) -> Ratio {
+    if let Build::Model(ModelScale::Fixed(scale)) = problem.build {
+        return scale;
+    }
+    let recorded = design.and_then(|d| d.build.as_ref()).and_then(|b| match (b.asked, b.checked) {
+        (Build::Model(ModelScale::Auto), Build::Model(ModelScale::Fixed(scale))) => Some(scale),
+        _ => None,
+    });
+    recorded.unwrap_or_else(|| Sizes::new(problem, mm_per_unit, settings).auto())
+}
+
+/// Everything drawn, width and height at `mm_per_unit` millimetres per unit.
+pub(crate) fn drawn_mm(problem: &Problem, mm_per_unit: f64) -> [f64; 2] {
+    let drawn = drawn_box(problem);
+    [drawn.width() * mm_per_unit, drawn.height() * mm_per_unit]
+}
+
+/// The shortest and the longest distance between two joints of one link (scene units), with the
+/// slider's guide as a link as long as its stroke.
+fn link_extremes(mechanism: &Mechanism) -> (f64, f64) {
+    let (mut shortest, mut longest) = (f64::INFINITY, 0.0f64);
+    for part in mechanism.topology.parts.iter().filter(|p| p.kind == PartKind::Link) {
+        for (i, &a) in part.joints.iter().enumerate() {
+            for &b in &part.joints[i + 1..] {
+                let d = mechanism.joints[a].distance(mechanism.joints[b]);
+                shortest = shortest.min(d);
+                longest = longest.max(d);
+            }
+        }
+    }
+    (shortest, longest)
+}
+
+/// The box around everything drawn: fixed bodies, moving bodies at every pose and the linkage region.
+fn drawn_box(problem: &Problem) -> Aabb {
+    let mut boxes = problem.fixed.iter().map(|f| f.aabb()).collect::<Vec<_>>();
+    for b in &problem.bodies {
+        boxes.extend(b.poses.iter().map(|pose| b.outline.transformed(pose).aabb()));
+    }
+    boxes.push(problem.region.aabb());
+    boxes.into_iter().reduce(|a, b| a.union(&b)).expect("the region is always there")
+}
