@@ -16,11 +16,11 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
 use linkwright_core::balance::{Balanced, Balancing, SpringSearch};
-use linkwright_core::fab::{millimetres_per_unit, FeasibilityCheck, PrintSettings};
+use linkwright_core::fab::{millimetres_per_unit, model_scale, BuildPlan, PrintSettings};
 use linkwright_core::geom::Point;
 use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
-    animation_svg, design_svg, synthesize_with, Acceptance, DesignFile, EditError, Mechanism, MechanismType, Options,
+    animation_svg, design_svg, synthesize_with, DesignFile, EditError, Mechanism, MechanismType, Options,
     Problem, Progress, Reject, RenderInput, Scene, Start, Status,
 };
 use serde_json::{json, Map, Value};
@@ -165,8 +165,15 @@ const MAX_PRINTED_BODY_MM: f64 = 100_000.0;
 
 /// Refuses a scene with a body too large for the print computations ([`MAX_PRINTED_BODY_MM`]), when
 /// its units are known (otherwise nothing is printed). `prefix` is the request field of the scene.
-pub(super) fn printable_size(problem: &Problem, units: &str, prefix: &str) -> Result<(), ApiError> {
-    let Some(mm) = millimetres_per_unit(units) else { return Ok(()) };
+pub(super) fn printable_size(
+    problem: &Problem,
+    units: &str,
+    settings: &PrintSettings,
+    prefix: &str,
+) -> Result<(), ApiError> {
+    let Some(object_mm) = millimetres_per_unit(units) else { return Ok(()) };
+    // What is printed is the model, at its scale.
+    let mm = object_mm * model_scale(problem, object_mm, None, settings).factor();
     let across = |points: &mut dyn Iterator<Item = &linkwright_core::geom::Point>| {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
@@ -182,8 +189,9 @@ pub(super) fn printable_size(problem: &Problem, units: &str, prefix: &str) -> Re
         return Ok(());
     }
     let message = format!(
-        "a body is {largest:.0} mm across; this server makes printable designs of bodies up to \
-         {MAX_PRINTED_BODY_MM:.0} mm (100 m) across: check the scene's units and sizes"
+        "a body is {largest:.0} mm across in the printed model; this server makes printable designs of bodies \
+         up to {MAX_PRINTED_BODY_MM:.0} mm (100 m) across: check the scene's units and sizes, or choose a smaller \
+         model scale (build)"
     );
     let field = if prefix.is_empty() { "units".to_string() } else { format!("{prefix}.units") };
     Err(ApiError::unprocessable(format!("the scene is too large to print: {message}")).with_issue(field, message))
@@ -193,8 +201,6 @@ pub(super) fn printable_size(problem: &Problem, units: &str, prefix: &str) -> Re
 /// the print settings its designs must be printable with.
 struct DesignInput {
     problem: Problem,
-    /// The scene's `units` (the problem has none).
-    units: String,
     previous: Vec<Mechanism>,
     settings: PrintSettings,
     /// Whether the design's motion analysis is wanted with it (`"analysis": true`).
@@ -212,13 +218,13 @@ impl DesignInput {
         let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
         let Some(scene) = wrapped else {
             let (scene, problem) = scene_of(text, "")?;
-            printable_size(&problem, &scene.units, "")?;
             let settings = PrintSettings::default();
-            return Ok(DesignInput { problem, units: scene.units, previous: Vec::new(), settings, analysis: false });
+            printable_size(&problem, &scene.units, &settings, "")?;
+            return Ok(DesignInput { problem, previous: Vec::new(), settings, analysis: false });
         };
         let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
-        printable_size(&problem, &scene.units, "scene")?;
         let settings = print_settings(value.get("print_settings"), "print_settings")?;
+        printable_size(&problem, &scene.units, &settings, "scene")?;
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
@@ -236,7 +242,7 @@ impl DesignInput {
                     .with_issue("analysis", "must be true or false"))
             }
         };
-        Ok(DesignInput { problem, units: scene.units, previous, settings, analysis })
+        Ok(DesignInput { problem, previous, settings, analysis })
     }
 
     /// The motion analysis of `file`'s design when it was asked for and there is one.
@@ -255,14 +261,18 @@ impl DesignInput {
         // The print pre-check is built here, inside the job, not while the request is parsed: for a
         // large scene it is heavy, and it has no cancellation hook, so it must not run on the async
         // threads that answer every other request.
-        let printable =
-            millimetres_per_unit(&self.units).map(|mm| FeasibilityCheck::new(&self.problem, &self.settings, mm));
+        // A scene in units that are not a length is designed without a build (nothing is printed).
+        let plan = BuildPlan::new(&self.problem, &self.settings).ok();
         let start = if self.previous.is_empty() { Start::Cold } else { Start::Warm(&self.previous) };
-        let options = Options { start, printable: printable.as_ref().map(|c| c as &dyn Acceptance) };
+        let options = Options { start, printable: plan.as_ref().and_then(BuildPlan::acceptance) };
         let observer = JobObserver { flag: flag.clone(), on_progress };
-        synthesize_with(&self.problem, &options, &observer)
-            .map(|outcome| DesignFile::from_outcome(&self.problem, &outcome))
-            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))
+        let outcome = synthesize_with(&self.problem, &options, &observer)
+            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))?;
+        let mut file = DesignFile::from_outcome(&self.problem, &outcome);
+        if let Some(plan) = plan {
+            plan.finish(&outcome, &mut file);
+        }
+        Ok(file)
     }
 }
 

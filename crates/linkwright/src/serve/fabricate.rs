@@ -47,7 +47,7 @@ impl Request {
         let which = compound.which()?;
         let springs = compound.flag("springs")?;
         let Compound { problem, units, mut design, .. } = compound;
-        printable_size(&problem, &units, "scene")?;
+        printable_size(&problem, &units, &settings, "scene")?;
         if design.mechanism.is_none() {
             let message = "the design has no linkage to fabricate (it found no solution): design one first";
             return Err(ApiError::unprocessable(message).with_issue("design.mechanism", message));
