@@ -7,7 +7,7 @@
 //! them, so that a cheaper linkage is never refused only because it was judged at another scale. The
 //! drawing bounds what the links can be: their joints lie in the linkage region at the first pose (the
 //! region a person draws, or everything drawn at the first pose), so a link is at most the region's
-//! diagonal long, and the smallest body is where two pins must fit side by side. Deciding before the
+//! diagonal long, and links a fraction of it long must still hold two pins. Deciding before the
 //! search costs nothing (no second search), and the choice is scale-free: the series is closed under
 //! a factor of 10, so the same object drawn 100 times as large gets a scale 100 times as small, the
 //! same model in millimetres, and the same linkage.
@@ -20,10 +20,12 @@ use crate::mechanism::{Mechanism, PartKind};
 use crate::scene::{Build, ModelScale, Problem, Ratio};
 use crate::synth::{Acceptance, Outcome};
 
-/// The smallest body of a model must be this many times the least spacing of two pins: a body
-/// carries two joints or a joint and a connector post, about its size apart, and links drawn between
-/// bodies that small end up shorter still.
-pub const PIN_SPACINGS_PER_BODY: f64 = 2.0;
+/// The linkage region of a model must be this many times the least spacing of two pins across: a
+/// link spans a fraction of the region (the bundled examples' mean link is about a third of the
+/// region's diagonal), and its two pins need that spacing. With the default print settings the region
+/// must then be 35–200 mm across, a window wider than any step of the 1-2-5 series, so some scale
+/// always satisfies both bounds.
+pub const PIN_SPACINGS_PER_REGION: f64 = 4.0;
 
 /// What is wrong with a drawing's size for a build, with the numbers (at the model's scale).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -44,18 +46,18 @@ pub enum SizeNote {
         /// The largest scale of the series at which it fits.
         fits: Option<Ratio>,
     },
-    /// The smallest body is too small at this scale for two pins side by side.
+    /// The linkage region is too small at this scale for links with two pins each.
     #[error(
-        "at {scale} the smallest moving body is {body_mm:.2} mm across, less than the {need_mm:.1} mm its pins \
-         and connectors need{}",
+        "at {scale} the linkage region is {reach_mm:.2} mm across, less than the {need_mm:.1} mm links with \
+         pins need{}",
         fits.map_or(String::new(), |r| format!(": print at {r} or larger"))
     )]
     TooSmall {
         /// The model's scale.
         scale: Ratio,
-        /// The smallest body's size d in the model, mm.
-        body_mm: f64,
-        /// What the print settings need ([`PIN_SPACINGS_PER_BODY`] pin spacings), mm.
+        /// The region's diagonal in the model, mm.
+        reach_mm: f64,
+        /// What the print settings need ([`PIN_SPACINGS_PER_REGION`] pin spacings), mm.
         need_mm: f64,
         /// The smallest scale of the series at which it is large enough.
         fits: Option<Ratio>,
@@ -87,34 +89,30 @@ pub struct BuildPlan {
 struct Sizes {
     /// The linkage region's diagonal, mm of the object.
     reach_mm: f64,
-    /// The smallest body's size d, mm of the object.
-    body_mm: f64,
     /// The print area's shorter side, mm.
     usable_mm: f64,
     /// A link's width, mm.
     link_width: f64,
-    /// What the smallest body must be in the model, mm.
+    /// What the region's diagonal must be in the model, mm.
     need_mm: f64,
 }
 
 impl Sizes {
     fn new(problem: &Problem, mm_per_unit: f64, settings: &PrintSettings) -> Sizes {
-        let d = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
         Sizes {
             reach_mm: problem.region.aabb().diagonal() * mm_per_unit,
-            body_mm: d * mm_per_unit,
             usable_mm: usable_mm(&settings.bed),
             link_width: settings.link_width,
-            need_mm: PIN_SPACINGS_PER_BODY * Dims::new(settings, 1.0).min_joint_spacing(),
+            need_mm: PIN_SPACINGS_PER_REGION * Dims::new(settings, 1.0).min_joint_spacing(),
         }
     }
     /// Whether a link as long as the region fits the print area at `scale`.
     fn fits(&self, scale: Ratio) -> bool {
         scale.factor() * self.reach_mm + self.link_width <= self.usable_mm
     }
-    /// Whether the smallest body is large enough for its pins at `scale`.
+    /// Whether the region is large enough for links with pins at `scale`.
     fn large_enough(&self, scale: Ratio) -> bool {
-        scale.factor() * self.body_mm >= self.need_mm
+        scale.factor() * self.reach_mm >= self.need_mm
     }
     /// The scale of the series nearest 1:1 that fits and is large enough; when none is both, the
     /// largest that fits (the bed is a hard limit, and small links are refused one by one); when
@@ -146,7 +144,7 @@ impl Sizes {
         if !self.large_enough(scale) {
             notes.push(SizeNote::TooSmall {
                 scale,
-                body_mm: scale.factor() * self.body_mm,
+                reach_mm: scale.factor() * self.reach_mm,
                 need_mm: self.need_mm,
                 fits: series.iter().rev().copied().find(|&r| self.large_enough(r)),
             });
@@ -183,7 +181,16 @@ impl BuildPlan {
             _ => None,
         };
         let drawn = drawn_box(problem);
-        Ok(BuildPlan { asked: problem.build, checked, object_mm_per_unit, notes, drawn, usable_mm: sizes.usable_mm, link_width: settings.link_width, check })
+        Ok(BuildPlan {
+            asked: problem.build,
+            checked,
+            object_mm_per_unit,
+            notes,
+            drawn,
+            usable_mm: sizes.usable_mm,
+            link_width: settings.link_width,
+            check,
+        })
     }
 
     /// The model's scale (none for a full-size build).
@@ -231,7 +238,8 @@ impl BuildPlan {
         if file.status == Status::NoSolution && !self.notes.is_empty() {
             let size: Vec<String> = self.notes.iter().map(|n| n.to_string()).collect();
             let rest = file.reason.take().unwrap_or_default();
-            file.reason = Some(format!("The drawing's size does not suit the build {}: {}. {rest}", self.asked, size.join("; ")));
+            file.reason =
+                Some(format!("The drawing's size does not suit the build {}: {}. {rest}", self.asked, size.join("; ")));
         }
     }
 

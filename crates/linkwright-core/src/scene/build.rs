@@ -28,25 +28,20 @@ impl Ratio {
         f64::from(self.model) / f64::from(self.object)
     }
 
-    /// The 1-2-5 series from 100:1 down to 1:10000, largest first: the scales a model is chosen
+    /// The 1-2-5 series from 10000:1 down to 1:10000, largest first: the scales a model is chosen
     /// from when its scale is `auto`. The series is closed under a factor of 10 within its range, so
     /// a drawing ten times as large gets a scale exactly ten times as small and the same model.
     pub fn series() -> Vec<Ratio> {
-        let mut out = Vec::new();
-        for model in [100, 50, 20, 10, 5, 2] {
-            out.push(Ratio { model, object: 1 });
-        }
-        let mut decade = 1;
-        while decade <= MAX_RATIO_TERM {
-            for step in [1, 2, 5] {
-                let object = step * decade;
-                if object <= MAX_RATIO_TERM {
-                    out.push(Ratio { model: 1, object });
-                }
-            }
-            decade *= 10;
-        }
-        out
+        // 1, 2, 5, 10, 20, ... up to the largest term.
+        let terms: Vec<u32> = (0..)
+            .map(|k| 10u32.pow(k))
+            .take_while(|&decade| decade <= MAX_RATIO_TERM)
+            .flat_map(|decade| [decade, 2 * decade, 5 * decade])
+            .filter(|&t| t <= MAX_RATIO_TERM)
+            .collect();
+        let up = terms.iter().rev().filter(|&&t| t > 1).map(|&model| Ratio { model, object: 1 });
+        let down = terms.iter().map(|&object| Ratio { model: 1, object });
+        up.chain(down).collect()
     }
 }
 
@@ -226,7 +221,8 @@ mod tests {
     #[test]
     fn the_series_is_one_two_five_and_closed_under_ten() {
         let s = Ratio::series();
-        assert_eq!(s.first(), Some(&Ratio { model: 100, object: 1 }));
+        assert_eq!(s.first(), Some(&Ratio { model: 10_000, object: 1 }));
+        assert_eq!(s.len(), 2 * 12 + 1, "1, 2 and 5 a decade up to 10000 each way, and 1:1 once");
         assert_eq!(s.last(), Some(&Ratio { model: 1, object: 10_000 }));
         assert!(s.windows(2).all(|w| w[0].factor() > w[1].factor()));
         assert!(s.contains(&Ratio::ONE) && s.contains(&Ratio { model: 1, object: 5 }));
