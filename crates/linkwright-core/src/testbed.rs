@@ -191,6 +191,28 @@ impl KnownScene {
     }
 }
 
+/// `scene` drawn `factor` times as large in the same units: every coordinate (outlines, poses,
+/// regions, pinned joints) and every body thickness multiplied, angles kept. The same object at
+/// another size, for measuring how designs and builds depend on size.
+pub fn scaled_scene(scene: &Scene, factor: f64) -> Scene {
+    let points = |v: &[Point]| v.iter().map(|p| Point::new(p.x * factor, p.y * factor)).collect::<Vec<_>>();
+    let mut out = scene.clone();
+    for body in &mut out.fixed_bodies {
+        body.polygon = points(&body.polygon);
+    }
+    for body in &mut out.moving_bodies {
+        body.polygon = points(&body.polygon);
+        body.poses = body.poses.iter().map(|&[x, y, angle]| [x * factor, y * factor, angle]).collect();
+        body.thickness = body.thickness.map(|t| t * factor);
+    }
+    out.linkage_region = out.linkage_region.as_deref().map(points);
+    out.avoid_regions = out.avoid_regions.iter().map(|r| points(r)).collect();
+    for p in out.pinned_joints.values_mut() {
+        *p = Point::new(p.x * factor, p.y * factor);
+    }
+    out
+}
+
 /// The scene of `family` with `poses` poses drawn from `seed`, every length multiplied by `scale`.
 pub fn known_scene(family: Family, poses: usize, seed: u64, scale: f64) -> Result<KnownScene, TestbedError> {
     let k = family.body_count();

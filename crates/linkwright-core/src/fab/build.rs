@@ -232,14 +232,17 @@ impl BuildPlan {
     }
 
     /// Records the build in `file` (the design file of `outcome`), and when there is no design and the
-    /// drawing's size is the likely cause, says so first in its reason.
+    /// drawing's size does not suit the build, says that instead (the search's own reason would blame
+    /// the poses).
     pub fn finish(&self, outcome: &Outcome, file: &mut DesignFile) {
         file.build = Some(self.record(outcome));
         if file.status == Status::NoSolution && !self.notes.is_empty() {
             let size: Vec<String> = self.notes.iter().map(|n| n.to_string()).collect();
-            let rest = file.reason.take().unwrap_or_default();
-            file.reason =
-                Some(format!("The drawing's size does not suit the build {}: {}. {rest}", self.asked, size.join("; ")));
+            file.reason = Some(format!(
+                "The drawing's size does not suit the build {}: {}; the search found no linkage at this scale.",
+                self.asked,
+                size.join("; ")
+            ));
         }
     }
 
