@@ -141,7 +141,9 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     }
     // The library says what would help; the remedy only this command has is its own.
     if outcome.unbuildable {
-        eprintln!("hint: --build model:1:N prints the model at another scale, --build full:plywood builds it full size");
+        eprintln!(
+            "hint: --build model:1:N prints the model at another scale, --build full:plywood builds it full size"
+        );
     } else if outcome.best.is_none() && plan.as_ref().is_some_and(|p| !p.notes.is_empty()) {
         eprintln!("hint: --build model:auto picks a scale that suits the drawing");
     }

@@ -20,8 +20,8 @@ use linkwright_core::fab::{millimetres_per_unit, model_scale, BuildPlan, PrintSe
 use linkwright_core::geom::Point;
 use linkwright_core::statics::{driving_torque, Masses};
 use linkwright_core::{
-    animation_svg, design_svg, synthesize_with, DesignFile, EditError, Mechanism, MechanismType, Options,
-    Problem, Progress, Reject, RenderInput, Scene, Start, Status,
+    animation_svg, design_svg, synthesize_with, DesignFile, EditError, Mechanism, MechanismType, Options, Problem,
+    Progress, Reject, RenderInput, Scene, Start, Status,
 };
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
