@@ -1,7 +1,9 @@
 //! `linkwright bench`: the paper's Table 1, measured side by side on this machine; with `--known`,
-//! the quality of the designs on scenes whose exact answer is known (see [`known`]).
+//! the quality of the designs on scenes whose exact answer is known (see [`known`]); with `--sizes`,
+//! how the scenes given design and print at a hundredth and a hundred times their size ([`sizes`]).
 
 mod known;
+mod sizes;
 
 use crate::files::read_problem;
 use crate::Failure;
@@ -37,6 +39,10 @@ pub struct BenchArgs {
     /// inspect one (`<family>_k<K>_n<N>_seed<S>.json` and `.design.json`).
     #[arg(long, requires = "known", value_name = "DIR")]
     save: Option<PathBuf>,
+    /// Design each scene given at 0.01x, 1x and 100x its size with default settings (an auto printed
+    /// model): the model's scale, the worst pose error at each size, and whether its parts fit the plates.
+    #[arg(long, conflicts_with_all = ["known", "repeat"])]
+    sizes: bool,
 }
 
 /// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
@@ -128,6 +134,9 @@ pub fn bench(args: BenchArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
     if args.known {
         return known::bench_known(args.quick, args.seed, args.save.as_deref(), &pool, args.json);
+    }
+    if args.sizes {
+        return sizes::bench_sizes(&args.scenes, &pool, args.json);
     }
     let mut jobs: Vec<(String, Problem, Option<f64>)> = Vec::new();
     if args.scenes.is_empty() {
