@@ -128,8 +128,8 @@ pub enum FabError {
     },
     #[error(
         "{parts} fit the {width:.0} × {depth:.0} mm print area (the bed minus its margins) in no turn: print on a \
-         bed of at least {square_bed_mm:.0} mm square (print settings \"bed\"), scale the scene by at most \
-         {max_scale:.2}, or choose another design"
+         bed of at least {square_bed_mm:.0} mm square (print settings \"bed\"), print a model at most \
+         {max_scale:.2} times as large (the scene's build), or choose another design"
     )]
     /// Some links, connectors or the frame fit the print bed in no turn.
     OffBed {

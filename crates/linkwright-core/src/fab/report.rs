@@ -307,7 +307,8 @@ impl Report {
         let scale = self.oversized.iter().map(|o| o.misfit.max_scale).fold(f64::INFINITY, f64::min);
         Some(format!(
             "{} larger than the {:.0} × {:.0} mm print area (the bed minus its margins) in every turn: print on a \
-             bed of at least {side:.0} mm square (print settings \"bed\"), or scale the scene by at most {scale:.2}",
+             bed of at least {side:.0} mm square (print settings \"bed\"), or print a model at most {scale:.2} times as large (the scene's \
+             build)",
             names.join(", "),
             bed.width - 2.0 * bed.margin,
             bed.depth - 2.0 * bed.margin,
