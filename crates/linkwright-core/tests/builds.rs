@@ -22,8 +22,8 @@ fn design(scene: &Scene, build: Build, samples: usize) -> (Problem, BuildPlan, D
     scene.settings.samples = samples;
     let problem = Problem::new(&scene).unwrap();
     let plan = BuildPlan::new(&problem, &PrintSettings::default()).unwrap();
-    let options = Options { printable: plan.acceptance(), ..Options::default() };
-    let outcome = synthesize_with(&problem, &options, &Silent).unwrap();
+    let settings = PrintSettings::default();
+    let (plan, outcome) = plan.synthesize(&problem, &settings, &Options::default(), &Silent).unwrap();
     let mut file = DesignFile::from_outcome(&problem, &outcome);
     plan.finish(&outcome, &mut file);
     (problem, plan, file, outcome.unbuildable)
@@ -34,11 +34,11 @@ fn model(model: u32, object: u32) -> Build {
 }
 
 /// The scale an `auto` model gets by the documented rule, found by trying every scale of the series:
-/// the region's diagonal plus a link's width fits the print area's shorter side, the region is
+/// the region's diagonal plus a link's width fits along the print area's diagonal, the region is
 /// [`PIN_SPACINGS_PER_REGION`] pin spacings across, and of those the nearest 1:1.
 fn expected_auto(scene: &Scene) -> Ratio {
     let s = PrintSettings::default();
-    let usable = s.bed.width.min(s.bed.depth) - 2.0 * s.bed.margin;
+    let usable = (s.bed.width - 2.0 * s.bed.margin).hypot(s.bed.depth - 2.0 * s.bed.margin);
     let spacing = 2.0 * (0.5 * s.link_width - s.wall).max(s.pin_radius + s.radial_clearance + s.wall) + s.wall;
     let region = Problem::new(scene).unwrap().region.aabb().diagonal();
     let mut fitting: Vec<Ratio> = Ratio::series()
@@ -57,7 +57,8 @@ fn an_auto_model_is_at_the_scale_nearest_full_size_that_fits() {
     let wall_bed = example("k1_wall_bed_full_size");
     let table = example("k1_table");
     let cases = [
-        // The 2 m wall bed's region is 630 mm square, 891 mm across: 1:5 puts it at 178 mm.
+        // The 2 m wall bed's region is 630 mm square, 891 mm across: 1:5 puts it at 178 mm, 1:2 at 446 mm,
+        // more than the 297 mm diagonal of the print area.
         (wall_bed.clone(), Ratio { model: 1, object: 5 }),
         (table.clone(), Ratio::ONE),
         (scaled_scene(&table, 0.01), Ratio { model: 50, object: 1 }),

@@ -126,8 +126,13 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         None => Vec::new(),
     };
     let start = if previous.is_empty() { Start::Cold } else { Start::Warm(&previous) };
-    let options = Options { start, printable: plan.as_ref().and_then(BuildPlan::acceptance) };
-    let outcome = pool.install(|| synthesize_with(&problem, &options, &observer)).expect("the CLI never cancels");
+    let options = Options { start, printable: None };
+    let (plan, outcome) = pool
+        .install(|| match plan {
+            Some(plan) => plan.synthesize(&problem, &print_settings, &options, &observer).map(|(p, o)| (Some(p), o)),
+            None => synthesize_with(&problem, &options, &observer).map(|o| (None, o)),
+        })
+        .expect("the CLI never cancels");
     observer.0.finish_and_clear();
 
     std::fs::create_dir_all(&out_dir)

@@ -18,7 +18,7 @@ use crate::design::{BuildRecord, DesignFile, Status};
 use crate::geom::Aabb;
 use crate::mechanism::{Mechanism, PartKind};
 use crate::scene::{Build, ModelScale, Problem, Ratio};
-use crate::synth::{Acceptance, Outcome};
+use crate::synth::{synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome};
 
 /// The linkage region of a model must be this many times the least spacing of two pins across: a
 /// link spans a fraction of the region (the bundled examples' mean link is about a third of the
@@ -27,13 +27,17 @@ use crate::synth::{Acceptance, Outcome};
 /// always satisfies both bounds.
 pub const PIN_SPACINGS_PER_REGION: f64 = 4.0;
 
+/// At most this many larger scales are tried when the print check refuses every linkage at an `auto`
+/// scale ([`BuildPlan::synthesize`]).
+pub const AUTO_RETRIES: usize = 3;
+
 /// What is wrong with a drawing's size for a build, with the numbers (at the model's scale).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SizeNote {
     /// The linkage region is larger than the print area at this scale: long links would not fit.
     #[error(
-        "at {scale} the linkage region is {reach_mm:.0} mm across, more than the {usable_mm:.0} mm print area \
-         (links that long would not fit the bed){}",
+        "at {scale} the linkage region is {reach_mm:.0} mm across, more than the {bed_mm:.0} mm a link can span \
+         on the print bed (its diagonal, less a link's width){}",
         fits.map_or(String::new(), |r| format!(": print at {r} or smaller"))
     )]
     TooLarge {
@@ -41,8 +45,8 @@ pub enum SizeNote {
         scale: Ratio,
         /// The region's diagonal in the model, mm.
         reach_mm: f64,
-        /// The print area's shorter side (the bed minus its margins), mm.
-        usable_mm: f64,
+        /// The longest link the print area takes (its diagonal less a link's width), mm.
+        bed_mm: f64,
         /// The largest scale of the series at which it fits.
         fits: Option<Ratio>,
     },
@@ -77,20 +81,19 @@ pub struct BuildPlan {
     pub notes: Vec<SizeNote>,
     /// The everything-drawn box, scene units.
     drawn: Aabb,
-    /// The print area's shorter side, mm.
-    usable_mm: f64,
-    /// A link's width, mm.
-    link_width: f64,
+    /// The drawing's sizes against the print settings.
+    sizes: Sizes,
     /// The print check at the model's scale (none for a full-size build).
     check: Option<FeasibilityCheck>,
 }
 
 /// How the drawing's size compares with what a model needs, in scene units and millimetres.
+#[derive(Clone, Debug)]
 struct Sizes {
     /// The linkage region's diagonal, mm of the object.
     reach_mm: f64,
-    /// The print area's shorter side, mm.
-    usable_mm: f64,
+    /// The print area's diagonal (the bed minus its margins): the longest bar that lies on it, mm.
+    bed_mm: f64,
     /// A link's width, mm.
     link_width: f64,
     /// What the region's diagonal must be in the model, mm.
@@ -101,14 +104,18 @@ impl Sizes {
     fn new(problem: &Problem, mm_per_unit: f64, settings: &PrintSettings) -> Sizes {
         Sizes {
             reach_mm: problem.region.aabb().diagonal() * mm_per_unit,
-            usable_mm: usable_mm(&settings.bed),
+            bed_mm: bed_diagonal_mm(&settings.bed),
             link_width: settings.link_width,
             need_mm: PIN_SPACINGS_PER_REGION * Dims::new(settings, 1.0).min_joint_spacing(),
         }
     }
-    /// Whether a link as long as the region fits the print area at `scale`.
+    /// Whether a link as long as the region fits the print area at `scale`, along its diagonal.
     fn fits(&self, scale: Ratio) -> bool {
-        scale.factor() * self.reach_mm + self.link_width <= self.usable_mm
+        self.link_fits(scale, self.reach_mm)
+    }
+    /// Whether a link `length_mm` long (in the object) fits the print area at `scale`.
+    fn link_fits(&self, scale: Ratio, length_mm: f64) -> bool {
+        scale.factor() * length_mm + self.link_width <= self.bed_mm
     }
     /// Whether the region is large enough for links with pins at `scale`.
     fn large_enough(&self, scale: Ratio) -> bool {
@@ -137,7 +144,7 @@ impl Sizes {
             notes.push(SizeNote::TooLarge {
                 scale,
                 reach_mm: scale.factor() * self.reach_mm,
-                usable_mm: self.usable_mm,
+                bed_mm: self.bed_mm - self.link_width,
                 fits: series.iter().copied().find(|&r| self.fits(r)),
             });
         }
@@ -153,9 +160,10 @@ impl Sizes {
     }
 }
 
-/// The print area's shorter side: the bed minus its margins, mm.
-fn usable_mm(bed: &Bed) -> f64 {
-    (bed.width - 2.0 * bed.margin).min(bed.depth - 2.0 * bed.margin)
+/// The print area's diagonal (the bed minus its margins), mm: a part turned along it is the longest
+/// that lies on the bed.
+fn bed_diagonal_mm(bed: &Bed) -> f64 {
+    (bed.width - 2.0 * bed.margin).hypot(bed.depth - 2.0 * bed.margin)
 }
 
 impl BuildPlan {
@@ -166,31 +174,82 @@ impl BuildPlan {
         let object_mm_per_unit =
             millimetres_per_unit(&problem.units).ok_or_else(|| FabError::Units(problem.units.clone()))?;
         let sizes = Sizes::new(problem, object_mm_per_unit, settings);
-        let (checked, notes) = match problem.build {
+        let plan = match problem.build {
             Build::Model(ModelScale::Auto) => {
                 let scale = sizes.auto();
-                (Build::Model(ModelScale::Fixed(scale)), sizes.notes(scale))
+                BuildPlan::at(problem, settings, object_mm_per_unit, sizes, Build::Model(ModelScale::Fixed(scale)))
             }
-            Build::Model(ModelScale::Fixed(scale)) => (problem.build, sizes.notes(scale)),
-            Build::Full(_) => (problem.build, Vec::new()),
+            checked => BuildPlan::at(problem, settings, object_mm_per_unit, sizes, checked),
         };
-        let check = match checked {
-            Build::Model(ModelScale::Fixed(scale)) => {
-                Some(FeasibilityCheck::new(problem, settings, object_mm_per_unit * scale.factor()))
+        Ok(plan)
+    }
+
+    /// The plan that checks designs for `checked` (a model's scale fixed, or full size).
+    fn at(
+        problem: &Problem,
+        settings: &PrintSettings,
+        object_mm_per_unit: f64,
+        sizes: Sizes,
+        checked: Build,
+    ) -> BuildPlan {
+        let (notes, check) = match checked {
+            Build::Model(ModelScale::Fixed(scale)) => (
+                sizes.notes(scale),
+                Some(FeasibilityCheck::new(problem, settings, object_mm_per_unit * scale.factor())),
+            ),
+            _ => (Vec::new(), None),
+        };
+        BuildPlan { asked: problem.build, checked, object_mm_per_unit, notes, drawn: drawn_box(problem), sizes, check }
+    }
+
+    /// Runs the synthesis (`options`, whose own check is replaced by this build's) for this build.
+    /// With an `auto` scale, when the print check refused every valid linkage at the scale the drawing
+    /// decided, or the search found none, the search runs again at the next larger scales of the
+    /// series that still fit the bed, at most [`AUTO_RETRIES`] of them, until one gives a design that
+    /// prints: the drawing bounds the links only from above, and how far apart their joints are shows
+    /// only in the search. Returns the plan of the outcome kept (the first printable one, else the
+    /// first).
+    pub fn synthesize(
+        self,
+        problem: &Problem,
+        settings: &PrintSettings,
+        options: &Options,
+        observer: &dyn Observer,
+    ) -> Result<(BuildPlan, Outcome), Cancelled> {
+        let run = |plan: &BuildPlan| {
+            let options = Options { printable: plan.acceptance(), ..*options };
+            synthesize_with(problem, &options, observer)
+        };
+        let first = run(&self)?;
+        let (Build::Model(ModelScale::Auto), Some(scale)) = (self.asked, self.model_scale()) else {
+            return Ok((self, first));
+        };
+        // The pin spacing also thins the samples before any check counts them, so a search with no
+        // design at all may be the scale's doing too.
+        let refused = |o: &Outcome| o.unbuildable || o.best.is_none();
+        if !refused(&first) {
+            return Ok((self, first));
+        }
+        let larger: Vec<Ratio> = Ratio::series()
+            .into_iter()
+            .rev()
+            .filter(|r| r.factor() > scale.factor() && self.sizes.fits(*r))
+            .take(AUTO_RETRIES)
+            .collect();
+        for scale in larger {
+            let plan = BuildPlan::at(
+                problem,
+                settings,
+                self.object_mm_per_unit,
+                self.sizes.clone(),
+                Build::Model(ModelScale::Fixed(scale)),
+            );
+            let outcome = run(&plan)?;
+            if !refused(&outcome) {
+                return Ok((plan, outcome));
             }
-            _ => None,
-        };
-        let drawn = drawn_box(problem);
-        Ok(BuildPlan {
-            asked: problem.build,
-            checked,
-            object_mm_per_unit,
-            notes,
-            drawn,
-            usable_mm: sizes.usable_mm,
-            link_width: settings.link_width,
-            check,
-        })
+        }
+        Ok((self, first))
     }
 
     /// The model's scale (none for a full-size build).
@@ -256,13 +315,13 @@ impl BuildPlan {
         let series = Ratio::series();
         match error {
             Some(FabError::OffBed { .. }) => {
-                let fits = series.iter().find(|r| r.factor() * longest * mm + self.link_width <= self.usable_mm);
+                let fits = series.iter().find(|r| self.sizes.link_fits(**r, longest * mm));
                 format!(
-                    "its links are up to {:.0} mm long ({:.0} mm in the model at {scale}), more than the {:.0} mm \
-                     print area: {}build it full size",
+                    "its links are up to {:.0} mm long ({:.0} mm in the model at {scale}), more than the {:.0} mm a \
+                     link can span on the print bed: {}build it full size",
                     longest * mm,
                     longest * mm * f,
-                    self.usable_mm,
+                    self.sizes.bed_mm - self.sizes.link_width,
                     fits.map_or(String::new(), |r| format!("print at {r} or smaller, or "))
                 )
             }

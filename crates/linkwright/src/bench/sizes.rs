@@ -7,7 +7,7 @@ use crate::files::read_problem;
 use crate::Failure;
 use linkwright_core::fab::{bundle, fabricate_design, BuildPlan, PrintSettings};
 use linkwright_core::testbed::scaled_scene;
-use linkwright_core::{synthesize_with, DesignFile, Options, Problem, Silent, Status};
+use linkwright_core::{DesignFile, Options, Problem, Silent, Status};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -54,9 +54,10 @@ pub fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> 
             let plan = BuildPlan::new(&problem, &settings)
                 .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;
             let seconds_build = t.elapsed().as_secs_f64();
-            let options = Options { printable: plan.acceptance(), ..Options::default() };
             let t = Instant::now();
-            let outcome = pool.install(|| synthesize_with(&problem, &options, &Silent)).expect("never cancelled");
+            let (plan, outcome) = pool
+                .install(|| plan.synthesize(&problem, &settings, &Options::default(), &Silent))
+                .expect("never cancelled");
             let seconds_design = t.elapsed().as_secs_f64();
             let mut file = DesignFile::from_outcome(&problem, &outcome);
             plan.finish(&outcome, &mut file);

@@ -264,10 +264,15 @@ impl DesignInput {
         // A scene in units that are not a length is designed without a build (nothing is printed).
         let plan = BuildPlan::new(&self.problem, &self.settings).ok();
         let start = if self.previous.is_empty() { Start::Cold } else { Start::Warm(&self.previous) };
-        let options = Options { start, printable: plan.as_ref().and_then(BuildPlan::acceptance) };
+        let options = Options { start, printable: None };
         let observer = JobObserver { flag: flag.clone(), on_progress };
-        let outcome = synthesize_with(&self.problem, &options, &observer)
-            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))?;
+        let (plan, outcome) = match plan {
+            Some(plan) => {
+                plan.synthesize(&self.problem, &self.settings, &options, &observer).map(|(p, o)| (Some(p), o))
+            }
+            None => synthesize_with(&self.problem, &options, &observer).map(|o| (None, o)),
+        }
+        .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))?;
         let mut file = DesignFile::from_outcome(&self.problem, &outcome);
         if let Some(plan) = plan {
             plan.finish(&outcome, &mut file);
