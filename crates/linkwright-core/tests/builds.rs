@@ -160,3 +160,17 @@ fn a_drawing_too_small_for_its_scale_is_told_so_in_numbers() {
     assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
     assert_eq!(file.build.unwrap().checked, model(50, 1));
 }
+
+#[test]
+fn an_auto_model_that_prints_nothing_is_tried_at_larger_scales() {
+    // The two-body wall bed drawn 1/100 as large (2 mm): the drawing decides 20:1, where its pins
+    // leave no linkage; at 100:1 (its own size at 1:1) it prints.
+    let scene = scaled_scene(&example("k2_wall_bed"), 0.01);
+    let plan = BuildPlan::new(&Problem::new(&scene).unwrap(), &PrintSettings::default()).unwrap();
+    assert_eq!(plan.model_scale(), Some(Ratio { model: 20, object: 1 }));
+    let (_, _, file, unbuildable) = design(&scene, Build::default(), 100_000);
+    assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
+    assert!(!unbuildable);
+    let record = file.build.unwrap();
+    assert_eq!((record.asked, record.checked), (Build::default(), model(100, 1)));
+}
