@@ -340,11 +340,12 @@ pub fn analyze(
     options: &AnalysisOptions,
 ) -> Result<MotionAnalysis, AnalysisError> {
     let replay = Replay::new(problem, design, which, options.steps)?;
-    Ok(describe(problem, &replay))
+    Ok(describe(problem, Some(design), &replay))
 }
 
-/// The analysis of a replayed mechanism.
-pub fn describe(problem: &Problem, replay: &Replay) -> MotionAnalysis {
+/// The analysis of a replayed mechanism of `design` (whose build record says at which scale a printed
+/// model is weighed).
+pub fn describe(problem: &Problem, design: Option<&DesignFile>, replay: &Replay) -> MotionAnalysis {
     let topo = &replay.mechanism.topology;
     let name = |j: usize| topo.joint_names[j].clone();
     let dyads: Vec<DyadInfo> = replay
@@ -398,7 +399,8 @@ pub fn describe(problem: &Problem, replay: &Replay) -> MotionAnalysis {
         loops: loops(&replay.mechanism),
         min_transmission_deg: min_margin,
         min_transmission_bound_deg: problem.settings.min_transmission_deg,
-        torque: Masses::printed(&PrintSettings::default(), &problem.units)
+        torque: Masses::for_design(problem, design, &PrintSettings::default())
+            .ok()
             .and_then(|masses| driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses).ok()),
     }
 }

@@ -12,6 +12,11 @@
 //! their anchors moved to a local optimum, and the lowest peak wins. The best single springs of the
 //! moving parts each start a pair: a second spring added on what the first leaves, then the two
 //! chosen again against each other; the best pair is kept when it lowers the peak enough further.
+//!
+//! The springs are ones a person can buy: every free length and rate tried is a member of a stock
+//! series ([`FREE_LENGTHS`], [`EXTENSION_RATES`], [`TORSION_RATES`]) at the size of the thing built
+//! (the model's millimetres for a printed model), so the torque reported with them is the torque
+//! those very springs leave. A load whose peak is below [`NO_SPRING_NEEDED_NM`] gets no spring.
 
 use crate::geom::{segments_cross, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{BodyFrames, Plan, Trace};
@@ -28,7 +33,109 @@ pub const STRETCH_RATIO: f64 = 2.5;
 /// A torsion spring is wound one way only, by at most this many degrees.
 pub const MAX_TWIST_DEG: f64 = 360.0;
 
-/// Free lengths (and free angles) tried per pair of anchors.
+/// The peak torque without springs, N·m, below which no spring is needed: 1 N·mm, the order of
+/// what the friction of a printed model's pin joints holds by itself (an estimate, not a
+/// measurement: μ ≈ 0.3 between PLA faces, pressed together by a snap cap with about a newton, on
+/// faces about 3.5 mm from the axis of the default 2 mm pin: 0.3 × 1 N × 3.5 mm ≈ 1 N·mm). A
+/// full-size load is far above it (a 1 kg part 1 cm from its pivot asks 98 N·mm), and so are the
+/// bundled garbage truck's printed parts (about 5 N·mm).
+pub const NO_SPRING_NEEDED_NM: f64 = 1e-3;
+
+/// A series of preferred numbers (ISO 3, the Renard series): the same steps in every decade, each
+/// about the same ratio above the last, so rounding to the series errs by at most half a step in
+/// proportion whatever the size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Series {
+    /// Its name in ISO 3 (`R10`).
+    pub name: &'static str,
+    /// The steps of the decade from 1 to 10, in hundredths (`125` for 1.25).
+    pub hundredths: &'static [u32],
+}
+
+/// Powers of ten that are exact (10²² is the largest a double holds exactly): a member of a series
+/// is then the double nearest its decimal, 3.15 mm as 3.15, not 3.1500000000000004.
+const EXACT_POWERS_OF_TEN: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
+];
+
+impl Series {
+    /// R10: ten steps a decade, each about 1.26 times the last (1, 1.25, 1.6, 2, 2.5, 3.15, 4, 5,
+    /// 6.3, 8).
+    pub const R10: Series = Series { name: "R10", hundredths: &[100, 125, 160, 200, 250, 315, 400, 500, 630, 800] };
+    /// R20: twenty steps a decade, each about 1.12 times the last (R10 and the numbers between).
+    pub const R20: Series = Series {
+        name: "R20",
+        hundredths: &[
+            100, 112, 125, 140, 160, 180, 200, 224, 250, 280, 315, 355, 400, 450, 500, 560, 630, 710, 800, 900,
+        ],
+    };
+
+    /// Step `i` of the decade starting at 10^`decade`.
+    fn member(&self, decade: i32, i: usize) -> f64 {
+        let n = f64::from(self.hundredths[i]);
+        let power = |e: i32| EXACT_POWERS_OF_TEN.get(e.unsigned_abs() as usize).copied().unwrap_or(10f64.powi(e.abs()));
+        let e = decade - 2;
+        if e >= 0 {
+            n * power(e)
+        } else {
+            n / power(e)
+        }
+    }
+
+    /// The members from `lo` to `hi` (both included), ascending; none unless 0 < lo ≤ hi, finite.
+    pub fn within(&self, lo: f64, hi: f64) -> Vec<f64> {
+        if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+            return Vec::new();
+        }
+        // A decade either side, so the logarithms' rounding cannot lose an end.
+        let (first, last) = (lo.log10().floor() as i32 - 1, hi.log10().floor() as i32 + 1);
+        (first..=last)
+            .flat_map(|d| (0..self.hundredths.len()).map(move |i| self.member(d, i)))
+            .filter(|&v| lo <= v && v <= hi)
+            .collect()
+    }
+
+    /// The largest member not above `x` and the smallest not below it (the same twice when `x` is a
+    /// member); `None` unless `x` is positive and finite.
+    pub fn around(&self, x: f64) -> Option<[f64; 2]> {
+        // No step of a series is a factor of 2: both neighbours lie within it.
+        let near = self.within(x / 2.0, x * 2.0);
+        let below = near.iter().copied().rfind(|&v| v <= x)?;
+        let above = near.iter().copied().find(|&v| v >= x)?;
+        Some([below, above])
+    }
+
+    /// The member nearest `x` in proportion; `None` unless `x` is positive and finite.
+    pub fn nearest(&self, x: f64) -> Option<f64> {
+        let [below, above] = self.around(x)?;
+        Some(if x / below <= above / x { below } else { above })
+    }
+
+    /// Whether `x` is a member, to a part in 10¹².
+    pub fn contains(&self, x: f64) -> bool {
+        self.nearest(x).is_some_and(|v| (v - x).abs() <= 1e-12 * v)
+    }
+}
+
+/// The free lengths of the extension springs suggested, mm (hook to hook, at the size of the thing
+/// built): the R20 series. Catalogue extension springs are listed in steps of free length of about
+/// a tenth (suppliers quote the free length, the longest extended length and the rate in N/mm for each
+/// spring), and R20's steps of 12% always leave a member in a range of allowed free lengths wider than
+/// that; R10's 26% steps would leave none for a spring whose length changes by more than twice along
+/// the travel, whose free length must lie between its longest length ÷ [`STRETCH_RATIO`] and its
+/// shortest.
+pub const FREE_LENGTHS: Series = Series::R20;
+/// The rates of the extension springs suggested, N/mm: the R10 series, the catalogue's coarser steps
+/// for the spring's stiffness, which the peak depends on less than on the free length (a rate 12% off
+/// at worst, and the better of the two neighbouring rates is taken).
+pub const EXTENSION_RATES: Series = Series::R10;
+/// The rates of the torsion springs suggested, N·mm per degree, as catalogues give them: the R10
+/// series. A torsion spring's free angle is no catalogue size (where its ground leg rests is set by
+/// the stop it bears on), so it is not rounded.
+pub const TORSION_RATES: Series = Series::R10;
+
+/// Free angles of a torsion spring tried per pair of anchors.
 const FREE_STEPS: usize = 16;
 /// Golden-section steps narrowing the stiffness bracket (the peak is convex in the stiffness) to
 /// 0.618³⁶ ≈ 3·10⁻⁸ of its width.
@@ -93,6 +200,14 @@ pub enum Spring {
         free_length: f64,
         /// Shortest and longest length along the travel, scene units.
         length_range: [f64; 2],
+        /// The free length to buy, mm at the size of the thing built (a model's millimetres for a
+        /// printed model): a member of [`FREE_LENGTHS`].
+        free_length_mm: f64,
+        /// Shortest and longest length along the travel, mm at the size of the thing built: the
+        /// longest is at most [`STRETCH_RATIO`] times the free length.
+        length_range_mm: [f64; 2],
+        /// The rate to buy, N/mm: a member of [`EXTENSION_RATES`] (`stiffness_n_per_m` ÷ 1000).
+        rate_n_per_mm: f64,
         /// Smallest and largest pull along the travel, N.
         force_range_n: [f64; 2],
         /// Both ends at every row of the travel, scene units.
@@ -106,6 +221,8 @@ pub enum Spring {
         pivot: Point,
         /// Stiffness, N·m per radian.
         stiffness_nm_per_rad: f64,
+        /// The rate to buy, N·mm per degree: a member of [`TORSION_RATES`].
+        rate_n_mm_per_deg: f64,
         /// The part's rotation from the first pose at which the spring is unwound, degrees.
         free_angle_deg: f64,
         /// Least and most wind along the travel, degrees.
@@ -117,10 +234,27 @@ pub enum Spring {
     },
 }
 
+/// Whether a load gets springs, as data for the front ends to word.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringNeed {
+    /// The peak without springs is below [`NO_SPRING_NEEDED_NM`]: the linkage needs none.
+    NotNeeded,
+    /// Springs lower the peak: [`Balance::springs`] holds them.
+    Springs,
+    /// The load needs springs, but no stock spring hooked where the search may hook one lowers the
+    /// peak (or the travel passes a dead point, where no torque holds the linkage).
+    NoneHelps,
+}
+
 /// The springs chosen and the driver's torque with them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Balance {
-    /// One or two springs; none when no spring lowers the peak.
+    /// Whether springs are needed and found.
+    pub need: SpringNeed,
+    /// The peak without springs below which no spring is needed, N·m ([`NO_SPRING_NEEDED_NM`]).
+    pub no_spring_below_nm: f64,
+    /// One or two springs; none when none is needed or none lowers the peak.
     pub springs: Vec<Spring>,
     /// The torque the driver supplies at each row with the springs, N·m (signs as without).
     pub torque_with_springs_nm: Vec<f64>,
@@ -197,9 +331,10 @@ impl Stretch {
         rows.iter().map(|&r| along * (self.x[r] - free) * self.dx[r] * self.unit * self.unit).collect()
     }
 
-    /// The free lengths (or angles) the spring may have: an extension spring stays between its
-    /// free length and [`STRETCH_RATIO`] times it; a torsion spring stays wound one way, by at most
-    /// [`MAX_TWIST_DEG`].
+    /// The free lengths (or angles) the spring may have: an extension spring's are the members of
+    /// [`FREE_LENGTHS`] (in mm of the thing built, `unit` metres a scene unit) that keep it between
+    /// its free length and [`STRETCH_RATIO`] times it; a torsion spring stays wound one way, by at
+    /// most [`MAX_TWIST_DEG`].
     fn free_choices(&self, torsion: bool) -> Vec<f64> {
         let (lo, hi) = self.range();
         let steps = |a: f64, b: f64| -> Vec<f64> {
@@ -215,7 +350,14 @@ impl Stretch {
             out.extend(steps(hi, lo + twist));
             out
         } else if hi / STRETCH_RATIO <= lo && lo > 0.0 {
-            steps(hi / STRETCH_RATIO, lo)
+            let mm = self.unit * 1000.0;
+            // Kept only when the length in scene units, as reported, keeps the limits too.
+            FREE_LENGTHS
+                .within(hi / STRETCH_RATIO * mm, lo * mm)
+                .into_iter()
+                .map(|free_mm| free_mm / mm)
+                .filter(|&free| free <= lo && hi <= STRETCH_RATIO * free)
+                .collect()
         } else {
             Vec::new()
         }
@@ -225,7 +367,7 @@ impl Stretch {
 /// The best stiffness (≥ 0) for `share` added to `torque`, and the peak it leaves: the peak
 /// `max |τ + k·share|` is convex in k, so its minimum is bracketed and narrowed.
 fn best_stiffness(torque: &[f64], share: &[f64]) -> (f64, f64) {
-    let peak = |k: f64| torque.iter().zip(share).map(|(t, s)| (t + k * s).abs()).fold(0.0, f64::max);
+    let peak = |k: f64| peak_with(torque, share, k);
     let t_max = torque.iter().fold(0.0f64, |m, t| m.max(t.abs()));
     let s_max = share.iter().fold(0.0f64, |m, s| m.max(s.abs()));
     if s_max == 0.0 || t_max == 0.0 {
@@ -251,6 +393,11 @@ fn best_stiffness(torque: &[f64], share: &[f64]) -> (f64, f64) {
     (k, peak(k))
 }
 
+/// The peak of `torque` with a spring of stiffness `k` whose share per unit stiffness is `share`.
+fn peak_with(torque: &[f64], share: &[f64], k: f64) -> f64 {
+    torque.iter().zip(share).map(|(t, s)| (t + k * s).abs()).fold(0.0, f64::max)
+}
+
 /// One spring's fit: where it is, its stretch along the travel, stiffness and free length, and the
 /// peak it leaves.
 #[derive(Clone)]
@@ -266,6 +413,17 @@ struct Fit {
 enum Kind {
     Extension { ground: Place, moving: Place },
     Torsion { part: usize, pivot: usize, tip: usize },
+}
+
+impl Kind {
+    /// The series its rate is bought in, and the stiffness (N/m, or N·m per radian) of a unit of
+    /// that rate (N/mm, or N·mm per degree).
+    fn rates(&self) -> (Series, f64) {
+        match self {
+            Kind::Extension { .. } => (EXTENSION_RATES, 1000.0),
+            Kind::Torsion { .. } => (TORSION_RATES, 180.0 / std::f64::consts::PI / 1000.0),
+        }
+    }
 }
 
 /// What the search needs of the linkage along its travel.
@@ -353,18 +511,27 @@ impl<'a> Motion<'a> {
     /// [`Motion::fit`] judged at `rows` only (every row when `None`), `torque` given at those rows.
     fn fit_at(&self, kind: Kind, stretch: Stretch, torque: &[f64], rows: Option<&[usize]>) -> Option<Fit> {
         let torsion = matches!(kind, Kind::Torsion { .. });
+        let (series, per_rate) = kind.rates();
         let (stiffness, free, peak) = stretch
             .free_choices(torsion)
             .into_iter()
-            .map(|free| {
+            .filter_map(|free| {
                 let share = match rows {
                     None => stretch.share(free, self.along),
                     Some(rows) => stretch.share_at(free, self.along, rows),
                 };
-                let (stiffness, peak) = best_stiffness(torque, &share);
-                (stiffness, free, peak)
+                let (best, _) = best_stiffness(torque, &share);
+                // The peak is convex in the stiffness: the better stock rate is one of the two
+                // beside the best.
+                series
+                    .around(best / per_rate)?
+                    .into_iter()
+                    .map(|rate| {
+                        let stiffness = rate * per_rate;
+                        (stiffness, free, peak_with(torque, &share, stiffness))
+                    })
+                    .min_by(|a, b| a.2.total_cmp(&b.2))
             })
-            .filter(|&(stiffness, _, _)| stiffness > 0.0)
             .min_by(|a, b| a.2.total_cmp(&b.2))?;
         Some(Fit { kind, stretch, stiffness, free, peak })
     }
@@ -392,6 +559,9 @@ impl<'a> Motion<'a> {
             Kind::Extension { ground, moving } => {
                 let row = self.trace.row(0);
                 let force = |x: f64| fit.stiffness * (x - fit.free) * self.metres;
+                let mm = self.metres * 1000.0;
+                // The stock values themselves, without the round trip through scene units.
+                let stock = |series: Series, x: f64| series.nearest(x).unwrap_or(x);
                 Spring::Extension {
                     anchors: [
                         Anchor { part: parts[ground.part].name.clone(), point: ground.at(row) },
@@ -400,6 +570,9 @@ impl<'a> Motion<'a> {
                     stiffness_n_per_m: fit.stiffness,
                     free_length: fit.free,
                     length_range: [lo, hi],
+                    free_length_mm: stock(FREE_LENGTHS, fit.free * mm),
+                    length_range_mm: [lo * mm, hi * mm],
+                    rate_n_per_mm: stock(EXTENSION_RATES, fit.stiffness / 1000.0),
                     force_range_n: [force(lo), force(hi)],
                     ends: (0..self.trace.len())
                         .map(|r| [ground.at(self.trace.row(r)), moving.at(self.trace.row(r))])
@@ -414,6 +587,10 @@ impl<'a> Motion<'a> {
                     part: parts[part].name.clone(),
                     pivot: self.trace.row(0)[pivot],
                     stiffness_nm_per_rad: fit.stiffness,
+                    rate_n_mm_per_deg: {
+                        let per_rate = Kind::Torsion { part, pivot, tip }.rates().1;
+                        TORSION_RATES.nearest(fit.stiffness / per_rate).unwrap_or(fit.stiffness / per_rate)
+                    },
                     free_angle_deg: fit.free.to_degrees(),
                     twist_range_deg: [least.to_degrees(), most.to_degrees()],
                     torque_range_nm: [fit.stiffness * least, fit.stiffness * most],
@@ -663,7 +840,8 @@ fn inside(polygon: &Polygon, n: usize) -> Vec<Point> {
 }
 
 impl Balance {
-    /// No spring: the driver's torque as it is.
+    /// No spring: the driver's torque as it is, [`SpringNeed::NotNeeded`] when its peak is below
+    /// [`NO_SPRING_NEEDED_NM`] and [`SpringNeed::NoneHelps`] otherwise.
     pub fn none(torque: &Torque) -> Balance {
         total(torque, torque.torque_nm.clone(), Vec::new())
     }
@@ -677,12 +855,26 @@ impl Balance {
 /// The torque with the given springs' shares added (the same travel `torque` was computed on).
 fn total(torque: &Torque, balance_torque: Vec<f64>, springs: Vec<Spring>) -> Balance {
     let (at, peak) = peak(&balance_torque);
+    let need = if !springs.is_empty() {
+        SpringNeed::Springs
+    } else if !needs_springs(torque) {
+        SpringNeed::NotNeeded
+    } else {
+        SpringNeed::NoneHelps
+    };
     Balance {
+        need,
+        no_spring_below_nm: NO_SPRING_NEEDED_NM,
         springs,
         peak_with_springs_crank_deg: torque.crank_deg.get(at).copied().unwrap_or(0.0),
         peak_with_springs_nm: peak,
         torque_with_springs_nm: balance_torque,
     }
+}
+
+/// Whether the torque's peak is enough to need a spring.
+fn needs_springs(torque: &Torque) -> bool {
+    torque.peak_nm >= NO_SPRING_NEEDED_NM
 }
 
 /// What a spring search balances: `mechanism` (compiled as `plan`) moving along `trace` in the scene
@@ -705,9 +897,10 @@ pub struct Balancing<'a> {
 }
 
 impl Balancing<'_> {
-    /// One or two springs that lower the peak of the torque, and the torque with them, as `search`
-    /// allows ([`Balance::none`] when none does). The search takes seconds on multi-body linkages: it
-    /// stops soon after `observer` says it is cancelled, and then returns [`Cancelled`].
+    /// One or two stock springs that lower the peak of the torque, and the torque with them, as
+    /// `search` allows ([`Balance::none`] when none is needed or none does). The search takes seconds
+    /// on multi-body linkages: it stops soon after `observer` says it is cancelled, and then returns
+    /// [`Cancelled`].
     pub fn best(&self, search: SpringSearch, observer: &dyn Observer) -> Result<Balance, Cancelled> {
         let choices = self.choices(search, observer)?;
         Ok(choices.into_iter().next().unwrap_or_else(|| Balance::none(self.torque)))
@@ -715,10 +908,14 @@ impl Balancing<'_> {
 
     /// What [`Balancing::best`] chooses, then the next best choices: the other pairs worth a second
     /// spring, then the best single spring of each moving part, best first (where the first's springs
-    /// cannot be printed, another's may). Empty when no spring lowers the peak (or the travel passes a
-    /// dead point).
+    /// cannot be printed, another's may). Empty when no spring is needed (the peak is below
+    /// [`NO_SPRING_NEEDED_NM`]), when no spring lowers the peak, or when the travel passes a dead
+    /// point.
     pub fn choices(&self, search: SpringSearch, observer: &dyn Observer) -> Result<Vec<Balance>, Cancelled> {
         let Balancing { problem, mechanism, plan, trace, masses, torque } = *self;
+        if !needs_springs(torque) {
+            return Ok(Vec::new());
+        }
         let Some(mut motion) = Motion::new(problem, mechanism, plan, trace, masses, observer) else {
             // A dead point: the statics has no torque there to balance.
             return Ok(Vec::new());
@@ -730,6 +927,7 @@ impl Balancing<'_> {
         let mut singles: Vec<Fit> = (0..mechanism.topology.parts.len())
             .filter(|&p| mechanism.topology.parts[p].kind != PartKind::Fixed)
             .filter_map(|p| motion.best_spring(&unbalanced, Some(p)))
+            .filter(|fit| fit.peak < torque.peak_nm)
             .collect();
         go_on()?;
         singles.sort_by(|a, b| a.peak.total_cmp(&b.peak));
@@ -903,17 +1101,39 @@ mod tests {
             }
         }
         let (problem, mechanism, plan, trace) = parallelogram();
-        let torque = driving_torque(&problem, &mechanism, &plan, &trace, &MASSES).unwrap();
+        // Ten times as dense as MASSES, so the load (11 N·mm) is clearly one that needs a spring.
+        let masses = Masses { kg_per_mm3: 1e-5, ..MASSES };
+        let torque = driving_torque(&problem, &mechanism, &plan, &trace, &masses).unwrap();
+        assert!(torque.peak_nm > 10.0 * NO_SPRING_NEEDED_NM, "{}", torque.peak_nm);
         let balancing = Balancing {
             problem: &problem,
             mechanism: &mechanism,
             plan: &plan,
             trace: &trace,
-            masses: &MASSES,
+            masses: &masses,
             torque: &torque,
         };
         assert_eq!(balancing.best(SpringSearch::ANALYSIS, &Cancelling), Err(Cancelled));
         let balance = balancing.best(SpringSearch::ANALYSIS, &crate::Silent).unwrap();
         assert!(!balance.springs.is_empty());
+        assert_eq!(balance.need, SpringNeed::Springs);
+    }
+
+    /// The series are ISO 3's R10 and R20, in every decade, each member the decimal it is written as.
+    #[test]
+    fn stock_series_are_the_renard_numbers_in_every_decade() {
+        assert_eq!(Series::R10.within(1.0, 10.0), [1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0, 10.0]);
+        assert_eq!(Series::R20.within(0.0031, 0.0046), [0.00315, 0.00355, 0.004, 0.0045]);
+        assert_eq!(Series::R20.within(2000.0, 2500.0), [2000.0, 2240.0, 2500.0]);
+        // R10's members are R20's every other one.
+        let r20 = Series::R20.within(0.01, 100.0);
+        assert_eq!(Series::R10.within(0.01, 100.0), r20.iter().copied().step_by(2).collect::<Vec<_>>());
+        assert_eq!(Series::R10.around(0.0029), Some([0.0025, 0.00315]));
+        assert_eq!(Series::R10.around(400.0), Some([400.0, 400.0]));
+        assert_eq!(Series::R10.nearest(2.7), Some(2.5));
+        assert_eq!(Series::R10.nearest(2.9), Some(3.15));
+        assert!(Series::R20.contains(710.0) && !Series::R20.contains(700.0) && !Series::R10.contains(0.0));
+        assert_eq!(Series::R10.around(-1.0), None);
+        assert!(Series::R10.within(f64::NAN, 1.0).is_empty());
     }
 }

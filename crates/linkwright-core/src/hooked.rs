@@ -10,8 +10,8 @@ use crate::analysis::{AnalysisOptions, Replay, Which};
 use crate::balance::{Balance, Balancing, Spring, SpringSearch};
 use crate::design::DesignFile;
 use crate::fab::{
-    checked_design, fabricate, millimetres_per_unit, Dims, FabError, Fabrication, HookRefusal, PrintSettings,
-    SpringEnds,
+    checked_design, fabricate, millimetres_per_unit, model_scale, Dims, FabError, Fabrication, HookRefusal,
+    PrintSettings, SpringEnds,
 };
 use crate::scene::Problem;
 use crate::statics::{driving_torque, Masses, Torque};
@@ -69,12 +69,17 @@ pub fn fabricate_with_springs(
     settings: &PrintSettings,
     observer: &dyn Observer,
 ) -> Result<Hooked, HookedError> {
-    let mm = millimetres_per_unit(units).ok_or_else(|| HookedError::Units(units.to_string()))?;
-    let masses = Masses::printed(settings, units).ok_or_else(|| HookedError::Units(units.to_string()))?;
+    let object_mm = millimetres_per_unit(units).ok_or_else(|| HookedError::Units(units.to_string()))?;
+    // The model is printed, weighed and sprung at its scale.
+    let scale = model_scale(problem, object_mm, Some(design), settings);
+    let mm = object_mm * scale.factor();
+    let masses = Masses::model(settings, units, scale).map_err(|e| HookedError::Statics(e.to_string()))?;
     // The design is checked once, and must fabricate without springs: an ordering that fails with
     // them then fails for their hooks.
     let (fab_mechanism, travel) = checked_design(problem, design)?;
-    let fabricated = |ends: &[SpringEnds]| fabricate(problem, mm, &fab_mechanism, travel, settings, ends);
+    let fabricated = |ends: &[SpringEnds]| {
+        fabricate(problem, mm, &fab_mechanism, travel, settings, ends).map(|f| Fabrication { scale, ..f })
+    };
     let plain = fabricated(&[])?;
     let replay = Replay::new(problem, design, Which::Best, AnalysisOptions::default().steps)
         .map_err(|e| HookedError::Statics(e.to_string()))?;

@@ -77,6 +77,7 @@ pub mod kernels;
 pub mod kinematics;
 pub mod statics;
 pub mod testbed;
+pub mod workshop;
 
 // The `scene/1` format, its validation, and the problem every later stage reads.
 pub use scene::{
@@ -96,8 +97,8 @@ pub use synth::{
 
 // The `design/1` format: the engine's answer, read back, validated and checked.
 pub use design::{
-    Alternative, BuildRecord, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, EditError, MechanismJson, Metrics,
-    Motion, PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
+    Alternative, BuildRecord, DesignError, DesignFile, DesignIssue, DesignParseError, DriverJson, EditError,
+    MechanismJson, Metrics, Motion, PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
 };
 
 // Checking a design against its scene.

@@ -11,38 +11,198 @@ use crate::fab::{millimetres_per_unit, PrintSettings};
 use crate::geom::{Point, Vec2};
 use crate::kinematics::{carried_velocity, BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, PartKind};
-use crate::scene::Problem;
+use crate::scene::{Build, Material, ModelScale, Problem, Ratio};
 use serde::Serialize;
 
 /// Standard gravity, m/s².
 pub const GRAVITY: f64 = 9.80665;
 
-/// What a part weighs when the scene does not say: the printed part's mass, from the print settings.
+/// How a moving body is weighed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyMass {
+    /// As printed: its outline × [`Masses::body_thickness`] × [`Masses::kg_per_mm3`], whatever the
+    /// scene says of the real body (a model: the real object's mass does not act on it).
+    Printed,
+    /// The real body: the scene's `mass_kg`, else its `material` × `thickness` × outline (its stock),
+    /// else its outline × [`Masses::body_thickness`] × [`Masses::kg_per_mm3`].
+    Scene,
+}
+
+/// What each moving part weighs, and how long a unit of the drawing is in the thing that moves: a
+/// printed model (at its scale) or the object at full size.
+///
+/// Every length of the statics is the built one: a 1:10 model's centres of mass move a tenth as far
+/// as the drawing's, so its torque is the model's torque, N·m at the model's size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Masses {
-    /// Millimetres per unit of the drawing.
+    /// Millimetres of the built thing per unit of the drawing (a model's scale included).
     pub millimetres_per_unit: f64,
-    /// Kilograms per cubic millimetre of printed part (the material's density times the part filled).
+    /// Kilograms per cubic millimetre of a part weighed from its volume (a printed part: the
+    /// material's density times the part filled; full size: the build material's density).
     pub kg_per_mm3: f64,
-    /// Thickness of a body, mm.
+    /// Thickness of a body weighed from its outline, mm.
     pub body_thickness: f64,
     /// Width and thickness of a link, mm.
     pub link_section: [f64; 2],
+    /// Whether a body's real mass (the scene's `mass_kg` or stock) counts.
+    pub bodies: BodyMass,
+}
+
+/// The stock a full-size build is cut from: the material, the thickness of a body the scene gives
+/// no mass or stock for, and the section of the link bars (which the workshop fabrication may choose
+/// otherwise). [`FullSize::new`] gives common stock sizes for each material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FullSize {
+    /// The material every link (and a body without its own stock) is made of.
+    pub material: Material,
+    /// Thickness of a body the scene gives neither `mass_kg` nor a material and thickness for, mm.
+    /// Default: 18 for plywood, 6 for aluminium, 3 for steel.
+    pub body_thickness_mm: f64,
+    /// Width and thickness of a link's bar, mm. Default: 60 × 18 for plywood, 40 × 6 for
+    /// aluminium, 30 × 5 for steel.
+    pub link_section_mm: [f64; 2],
+}
+
+impl FullSize {
+    /// Common stock of `material`: an 18 mm plywood sheet (the usual furniture board) and 60 mm strips
+    /// of it, leaving two hole diameters of wood beside a 12 mm bolt; 6 mm aluminium plate and
+    /// 40 × 6 mm flat bar; 3 mm steel sheet and 30 × 5 mm flat bar (sizes the metal stockists list
+    /// as standard flat bar).
+    pub fn new(material: Material) -> FullSize {
+        let (body_thickness_mm, link_section_mm) = match material {
+            Material::Plywood => (18.0, [60.0, 18.0]),
+            Material::Aluminium => (6.0, [40.0, 6.0]),
+            Material::Steel => (3.0, [30.0, 5.0]),
+        };
+        FullSize { material, body_thickness_mm, link_section_mm }
+    }
+
+    /// The same stock with bodies `thickness_mm` thick.
+    pub fn with_body_thickness_mm(mut self, thickness_mm: f64) -> FullSize {
+        self.body_thickness_mm = thickness_mm;
+        self
+    }
+
+    /// The same stock with link bars of `[width, thickness]` mm.
+    pub fn with_link_section_mm(mut self, section_mm: [f64; 2]) -> FullSize {
+        self.link_section_mm = section_mm;
+        self
+    }
+}
+
+/// Why parts cannot be weighed for a build.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MassesError {
+    /// The scene's units are not a length this version knows.
+    #[error("the scene's units \"{0}\" are not a length, so the parts cannot be weighed; use mm, cm, m, in or ft")]
+    Units(String),
+    /// A model's scale is `auto`, which is decided when a design is checked for the build.
+    #[error(
+        "the model's scale is auto: weigh the model at the scale its design was checked for (the design \
+         file's build.checked)"
+    )]
+    UndecidedScale,
+    /// A model's scale has a zero term.
+    #[error("the model's scale {0} has a zero term; both sides of a scale are whole numbers from 1")]
+    Scale(Ratio),
+    /// A size of the full-size stock is not a positive number of millimetres.
+    #[error("the full-size stock's {field} is {value}; give a positive number of millimetres")]
+    Stock {
+        /// `body_thickness_mm` or `link_section_mm`.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+    },
 }
 
 impl Masses {
-    /// Masses as printed with `settings`, for a drawing in `units`; `None` when the units are not a
-    /// length this knows (then nothing can be weighed).
+    /// The 1:1 model: parts as printed with `settings` at the drawing's size, for a drawing in
+    /// `units`, except that a body the scene gives a real mass (`mass_kg`, or a material and
+    /// thickness) weighs that. Kept for the front ends that weigh a design without its build, where
+    /// a scene's real mass is the load a person asked about (`analyze` on the full-size wall bed).
+    /// `None` when the units are not a length this knows (then nothing can be weighed). A model at
+    /// its scale is weighed by [`Masses::model`], the full-size object by [`Masses::full`].
     pub fn printed(settings: &PrintSettings, units: &str) -> Option<Masses> {
-        Some(Masses {
-            millimetres_per_unit: millimetres_per_unit(units)?,
+        Some(Masses { bodies: BodyMass::Scene, ..Masses::model(settings, units, Ratio::ONE).ok()? })
+    }
+
+    /// A model printed with `settings` at `scale` of the object drawn in `units`: every length of the
+    /// model is the drawing's times the scale's factor, and every part, bodies included, weighs what
+    /// its print does (the print settings are the model's own millimetres). The real object's masses
+    /// are ignored: the model's springs are chosen for the model, and a 60 kg bed's 1:10 model weighs
+    /// grams.
+    pub fn model(settings: &PrintSettings, units: &str, scale: Ratio) -> Result<Masses, MassesError> {
+        let mm = millimetres_per_unit(units).ok_or_else(|| MassesError::Units(units.to_string()))?;
+        let factor = scale.factor();
+        if !(factor.is_finite() && factor > 0.0) {
+            return Err(MassesError::Scale(scale));
+        }
+        Ok(Masses {
+            millimetres_per_unit: mm * factor,
             // g/cm³ is 10⁻⁶ kg/mm³.
             kg_per_mm3: settings.density * settings.fill_fraction * 1e-6,
             body_thickness: settings.body_thickness,
             link_section: [settings.link_width, settings.link_thickness],
+            bodies: BodyMass::Printed,
         })
     }
+
+    /// The object at its drawn size, cut from `stock`: a body weighs the scene's `mass_kg`, else its
+    /// own material × thickness × outline, else the stock's material at its body thickness; links
+    /// are solid bars of the stock's section and material.
+    pub fn full(stock: &FullSize, units: &str) -> Result<Masses, MassesError> {
+        let mm = millimetres_per_unit(units).ok_or_else(|| MassesError::Units(units.to_string()))?;
+        let positive = |field: &'static str, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(MassesError::Stock { field, value })
+            }
+        };
+        positive("body_thickness_mm", stock.body_thickness_mm)?;
+        for value in stock.link_section_mm {
+            positive("link_section_mm", value)?;
+        }
+        Ok(Masses {
+            millimetres_per_unit: mm,
+            kg_per_mm3: stock.material.density_kg_m3() * KG_PER_MM3_PER_KG_M3,
+            body_thickness: stock.body_thickness_mm,
+            link_section: stock.link_section_mm,
+            bodies: BodyMass::Scene,
+        })
+    }
+
+    /// The masses of `build` (a model at its decided scale, or full size in [`FullSize::new`]'s stock
+    /// of its material), for a drawing in `units`.
+    pub fn for_build(build: Build, settings: &PrintSettings, units: &str) -> Result<Masses, MassesError> {
+        match build {
+            Build::Model(ModelScale::Fixed(scale)) => Masses::model(settings, units, scale),
+            Build::Model(ModelScale::Auto) => Err(MassesError::UndecidedScale),
+            Build::Full(material) => Masses::full(&FullSize::new(material), units),
+        }
+    }
+
+    /// The masses of `design` built as its scene says (`problem.build`): a full-size build's real
+    /// masses, or its printed model's at the scale the design is printed at
+    /// ([`crate::fab::model_scale`]: a fixed scale, the one the design was checked at, or the one the
+    /// drawing decides).
+    pub fn for_design(
+        problem: &Problem,
+        design: Option<&crate::design::DesignFile>,
+        settings: &PrintSettings,
+    ) -> Result<Masses, MassesError> {
+        let mm = millimetres_per_unit(&problem.units).ok_or_else(|| MassesError::Units(problem.units.clone()))?;
+        match problem.build {
+            Build::Full(material) => Masses::full(&FullSize::new(material), &problem.units),
+            Build::Model(_) => {
+                Masses::model(settings, &problem.units, crate::fab::model_scale(problem, mm, design, settings))
+            }
+        }
+    }
 }
+
+/// kg/mm³ in one kg/m³.
+const KG_PER_MM3_PER_KG_M3: f64 = 1e-9;
 
 /// One moving part's weight and its share of the torque.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -101,8 +261,8 @@ enum Centre {
     Joints(Vec<usize>),
 }
 
-/// The parts of `mechanism` that move, weighed: bodies by the scene's `mass_kg` or as printed (outline
-/// × body thickness), links as printed (bars of the link section; a ternary link as its triangle).
+/// The parts of `mechanism` that move, weighed as [`Masses`] says: bodies as [`BodyMass`] says, links
+/// as bars of the link section (a ternary link as its triangle, link thickness thick).
 fn parts(problem: &Problem, mechanism: &Mechanism, masses: &Masses) -> Vec<Part> {
     let mm = masses.millimetres_per_unit;
     let joints = &mechanism.joints;
@@ -112,8 +272,17 @@ fn parts(problem: &Problem, mechanism: &Mechanism, masses: &Masses) -> Vec<Part>
             PartKind::Fixed => {}
             PartKind::Body(b) => {
                 let body = &problem.bodies[b];
-                let printed = body.outline.area() * mm * mm * masses.body_thickness * masses.kg_per_mm3;
-                let mass_kg = body.mass_kg.unwrap_or(printed);
+                let area_mm2 = body.outline.area() * mm * mm;
+                let from_outline = area_mm2 * masses.body_thickness * masses.kg_per_mm3;
+                let mass_kg = match masses.bodies {
+                    BodyMass::Printed => from_outline,
+                    BodyMass::Scene => body.mass_kg.unwrap_or_else(|| match body.stock {
+                        Some((material, thickness)) => {
+                            area_mm2 * thickness * mm * material.density_kg_m3() * KG_PER_MM3_PER_KG_M3
+                        }
+                        None => from_outline,
+                    }),
+                };
                 let local = body.outline.centroid();
                 out.push(Part { name: part.name.clone(), mass_kg, centre: Centre::Body { body: b, local } });
             }
@@ -219,8 +388,13 @@ pub(crate) mod tests {
     use std::sync::Arc;
 
     /// Grams per cubic centimetre of 1, solid; 6 mm bodies, 10 × 3 mm links; drawn in millimetres.
-    pub(crate) const MASSES: Masses =
-        Masses { millimetres_per_unit: 1.0, kg_per_mm3: 1e-6, body_thickness: 6.0, link_section: [10.0, 3.0] };
+    pub(crate) const MASSES: Masses = Masses {
+        millimetres_per_unit: 1.0,
+        kg_per_mm3: 1e-6,
+        body_thickness: 6.0,
+        link_section: [10.0, 3.0],
+        bodies: BodyMass::Scene,
+    };
 
     /// The moving parts' potential energy in the scene's gravity, J, with the joints at `row`: from
     /// their positions alone, what the driving torque is the derivative of.

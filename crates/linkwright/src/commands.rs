@@ -7,7 +7,7 @@ use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};
-use linkwright_core::balance::Balanced;
+use linkwright_core::balance::{Balanced, SpringNeed};
 use linkwright_core::fab::BuildPlan;
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
@@ -349,12 +349,24 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
 
 /// `analyze`: the torque the crank needs along the design's motion, and the springs that balance it,
 /// as a table or JSON.
-pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&Path>) -> Result<(), Failure> {
-    let (scene_file, problem) = read_problem(scene)?;
+pub fn analyze(
+    scene: &Path,
+    design: &Path,
+    json: bool,
+    print_settings: Option<&Path>,
+    build: Option<Build>,
+) -> Result<(), Failure> {
+    let (scene_file, mut problem) = read_problem(scene)?;
+    if let Some(build) = build {
+        problem.build = build;
+    }
     let file = read_valid_design(design, &problem)?;
     let settings = crate::fabricate::read_settings(print_settings)?;
-    let (torque, balance) =
-        crate::springs::counterbalanced((scene, &scene_file), &problem, (design, &file), &settings)?;
+    let (torque, balance) = crate::springs::counterbalanced(
+        (&scene.display().to_string(), &problem),
+        (&design.display().to_string(), &file),
+        &settings,
+    )?;
     if json {
         let balanced = Balanced { torque: &torque, balance: &balance };
         println!("{}", serde_json::to_string_pretty(&balanced).expect("the torque serializes"));
@@ -396,6 +408,11 @@ pub fn analyze(scene: &Path, design: &Path, json: bool, print_settings: Option<&
             "peak with the springs {:.3} {unit} at crank {:.1}° ({cut:.0}% lower)\n",
             balance.peak_with_springs_nm * factor,
             balance.peak_with_springs_crank_deg
+        ));
+    } else if balance.need == SpringNeed::NotNeeded {
+        out.push_str(&format!(
+            "counterbalance: no spring needed: the peak is under {} {unit}, less than a joint's friction\n",
+            balance.no_spring_below_nm * factor
         ));
     } else {
         out.push_str("counterbalance: no spring hooked on the fixed bodies, in the linkage region or on the moving parts lowers the peak\n");

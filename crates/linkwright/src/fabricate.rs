@@ -9,7 +9,7 @@ use linkwright_core::fab::{
     bundle, fabricate_design_or_alternative, is_safe_relative_path, Chosen, FabError, PrintSettings, FIXED_FILES,
 };
 use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
-use linkwright_core::{DesignFile, Problem, Scene, Silent};
+use linkwright_core::{Build, DesignFile, Problem, Scene, Silent};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -30,6 +30,11 @@ pub struct FabricateArgs {
     /// hooks fit), hung beyond the links
     #[arg(long)]
     springs: bool,
+    /// How the object is built (overrides the scene's `build`): model:auto or model:1:10 print the
+    /// parts of a model; full:plywood, full:aluminium or full:steel write the workshop files of the
+    /// full-size build (profiles to cut, cut list, bill of materials, assembly sheet).
+    #[arg(long, value_name = "BUILD", value_parser = crate::build_choice())]
+    build: Option<Build>,
 }
 
 /// Reads print settings, or the defaults.
@@ -48,7 +53,10 @@ pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
 }
 
 pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
-    let (scene, problem) = read_problem(&args.scene)?;
+    let (scene, mut problem) = read_problem(&args.scene)?;
+    if let Some(build) = args.build {
+        problem.build = build;
+    }
     let design = read_valid_design(&args.design, &problem)?;
     let settings = read_settings(args.settings.as_deref())?;
     let summary = run(&scene, &problem, &design, &settings, args.springs, &args.output)?;
@@ -67,6 +75,17 @@ pub fn run(
 ) -> Result<String, Failure> {
     if out_dir.exists() && !out_dir.is_dir() {
         return Err(Failure::Input(format!("error: -o {}: exists and is not a directory", out_dir.display())));
+    }
+    if let Build::Full(material) = problem.build {
+        // The springs a full-size build needs are bought, not hooked on printed parts: listed.
+        let springs = if springs {
+            let (_, balance) =
+                crate::springs::counterbalanced(("the scene", problem), ("the design", design), settings)?;
+            crate::springs::orders(&balance)
+        } else {
+            Vec::new()
+        };
+        return crate::workshop::write(problem, design, material, springs, out_dir);
     }
     let cannot = |e: &dyn std::fmt::Display| Failure::Input(format!("error: cannot fabricate: {e}"));
     // Springs are hooked on the design's own parts: no alternative stands in for it.

@@ -7,6 +7,7 @@ mod fabricate;
 mod files;
 mod serve;
 mod springs;
+mod workshop;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -69,9 +70,14 @@ enum Command {
         /// Print the result as JSON
         #[arg(long)]
         json: bool,
-        /// Print settings (JSON) the parts' masses come from: density, fill, body and link sizes
+        /// Print settings (JSON) a printed model's masses come from: density, fill, body and link sizes
         #[arg(long)]
         print_settings: Option<PathBuf>,
+        /// How the object is built (overrides the scene's `build`): a printed model (model:auto,
+        /// model:1:10) is weighed as printed at its scale, a full-size build (full:plywood, ...) with
+        /// the scene's real masses (mass_kg, or material and thickness)
+        #[arg(long, value_name = "BUILD", value_parser = build_choice())]
+        build: Option<linkwright_core::Build>,
     },
     /// Print the joint positions along a design's motion as CSV.
     Simulate {
@@ -106,8 +112,8 @@ fn main() -> ExitCode {
         Command::Check { scene, design, json } => commands::check(&scene, &design, json),
         Command::Fabricate(args) => fabricate::fabricate(args),
         Command::Simulate { scene, design, steps } => commands::simulate(&scene, &design, steps),
-        Command::Analyze { scene, design, json, print_settings } => {
-            commands::analyze(&scene, &design, json, print_settings.as_deref())
+        Command::Analyze { scene, design, json, print_settings, build } => {
+            commands::analyze(&scene, &design, json, print_settings.as_deref(), build)
         }
         Command::Serve(args) => serve::serve(args),
         Command::Bench(args) => bench::bench(args),

@@ -6,35 +6,29 @@ use linkwright_core::analysis::{Replay, Which};
 use linkwright_core::balance::{Balance, Balancing, Spring, SpringSearch};
 use linkwright_core::fab::PrintSettings;
 use linkwright_core::statics::{driving_torque, Masses, Torque};
-use linkwright_core::{DesignFile, Problem, Scene, Silent};
-use std::path::Path;
+use linkwright_core::workshop::SpringOrder;
+use linkwright_core::{DesignFile, Problem, Silent};
 
 /// Steps of the crank's travel the torque is given at.
 pub const ANALYZE_STEPS: usize = 180;
 
-/// The torque the crank needs along the design's motion (masses of the parts printed with
-/// `settings`, or the scene's), and the springs of either kind that lower its peak (what `analyze`
-/// reports). Paths are for messages.
+/// The torque the crank needs along the design's motion (its printed model's parts with `settings`
+/// at the design's scale, or a full-size build's real masses), and the springs of either kind that
+/// lower its peak (what `analyze` reports). The error says what is wrong, naming `scene` or `design`
+/// (how the caller calls them).
 pub fn counterbalanced(
-    (scene_path, scene): (&Path, &Scene),
-    problem: &Problem,
-    (design_path, design): (&Path, &DesignFile),
+    (scene, problem): (&str, &Problem),
+    (design_name, design): (&str, &DesignFile),
     settings: &PrintSettings,
 ) -> Result<(Torque, Balance), Failure> {
-    let masses = Masses::printed(settings, &scene.units).ok_or_else(|| {
-        Failure::Input(format!(
-            "error: {}: units \"{}\" are not a length; set them to mm, cm, m, in or ft to weigh the parts",
-            scene_path.display(),
-            scene.units
-        ))
-    })?;
+    let fail = |what: &str, e: &dyn std::fmt::Display| Failure::Input(format!("error: {what}: {e}"));
+    let masses = Masses::for_design(problem, Some(design), settings).map_err(|e| fail(scene, &e))?;
     if design.mechanism.is_none() {
-        return Err(Failure::Input(format!("error: {}: has no mechanism (status no_solution)", design_path.display())));
+        return Err(fail(design_name, &"has no mechanism (status no_solution)"));
     }
-    let replay = Replay::new(problem, design, Which::Best, ANALYZE_STEPS)
-        .map_err(|e| Failure::Input(format!("error: {}: {e}", design_path.display())))?;
+    let replay = Replay::new(problem, design, Which::Best, ANALYZE_STEPS).map_err(|e| fail(design_name, &e))?;
     let torque = driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
-        .map_err(|e| Failure::Input(format!("error: {}: {e}", design_path.display())))?;
+        .map_err(|e| fail(design_name, &e))?;
     let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
     let balance = Balancing { problem, mechanism, plan, trace, masses: &masses, torque: &torque }
         .best(SpringSearch::ANALYSIS, &Silent)
@@ -42,41 +36,51 @@ pub fn counterbalanced(
     Ok((torque, balance))
 }
 
-/// A spring as a person buys and fits it.
+/// The extension springs of `balance` as a workshop orders them (torsion springs are bought by their
+/// own rate and are not hooked).
+pub fn orders(balance: &Balance) -> Vec<SpringOrder> {
+    balance
+        .springs
+        .iter()
+        .filter_map(|s| match s {
+            Spring::Extension { rate_n_per_mm, free_length_mm, .. } => {
+                Some(SpringOrder { rate_n_per_mm: *rate_n_per_mm, free_length_mm: *free_length_mm, count: 1 })
+            }
+            Spring::Torsion { .. } => None,
+        })
+        .collect()
+}
+
+/// A spring as a person buys and fits it: the stock rate and free length (millimetres of the thing
+/// built: a model's for a printed model), and where its ends hang in the drawing.
 pub fn spring_words(spring: &Spring, units: &str) -> String {
     match spring {
-        Spring::Extension { anchors, stiffness_n_per_m, free_length, length_range, force_range_n, .. } => {
+        Spring::Extension { anchors, rate_n_per_mm, free_length_mm, length_range_mm, force_range_n, .. } => {
             let [a, b] = anchors;
             format!(
-                "extension spring, {:.3} N/mm, {free_length:.1} {units} free length hook to hook: one end on {} at \
-                 ({:.1}, {:.1}), the other on {} at ({:.1}, {:.1}) (first pose); it stretches to {:.1}–{:.1} {units}, \
-                 pulling {:.1}–{:.1} N",
-                stiffness_n_per_m / 1000.0,
+                "extension spring, {rate_n_per_mm} N/mm, {free_length_mm} mm free length hook to hook: one end on {} \
+                 at ({:.1}, {:.1}), the other on {} at ({:.1}, {:.1}) {units} (first pose); it stretches to \
+                 {:.1}–{:.1} mm, pulling {:.1}–{:.1} N",
                 a.part,
                 a.point.x,
                 a.point.y,
                 b.part,
                 b.point.x,
                 b.point.y,
-                length_range[0],
-                length_range[1],
+                length_range_mm[0],
+                length_range_mm[1],
                 force_range_n[0],
                 force_range_n[1]
             )
         }
         Spring::Torsion {
-            part, pivot, stiffness_nm_per_rad, free_angle_deg, twist_range_deg, torque_range_nm, ..
+            part, pivot, rate_n_mm_per_deg, free_angle_deg, twist_range_deg, torque_range_nm, ..
         } => {
             format!(
-                "torsion spring, {:.2} N·mm per degree, at the {part}'s ground pivot ({:.1}, {:.1}); free when the \
-                 {part} is turned {free_angle_deg:.0}° from the first pose; wound {:.0}–{:.0}°, {:.3}–{:.3} N·m",
-                stiffness_nm_per_rad * 1000.0 * std::f64::consts::PI / 180.0,
-                pivot.x,
-                pivot.y,
-                twist_range_deg[0],
-                twist_range_deg[1],
-                torque_range_nm[0],
-                torque_range_nm[1]
+                "torsion spring, {rate_n_mm_per_deg} N·mm per degree, at the {part}'s ground pivot ({:.1}, {:.1}) \
+                 {units}; free when the {part} is turned {free_angle_deg:.0}° from the first pose; wound {:.0}–{:.0}°, \
+                 {:.3}–{:.3} N·m",
+                pivot.x, pivot.y, twist_range_deg[0], twist_range_deg[1], torque_range_nm[0], torque_range_nm[1]
             )
         }
     }

@@ -204,7 +204,8 @@ impl BuildPlan {
 
     /// Runs the synthesis (`options`, whose own check is replaced by this build's) for this build.
     /// With an `auto` scale, when the print check refused every valid linkage at the scale the drawing
-    /// decided, or the search found none, the search runs again at the next larger scales of the
+    /// decided, or the search found none in a model whose region is under twice the least (the pins
+    /// crowd it), the search runs again at the next larger scales of the
     /// series that still fit the bed, at most [`AUTO_RETRIES`] of them, until one gives a design that
     /// prints: the drawing bounds the links only from above, and how far apart their joints are shows
     /// only in the search. Returns the plan of the outcome kept (the first printable one, else the
@@ -225,8 +226,10 @@ impl BuildPlan {
             return Ok((self, first));
         };
         // The pin spacing also thins the samples before any check counts them, so a search with no
-        // design at all may be the scale's doing too.
-        let refused = |o: &Outcome| o.unbuildable || o.best.is_none();
+        // design at all may be the scale's doing too, where the model's region is crowded (under twice
+        // the least); elsewhere a search with no design is the poses' doing, and is not repeated.
+        let crowded = scale.factor() * self.sizes.reach_mm < 2.0 * self.sizes.need_mm;
+        let refused = |o: &Outcome| o.unbuildable || (crowded && o.best.is_none());
         if !refused(&first) {
             return Ok((self, first));
         }

@@ -47,7 +47,7 @@ use crate::mechanism::Mechanism;
 use crate::scene::Problem;
 use posts::SceneShapes;
 
-pub use build::{model_scale, BuildPlan, SizeNote, PIN_SPACINGS_PER_REGION};
+pub use build::{model_scale, BuildPlan, SizeNote, AUTO_RETRIES, PIN_SPACINGS_PER_REGION};
 pub use bundle::{assembled_meshes, bundle, Bundle, FIXED_FILES};
 pub use check::{check, CheckReport};
 pub use depth::{violations as ordering_violations, Constraint, Face, Ordering, PillarRef, Recorded};

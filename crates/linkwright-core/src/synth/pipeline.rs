@@ -435,7 +435,7 @@ fn pick_designs(problem: &Problem, valid: Vec<Candidate>, run: &mut Run) -> Resu
                 batch.push(c);
             }
         }
-        let checked: Vec<Result<Candidate, (Reject, Candidate)>> = match run.printable {
+        let checked: Vec<Result<Candidate, Refused>> = match run.printable {
             Some(check) => batch.into_par_iter().map(|c| mark_printable(check, c)).collect(),
             None => batch.into_iter().map(Ok).collect(),
         };
@@ -499,14 +499,17 @@ fn finish_designs(
 
 /// `c` marked printable, or why not with `c` (a candidate already found printable is not checked
 /// again).
-fn mark_printable(check: &dyn Acceptance, mut c: Candidate) -> Result<Candidate, (Reject, Candidate)> {
+fn mark_printable(check: &dyn Acceptance, mut c: Candidate) -> Result<Candidate, Refused> {
     c.printable = c.printable || check.accepts(&c.mechanism, &c.trace);
     if c.printable {
         Ok(c)
     } else {
-        Err((Reject::Unprintable, c))
+        Err((Reject::Unprintable, Box::new(c)))
     }
 }
+
+/// A candidate a check refused, with why (boxed: it is the rare path of a large value).
+type Refused = (Reject, Box<Candidate>);
 
 fn min_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     match (a, b) {
@@ -534,10 +537,10 @@ impl Run<'_> {
     }
 
     /// Counts `reject`; when the print check refused `c`, keeps it if it is the cheapest so far.
-    fn refuse(&mut self, reject: Reject, c: Candidate) {
+    fn refuse(&mut self, reject: Reject, c: Box<Candidate>) {
         self.reject(reject);
         if reject == Reject::Unprintable && self.refused.as_ref().is_none_or(|r| c.cost < r.cost) {
-            self.refused = Some(c);
+            self.refused = Some(*c);
         }
     }
 
@@ -800,7 +803,7 @@ fn check_in_order(
                     }
                 },
             )
-            .collect::<Vec<Result<Candidate, Result<(Reject, Candidate), Reject>>>>()
+            .collect::<Vec<Result<Candidate, Result<Refused, Reject>>>>()
             .into_iter()
             .peekable();
         while checked.peek().is_some() && valid.len() < enough {

@@ -509,7 +509,8 @@ pub async fn simulate(
 }
 
 /// `POST /api/balance`: `{scene, design, alternative?, steps?}` in: the torque the crank needs along the
-/// motion (the parts as printed with the default settings, or the scene's `mass_kg`), the
+/// motion (the printed model's parts at the design's scale, with the default settings; or a full-size
+/// build's real masses: the scene's `mass_kg`, `material` and `thickness`), the
 /// counterbalance springs and the torque with them, at the rows of `/api/simulate`'s frames for the
 /// same `steps`.
 pub async fn balance(
@@ -518,10 +519,8 @@ pub async fn balance(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Value>, ApiError> {
     let request = parsed(&state, body, Compound::parse).await?;
-    let Some(masses) = Masses::printed(&PrintSettings::default(), &request.units) else {
-        let message = format!("units \"{}\" are not a length, so the parts cannot be weighed", request.units);
-        return Err(ApiError::unprocessable(message.clone()).with_issue("scene.units", message));
-    };
+    let masses = Masses::for_design(&request.problem, Some(&request.design), &PrintSettings::default())
+        .map_err(|e| ApiError::unprocessable(e.to_string()).with_issue("scene.units", e.to_string()))?;
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
     let work = move |flag: &Arc<StopFlag>| {
         let replay = request.replay(steps)?;
