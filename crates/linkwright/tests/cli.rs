@@ -144,11 +144,12 @@ fn check_refuses_an_endless_travel_at_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// When only the print check stood in the way, the command offers its own way around it (the library
-/// names only the print settings to change).
+/// A real object drawn at its real size designs as a printed model at a scale that fits; printed at
+/// 1:1 it is still designed, marked as not buildable that way with the reason in numbers, and the
+/// command offers its own flags (the library names only the build).
 #[test]
-fn an_unprintable_run_offers_to_design_without_the_print_check() {
-    // The truck drawn in metres: every linkage is tens of metres long, no printer takes it.
+fn a_real_size_object_designs_as_a_scaled_model_and_says_when_a_scale_cannot_print_it() {
+    // The truck drawn in metres: every linkage is tens of metres long.
     let dir = workdir("unprintable");
     let mut scene: Value =
         serde_json::from_str(&std::fs::read_to_string(example("k1_garbage_truck")).unwrap()).unwrap();
@@ -156,11 +157,28 @@ fn an_unprintable_run_offers_to_design_without_the_print_check() {
     let path = dir.join("truck_in_metres.json");
     std::fs::write(&path, scene.to_string()).unwrap();
     let out = dir.join("out");
-    let run = linkwright(&["design", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "--samples", "3000"]);
-    let (stdout, stderr) = (text(&run.stdout), text(&run.stderr));
-    assert!(stdout.contains("no solution") && stdout.contains("could not be printed"), "{stdout}");
-    assert!(!stdout.contains("--no-print-check"), "{stdout}");
-    assert!(stderr.contains("hint: --no-print-check"), "{stderr}");
+    let design = |extra: &[&str]| {
+        let mut args = vec!["design", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "--samples", "3000"];
+        args.extend_from_slice(extra);
+        let run = linkwright(&args);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        let file: Value = serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+        (text(&run.stdout), text(&run.stderr), file)
+    };
+    let (stdout, _, file) = design(&[]);
+    assert!(stdout.contains("; a printed model at 1:"), "{stdout}");
+    assert_eq!((file["status"].as_str(), file["build"]["buildable"].as_bool()), (Some("ok"), Some(true)));
+    assert_eq!(file["build"]["asked"], "model:auto");
+
+    let (stdout, stderr, file) = design(&["--build", "model:1:1"]);
+    assert!(stdout.contains("NOT buildable as a printed model at 1:1"), "{stdout}");
+    assert!(stdout.contains("print at 1:") && stdout.contains("full size") && !stdout.contains("--"), "{stdout}");
+    assert!(stderr.contains("more than the 210 mm print area") && stderr.contains("hint: --build"), "{stderr}");
+    assert_eq!((file["status"].as_str(), file["build"]["buildable"].as_bool()), (Some("ok"), Some(false)));
+
+    let bad = linkwright(&["design", path.to_str().unwrap(), "--build", "model:1:0"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(text(&bad.stderr).contains("model:auto"), "{}", text(&bad.stderr));
 }
 
 /// `analyze --json`: the torque at every crank angle of the design's travel (which it spans), each
