@@ -26,11 +26,13 @@ fn scene(name: &str) -> Scene {
 }
 
 /// A scene and the design kept for it in the fixtures.
+/// A fixture's scene and design, printed at 1:1 (the fixture designs were checked at full size).
 fn fixture_design(name: &str) -> (Scene, Problem, DesignFile) {
     let s = scene(name);
     let path = format!("{}/{name}.design.json", fixtures_dir());
     let design = DesignFile::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    let p = Problem::new(&s).unwrap();
+    let mut p = Problem::new(&s).unwrap();
+    p.build = linkwright_core::Build::Model(linkwright_core::ModelScale::Fixed(linkwright_core::Ratio::ONE));
     (s, p, design)
 }
 
@@ -441,7 +443,7 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
     match printable.diagnose(&mechanism, &trace) {
         Err(e @ fab::FabError::OffBed { .. }) => {
             let text = e.to_string();
-            assert!(text.contains("link1") && text.contains("bed") && text.contains("scale"), "{text}");
+            assert!(text.contains("link1") && text.contains("bed") && text.contains("model"), "{text}");
         }
         other => panic!("expected the bed to refuse the design, got {other:?}"),
     }
