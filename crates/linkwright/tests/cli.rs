@@ -173,7 +173,7 @@ fn a_real_size_object_designs_as_a_scaled_model_and_says_when_a_scale_cannot_pri
     let (stdout, stderr, file) = design(&["--build", "model:1:1"]);
     assert!(stdout.contains("NOT buildable as a printed model at 1:1"), "{stdout}");
     assert!(stdout.contains("print at 1:") && stdout.contains("full size") && !stdout.contains("--"), "{stdout}");
-    assert!(stderr.contains("more than the 210 mm print area") && stderr.contains("hint: --build"), "{stderr}");
+    assert!(stderr.contains("more than the 287 mm a link can span") && stderr.contains("hint: --build"), "{stderr}");
     assert_eq!((file["status"].as_str(), file["build"]["buildable"].as_bool()), (Some("ok"), Some(false)));
 
     let bad = linkwright(&["design", path.to_str().unwrap(), "--build", "model:1:0"]);
@@ -247,21 +247,32 @@ fn analyze_gives_the_torque_along_the_motion() {
         }
     }
 
-    // The body given twice its printed mass takes twice its share.
-    let body = parts.iter().find(|p| p["name"] == "body1").unwrap();
-    let mut heavier: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
-    heavier["moving_bodies"][0]["mass_kg"] = Value::from(2.0 * body["mass_kg"].as_f64().unwrap());
-    let heavier_path = dir.join("heavier.json");
-    std::fs::write(&heavier_path, heavier.to_string()).unwrap();
-    let run = linkwright(&["analyze", heavier_path.to_str().unwrap(), design.to_str().unwrap(), "--json"]);
-    assert!(run.status.success(), "stderr: {}", text(&run.stderr));
-    let doubled: Value = serde_json::from_str(&text(&run.stdout)).unwrap();
+    // Built full size, the body weighs the scene's mass_kg: twice the mass, twice its share.
+    let with_mass = |kg: f64| {
+        let mut heavier: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+        heavier["moving_bodies"][0]["mass_kg"] = Value::from(kg);
+        let path = dir.join(format!("body_of_{kg}_kg.json"));
+        std::fs::write(&path, heavier.to_string()).unwrap();
+        let run = linkwright(&[
+            "analyze",
+            path.to_str().unwrap(),
+            design.to_str().unwrap(),
+            "--json",
+            "--build",
+            "full:plywood",
+        ]);
+        assert!(run.status.success(), "stderr: {}", text(&run.stderr));
+        serde_json::from_str::<Value>(&text(&run.stdout)).unwrap()
+    };
+    let (one, two) = (with_mass(1.0), with_mass(2.0));
     let share = |t: &Value, k: usize| {
         t["parts"].as_array().unwrap().iter().find(|p| p["name"] == "body1").unwrap()["torque_nm"][k].as_f64().unwrap()
     };
+    let peak = one["peak_nm"].as_f64().unwrap();
     for k in 0..tau.len() {
-        assert!((share(&doubled, k) - 2.0 * share(&torque, k)).abs() <= 1e-12 * (1.0 + peak));
+        assert!((share(&two, k) - 2.0 * share(&one, k)).abs() <= 1e-12 * (1.0 + peak));
     }
+    assert!(share(&one, tau.len() / 2) != share(&torque, tau.len() / 2), "the model is weighed as printed");
 
     // The springs are searched in parallel, and found the same on one thread.
     let one_thread = std::process::Command::new(env!("CARGO_BIN_EXE_linkwright"))
