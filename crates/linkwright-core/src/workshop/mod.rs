@@ -29,6 +29,7 @@
 //! links' own), quasi-static, with the linkage held at its crank, as [`crate::statics`] takes them.
 
 mod error;
+mod files;
 mod forces;
 mod outline;
 mod pipeline;
@@ -40,12 +41,13 @@ mod stack;
 mod standards;
 
 pub use error::WorkshopError;
+pub use files::files;
 pub use forces::{equilibrium, EdgeForce, PinForce, RowForces};
 pub use outline::{Hole, Outline};
 pub use pipeline::plan;
 pub use report::{
-    files, BomItem, CutItem, JointPlan, LayerPlan, LinkKind, LinkLoads, LinkPlan, PartMass, PivotLength, StackItem,
-    Workshop, WORKSHOP_FORMAT,
+    BomItem, CutItem, JointPlan, LayerPlan, LinkKind, LinkLoads, LinkPlan, PartMass, PivotLength, StackItem, Workshop,
+    WORKSHOP_FORMAT,
 };
 pub use settings::{SpringOrder, WorkshopSettings};
 pub use sizing::Check;

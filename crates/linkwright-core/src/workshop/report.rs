@@ -1,7 +1,7 @@
 //! The plan of a full-size build as data ([`Workshop`], written as `workshop.json`) and the files it
-//! becomes ([`files`]).
+//! becomes ([`super::files`]).
 
-use super::outline::{profiles_dxf, profiles_svg, Outline, Placed};
+use super::outline::Outline;
 use super::settings::WorkshopSettings;
 use super::sizing::Check;
 use super::standards::{BoltSpec, MaterialValues};
@@ -237,7 +237,7 @@ pub struct Workshop {
     pub steps: Vec<String>,
     /// What the builder should know: checks that do not hold, loads not designed for.
     pub notes: Vec<String>,
-    /// The files [`files`] writes.
+    /// The files [`super::files`] writes.
     pub files: Vec<String>,
 }
 
@@ -263,7 +263,7 @@ pub(crate) fn thicknesses(links: &[LinkPlan]) -> Vec<f64> {
     out
 }
 
-/// The names of the files [`files`] writes for these parts.
+/// The names of the files [`super::files`] writes for these parts.
 pub(crate) fn file_names(links: &[LinkPlan]) -> Vec<String> {
     let mut out = vec!["workshop.json".to_string(), "workshop_assembly.svg".into()];
     for t in thicknesses(links) {
@@ -272,31 +272,6 @@ pub(crate) fn file_names(links: &[LinkPlan]) -> Vec<String> {
     }
     out.push("cut_list.csv".into());
     out.push("bill_of_materials.csv".into());
-    out
-}
-
-/// The files of a full-size build, each a path relative to the output folder and its bytes:
-/// `workshop.json` (the [`Workshop`] as data), `workshop_assembly.svg` (the layers side by side and
-/// the steps), `profiles_Tmm.dxf` and `profiles_Tmm.svg` for each stock thickness T (every part cut
-/// from it, full size, millimetres), `cut_list.csv` and `bill_of_materials.csv`.
-pub fn files(workshop: &Workshop) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let json = serde_json::to_vec_pretty(workshop).expect("a workshop always serializes");
-    out.push(("workshop.json".to_string(), json));
-    out.push(("workshop_assembly.svg".to_string(), super::sheet::assembly_svg(workshop).into_bytes()));
-    for t in thicknesses(&workshop.links) {
-        let parts: Vec<Placed> = workshop
-            .links
-            .iter()
-            .filter(|l| l.thickness_mm == t)
-            .map(|l| Placed { name: &l.name, outline: &l.outline })
-            .collect();
-        let title = format!("{}: {} mm {}", workshop.scene, number(t), workshop.material.id());
-        out.push((profile_file(t, "dxf"), profiles_dxf(&parts).into_bytes()));
-        out.push((profile_file(t, "svg"), profiles_svg(&title, &parts).into_bytes()));
-    }
-    out.push(("cut_list.csv".to_string(), cut_list_csv(&workshop.cut_list).into_bytes()));
-    out.push(("bill_of_materials.csv".to_string(), bom_csv(&workshop.bill_of_materials).into_bytes()));
     out
 }
 
@@ -309,7 +284,7 @@ fn field(text: &str) -> String {
     }
 }
 
-fn cut_list_csv(items: &[CutItem]) -> String {
+pub(crate) fn cut_list_csv(items: &[CutItem]) -> String {
     let mut s = String::from("parts,kind,material,thickness_mm,length_mm,width_mm,holes,hole_mm,count,file\n");
     for c in items {
         let kind = serde_json::to_value(c.kind).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default();
@@ -330,7 +305,7 @@ fn cut_list_csv(items: &[CutItem]) -> String {
     s
 }
 
-fn bom_csv(items: &[BomItem]) -> String {
+pub(crate) fn bom_csv(items: &[BomItem]) -> String {
     let mut s = String::from("item,standard,size,count\n");
     for b in items {
         let _ = writeln!(s, "{},{},{},{}", field(&b.item), field(&b.standard), field(&b.size), b.count);
