@@ -88,7 +88,10 @@ fn fabricate_says_which_parts_are_larger_than_the_bed_and_what_to_change() {
     let run = fabricate_with_settings(&dir, &design, r#"{"bed": {"width": 45, "depth": 45, "margin": 2}}"#);
     assert!(run.status.success(), "{}", text(&run.stderr));
     let summary = text(&run.stdout);
-    assert!(summary.contains("warning:") && summary.contains("mm square") && summary.contains("times as large"), "{summary}");
+    assert!(
+        summary.contains("warning:") && summary.contains("mm square") && summary.contains("times as large"),
+        "{summary}"
+    );
     let report: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fab/fabrication.json")).unwrap()).unwrap();
     let oversized = report["oversized"].as_array().unwrap();
