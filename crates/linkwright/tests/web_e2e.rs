@@ -1,6 +1,8 @@
 //! End to end in a real headless Chromium, as a person uses the app: draw a fixed and a moving body,
 //! place and add poses, undo and redo, design, watch it move, download the design, reload and find the
-//! scene again; then open an example, design it, make its parts, download one and see them in 3D.
+//! scene again; then open an example, design it, make its parts, download one and see them in 3D; and
+//! a real-size object (the full-size wall bed) printed as a model at the scale chosen for it, then at
+//! a fixed 1:1 and at full size (Settings › Build).
 //!
 //! Chromium is `/usr/bin/chromium` (or `$LINKWRIGHT_CHROMIUM`). Without it the test is skipped with a
 //! message, except under `CI=true`, where a missing browser is a failure. With
@@ -10,6 +12,7 @@ mod common;
 
 use chromiumoxide::browser::{Browser, BrowserConfig};
 use chromiumoxide::cdp::browser_protocol::browser::{SetDownloadBehaviorBehavior, SetDownloadBehaviorParams};
+use chromiumoxide::cdp::browser_protocol::emulation::SetDeviceMetricsOverrideParams;
 use chromiumoxide::cdp::browser_protocol::input::{
     DispatchKeyEventParams, DispatchKeyEventType, DispatchMouseEventParams, DispatchMouseEventType, MouseButton,
 };
@@ -584,7 +587,8 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     drag(page, at(page, 40.0, 40.0).await?, at(page, 100.0, 60.0).await?).await?;
     until(page, "!document.getElementById('btn-design').disabled", Duration::from_secs(2)).await?;
 
-    garbage_truck(page, downloads, shots).await
+    garbage_truck(page, downloads, shots).await?;
+    real_size(page, shots).await
 }
 
 /// Counts the pixels of the 3D preview that differ from its background, the colour of its top-left
@@ -858,7 +862,7 @@ async fn pose_misses_on_canvas(page: &Page) -> Result<()> {
 }
 
 /// The Result tab plots the torque the crank needs along the motion (from the server's analysis), and
-/// names its peak as the analysis gives it.
+/// names its peak as the analysis gives it; the body weighs what it prints at.
 async fn torque_plot(page: &Page) -> Result<()> {
     until(page, "document.querySelector('#tab-result .chart [data-peak]') !== null", Duration::from_secs(10)).await?;
     let peak = eval(page, "window.linkwright.store.result.analysis.torque.peak_nm").await?.as_f64().ok_or("peak")?;
@@ -873,30 +877,23 @@ async fn torque_plot(page: &Page) -> Result<()> {
     assert_eq!(points, frames, "one point of the plot per frame of the motion");
     assert!(peak > 0.0);
 
-    // A real mass for the body, typed: the design stays, the torque is weighed again with it.
+    // A printed model weighs what its parts print at: the body's mass is shown as printed, and a real
+    // mass is asked only of a full-size build (see `real_size`).
     let printed =
         eval(page, "window.linkwright.store.result.analysis.torque.parts.find((p) => p.name === 'body1').mass_kg")
             .await?
             .as_f64()
             .ok_or("printed mass")?;
-    let heavier = 10.0 * printed;
-    let js = format!(
-        "(() => {{ const i = document.querySelector('#tab-result input[data-mass=\"0\"]'); i.value = '{heavier}'; \
-         i.dispatchEvent(new Event('change')); return true; }})()"
-    );
-    eval(page, &js).await?;
-    let weighed = format!(
-        "(() => {{ const t = window.linkwright.store.result?.analysis?.torque; \
-         return !!t && Math.abs(t.parts.find((p) => p.name === 'body1').mass_kg - {heavier}) < 1e-12; }})()"
-    );
-    until(page, &weighed, Duration::from_secs(10)).await?;
-    assert_eq!(eval(page, "window.linkwright.store.scene.moving_bodies[0].mass_kg").await?.as_f64(), Some(heavier));
-    assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "the design is still shown");
-    let peak = eval(page, "window.linkwright.store.result.analysis.torque.peak_nm").await?.as_f64().ok_or("peak")?;
+    let shown = eval(page, "document.querySelector('#tab-result [data-printed-mass=\"0\"]')?.textContent").await?;
+    assert_eq!(shown, format!("{} kg", three_figures(printed)));
+    assert_eq!(eval(page, "document.querySelector('#tab-result input[data-mass]')").await?, Value::Null);
 
     // Springs on request: listed in words, the torque with them plotted (lower at its peak), and
-    // drawn on the canvas where the design is shown, moving with it.
-    click(page, "#tab-result button[data-action=springs]").await?;
+    // drawn on the canvas where the design is shown, moving with it. (With screenshots on, they were
+    // asked for already, for the picture.)
+    if eval(page, "document.querySelector('#tab-result ul.springs') === null").await? == Value::Bool(true) {
+        click(page, "#tab-result button[data-action=springs]").await?;
+    }
     until(page, "document.querySelector('#tab-result ul.springs li') !== null", Duration::from_secs(20)).await?;
     let balanced =
         eval(page, "window.linkwright.store.result.balance.peak_with_springs_nm").await?.as_f64().ok_or("balanced")?;
@@ -1274,4 +1271,292 @@ async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<Pat
         }
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
+}
+
+/// Waits for the design of the scene with build `word` to be shown (its job over), and returns its
+/// file's `build` record, whose `checked` build must be `word` (a fixed build is checked as asked).
+async fn designed_for(page: &Page, word: &str) -> Result<Value> {
+    let js = format!(
+        "window.linkwright.store.result?.design?.build?.asked === '{word}' && document.getElementById('job').hidden"
+    );
+    until(page, &js, Duration::from_secs(120)).await?;
+    settle(page).await?;
+    let record = eval(page, "window.linkwright.store.result.design.build").await?;
+    assert_eq!(record["checked"], word, "{record}");
+    Ok(record)
+}
+
+/// Chooses the printed model's scale `scale` (`A:B`) in Settings › Build, as a person picks it from
+/// the menu.
+async fn pick_scale(page: &Page, scale: &str) -> Result<()> {
+    click(page, "[data-tab=settings]").await?;
+    if eval(page, "document.querySelector('[data-key=build-model]').checked").await? != Value::Bool(true) {
+        click(page, "[data-key=build-model]").await?;
+    }
+    let js = format!(
+        "(() => {{ const s = document.querySelector('select[data-key=build-scale]'); s.value = '{scale}'; \
+         s.dispatchEvent(new Event('change')); return s.value === '{scale}'; }})()"
+    );
+    assert_eq!(eval(page, &js).await?, Value::Bool(true), "{scale} is offered");
+    until(page, &format!("window.linkwright.store.scene.build === 'model:{scale}'"), Duration::from_secs(2)).await
+}
+
+/// A number as the app writes a mass or a small size: three significant figures, no trailing zeros
+/// (JavaScript's `Number(v.toPrecision(3))`).
+fn three_figures(v: f64) -> String {
+    let k = 10f64.powi(2 - v.abs().log10().floor() as i32);
+    format!("{}", (v * k).round() / k)
+}
+
+/// The page's size as a window of `width` × `height` pixels.
+async fn window_size(page: &Page, width: u32, height: u32) -> Result<()> {
+    page.execute(SetDeviceMetricsOverrideParams::new(width, height, 1.0, false)).await?;
+    settle(page).await
+}
+
+/// Elements of the side panel's tab `tab` that stick out of it sideways (`.tab` scrolls only
+/// up and down), as `tag.class` names; none when it fits. The shapes inside a picture are not
+/// counted (the picture cuts them), the picture is.
+async fn overflowing(page: &Page, tab: &str) -> Result<Vec<String>> {
+    let js = format!(
+        "(() => {{ const t = document.getElementById('tab-{tab}'), box = t.getBoundingClientRect(); \
+         const out = [...t.querySelectorAll('*')].filter((e) => !e.ownerSVGElement).filter((e) => {{ const r = e.getBoundingClientRect(); \
+           return r.width > 0 && (r.right > box.right + 0.5 || r.left < box.left - 0.5); }}) \
+           .map((e) => `${{e.tagName.toLowerCase()}}.${{e.className}}`); \
+         if (t.scrollWidth > t.clientWidth) out.push(`the tab scrolls sideways: ${{t.scrollWidth}} > ${{t.clientWidth}}`); \
+         return out; }})()"
+    );
+    let found = eval(page, &js).await?;
+    Ok(found.as_array().into_iter().flatten().filter_map(|v| v.as_str().map(String::from)).collect())
+}
+
+/// Checks that the Build controls (Settings) and the Result tab fit a small window (900 × 700) and a
+/// large one (1920 × 1080), and pictures both (and the parts panel) with screenshots on; back to the
+/// test's size after.
+async fn build_fits_windows(page: &Page, shots: Option<&Path>, name: &str) -> Result<()> {
+    for (width, height) in [(900, 700), (1920, 1080)] {
+        window_size(page, width, height).await?;
+        for tab in ["settings", "result"] {
+            click(page, &format!("[data-tab={tab}]")).await?;
+            // The heading above the build's controls, or above the line that says how it is built.
+            let anchor = if tab == "settings" { "fieldset.build-kind" } else { "#tab-result .build-line" };
+            let js = format!("document.querySelector('{anchor}').previousElementSibling.scrollIntoView() || true");
+            eval(page, &js).await?;
+            settle(page).await?;
+            let out = overflowing(page, tab).await?;
+            assert!(out.is_empty(), "{name}, {tab} tab at {width} × {height}: {out:?}");
+            screenshot(page, shots, &format!("build_{name}_{tab}_{width}x{height}.png")).await?;
+        }
+        // The parts panel, with what was made when it was.
+        eval(page, "document.getElementById('fab-heading').scrollIntoView() || true").await?;
+        settle(page).await?;
+        screenshot(page, shots, &format!("build_{name}_parts_{width}x{height}.png")).await?;
+    }
+    window_size(page, WIDTH, HEIGHT).await
+}
+
+/// A real-size object, the full-size wall bed (drawn in millimetres, a 2 m bed), designed with the
+/// default build: a printed model at a scale other than 1:1 that can be printed, named in the Result
+/// tab, and its parts all on print beds at that scale. Then Settings › Build, by keyboard, menu and
+/// click, each change one undo step and sent with the scene: a fixed 1:1 model, which fits or is marked
+/// as not printable, as the server answers; 5:1, which cannot be printed: the warning gives the
+/// engine's reason and buttons that act on it (the scale it suggests redesigns at that scale); full
+/// size, whose parts panel asks for the workshop files and shows what the server answers. The
+/// controls and the warning fit a small and a large window, and the build is back after a reload.
+async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
+    design_example(page, "k1_wall_bed_full_size", 5000, None).await?;
+    assert_eq!(scene(page).await?.get("build"), None, "the example asks for the default build");
+    click(page, "[data-tab=result]").await?;
+    let record = eval(page, "window.linkwright.store.result.design.build").await?;
+    assert_eq!(record["asked"], "model:auto", "{record}");
+    assert_eq!(record["buildable"], true, "{record}");
+    let scale = record["checked"].as_str().and_then(|c| c.strip_prefix("model:")).ok_or("a model's scale")?;
+    assert_ne!(scale, "1:1", "a 2 m bed is not printed at its real size");
+    until(page, "document.querySelector('#tab-result .build-line') !== null", Duration::from_secs(5)).await?;
+    let line = eval(page, "document.querySelector('#tab-result .build-line').textContent").await?;
+    let line = line.as_str().unwrap_or_default();
+    assert!(line.starts_with(&format!("Printed model at {scale} (auto), ")) && line.ends_with(" mm"), "{line}");
+    assert_eq!(eval(page, "document.querySelector('[data-unbuildable]') === null").await?, true);
+
+    // Its parts: printed at that scale, every part on a print bed, none too large for one.
+    until(page, "/Make the parts/.test(document.getElementById('btn-fabricate')?.textContent)", Duration::from_secs(5))
+        .await?;
+    click(page, "#btn-fabricate").await?;
+    until(page, "document.querySelector('#tab-result .fab-scale') !== null", Duration::from_secs(90)).await?;
+    let report = eval(page, "window.linkwright.results.fab.made.answer.report").await?;
+    assert_eq!(report["scale"], scale, "the parts are made at the scale the design was checked at");
+    assert_eq!(report["oversized"], serde_json::json!([]), "no part is too large for the bed");
+    let on_plates: Vec<&str> = report["plates"]
+        .as_array()
+        .ok_or("plates")?
+        .iter()
+        .flat_map(|p| p["parts"].as_array().into_iter().flatten().filter_map(Value::as_str))
+        .collect();
+    for part in report["parts"].as_array().ok_or("parts")? {
+        let name = part["name"].as_str().ok_or("a part's name")?;
+        assert!(on_plates.contains(&name), "{name} is on no print bed: {on_plates:?}");
+    }
+    let model = floats(&report["model_mm"]);
+    let shown = eval(page, "document.querySelector('#tab-result .fab-scale').textContent").await?;
+    // As the app writes a size: whole millimetres from 100 mm up, three figures below.
+    let size = |v: f64| if v >= 100.0 { format!("{}", v.round()) } else { three_figures(v) };
+    assert!(
+        shown.as_str().unwrap_or_default().starts_with(&format!("Printed model at {scale}, {} × ", size(model[0]))),
+        "{shown} for {model:?}"
+    );
+    build_fits_windows(page, shots, "model_auto").await?;
+
+    // Settings › Build with the keyboard: the arrow key on “Printed model” chooses “Full size”, which
+    // keeps the focus; Ctrl+Z takes it back. Every control there has a label.
+    click(page, "[data-tab=settings]").await?;
+    let unlabelled =
+        "[...document.querySelectorAll('#tab-settings fieldset.build-kind input, #tab-settings [data-key^=build-]')]\
+                      .filter((e) => e.labels.length === 0).map((e) => e.dataset.key)";
+    assert_eq!(eval(page, unlabelled).await?, serde_json::json!([]));
+    eval(page, "document.querySelector('[data-key=build-model]').focus() || true").await?;
+    key(page, "ArrowRight", "ArrowRight", 39, 0).await?;
+    until(page, "window.linkwright.store.scene.build === 'full:plywood'", Duration::from_secs(2)).await?;
+    until(page, "document.activeElement?.dataset.key === 'build-full'", Duration::from_secs(2)).await?;
+    assert_eq!(eval(page, "document.querySelector('select[data-key=build-material]').value").await?, "plywood");
+    undo(page).await?;
+    until(page, "window.linkwright.store.scene.build === undefined", Duration::from_secs(2)).await?;
+    // The scale menu: the engine's series from 10000:1 to 1:10000 after Auto; 1:1 chosen.
+    let scales =
+        eval(page, "[...document.querySelectorAll('select[data-key=build-scale] option')].map((o) => o.value)").await?;
+    let scales: Vec<&str> = scales.as_array().ok_or("scales")?.iter().filter_map(Value::as_str).collect();
+    for want in ["auto", "10:1", "2:1", "1:1", "1:5", "1:10", "1:20", "1:50", "1:100"] {
+        assert!(scales.contains(&want), "{want} is not offered: {scales:?}");
+    }
+    pick_scale(page, "1:1").await?;
+    // The drawing is 2.55 m wide: so is its model at 1:1.
+    let help = eval(
+        page,
+        "document.querySelector('select[data-key=build-scale]').parentElement.querySelector('small').textContent",
+    )
+    .await?;
+    assert_eq!(help, "everything drawn is 2550 × 2400 mm in the model");
+    // The design shown was made for another build: the Result tab says so.
+    click(page, "[data-tab=result]").await?;
+    until(page, "document.querySelector('[data-build-changed]') !== null", Duration::from_secs(2)).await?;
+
+    // Designed at 1:1 (the build goes with the scene): a design that fits, or one marked as not
+    // printable, as the server answers.
+    key(page, "Enter", "Enter", 13, 0).await?;
+    let record = designed_for(page, "model:1:1").await?;
+    let line = eval(page, "document.querySelector('#tab-result .build-line').textContent").await?;
+    assert!(line.as_str().unwrap_or_default().starts_with("Printed model at 1:1, 2550 × 2400 mm"), "{line}");
+    let warning = eval(page, "document.querySelector('#tab-result [data-unbuildable]') !== null").await?;
+    assert_eq!(warning, Value::Bool(record["buildable"] == false), "{record}");
+    eprintln!("web_e2e: the full-size wall bed at 1:1: {record}");
+
+    // At 5:1 a link that fits the bed is at most 42 mm long in the drawing, and a 2 m bed turning a
+    // quarter turn cannot be carried on links that short: the design is marked as not printable,
+    // with the engine's reason, and buttons that act on it.
+    pick_scale(page, "5:1").await?;
+    click(page, "[data-tab=result]").await?;
+    key(page, "Enter", "Enter", 13, 0).await?;
+    let record = designed_for(page, "model:5:1").await?;
+    assert_eq!(record["buildable"], false, "{record}");
+    let reason = record["reason"].as_str().ok_or("a design that cannot be printed says why")?;
+    until(page, "document.querySelector('#tab-result [data-unbuildable]') !== null", Duration::from_secs(5)).await?;
+    let warning = eval(page, "document.querySelector('#tab-result [data-unbuildable]').textContent").await?;
+    let warning = warning.as_str().unwrap_or_default();
+    assert!(warning.starts_with("This linkage cannot be printed at 5:1"), "{warning}");
+    assert!(warning.contains(&reason[1..]), "{warning} does not give the reason {reason}");
+    let actions = eval(
+        page,
+        "[...document.querySelectorAll('#tab-result [data-build-action]')].map((b) => [b.dataset.buildAction, b.textContent])",
+    )
+    .await?;
+    let actions: Vec<(String, String)> = serde_json::from_value(actions)?;
+    let kinds: Vec<&str> = actions.iter().map(|(k, _)| k.as_str()).collect();
+    assert!(kinds.contains(&"auto") && kinds.contains(&"full"), "{actions:?}");
+    eprintln!("web_e2e: at 5:1 the wall bed cannot be printed: {reason}; offered {actions:?}");
+    build_fits_windows(page, shots, "model_5_1").await?;
+    // The engine's suggestion, read as the warning's button reads it.
+    let read = "import('/js/build.js').then((m) => [m.suggestedScale('its links are up to 333 mm long (1663 mm in the \
+                model at 5:1), more than the 210 mm print area: print at 1:2 or smaller, or build it full size'), \
+                m.suggestedScale('at 1:200 the linkage region is 4.45 mm across: print at 1:20 or larger'), \
+                m.suggestedScale('at 5:1, no room; or build it full size')])";
+    assert_eq!(eval(page, read).await?, serde_json::json!(["1:2", "1:20", null]));
+    // The scale the reason suggests, when it names one: the build changes and the design runs again;
+    // Ctrl+Z takes the build back in one step (the design shown stays, and says it was made for
+    // another build).
+    if let Some((_, text)) = actions.iter().find(|(k, _)| k == "scale") {
+        let scale = text.strip_prefix("Print at ").and_then(|t| t.strip_suffix(" and redesign")).ok_or("a scale")?;
+        assert!(reason.contains(&format!("print at {scale} or ")), "{text} for {reason}");
+        click(page, "#tab-result [data-build-action=scale]").await?;
+        let record = designed_for(page, &format!("model:{scale}")).await?;
+        assert_eq!(scene(page).await?["build"], format!("model:{scale}"), "{record}");
+        undo(page).await?;
+        until(page, "window.linkwright.store.scene.build === 'model:5:1'", Duration::from_secs(2)).await?;
+        until(page, "document.querySelector('[data-build-changed]') !== null", Duration::from_secs(2)).await?;
+        redo(page).await?;
+    }
+
+    // Full size, from the Settings tab: the design runs again, with no print check.
+    click(page, "[data-tab=settings]").await?;
+    click(page, "[data-key=build-full]").await?;
+    assert_eq!(scene(page).await?["build"], "full:plywood");
+    click(page, "[data-tab=result]").await?;
+    key(page, "Enter", "Enter", 13, 0).await?;
+    let record = designed_for(page, "full:plywood").await?;
+    assert_eq!(record["buildable"], true, "{record}");
+    until(page, "document.querySelector('#tab-result .build-line') !== null", Duration::from_secs(5)).await?;
+    assert_eq!(
+        eval(page, "document.querySelector('#tab-result .build-line').textContent").await?,
+        "Full size, plywood"
+    );
+    // The bed's real mass counts at full size: the example's 60 kg, then 75 kg typed; the design stays,
+    // the torque is weighed again with it.
+    let bed = "window.linkwright.store.result.analysis?.torque?.parts.find((p) => \
+               p.name === window.linkwright.store.result.mechanism.parts.find((q) => q.kind === 'body' && q.body === 0).name)?.mass_kg";
+    until(page, &format!("{bed} === 60"), Duration::from_secs(10)).await?;
+    let js = "(() => { const i = document.querySelector('#tab-result input[data-mass=\"0\"]'); i.value = '75'; \
+              i.dispatchEvent(new Event('change')); return true; })()";
+    eval(page, js).await?;
+    until(page, &format!("{bed} === 75"), Duration::from_secs(10)).await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.moving_bodies[0].mass_kg").await?.as_f64(), Some(75.0));
+    assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "the design is still shown");
+    // Its parts panel asks for the workshop files, and shows what the server answers: its files, or
+    // its error as the app shows errors.
+    until(
+        page,
+        "document.getElementById('btn-fabricate')?.textContent === '⚙ Make the workshop files'",
+        Duration::from_secs(5),
+    )
+    .await?;
+    click(page, "#btn-fabricate").await?;
+    until(
+        page,
+        "document.querySelector('#tab-result .fab-scale, #tab-result .fab-error') !== null",
+        Duration::from_secs(90),
+    )
+    .await?;
+    let answered = eval(
+        page,
+        "(() => { const f = window.linkwright.results.fab; return f.made ? {files: f.made.answer.files.length, \
+         offered: document.querySelectorAll('#tab-result a[data-file]').length} : {error: f.error.problems[0], \
+         shown: document.querySelector('#tab-result .fab-error').textContent}; })()",
+    )
+    .await?;
+    if let Some(error) = answered["error"].as_str() {
+        let shown = answered["shown"].as_str().unwrap_or_default();
+        assert!(shown.starts_with("Cannot make the workshop files") && shown.contains(error), "{answered}");
+    } else {
+        let files = answered["files"].as_u64().ok_or("files")?;
+        // Every file the server lists is offered, and the zip.
+        assert!(files > 0 && answered["offered"].as_u64() >= Some(files), "{answered}");
+    }
+    eprintln!("web_e2e: the full-size wall bed's parts panel shows {answered}");
+    build_fits_windows(page, shots, "full_size").await?;
+
+    // The build is saved with the scene: back after a reload, in the scene and in Settings.
+    let before = scene(page).await?;
+    page.reload().await?;
+    until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
+    assert_eq!(scene(page).await?, before);
+    click(page, "[data-tab=settings]").await?;
+    assert_eq!(eval(page, "document.querySelector('[data-key=build-full]').checked").await?, true);
+    Ok(())
 }

@@ -1,7 +1,9 @@
 // Making the parts: print settings, the Fabricate action (a job on the server), the summary, the
-// downloads, the assembly steps, and the 3D preview of the printed parts moving with the linkage.
+// downloads, the assembly steps, and the 3D preview of the printed parts moving with the linkage. For a
+// full-size build the same action asks for the workshop's files, and shows whatever the server lists.
 
 import * as api from './api.js';
+import { buildWord, DEFAULT_BUILD, describe, parseBuild } from './build.js';
 import { partColour, partKind, Preview3D, ROLE_COLOURS } from './preview3d.js';
 import { springCut, springList } from './plots.js';
 import { html } from './svg.js';
@@ -21,6 +23,7 @@ const FIELDS = [
 ];
 const FACES = [['auto', 'Automatic'], ['one', 'Front face only'], ['both', 'Both faces']];
 const BUSY_TEXT = 'Making the parts: placing pins and connectors, stacking the layers so nothing rubs, building the solids…';
+const BUSY_TEXT_FULL = 'Making the workshop files…';
 
 /** The downloads by what they are for: [heading, which file names]. */
 const FILE_GROUPS = [
@@ -30,13 +33,15 @@ const FILE_GROUPS = [
   ['Instructions', (name) => name === 'assembly.svg' || name === 'fabrication.json'],
 ];
 
-/** What a file other than a part is for. */
+/** What a file other than a part is for (by its kind, for files this app does not name). */
 function purpose(name) {
   if (name === 'assembly.3mf') return 'every part, assembled';
   if (name.endsWith('.3mf')) return 'the parts laid out on one bed';
   if (name.startsWith('profiles.')) return 'outlines with holes';
   if (name === 'assembly.svg') return 'the layers and the order to assemble';
-  return name === 'fabrication.json' ? 'parts, sizes and checks' : '';
+  if (name === 'fabrication.json') return 'parts, sizes and checks';
+  const kinds = { csv: 'a table', dxf: 'outlines for CAD or cutting', svg: 'a drawing', json: 'data', pdf: 'a sheet to print' };
+  return kinds[name.split('.').pop().toLowerCase()] || '';
 }
 
 const valueAt = (obj, path) => path.split('.').reduce((o, k) => o?.[k], obj);
@@ -112,6 +117,12 @@ export class Fabricator {
     els.toggle.addEventListener('click', () => this.setShow3d(!this.show3d));
   }
 
+  /** How the design shown is to be built (the scene it was designed for says), read. */
+  build() {
+    const scene = this.results.result?.scene || this.store.scene;
+    return parseBuild(scene.build ?? DEFAULT_BUILD) || { kind: 'model', scale: 'auto' };
+  }
+
   /** True when `x` (the parts made, an error) belongs to the design shown. */
   isFor(x) {
     const r = this.results.result;
@@ -144,18 +155,20 @@ export class Fabricator {
       const springs = !!this.print.springs;
       const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, this.job.controller.signal, springs);
       this.made = { ...target, answer };
-      const report = answer.report;
-      this.show(answer.preview);
-      const turn = this.preview.available ? '; drag the 3D view to turn it' : '';
-      this.store.hint(`Parts made: ${plural(report.totals.parts, 'part')} on ${plural(report.plates.length, 'print bed')}. `
-        + `Download them in the Result tab${turn}.`);
+      const report = answer.report || {};
+      if (answer.preview) this.show(answer.preview);
+      const turn = this.preview?.available && answer.preview ? '; drag the 3D view to turn it' : '';
+      const made = report.totals && report.plates
+        ? `Parts made: ${plural(report.totals.parts, 'part')} on ${plural(report.plates.length, 'print bed')}.`
+        : `Made ${plural((answer.files || []).length, 'file')}.`;
+      this.store.hint(`${made} Download them in the Result tab${turn}.`);
     } catch (e) {
       if (e.name === 'AbortError') {
         this.store.hint('Making the parts was cancelled.');
       } else {
         this.error = { ...target, problems: problems(e), fields: (e.issues || []).map((i) => i.field) };
         this.settingsOpen ||= (e.issues || []).some((i) => i.field.startsWith('settings'));
-        this.store.hint(`Cannot make the parts: ${this.error.problems[0]}`);
+        this.store.hint(`Cannot make the ${this.build().kind === 'full' ? 'workshop files' : 'parts'}: ${this.error.problems[0]}`);
       }
     } finally {
       clearInterval(this.job.timer);
@@ -197,7 +210,7 @@ export class Fabricator {
 
   /** Keeps the 3D view and its toggle in step with the result shown (called on every change). */
   sync(resultShown) {
-    const can = resultShown && this.isFor(this.made) && !!this.preview?.available;
+    const can = resultShown && this.isFor(this.made) && !!this.made.answer.preview && !!this.preview?.available;
     const shown = can && this.show3d;
     this.els.toggle.hidden = !can;
     this.els.toggle.setAttribute('aria-pressed', String(shown));
@@ -218,22 +231,27 @@ export class Fabricator {
       this.loadingDefaults = true;
       api.printDefaults().then((d) => { this.defaults = d; this.store.changed('result'); }).catch(() => {});
     }
-    host.append(html('h3', { id: 'fab-heading', text: 'Make it: 3D-printable parts' }));
-    host.append(html('p', { class: 'note', text: 'Parts for a desktop 3D printer that snap together on pins, without screws or glue.' }));
+    const full = this.build().kind === 'full';
+    host.append(html('h3', { id: 'fab-heading', text: full ? 'Make it: full size' : 'Make it: 3D-printable parts' }));
+    host.append(html('p', { class: 'note', text: full
+      ? `${describe(buildWord(this.build()))}: the files a workshop needs to build it at its real size.`
+      : 'Parts for a desktop 3D printer that snap together on pins, without screws or glue.' }));
     const error = this.isFor(this.error) ? this.error : null;
     host.append(this.settingsForm(error));
     if (this.job) {
       host.append(html('div', { class: 'busy', role: 'status' }, [
         html('div', { class: 'bar indeterminate' }, [html('div')]),
-        html('p', {}, [BUSY_TEXT, ' ', html('span', { id: 'fab-elapsed', text: '0 s' })]),
+        html('p', {}, [full ? BUSY_TEXT_FULL : BUSY_TEXT, ' ', html('span', { id: 'fab-elapsed', text: '0 s' })]),
         html('button', { id: 'btn-fab-cancel', text: 'Cancel', onclick: () => this.cancel() }),
       ]));
     } else {
       const again = this.isFor(this.made);
+      const what = full ? 'the workshop files' : 'the parts';
       host.append(html('div', { class: 'inline' }, [
         html('button', {
-          id: 'btn-fabricate', class: 'primary', text: again ? 'Make the parts again' : '⚙ Make the parts',
-          title: 'Build printable parts for this linkage with the print settings above',
+          id: 'btn-fabricate', class: 'primary', text: again ? `Make ${what} again` : `⚙ Make ${what}`,
+          title: full ? 'Ask for what a workshop needs to build this linkage at full size'
+            : 'Build printable parts for this linkage with the print settings above',
           onclick: () => this.run(),
         }),
         html('label', { class: 'check', title: 'Search the extension springs that balance the printed parts and give the parts hooks for them' }, [
@@ -246,8 +264,8 @@ export class Fabricator {
       ]));
     }
     if (error) {
-      host.append(html('div', { class: 'callout error' }, [
-        html('b', { text: 'Cannot make the parts' }),
+      host.append(html('div', { class: 'callout error fab-error' }, [
+        html('b', { text: `Cannot make ${full ? 'the workshop files' : 'the parts'}` }),
         ...error.problems.map((text) => html('p', { text })),
       ]));
     }
@@ -300,12 +318,23 @@ export class Fabricator {
     return details;
   }
 
-  /** What was made: warnings, the numbers, the downloads and how to put it together. */
+  /** What was made: how it is built, warnings, the numbers, the downloads and how to put it together.
+   * Every part of the report is shown when the server sends it (a full-size build's report has other
+   * parts than a printed model's). */
   summary(answer) {
-    const report = answer.report;
+    const report = answer.report || {};
     const out = [];
     const warn = (title, text, ...more) =>
       out.push(html('div', { class: 'callout warn' }, [html('b', { text: title }), html('p', { text }), ...more]));
+    // The scale the parts were made at, as the report says it.
+    const build = this.build();
+    const made = typeof report.scale === 'string'
+      ? describe(`model:${report.scale}`, { modelMm: report.model_mm })
+      : build.kind === 'full' ? describe(buildWord(build)) : null;
+    if (made) out.push(html('p', { class: 'fab-scale', 'data-scale': report.scale ?? buildWord(build), text: made }));
+    if (build.kind === 'full' && typeof report.scale === 'string') {
+      out.push(html('p', { class: 'note', text: `The server answered this full-size build with the parts of a printed model at ${report.scale}, not with workshop files.` }));
+    }
     if (answer.used > 0 && this.made.which !== answer.used - 1) {
       warn(`These are the parts of alternative ${answer.used}`,
         'The linkage shown cannot be printed with these settings (its parts would collide or not fit), so its first alternative that can is used.',
@@ -317,33 +346,42 @@ export class Fabricator {
           },
         }));
     }
-    if (report.oversized.length) {
+    if (report.oversized?.length) {
       const names = report.oversized.map((o) => `${o.name} (${o.footprint_mm.map((v) => v.toFixed(0)).join(' × ')} mm)`);
       const side = Math.max(...report.oversized.map((o) => o.square_bed_mm));
       const scale = Math.min(...report.oversized.map((o) => o.max_scale));
       warn('Too large for the bed', `${names.join(', ')} ${names.length === 1 ? 'does' : 'do'} not fit on the bed in any direction: print on a bed of at least ${side.toFixed(0)} mm square (Bed width and depth above), or draw the object smaller (at most ${scale.toFixed(2)} of its size).`);
     }
-    if (!answer.checks_ok) {
+    if (answer.checks_ok === false && report.checks) {
       const c = report.checks;
-      warn('Some checks failed', [...c.meshes, ...c.intersections, ...c.seats, ...c.ordering, ...c.springs].join('; '));
+      warn('Some checks failed', Object.values(c).filter(Array.isArray).flat().join('; '));
     }
-    const count = (role) => report.parts.filter((p) => p.role === role).length;
+    const rows = [];
+    const parts = report.parts || [];
+    const count = (role) => parts.filter((p) => p.role === role).length;
     const kinds = [
       [count('link') + count('guide'), 'link'], [count('connector'), 'connector'], [count('spring_bracket'), 'spring bracket'],
       [count('body'), 'moving body', 'moving bodies'], [count('ground'), 'fixed piece'],
     ].filter(([n]) => n > 0).map(([n, one, many]) => plural(n, one, many)).join(', ');
+    if (report.totals) rows.push(['Parts', kinds ? `${report.totals.parts} (${kinds})` : String(report.totals.parts)]);
+    const layers = report.layers;
+    if (layers) rows.push(['Layers of links', layers.back ? `${layers.count} (front ${layers.front}, back ${layers.back})` : String(layers.count)]);
     const s = report.settings;
-    out.push(html('table', { class: 'metrics fab-summary' }, [
-      ['Parts', `${report.totals.parts} (${kinds})`],
-      ['Layers of links', report.layers.back ? `${report.layers.count} (front ${report.layers.front}, back ${report.layers.back})` : String(report.layers.count)],
-      ['Print beds', `${report.plates.length} of ${s.bed.width} × ${s.bed.depth} mm`],
-      ['Print volume', `${(report.totals.volume_mm3 / 1000).toFixed(1)} cm³`],
-      ['Mass (estimate)', `${report.totals.mass_g.toFixed(0)} g at ${Math.round(s.fill_fraction * 100)}% fill`],
-    ].map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
+    if (report.plates && s?.bed) rows.push(['Print beds', `${report.plates.length} of ${s.bed.width} × ${s.bed.depth} mm`]);
+    if (Number.isFinite(report.totals?.volume_mm3)) rows.push(['Print volume', `${(report.totals.volume_mm3 / 1000).toFixed(1)} cm³`]);
+    if (Number.isFinite(report.totals?.mass_g) && s) {
+      rows.push(['Mass (estimate)', `${report.totals.mass_g.toFixed(0)} g at ${Math.round(s.fill_fraction * 100)}% fill`]);
+    }
+    if (rows.length) {
+      out.push(html('table', { class: 'metrics fab-summary' },
+        rows.map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
+    }
     if (answer.balance) out.push(...this.springs(answer));
     out.push(...this.downloads(answer));
-    out.push(html('h3', { text: 'Putting it together' }));
-    out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: step }))));
+    if (report.assembly?.length) {
+      out.push(html('h3', { text: 'Putting it together' }));
+      out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: step }))));
+    }
     return out;
   }
 
@@ -359,14 +397,15 @@ export class Fabricator {
     return out;
   }
 
-  /** The zip of everything, then every file by what it is for. */
+  /** The zip of everything, then every file by what it is for (the files this app does not group
+   * last, as the server lists them). */
   downloads(answer) {
-    const out = [
-      html('h3', { text: 'Downloads' }),
-      html('div', { class: 'inline' }, [this.link(answer.zip, `⬇ Everything (.zip, ${kilobytes(answer.zip.bytes)})`, 'button primary')]),
-    ];
-    const parts = new Map(answer.report.parts.map((p) => [p.file, p]));
-    const meshes = new Map(answer.preview.parts.map((p) => [p.name, p]));
+    const out = [html('h3', { text: 'Downloads' })];
+    if (answer.zip) {
+      out.push(html('div', { class: 'inline' }, [this.link(answer.zip, `⬇ Everything (.zip, ${kilobytes(answer.zip.bytes)})`, 'button primary')]));
+    }
+    const parts = new Map((answer.report?.parts || []).filter((p) => p.file).map((p) => [p.file, p]));
+    const meshes = new Map((answer.preview?.parts || []).map((p) => [p.name, p]));
     const describe = (file) => {
       const p = parts.get(file.name);
       if (!p) return html('small', { text: purpose(file.name) });
@@ -374,9 +413,11 @@ export class Fabricator {
       return html('small', {}, [html('i', { class: 'swatch', style: `background:${partColour(meshes.get(p.name) || p)}` }),
         ` ${p.role.replace('_', ' ')}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
     };
-    for (const [title, test] of FILE_GROUPS) {
-      const files = answer.files.filter((f) => test(f.name));
-      if (files.length) out.push(html('h4', { text: title }), html('ul', { class: 'files' }, files.map((f) => html('li', {}, [this.link(f), describe(f)]))));
+    const files = answer.files || [];
+    const groups = [...FILE_GROUPS, ['Other files', (name) => !FILE_GROUPS.some(([, test]) => test(name))]];
+    for (const [title, test] of groups) {
+      const listed = files.filter((f) => test(f.name));
+      if (listed.length) out.push(html('h4', { text: title }), html('ul', { class: 'files' }, listed.map((f) => html('li', {}, [this.link(f), describe(f)]))));
     }
     return out;
   }
@@ -385,7 +426,7 @@ export class Fabricator {
   link(file, text = file.name.split('/').pop(), cls = 'file') {
     return html('a', {
       class: cls, href: file.url, download: file.name.split('/').pop(), 'data-file': file.name, text,
-      title: `${file.name} · ${kilobytes(file.bytes)}`,
+      title: Number.isFinite(file.bytes) ? `${file.name} · ${kilobytes(file.bytes)}` : file.name,
     });
   }
 }

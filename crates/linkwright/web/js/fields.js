@@ -3,6 +3,8 @@
 
 const SETTINGS = {
   mechanism: 'Type',
+  build: 'Build',
+  units: 'Units',
   samples: 'Samples',
   seed: 'Seed',
   particles: 'Particles',
@@ -31,7 +33,7 @@ export function screenField(field, scene) {
     if (/^\.(outline|polygon)/.test(m[3])) return { text: `${text}, its outline`, selection };
     return { text, selection };
   }
-  if ((m = /^settings\.(\w+)/.exec(path)) || (m = /^(mechanism)$/.exec(path))) return { text: `Settings › ${SETTINGS[m[1]] || m[1]}` };
+  if ((m = /^settings\.(\w+)/.exec(path)) || (m = /^(mechanism|build|units)$/.exec(path))) return { text: `Settings › ${SETTINGS[m[1]] || m[1]}` };
   if ((m = /^weights\.(\w+)/.exec(path))) return { text: `Settings › ${WEIGHTS[m[1]] || m[1]} weight` };
   if (path.startsWith('linkage_region')) return { text: 'Linkage region' };
   if ((m = /^avoid_regions\[(\d+)\]/.exec(path))) return { text: `Avoid region ${Number(m[1]) + 1}` };

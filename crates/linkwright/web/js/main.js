@@ -239,7 +239,7 @@ $('welcome-start').addEventListener('click', () => {
 
 window.addEventListener('keydown', (e) => {
   if (e.key === 'Escape' && $('shortcuts').open) { $('shortcuts').close(); return; }
-  const typing = e.target.closest?.('input, select, textarea') && e.target.type !== 'checkbox' && e.target.type !== 'range';
+  const typing = e.target.closest?.('input, select, textarea') && !['checkbox', 'range', 'radio'].includes(e.target.type);
   const mod = e.ctrlKey || e.metaKey;
   if (mod && e.key.toLowerCase() === 'z') {
     if (typing) return;
@@ -251,6 +251,8 @@ window.addEventListener('keydown', (e) => {
   if (mod && e.key.toLowerCase() === 's') { e.preventDefault(); $('btn-save').click(); return; }
   if (mod && e.key.toLowerCase() === 'o') { e.preventDefault(); $('btn-open').click(); return; }
   if (typing || mod || e.altKey) return;
+  // Arrow keys and Space on a radio button choose in its group (Settings › Build).
+  if (e.target.type === 'radio') return;
   if (e.key === ' ') {
     // A tap plays or pauses the design shown; held, it pans while dragging (see keyup).
     if (!e.repeat) tools.spacePanned = false;

@@ -1,6 +1,7 @@
-// The side panel's Object and Settings tabs: the list of shapes with names and poses, and the search
-// settings. Every change goes through the store as one undo step.
+// The side panel's Object and Settings tabs: the list of shapes with names and poses, how the object is
+// built, and the search settings. Every change goes through the store as one undo step.
 
+import { buildWord, DEFAULT_BUILD, extent, MATERIALS, modelExtent, parseBuild, SCALES } from './build.js';
 import { bodyColour } from './canvas.js';
 import { tidy } from './geom.js';
 import * as S from './scene.js';
@@ -126,6 +127,60 @@ function weightControl(store, key, label, help) {
   ]);
 }
 
+/** The scale and the material chosen last, so that switching between a model and full size gives
+ * back what was chosen before. */
+const lastBuild = { scale: 'auto', material: 'plywood' };
+
+/** How the object is built: a printed model at a scale (auto or fixed), or full size in a material. */
+function buildSection(store) {
+  const { scene } = store;
+  const word = scene.build ?? DEFAULT_BUILD;
+  const b = parseBuild(word);
+  if (b?.kind === 'model') lastBuild.scale = b.scale;
+  if (b?.kind === 'full') lastBuild.material = b.material;
+  const set = (next) => store.edit('build', (s) => { s.build = buildWord(next); });
+  const kind = (value, label, help) => html('label', { class: 'check', title: help }, [
+    html('input', {
+      type: 'radio', name: 'build-kind', value, 'data-key': `build-${value}`, checked: b?.kind === value,
+      onchange: () => set(value === 'model' ? { kind: 'model', scale: lastBuild.scale } : { kind: 'full', material: lastBuild.material }),
+    }),
+    ` ${label}`,
+  ]);
+  const out = [
+    html('fieldset', { class: 'build-kind' }, [
+      html('legend', { text: 'Built as' }),
+      kind('model', 'Printed model', 'a 3D-printed model of the object, at a scale'),
+      kind('full', 'Full size', 'the object at its real size, made in a workshop'),
+    ]),
+  ];
+  const menu = (key, label, options, selected, onPick) => {
+    const id = `settings-${key}`;
+    const select = html('select', { id, 'data-key': key, onchange: (e) => onPick(e.target.value) },
+      options.map(([v, t]) => html('option', { value: v, text: t, selected: v === selected })));
+    return [html('label', { for: id, text: label }), select];
+  };
+  if (b?.kind === 'model') {
+    const scales = [...new Set([...SCALES, ...(b.scale === 'auto' ? [] : [b.scale])])];
+    const size = b.scale === 'auto' ? null : modelExtent(scene, b.scale);
+    const help = b.scale === 'auto'
+      ? 'the scale nearest 1:1 at which the links fit the printer’s bed and the pins fit the parts (the Result tab names it)'
+      : size ? `everything drawn is ${extent(size)} in the model` : 'one length of the model for so many of the object';
+    out.push(html('div', { class: 'field' }, [
+      ...menu('build-scale', 'Scale', [['auto', 'Auto'], ...scales.map((r) => [r, r === '1:1' ? '1:1 (real size)' : r])], b.scale,
+        (scale) => set({ kind: 'model', scale })),
+      html('small', { text: help }),
+    ]));
+  } else if (b?.kind === 'full') {
+    out.push(html('div', { class: 'field' }, [
+      ...menu('build-material', 'Material', MATERIALS, b.material, (material) => set({ kind: 'full', material })),
+      html('small', { text: 'the object at its real size, made in a workshop: no print check' }),
+    ]));
+  } else {
+    out.push(html('p', { class: 'note', text: `The scene asks for the build “${word}”, which this app does not know: choose one above.` }));
+  }
+  return out;
+}
+
 export function renderSettingsTab(host, store) {
   const { scene } = store;
   const st = scene.settings;
@@ -155,6 +210,8 @@ export function renderSettingsTab(host, store) {
   rebuild(host, [
     html('h3', { text: 'Drawing' }),
     row('Units', units, 'what one unit of the drawing is; changing it renames the unit, it does not rescale the drawing'),
+    html('h3', { text: 'Build' }),
+    ...buildSection(store),
     html('h3', { text: 'Mechanism' }),
     html('div', { class: 'field wide' }, [html('label', { text: 'Type' }), mechanism]),
     html('h3', { text: 'What matters most' }),

@@ -2,6 +2,7 @@
 // metrics, alternatives as thumbnails, the analysis plots and the downloads.
 
 import { fmt, poseErrors, poseTable, reachBadge } from './accuracy.js';
+import { DEFAULT_BUILD, describe, describeRecord, parseBuild, suggestedScale } from './build.js';
 import { captureFrames, encodeGif, recordWebm } from './record.js';
 import * as api from './api.js';
 import { bodyColour } from './canvas.js';
@@ -28,8 +29,8 @@ const EXPORT_FRAMES = 60;
 /** What a design depends on in the drawing (settings may change without hiding it). */
 export function geometryKey(scene) {
   return JSON.stringify([
-    // A body's mass changes the torque, not the design.
-    scene.fixed_bodies, scene.moving_bodies.map(({ mass_kg, ...body }) => body), scene.linkage_region || null,
+    // A body's mass (or its material and thickness) changes the torque, not the design.
+    scene.fixed_bodies, scene.moving_bodies.map(({ mass_kg, material, thickness, ...body }) => body), scene.linkage_region || null,
     scene.avoid_regions || [], scene.must_hit_poses || [],
   ]);
 }
@@ -236,7 +237,10 @@ export class Results {
         this.store.setUi({ tab: 'result' });
         if (design.status === 'ok') {
           this.fitView();
-          this.store.hint(`Done. Best design: ${mechanismName(design.mechanism)}. Press Pause or drag the slider to study it; try an alternative on the right.`);
+          const checked = parseBuild(design.build?.checked);
+          this.store.hint(design.build?.buildable === false
+            ? `Designed, but it cannot be printed at ${checked?.scale ?? design.build.checked}: the Result tab says why and what to do.`
+            : `Done. Best design: ${mechanismName(design.mechanism)}. Press Pause or drag the slider to study it; try an alternative on the right.`);
           this.verify();
         } else {
           this.store.hint('No linkage found: the Result tab says why and what to change.');
@@ -476,17 +480,29 @@ export class Results {
     this.store.changed('result');
   }
 
-  /** Each moving body's mass, editable: empty weighs it as printed; a real mass (a full-size bed, say)
-   * gives the torque and springs of the real thing. The torque is computed again at once. */
+  /**
+   * Each moving body's mass, as the torque weighs it. A printed model's bodies weigh what their print
+   * does at the model's scale (the real object's mass does not count); a full-size build's weigh the
+   * scene's `mass_kg`, editable here (empty: its material's weight), and the torque is computed again
+   * at once.
+   */
   massTable(r) {
     const parts = r.analysis.torque?.parts || [];
-    const rows = r.scene.moving_bodies.map((body, i) => {
+    const build = parseBuild(r.scene.build ?? DEFAULT_BUILD);
+    const full = build?.kind === 'full';
+    const weighed = (i) => {
       const part = r.mechanism.parts.find((p) => p.kind === 'body' && p.body === i);
-      const printed = parts.find((p) => p.name === part?.name);
+      return parts.find((p) => p.name === part?.name);
+    };
+    const rows = r.scene.moving_bodies.map((body, i) => {
+      const mass = weighed(i)?.mass_kg;
+      if (!full) {
+        return html('tr', {}, [html('th', { text: body.name }), html('td', { 'data-printed-mass': i, text: mass === undefined ? '–' : `${kilograms(mass)} kg` })]);
+      }
       const change = (e) => {
         const text = e.target.value.trim(), v = Number(text);
         if (text !== '' && !(Number.isFinite(v) && v > 0 && v <= 1e5)) {
-          this.store.hint('A mass is a number of kilograms, more than 0 and at most 100000; leave it empty to weigh the printed part.');
+          this.store.hint('A mass is a number of kilograms, more than 0 and at most 100000; leave it empty to weigh the body in its material.');
           return;
         }
         const set = (b) => { if (text === '') delete b.mass_kg; else b.mass_kg = v; };
@@ -499,12 +515,20 @@ export class Results {
         html('th', { text: body.name }),
         html('td', {}, [html('input', {
           type: 'number', min: '0', step: 'any', 'data-mass': i, 'aria-label': `mass of ${body.name}, kg`,
-          value: body.mass_kg ?? '', placeholder: printed ? `${printed.mass_kg.toPrecision(3)} (printed)` : 'as printed',
+          value: body.mass_kg ?? '', placeholder: mass === undefined ? 'from its material' : `${kilograms(mass)} (${build.material})`,
           onchange: change,
         }), ' kg']),
       ]);
     });
-    return html('table', { class: 'masses' }, [html('tr', {}, [html('th', { text: 'Body' }), html('th', { text: 'Mass' })]), ...rows]);
+    // The scale the model is weighed at: the one the design was checked at (an auto scale decided).
+    const checked = parseBuild(r.design.build?.checked)?.scale ?? build?.scale;
+    const note = full
+      ? 'The real masses: type a body’s, or leave it empty to weigh it in its material.'
+      : `As printed${checked && checked !== 'auto' ? ` at ${checked}` : ''}: a printed model weighs what its parts do. A body’s real mass counts when it is built full size (Settings › Build).`;
+    return html('div', {}, [
+      html('table', { class: 'masses' }, [html('tr', {}, [html('th', { text: 'Body' }), html('th', { text: 'Mass' })]), ...rows]),
+      html('p', { class: 'note', 'data-masses': full ? 'real' : 'printed', text: note }),
+    ]);
   }
 
   /** Asks for the springs that balance the mechanism shown; they are drawn and listed when they come. */
@@ -636,12 +660,16 @@ export class Results {
       host.append(html('div', { class: 'callout warn' }, [
         html('b', { text: 'No linkage found' }),
         html('p', { text: d.reason || '' }),
+        // When the drawing's size does not suit the build, the reason says so first.
+        /does not suit the build/.test(d.reason || '') ? this.buildActions(d.build, d.reason) : null,
       ]));
+      host.append(...this.buildLines(d));
       host.append(statsLine(d));
       return;
     }
     const m = r.metrics || d.metrics;
     host.append(html('h3', { text: r.which === null ? `Best design: ${mechanismName(d.mechanism)}` : `Alternative ${r.which + 1}: ${mechanismName(r.mechanism)}` }));
+    host.append(...this.buildLines(d));
     // The check says whether the linkage is sound; the pose errors say how closely it does the job.
     const errors = poseErrors(m, r.analysis, r.scene);
     if (r.verified && !r.verified.ok) {
@@ -699,6 +727,59 @@ export class Results {
       host.append(html('h3', { text: 'Loops' }), loopList(a));
       this.drawFrame();
     }
+  }
+
+  /**
+   * How the design is built, from its file's `build` record: “Printed model at 1:10 (auto), 214 × 180
+   * mm” or “Full size, plywood”; when it cannot be built so, a warning with the engine's reason and
+   * buttons that change the build and design again; when the scene now asks for another build, a note.
+   */
+  buildLines(d) {
+    const record = d.build;
+    const text = describeRecord(record);
+    if (!text) return [];
+    const out = [html('p', { class: 'build-line', 'data-build': record.checked, text })];
+    if (d.status === 'ok' && record.buildable === false) {
+      const model = parseBuild(record.checked);
+      const scale = model?.kind === 'model' ? model.scale : record.checked;
+      const reason = (record.reason || '').replace(/^./, (c) => c.toUpperCase());
+      out.push(html('div', { class: 'callout warn', 'data-unbuildable': 'true', role: 'status' }, [
+        html('b', { text: `This linkage cannot be printed at ${scale}` }),
+        reason ? html('p', { text: /[.!?]$/.test(reason) ? reason : `${reason}.` }) : null,
+        this.buildActions(record, record.reason),
+      ]));
+    }
+    const now = parseBuild(this.store.scene.build ?? DEFAULT_BUILD);
+    const asked = parseBuild(record.asked);
+    if (now && asked && JSON.stringify(now) !== JSON.stringify(asked)) {
+      out.push(html('p', { class: 'note', 'data-build-changed': 'true',
+        text: `Settings › Build is now “${describe(this.store.scene.build ?? DEFAULT_BUILD)}”: press “Design linkage” to design for it.` }));
+    }
+    return out;
+  }
+
+  /** Buttons that set the build and design again: the scale the engine's reason suggests (when it
+   * names one), the automatic scale (when another was asked for) and full size. */
+  buildActions(record, reason) {
+    const asked = parseBuild(record?.asked ?? DEFAULT_BUILD);
+    const checked = parseBuild(record?.checked ?? '');
+    const suggested = suggestedScale(reason);
+    const choices = [];
+    if (suggested && suggested !== checked?.scale) choices.push(['scale', `model:${suggested}`, `Print at ${suggested} and redesign`]);
+    if (asked?.kind === 'model' && asked.scale !== 'auto') choices.push(['auto', 'model:auto', 'Auto scale and redesign']);
+    if (asked?.kind !== 'full') choices.push(['full', 'full:plywood', 'Build it full size and redesign']);
+    return html('div', { class: 'inline actions' }, choices.map(([action, word, text]) => html('button', {
+      text, 'data-build-action': action, title: `Settings › Build: ${describe(word)}; then design again`,
+      onclick: () => this.rebuildAs(word),
+    })));
+  }
+
+  /** Sets the scene's build (one undo step, as in Settings) and designs again. */
+  rebuildAs(word) {
+    if (this.controller) return;
+    this.store.edit(`build ${word}`, (s) => { s.build = word; });
+    this.store.hint(`Build: ${describe(word)}. Designing again…`);
+    this.run();
   }
 
   /** The joints of the mechanism shown at the first pose: type a place to move one (as a drag does),
@@ -790,6 +871,9 @@ function designShown(d, which) {
   const best = { mechanism: d.mechanism, motion: d.motion, metrics: d.metrics };
   return { ...d, ...shown, alternatives: [best, ...d.alternatives.filter((_, i) => i !== which)] };
 }
+
+/** A mass in kilograms to three figures (a printed part weighs grams, a bed tens of kilograms). */
+const kilograms = (kg) => String(Number(kg.toPrecision(3)));
 
 /** The largest pose miss a design file states for a mechanism (files before it was added do not). */
 function worstMiss(metrics, scene) {

@@ -41,6 +41,8 @@ export function normalize(doc) {
   s.weights = { ...DEFAULT_WEIGHTS, ...(s.weights || {}) };
   s.settings = { ...ENGINE_SETTINGS, ...(s.settings || {}) };
   s.mechanism = s.mechanism || 'auto';
+  // A build the app cannot show is kept for the engine to name; one that is not text is dropped.
+  if (s.build !== undefined && typeof s.build !== 'string') delete s.build;
   for (const b of [...s.fixed_bodies, ...s.moving_bodies]) {
     if (!Array.isArray(b.polygon)) throw new Error('a body has no polygon');
   }

@@ -1,0 +1,106 @@
+// How the drawn object is built, the scene's `build`: a 3D-printed model at a scale, or the object at
+// full size in a workshop material. The words are the engine's (`model:auto`, `model:1:10`,
+// `full:plywood`); this module reads them once and says them in the screen's words.
+
+import { placed } from './geom.js';
+
+/** What a scene without `build` is built as. */
+export const DEFAULT_BUILD = 'model:auto';
+
+/** The workshop materials, as [word, label], in the engine's order. */
+export const MATERIALS = [['plywood', 'Plywood'], ['aluminium', 'Aluminium'], ['steel', 'Steel']];
+
+/** The terms of the engine's 1-2-5 series: 1, 2, 5, 10, … 10000. */
+const TERMS = [1, 10, 100, 1000].flatMap((d) => [1, 2, 5].map((s) => s * d)).concat(10000);
+
+/** The engine's 1-2-5 series of model scales, 10000:1 down to 1:10000, largest first: what an `auto`
+ * scale is chosen from, and what the Settings tab offers. */
+export const SCALES = [
+  ...TERMS.filter((t) => t > 1).reverse().map((t) => `${t}:1`),
+  ...TERMS.map((t) => `1:${t}`),
+];
+
+/**
+ * A build's word read: `{kind: 'model', scale: 'auto' | 'A:B'}` or `{kind: 'full', material}`; null
+ * for a word this app does not know (the engine says what is wrong with it).
+ */
+export function parseBuild(text) {
+  const word = String(text ?? DEFAULT_BUILD).trim().toLowerCase();
+  let m = /^model(?::(auto)?)?$/.exec(word);
+  if (m) return { kind: 'model', scale: 'auto' };
+  if ((m = /^model:(\d+):(\d+)$/.exec(word)) && Number(m[1]) >= 1 && Number(m[2]) >= 1) {
+    return { kind: 'model', scale: `${Number(m[1])}:${Number(m[2])}` };
+  }
+  if ((m = /^full(?::(\w+))?$/.exec(word))) {
+    const material = m[1] === 'aluminum' ? 'aluminium' : m[1] || 'plywood';
+    if (MATERIALS.some(([w]) => w === material)) return { kind: 'full', material };
+  }
+  return null;
+}
+
+/** The word of a build read by `parseBuild`. */
+export function buildWord(b) {
+  return b.kind === 'full' ? `full:${b.material}` : `model:${b.scale}`;
+}
+
+/** The scene's build, read (a word the app does not know reads as null). */
+export const sceneBuild = (scene) => parseBuild(scene.build ?? DEFAULT_BUILD);
+
+/** The material's label. */
+const materialLabel = (word) => MATERIALS.find(([w]) => w === word)?.[1] ?? word;
+
+/** A length in millimetres as the app shows a size: whole millimetres from 100 mm up, three figures
+ * below. */
+export const mm = (v) => String(v >= 100 ? Math.round(v) : Number(v.toPrecision(3)));
+
+/** A model's extent `[w, h]` in millimetres: “214 × 180 mm”. */
+export const extent = ([w, h]) => `${mm(w)} × ${mm(h)} mm`;
+
+/**
+ * A build in words: “Printed model at 1:10”, with “(auto)” when `auto` (the scale was chosen by the
+ * engine) and its extent when known; “Full size, plywood”. `word` is a build's word.
+ */
+export function describe(word, { auto = false, modelMm = null } = {}) {
+  const b = parseBuild(word);
+  if (!b) return `Build ${word}`;
+  if (b.kind === 'full') return `Full size, ${materialLabel(b.material).toLowerCase()}`;
+  const scale = b.scale === 'auto' ? 'a scale chosen when designed' : b.scale;
+  const size = Array.isArray(modelMm) && modelMm.length === 2 ? `, ${extent(modelMm)}` : '';
+  return `Printed model at ${scale}${auto && b.scale !== 'auto' ? ' (auto)' : ''}${size}`;
+}
+
+/** What a design file's `build` record says, in words (see `describe`); null for files without one. */
+export function describeRecord(record) {
+  if (!record?.checked) return null;
+  return describe(record.checked, { auto: parseBuild(record.asked)?.scale === 'auto', modelMm: record.model_mm });
+}
+
+/**
+ * The scale an unbuildable design's reason suggests (“print at 1:5 or smaller”), as `A:B`, or null
+ * when it suggests none. The engine writes the suggestion in exactly these words.
+ */
+export function suggestedScale(reason) {
+  const m = /\bprint at (\d+):(\d+) or (?:smaller|larger)\b/.exec(reason || '');
+  return m ? `${Number(m[1])}:${Number(m[2])}` : null;
+}
+
+const UNIT_MM = { '': 1, mm: 1, cm: 10, m: 1000, in: 25.4, ft: 304.8 };
+
+/**
+ * The printed model's extent `[w, h]` in millimetres at a fixed `scale` (`A:B`): everything drawn (the
+ * fixed bodies, the moving bodies at every pose, the linkage region), as the engine measures it; null
+ * when the units are not a length or nothing is drawn.
+ */
+export function modelExtent(scene, scale) {
+  const perUnit = UNIT_MM[String(scene.units ?? 'mm').trim().toLowerCase()];
+  const [a, b] = scale.split(':').map(Number);
+  const drawn = [
+    ...scene.fixed_bodies.flatMap((f) => f.polygon),
+    ...scene.moving_bodies.flatMap((m) => m.poses.flatMap((pose) => placed(m.polygon, pose))),
+    ...(scene.linkage_region || []),
+  ];
+  if (!perUnit || !(a > 0 && b > 0) || drawn.length === 0) return null;
+  const xs = drawn.map((p) => p[0]), ys = drawn.map((p) => p[1]);
+  const k = (perUnit * a) / b;
+  return [(Math.max(...xs) - Math.min(...xs)) * k, (Math.max(...ys) - Math.min(...ys)) * k];
+}
