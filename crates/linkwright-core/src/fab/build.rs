@@ -8,9 +8,12 @@
 //! drawing bounds what the links can be: their joints lie in the linkage region at the first pose (the
 //! region a person draws, or everything drawn at the first pose), so a link is at most the region's
 //! diagonal long, and links a fraction of it long must still hold two pins. Deciding before the
-//! search costs nothing (no second search), and the choice is scale-free: the series is closed under
-//! a factor of 10, so the same object drawn 100 times as large gets a scale 100 times as small, the
-//! same model in millimetres, and the same linkage.
+//! search costs microseconds; the drawing only bounds the links, so when nothing prints at that scale
+//! the search runs again at a few larger ones ([`BuildPlan::synthesize`]).
+//!
+//! The scale nearest 1:1 depends on the object's size, so the same object drawn at another size may
+//! be printed as a model of another size, whose pins are relatively larger or smaller, and get
+//! another linkage (`linkwright bench --sizes` measures how much the pose errors differ).
 
 use super::settings::{Bed, Dims};
 use super::{millimetres_per_unit, FabError, FeasibilityCheck, PrintSettings};
@@ -21,10 +24,9 @@ use crate::scene::{Build, ModelScale, Problem, Ratio};
 use crate::synth::{synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome};
 
 /// The linkage region of a model must be this many times the least spacing of two pins across: a
-/// link spans a fraction of the region (the bundled examples' mean link is about a third of the
-/// region's diagonal), and its two pins need that spacing. With the default print settings the region
-/// must then be 35–200 mm across, a window wider than any step of the 1-2-5 series, so some scale
-/// always satisfies both bounds.
+/// link spans a fraction of the region, and its two pins need that spacing. With the default print
+/// settings the region must then be 35–287 mm across, a window wider than any step of the 1-2-5
+/// series, so some scale always satisfies both bounds.
 pub const PIN_SPACINGS_PER_REGION: f64 = 4.0;
 
 /// At most this many larger scales are tried when the print check refuses every linkage at an `auto`
@@ -205,10 +207,11 @@ impl BuildPlan {
     /// Runs the synthesis (`options`, whose own check is replaced by this build's) for this build.
     /// With an `auto` scale, when the print check refused every valid linkage at the scale the drawing
     /// decided, or the search found none in a model whose region is under twice the least (the pins
-    /// crowd it), the search runs again at the next larger scales of the
-    /// series that still fit the bed, at most [`AUTO_RETRIES`] of them, until one gives a design that
-    /// prints: the drawing bounds the links only from above, and how far apart their joints are shows
-    /// only in the search. Returns the plan of the outcome kept (the first printable one, else the
+    /// crowd it), the search runs again at the next larger scales of the series that fit the bed (or
+    /// are not enlarged), at most [`AUTO_RETRIES`] of them, until one gives a design that prints; when
+    /// the search found none in a model that is not crowded, at the next larger scale alone. The
+    /// drawing bounds the links only from above, and how far apart their joints are shows only in the
+    /// search. Returns the plan of the outcome kept (the first printable one, else the
     /// first).
     pub fn synthesize(
         self,
@@ -226,18 +229,21 @@ impl BuildPlan {
             return Ok((self, first));
         };
         // The pin spacing also thins the samples before any check counts them, so a search with no
-        // design at all may be the scale's doing too, where the model's region is crowded (under twice
-        // the least); elsewhere a search with no design is the poses' doing, and is not repeated.
-        let crowded = scale.factor() * self.sizes.reach_mm < 2.0 * self.sizes.need_mm;
-        let refused = |o: &Outcome| o.unbuildable || (crowded && o.best.is_none());
+        // design at all may be the scale's doing too: in a model whose region is crowded (under twice
+        // the least), up to AUTO_RETRIES larger scales that fit are tried; elsewhere the next larger
+        // scale alone, even where the region's diagonal does not fit the bed as long as it is not
+        // enlarged (links are seldom as long as the region's diagonal), and then the poses are at fault.
+        let refused = |o: &Outcome| o.unbuildable || o.best.is_none();
         if !refused(&first) {
             return Ok((self, first));
         }
+        let crowded = scale.factor() * self.sizes.reach_mm < 2.0 * self.sizes.need_mm;
+        let tries = if first.unbuildable || crowded { AUTO_RETRIES } else { 1 };
         let larger: Vec<Ratio> = Ratio::series()
             .into_iter()
             .rev()
-            .filter(|r| r.factor() > scale.factor() && self.sizes.fits(*r))
-            .take(AUTO_RETRIES)
+            .filter(|r| r.factor() > scale.factor() && (self.sizes.fits(*r) || r.factor() <= 1.0))
+            .take(tries)
             .collect();
         for scale in larger {
             let plan = BuildPlan::at(
