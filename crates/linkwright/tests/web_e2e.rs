@@ -1417,9 +1417,12 @@ async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
     key(page, "ArrowRight", "ArrowRight", 39, 0).await?;
     until(page, "window.linkwright.store.scene.build === 'full:plywood'", Duration::from_secs(2)).await?;
     until(page, "document.activeElement?.dataset.key === 'build-full'", Duration::from_secs(2)).await?;
-    assert_eq!(eval(page, "document.querySelector('select[data-key=build-material]').value").await?, "plywood");
+    // The panel draws the material menu once the build has changed.
+    let material = "document.querySelector('select[data-key=build-material]')?.value === 'plywood'";
+    until(page, material, Duration::from_secs(2)).await?;
     undo(page).await?;
     until(page, "window.linkwright.store.scene.build === undefined", Duration::from_secs(2)).await?;
+    until(page, "document.querySelector('select[data-key=build-scale]') !== null", Duration::from_secs(2)).await?;
     // The scale menu: the engine's series from 10000:1 to 1:10000 after Auto; 1:1 chosen.
     let scales =
         eval(page, "[...document.querySelectorAll('select[data-key=build-scale] option')].map((o) => o.value)").await?;
