@@ -1,32 +1,13 @@
 //! The drawing's units do not matter: a scene scaled by any factor gives the same design, scaled
 //! (every threshold and every soft cost is relative to the body size d).
 
-use linkwright_core::geom::Point;
+use linkwright_core::testbed::scaled_scene as scaled;
 use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent, Status};
 use rand::{RngExt, SeedableRng};
 
 fn example(name: &str) -> Scene {
     let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
     Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// `scene` with every length multiplied by `s` (angles kept).
-fn scaled(scene: &Scene, s: f64) -> Scene {
-    let points = |ps: &[Point]| ps.iter().map(|p| Point::new(p.x * s, p.y * s)).collect::<Vec<_>>();
-    let mut out = scene.clone();
-    for f in &mut out.fixed_bodies {
-        f.polygon = points(&f.polygon);
-    }
-    for b in &mut out.moving_bodies {
-        b.polygon = points(&b.polygon);
-        for pose in &mut b.poses {
-            pose[0] *= s;
-            pose[1] *= s;
-        }
-    }
-    out.linkage_region = out.linkage_region.as_deref().map(points);
-    out.avoid_regions = out.avoid_regions.iter().map(|r| points(r)).collect();
-    out
 }
 
 fn design(scene: &Scene) -> (Problem, DesignFile) {
