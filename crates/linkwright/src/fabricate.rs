@@ -9,6 +9,7 @@ use linkwright_core::fab::{
     bundle, fabricate_design_or_alternative, is_safe_relative_path, Chosen, FabError, PrintSettings, FIXED_FILES,
 };
 use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
+use linkwright_core::workshop::SpringOrder;
 use linkwright_core::{Build, DesignFile, Problem, Scene, Silent};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -81,7 +82,7 @@ pub fn run(
         let springs = if springs {
             let (_, balance) =
                 crate::springs::counterbalanced(("the scene", problem), ("the design", design), settings)?;
-            crate::springs::orders(&balance)
+            SpringOrder::from_balance(&balance)
         } else {
             Vec::new()
         };

@@ -6,7 +6,6 @@ use linkwright_core::analysis::{Replay, Which};
 use linkwright_core::balance::{Balance, Balancing, Spring, SpringSearch};
 use linkwright_core::fab::PrintSettings;
 use linkwright_core::statics::{driving_torque, Masses, Torque};
-use linkwright_core::workshop::SpringOrder;
 use linkwright_core::{DesignFile, Problem, Silent};
 
 /// Steps of the crank's travel the torque is given at.
@@ -34,21 +33,6 @@ pub fn counterbalanced(
         .best(SpringSearch::ANALYSIS, &Silent)
         .expect("a silent search is never cancelled");
     Ok((torque, balance))
-}
-
-/// The extension springs of `balance` as a workshop orders them (torsion springs are bought by their
-/// own rate and are not hooked).
-pub fn orders(balance: &Balance) -> Vec<SpringOrder> {
-    balance
-        .springs
-        .iter()
-        .filter_map(|s| match s {
-            Spring::Extension { rate_n_per_mm, free_length_mm, .. } => {
-                Some(SpringOrder { rate_n_per_mm: *rate_n_per_mm, free_length_mm: *free_length_mm, count: 1 })
-            }
-            Spring::Torsion { .. } => None,
-        })
-        .collect()
 }
 
 /// A spring as a person buys and fits it: the stock rate and free length (millimetres of the thing

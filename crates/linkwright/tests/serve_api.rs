@@ -640,6 +640,57 @@ fn fabrication_with_springs_hooks_the_springs_it_answers() {
 }
 
 #[test]
+fn a_full_size_build_answers_the_workshop_files_with_its_stock_springs() {
+    let server = Server::start(&[]);
+    // The garbage truck drawn in centimetres: a few metres long, built in plywood.
+    let mut scene = quick_garbage_truck(3000, 5);
+    scene["units"] = json!("cm");
+    scene["build"] = json!("full:plywood");
+    let (status, design) = post(&server, "/api/design", &scene);
+    assert_eq!((status, &design["status"]), (200, &json!("ok")), "{design}");
+    let (status, made) = post(&server, "/api/fabricate", &json!({"scene": scene, "design": design, "springs": true}));
+    assert_eq!(status, 200, "{made}");
+    let report = &made["report"];
+    assert_eq!((&report["linkwright"], &report["material"]), (&json!("workshop/1"), &json!("plywood")));
+    assert!(made.get("preview").is_none(), "no printed parts to preview");
+    // Every link of the design is a part to cut, with its pivot-to-pivot lengths and holes.
+    let links = report["links"].as_array().unwrap();
+    let parts = design["mechanism"]["parts"].as_array().unwrap();
+    for name in parts.iter().filter(|p| p["kind"] == "link").filter_map(|p| p["name"].as_str()) {
+        let link = links.iter().find(|l| l["name"] == name).unwrap_or_else(|| panic!("{name} not planned: {report}"));
+        assert!(link["hole_mm"].as_f64().unwrap() > 0.0 && !link["pivot_lengths"].as_array().unwrap().is_empty());
+    }
+    let all_hold = links.iter().flat_map(|l| l["checks"].as_array().unwrap()).all(|c| c["ok"] == json!(true));
+    assert_eq!(made["checks_ok"], json!(all_hold));
+    // The springs answered are the ones on the bill of materials, one line each.
+    let springs = made["balance"]["springs"].as_array().unwrap();
+    let extension: Vec<&Value> = springs.iter().filter(|s| s["kind"] == "extension").collect();
+    assert!(!extension.is_empty(), "a truck's bin is worth balancing: {}", made["balance"]);
+    let bought: Vec<&Value> = report["bill_of_materials"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|item| item["item"].as_str().unwrap().contains("spring"))
+        .collect();
+    assert_eq!(bought.len(), extension.len(), "{}", report["bill_of_materials"]);
+    for (spring, item) in extension.iter().zip(&bought) {
+        let rate = spring["rate_n_per_mm"].as_f64().unwrap();
+        assert!(item["size"].as_str().unwrap().starts_with(&format!("rate {rate} N/mm")), "{item} for {spring}");
+    }
+    // The files listed are served, and workshop.json is the report.
+    let files = made["files"].as_array().unwrap();
+    let names: Vec<&str> = files.iter().filter_map(|f| f["name"].as_str()).collect();
+    for name in ["workshop.json", "workshop_assembly.svg", "cut_list.csv", "bill_of_materials.csv"] {
+        assert!(names.contains(&name), "{name} missing from {names:?}");
+    }
+    assert!(names.iter().any(|n| n.starts_with("profiles_") && n.ends_with("mm.dxf")), "{names:?}");
+    let url = files.iter().find(|f| f["name"] == "workshop.json").unwrap()["url"].as_str().unwrap();
+    let (status, _, bytes) = download(&server, url);
+    let served: Value = serde_json::from_slice(&bytes).unwrap();
+    assert_eq!((status, &served), (200, report));
+}
+
+#[test]
 fn fabrication_names_bad_settings_and_designs_it_cannot_make() {
     let server = Server::start(&[]);
     let (scene, design) = quick_design(&server);

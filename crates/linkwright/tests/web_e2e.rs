@@ -1521,8 +1521,8 @@ async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
     until(page, &format!("{bed} === 75"), Duration::from_secs(10)).await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.moving_bodies[0].mass_kg").await?.as_f64(), Some(75.0));
     assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "the design is still shown");
-    // Its parts panel asks for the workshop files, and shows what the server answers: its files, or
-    // its error as the app shows errors.
+    // Its parts panel asks for the workshop files, and shows them: every part to cut, the files, and
+    // the steps.
     until(
         page,
         "document.getElementById('btn-fabricate')?.textContent === '⚙ Make the workshop files'",
@@ -1532,25 +1532,30 @@ async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
     click(page, "#btn-fabricate").await?;
     until(
         page,
-        "document.querySelector('#tab-result .fab-scale, #tab-result .fab-error') !== null",
+        "document.querySelector('#tab-result .fab-summary, #tab-result .fab-error') !== null",
         Duration::from_secs(90),
     )
     .await?;
     let answered = eval(
         page,
-        "(() => { const f = window.linkwright.results.fab; return f.made ? {files: f.made.answer.files.length, \
-         offered: document.querySelectorAll('#tab-result a[data-file]').length} : {error: f.error.problems[0], \
-         shown: document.querySelector('#tab-result .fab-error').textContent}; })()",
+        "(() => { const f = window.linkwright.results.fab; const a = f.made?.answer; return a ? {format: a.report.linkwright, \
+         parts: a.report.links.length, files: a.files.map((x) => x.name), \
+         offered: [...document.querySelectorAll('#tab-result a[data-file]')].map((x) => x.dataset.file), \
+         steps: document.querySelectorAll('#tab-result ol.steps li').length, \
+         rows: [...document.querySelectorAll('#tab-result .fab-summary th')].map((x) => x.textContent)} \
+         : {error: f.error.problems[0]}; })()",
     )
     .await?;
-    if let Some(error) = answered["error"].as_str() {
-        let shown = answered["shown"].as_str().unwrap_or_default();
-        assert!(shown.starts_with("Cannot make the workshop files") && shown.contains(error), "{answered}");
-    } else {
-        let files = answered["files"].as_u64().ok_or("files")?;
-        // Every file the server lists is offered, and the zip.
-        assert!(files > 0 && answered["offered"].as_u64() >= Some(files), "{answered}");
+    assert_eq!(answered["format"], "workshop/1", "{answered}");
+    let files: Vec<&str> = answered["files"].as_array().ok_or("files")?.iter().filter_map(Value::as_str).collect();
+    for name in ["workshop.json", "cut_list.csv", "bill_of_materials.csv", "workshop_assembly.svg"] {
+        assert!(files.contains(&name), "{name} is not among {files:?}");
     }
+    // Every file the server lists is offered, and the zip.
+    let offered = answered["offered"].as_array().ok_or("offered")?;
+    assert!(files.iter().all(|f| offered.contains(&Value::from(*f))), "{answered}");
+    assert!(answered["steps"].as_u64() > Some(0), "{answered}");
+    assert_eq!(answered["rows"][0], "Parts to cut", "{answered}");
     eprintln!("web_e2e: the full-size wall bed's parts panel shows {answered}");
     build_fits_windows(page, shots, "full_size").await?;
 

@@ -2,6 +2,7 @@
 //! from JSON with path-aware errors and validated field by field.
 
 use super::standards::BoltSize;
+use crate::balance::{Balance, Spring};
 use crate::fab::SettingsIssue;
 use serde::{Deserialize, Serialize};
 
@@ -20,6 +21,23 @@ pub struct SpringOrder {
 
 fn one() -> u32 {
     1
+}
+
+impl SpringOrder {
+    /// The extension springs of `balance` as a workshop orders them, one order per spring (torsion
+    /// springs are bought by their own rate and fitted at a pivot, not listed here).
+    pub fn from_balance(balance: &Balance) -> Vec<SpringOrder> {
+        balance
+            .springs
+            .iter()
+            .filter_map(|s| match s {
+                Spring::Extension { rate_n_per_mm, free_length_mm, .. } => {
+                    Some(SpringOrder { rate_n_per_mm: *rate_n_per_mm, free_length_mm: *free_length_mm, count: 1 })
+                }
+                Spring::Torsion { .. } => None,
+            })
+            .collect()
+    }
 }
 
 /// What a person may choose about a full-size build. Every field may be left out (its default is

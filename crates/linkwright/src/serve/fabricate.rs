@@ -1,6 +1,7 @@
-//! `POST /api/fabricate` and its downloads: printable parts for a design, made as a bounded heavy job.
-//! The files stay in memory (see [`super::bundles`]); the answer lists them with the report and what
-//! the 3D preview needs.
+//! `POST /api/fabricate` and its downloads: printable parts for a design (or, for a full-size build,
+//! the workshop's files), made as a bounded heavy job. The files stay in memory (see
+//! [`super::bundles`]); the answer lists them with the report and, for printed parts, what the 3D
+//! preview needs.
 
 use super::api::{parsed, print_settings, printable_size, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
@@ -15,12 +16,14 @@ use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::Which;
-use linkwright_core::balance::Balanced;
+use linkwright_core::balance::{Balanced, Balancing, SpringSearch};
 use linkwright_core::fab::{
     bundle, fabricate_design_or_alternative, sanitize, Chosen, FabError, PrintSettings, Report,
 };
 use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
-use linkwright_core::{DesignFile, Problem, Progress};
+use linkwright_core::statics::{driving_torque, Masses};
+use linkwright_core::workshop::{self, SpringOrder, Workshop, WorkshopSettings};
+use linkwright_core::{Build, DesignFile, Material, Problem, Progress};
 use serde::Serialize;
 use serde_json::Value;
 use std::sync::Arc;
@@ -76,8 +79,11 @@ impl Request {
     }
 
     /// Fabricates and bundles the design (or its first alternative that can be fabricated; with
-    /// springs, the design itself, whose parts they hook on).
+    /// springs, the design itself, whose parts they hook on); for a full-size build, plans it.
     fn make(&self, flag: &Arc<StopFlag>) -> Result<Made, ApiError> {
+        if let Build::Full(material) = self.problem.build {
+            return self.plan(material, flag);
+        }
         let (chosen, balance) = if self.springs {
             // The spring search stops with the job (its deadline, or the client gone).
             let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
@@ -109,15 +115,73 @@ impl Request {
         let (which, fab) = (chosen.used, chosen.fabrication);
         let bundle = bundle(&fab).map_err(cannot)?;
         let preview = preview(&fab);
+        let stored = self.stored(bundle.files)?;
+        let checks_ok = bundle.report.checks.ok();
+        let report = Document::Parts(Box::new(bundle.report));
+        Ok(Made { used: self.offset + which, checks_ok, report, preview: Some(preview), stored, balance })
+    }
+
+    /// Plans the full-size build in `material` (with springs, the stock extension springs that
+    /// counterbalance it are in its bill of materials) and keeps its files.
+    fn plan(&self, material: Material, flag: &Arc<StopFlag>) -> Result<Made, ApiError> {
+        let (springs, balance) = if self.springs {
+            let (orders, balance) = self.counterbalance(flag)?;
+            (orders, Some(balance))
+        } else {
+            (Vec::new(), None)
+        };
+        let settings = WorkshopSettings { springs, ..WorkshopSettings::default() };
+        let plan = workshop::plan(&self.problem, &self.design, material, &settings).map_err(|e| {
+            ApiError::unprocessable(format!("cannot plan the full-size build: {e}")).with_issue("design", e.to_string())
+        })?;
+        let stored = self.stored(workshop::files(&plan))?;
+        let checks_ok = plan.links.iter().all(|link| link.checks.iter().all(|check| check.ok));
+        let report = Document::Workshop(Box::new(plan));
+        Ok(Made { used: self.offset, checks_ok, report, preview: None, stored, balance })
+    }
+
+    /// The extension springs that lower the crank's peak torque at the object's real masses, as a
+    /// workshop orders them, and the torque and springs as `POST /api/balance` answers them.
+    fn counterbalance(&self, flag: &Arc<StopFlag>) -> Result<(Vec<SpringOrder>, Value), ApiError> {
+        let problem = &self.problem;
+        let unprocessable = |what: &str, field: &str, e: &dyn std::fmt::Display| {
+            ApiError::unprocessable(format!("{what}: {e}")).with_issue(field, e.to_string())
+        };
+        let masses = Masses::for_design(problem, Some(&self.design), &self.settings)
+            .map_err(|e| unprocessable("the masses cannot be found", "scene", &e))?;
+        let replay =
+            linkwright_core::analysis::Replay::new(problem, &self.design, Which::Best, crate::springs::ANALYZE_STEPS)
+                .map_err(|e| unprocessable("the design cannot be replayed", "design", &e))?;
+        let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
+        let torque = driving_torque(problem, mechanism, plan, trace, &masses)
+            .map_err(|e| unprocessable("the torque cannot be computed", "design", &e))?;
+        let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
+        let balance = Balancing { problem, mechanism, plan, trace, masses: &masses, torque: &torque }
+            .best(SpringSearch::ANALYSIS, &observer)
+            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
+        let answer = serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null);
+        Ok((SpringOrder::from_balance(&balance), answer))
+    }
+
+    /// `files` kept in memory under the scene's name.
+    fn stored(&self, files: Vec<(String, Vec<u8>)>) -> Result<Stored, ApiError> {
         let mut scene = sanitize(&self.problem.name);
         if scene.is_empty() {
             scene = "linkwright".into();
         }
-        let stored = Stored::new(scene, bundle.files).map_err(|e| {
+        Stored::new(scene, files).map_err(|e| {
             ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("internal error: {e}; please report it"))
-        })?;
-        Ok(Made { used: self.offset + which, report: bundle.report, preview, stored, balance })
+        })
     }
+}
+
+/// What was made: a printed model's `fabrication.json`, or a full-size build's `workshop.json`
+/// (their `linkwright` field says which).
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Document {
+    Parts(Box<Report>),
+    Workshop(Box<Workshop>),
 }
 
 /// A design that cannot be fabricated: the library's message says what to change.
@@ -133,8 +197,9 @@ fn cannot(e: FabError) -> ApiError {
 /// A finished fabrication, before it is stored.
 struct Made {
     used: usize,
-    report: Report,
-    preview: Preview,
+    checks_ok: bool,
+    report: Document,
+    preview: Option<Preview>,
     stored: Stored,
     balance: Option<Value>,
 }
@@ -146,17 +211,20 @@ pub struct Answer {
     id: String,
     /// Which design was fabricated: 0 the design itself, k its `alternatives[k - 1]`.
     used: usize,
-    /// True when every fabrication check passed (`report.checks`).
+    /// True when every fabrication check passed (`report.checks`; for a full-size build, every
+    /// strength check of every part).
     checks_ok: bool,
-    /// The `fabrication.json` document.
-    report: Report,
+    /// The `fabrication.json` document, or for a full-size build the `workshop.json` one.
+    report: Document,
     /// With `springs`: the torque and the springs hooked, as `POST /api/balance` answers them.
     #[serde(skip_serializing_if = "Option::is_none")]
     balance: Option<Value>,
     files: Vec<FileEntry>,
     /// All the files in one zip.
     zip: FileEntry,
-    preview: Preview,
+    /// The printed parts moving with the linkage (none for a full-size build).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    preview: Option<Preview>,
 }
 
 /// One downloadable file.
@@ -183,7 +251,7 @@ pub async fn fabricate(
     // counted as running, and its answer is dropped.
     let make = move |flag: &Arc<StopFlag>| request.make(flag);
     let made = state.jobs.run(Kind::Fabrication, &client, Work::FABRICATION, make).await?;
-    let Made { used, report, preview, stored, balance } = made;
+    let Made { used, checks_ok, report, preview, stored, balance } = made;
     let (id, stored) = state.bundles.insert(stored);
     let entry = |name: &str, bytes: &Bytes| FileEntry {
         name: name.to_string(),
@@ -194,7 +262,7 @@ pub async fn fabricate(
     Ok(Json(Answer {
         files: stored.files.iter().map(|(name, bytes)| entry(name, bytes)).collect(),
         zip: entry(ZIP_NAME, &stored.zip),
-        checks_ok: report.checks.ok(),
+        checks_ok,
         id,
         used,
         report,

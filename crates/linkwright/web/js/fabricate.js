@@ -1,6 +1,7 @@
 // Making the parts: print settings, the Fabricate action (a job on the server), the summary, the
 // downloads, the assembly steps, and the 3D preview of the printed parts moving with the linkage. For a
-// full-size build the same action asks for the workshop's files, and shows whatever the server lists.
+// full-size build the same action asks for the workshop's files: the parts to cut, their stock and
+// bolts, the builder's notes, the files and the steps.
 
 import * as api from './api.js';
 import { buildWord, DEFAULT_BUILD, describe, parseBuild } from './build.js';
@@ -30,7 +31,9 @@ const FILE_GROUPS = [
   ['Parts to print (STL)', (name) => name.endsWith('.stl')],
   ['Print beds (3MF)', (name) => name.endsWith('.3mf')],
   ['Laser cutting', (name) => name.startsWith('profiles.')],
-  ['Instructions', (name) => name === 'assembly.svg' || name === 'fabrication.json'],
+  ['Profiles to cut (laser, CNC router, waterjet)', (name) => name.startsWith('profiles_')],
+  ['Lists', (name) => name.endsWith('.csv')],
+  ['Instructions', (name) => ['assembly.svg', 'fabrication.json', 'workshop_assembly.svg', 'workshop.json'].includes(name)],
 ];
 
 /** What a file other than a part is for (by its kind, for files this app does not name). */
@@ -38,8 +41,13 @@ function purpose(name) {
   if (name === 'assembly.3mf') return 'every part, assembled';
   if (name.endsWith('.3mf')) return 'the parts laid out on one bed';
   if (name.startsWith('profiles.')) return 'outlines with holes';
-  if (name === 'assembly.svg') return 'the layers and the order to assemble';
+  const stock = /^profiles_(.+)mm\.(dxf|svg)$/.exec(name);
+  if (stock) return `the parts cut from ${stock[1]} mm stock, with their holes`;
+  if (name === 'assembly.svg' || name === 'workshop_assembly.svg') return 'the layers and the order to assemble';
   if (name === 'fabrication.json') return 'parts, sizes and checks';
+  if (name === 'workshop.json') return 'parts, loads, strength checks and bolts';
+  if (name === 'cut_list.csv') return 'every part: stock, length, width, holes';
+  if (name === 'bill_of_materials.csv') return 'stock, bolts, washers, spacers and springs to buy';
   const kinds = { csv: 'a table', dxf: 'outlines for CAD or cutting', svg: 'a drawing', json: 'data', pdf: 'a sheet to print' };
   return kinds[name.split('.').pop().toLowerCase()] || '';
 }
@@ -237,7 +245,8 @@ export class Fabricator {
       ? `${describe(buildWord(this.build()))}: the files a workshop needs to build it at its real size.`
       : 'Parts for a desktop 3D printer that snap together on pins, without screws or glue.' }));
     const error = this.isFor(this.error) ? this.error : null;
-    host.append(this.settingsForm(error));
+    // The print settings shape printed parts only; a full-size build's stock and bolts follow from its loads.
+    if (!full) host.append(this.settingsForm(error));
     if (this.job) {
       host.append(html('div', { class: 'busy', role: 'status' }, [
         html('div', { class: 'bar indeterminate' }, [html('div')]),
@@ -254,12 +263,13 @@ export class Fabricator {
             : 'Build printable parts for this linkage with the print settings above',
           onclick: () => this.run(),
         }),
-        html('label', { class: 'check', title: 'Search the extension springs that balance the printed parts and give the parts hooks for them' }, [
+        html('label', { class: 'check', title: full ? 'Search the stock extension springs that balance the object and list them to buy'
+          : 'Search the extension springs that balance the printed parts and give the parts hooks for them' }, [
           html('input', {
             type: 'checkbox', id: 'fab-springs', checked: !!this.print.springs,
             onchange: (e) => { this.print.springs = e.target.checked; this.saveSettings(); },
           }),
-          ' Hooks for counterbalance springs',
+          full ? ' Counterbalance springs' : ' Hooks for counterbalance springs',
         ]),
       ]));
     }
@@ -332,8 +342,8 @@ export class Fabricator {
       ? describe(`model:${report.scale}`, { modelMm: report.model_mm })
       : build.kind === 'full' ? describe(buildWord(build)) : null;
     if (made) out.push(html('p', { class: 'fab-scale', 'data-scale': report.scale ?? buildWord(build), text: made }));
-    if (build.kind === 'full' && typeof report.scale === 'string') {
-      out.push(html('p', { class: 'note', text: `The server answered this full-size build with the parts of a printed model at ${report.scale}, not with workshop files.` }));
+    if (typeof report.linkwright === 'string' && report.linkwright.startsWith('workshop/')) {
+      return [...out, ...this.workshop(answer)];
     }
     if (answer.used > 0 && this.made.which !== answer.used - 1) {
       warn(`These are the parts of alternative ${answer.used}`,
@@ -381,6 +391,41 @@ export class Fabricator {
     if (report.assembly?.length) {
       out.push(html('h3', { text: 'Putting it together' }));
       out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: step }))));
+    }
+    return out;
+  }
+
+  /** A full-size build: what to cut from which stock, the bolts, what the builder should know, the
+   * springs to buy, the files and the steps. */
+  workshop(answer) {
+    const report = answer.report;
+    const out = [];
+    if (report.notes?.length) {
+      out.push(html('div', { class: 'callout warn workshop-notes' }, [html('b', { text: 'Before you build' }),
+        html('ul', {}, report.notes.map((note) => html('li', { text: note })))]));
+    }
+    const links = report.links || [];
+    const stocks = [...new Set(links.map((l) => l.thickness_mm))].sort((a, b) => a - b);
+    const bolts = (report.bolts || []).reduce((n, b) => n + b.count, 0);
+    const mass = links.reduce((m, l) => m + l.mass_kg, 0);
+    const rows = [
+      ['Parts to cut', `${links.length}, from ${stocks.map((t) => `${t} mm`).join(', ')} ${report.material}`],
+      ['Bolts', `${bolts} (${report.bolt?.size} at the joints)`],
+      ['Layers of links', String((report.layers || []).length)],
+      ['Links’ mass', `${mass.toFixed(mass < 10 ? 1 : 0)} kg`],
+      ['Crank holds up to', `${report.peak_torque_nm.toFixed(1)} N·m`],
+    ];
+    out.push(html('table', { class: 'metrics fab-summary' },
+      rows.map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
+    if (answer.balance) {
+      out.push(html('h3', { text: 'Counterbalance springs' }),
+        html('p', { class: 'note', text: 'Stock springs, on the bill of materials; the assembly sheet says where each hangs.' }),
+        springList(answer.balance, (this.results.result?.scene || this.store.scene)?.units || 'mm'));
+    }
+    out.push(...this.downloads(answer));
+    if (report.steps?.length) {
+      out.push(html('h3', { text: 'Putting it together' }));
+      out.push(html('ol', { class: 'steps' }, report.steps.map((step) => html('li', { text: step }))));
     }
     return out;
   }
