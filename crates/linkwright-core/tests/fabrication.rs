@@ -3,7 +3,10 @@
 //! 1° step, pins seated with the set clearance, every recorded ordering constraint satisfied), and
 //! every exporter's output is read back by an independent reader.
 
-use linkwright_core::fab::{self, assembled_meshes, bundle, check, FeasibilityCheck, PrintSettings, Travel};
+use linkwright_core::fab::{
+    self, assembled_meshes, bundle, check, FeasibilityCheck, MemberKind, PrintSettings, Travel,
+};
+use linkwright_core::geom::Point;
 use linkwright_core::{synthesize, synthesize_with, Candidate, DesignFile, Options, Problem, Scene, Silent, Start};
 use std::io::Read;
 use std::time::Instant;
@@ -121,6 +124,45 @@ fn assert_sound(name: &str, f: &fab::Fabrication) {
         }
     }
     assert!(fab::ordering_violations(&f.layout, &f.recorded, &f.ordering).is_empty());
+    assert_steps_name_the_parts_that_carry_the_posts(name, f);
+}
+
+/// Whether `p` lies inside the polygon `outline` (crossings of a ray to +x).
+fn inside(outline: &[Point], p: Point) -> bool {
+    let mut odd = false;
+    for (i, a) in outline.iter().enumerate() {
+        let b = outline[(i + 1) % outline.len()];
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            odd = !odd;
+        }
+    }
+    odd
+}
+
+/// Every assembly step that puts a connector or the guide "onto the post on" a part names a part
+/// whose solid stands at the post, on the member's side of the bodies (a body printed in halves
+/// carries each face's posts on its own half).
+fn assert_steps_name_the_parts_that_carry_the_posts(name: &str, f: &fab::Fabrication) {
+    let steps = fab::assembly_steps(f);
+    let thickness = f.dims.body_thickness;
+    for (i, member) in f.layout.members.iter().enumerate() {
+        let Some(post) = member.post.filter(|_| matches!(member.kind, MemberKind::Connector | MemberKind::Guide))
+        else {
+            continue;
+        };
+        let part = f.parts.iter().find(|p| p.member == Some(i)).unwrap();
+        let step = steps.iter().find(|s| s.contains(&format!(": {} — its square socket", part.name)));
+        let step = step.unwrap_or_else(|| panic!("{name}: no step puts {} on its post: {steps:#?}", part.name));
+        let on = step.split("onto the post on ").nth(1).unwrap().split([';', ' ']).next().unwrap();
+        let holder = f.parts.iter().find(|p| p.name == on).unwrap_or_else(|| panic!("{name}: {step}"));
+        let front = f.ordering.face[i] == fab::Face::Front;
+        let stands = holder.carrier == member.carrier
+            && holder.prisms.iter().any(|prism| {
+                let beyond = if front { prism.z.1 > 1e-9 } else { prism.z.0 < -thickness - 1e-9 };
+                beyond && inside(&prism.outline, post)
+            });
+        assert!(stands, "{name}: \"{step}\" but {on} has no solid at the post on that face");
+    }
 }
 
 fn read_3mf(bytes: &[u8]) -> Vec<(String, usize, usize)> {

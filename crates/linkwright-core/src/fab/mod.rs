@@ -61,6 +61,7 @@ pub use report::{
     FABRICATION_FORMAT,
 };
 pub use settings::{millimetres_per_unit, Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
+pub use sheet::steps as assembly_steps;
 pub use solid::Mesh;
 use std::time::Instant;
 

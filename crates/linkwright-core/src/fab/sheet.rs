@@ -52,7 +52,8 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
                     member_part(fab, i)
                 );
                 if matches!(m.kind, MemberKind::Connector | MemberKind::Guide) {
-                    let _ = write!(s, " — its square socket onto the post on {}", carrier_name(fab, m.carrier, m.post));
+                    let on = carrier_name(fab, m.carrier, m.post, face);
+                    let _ = write!(s, " — its square socket onto the post on {on}");
                 }
                 for &j in &m.joints {
                     let seat = fab.seats.iter().find(|x| x.joint == j);
@@ -100,7 +101,7 @@ pub(super) fn hook_holder(fab: &Fabrication, k: usize) -> String {
     match hook.base {
         HookBase::Member(i) => member_part(fab, i).to_string(),
         HookBase::Joint(j) => format!("{} (the pin at {}, lengthened)", pin_holder(fab, j), fab.layout_joint_name(j)),
-        HookBase::Body => carrier_name(fab, hook.carrier, Some(hook.at)),
+        HookBase::Body => carrier_name(fab, hook.carrier, Some(hook.at), fab.ordering.spring_face[k / 2]),
     }
 }
 
@@ -114,17 +115,16 @@ fn pin_holder(fab: &Fabrication, j: usize) -> &str {
     fab.seats.iter().find(|s| s.joint == j).map_or("?", |s| fab.parts[s.pin_part].name.as_str())
 }
 
-/// The body part (or piece of it) that holds the point `at` of `carrier`.
-fn carrier_name(fab: &Fabrication, carrier: usize, at: Option<Point>) -> String {
+/// The body part (or piece of it) that holds the point `at` of `carrier` on `face`: of a body printed
+/// in two halves, the half on that face.
+fn carrier_name(fab: &Fabrication, carrier: usize, at: Option<Point>, face: Face) -> String {
     // Within the outline (the profile's holes include the post's own socket).
     let holds = |p: &&super::parts::Part| {
         at.is_none_or(|a| super::shapes::Region { contours: p.profile[..1].to_vec() }.contains(a))
     };
-    fab.parts
-        .iter()
-        .filter(|p| p.carrier == carrier && p.member.is_none())
-        .find(holds)
-        .map_or("the ground".into(), |p| p.name.clone())
+    let holders: Vec<&super::parts::Part> =
+        fab.parts.iter().filter(|p| p.carrier == carrier && p.member.is_none()).filter(holds).collect();
+    holders.iter().find(|p| p.face == face).or(holders.first()).map_or("the ground".into(), |p| p.name.clone())
 }
 
 /// The sheet as SVG: the side view (x along the world, height up, exaggerated ×`zoom` for legibility)
