@@ -162,6 +162,8 @@ export class Fabricator {
     try {
       const springs = !!this.print.springs;
       const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, this.job.controller.signal, springs);
+      // Parts for a design no longer shown (another scene opened, another design made) are dropped.
+      if (!this.isFor(target)) return;
       this.made = { ...target, answer };
       const report = answer.report || {};
       if (answer.preview) this.show(answer.preview);
@@ -171,7 +173,9 @@ export class Fabricator {
         : `Made ${plural((answer.files || []).length, 'file')}.`;
       this.store.hint(`${made} Download them in the Result tab${turn}.`);
     } catch (e) {
-      if (e.name === 'AbortError') {
+      if (!this.isFor(target)) {
+        // Not for the design shown any more: nothing to say about it.
+      } else if (e.name === 'AbortError') {
         this.store.hint('Making the parts was cancelled.');
       } else {
         this.error = { ...target, problems: problems(e), fields: (e.issues || []).map((i) => i.field) };
@@ -187,6 +191,14 @@ export class Fabricator {
 
   cancel() {
     this.job?.controller.abort();
+  }
+
+  /** Another scene was opened: stops the parts being made and forgets those made. */
+  forget() {
+    this.cancel();
+    this.made = null;
+    this.error = null;
+    this.show3d = false;
   }
 
   /** Updates the seconds shown while the job runs. */

@@ -136,16 +136,22 @@ function renderPoseBar() {
   const n = S.poseCount(store.scene);
   $('posebar').hidden = n === 0;
   const host = $('pose-buttons');
-  host.replaceChildren(...Array.from({ length: n }, (_, i) => {
-    const b = document.createElement('button');
+  // The buttons are kept while the number of poses is, so the one with the keyboard's focus keeps it.
+  if (host.children.length !== n) {
+    host.replaceChildren(...Array.from({ length: n }, (_, i) => {
+      const b = document.createElement('button');
+      b.addEventListener('click', () => goToPose(i));
+      return b;
+    }));
+  }
+  [...host.children].forEach((b, i) => {
     const marked = i > 0 && i < n - 1 && S.isMustHit(store.scene, i);
     b.textContent = marked ? `Pose ${i + 1} ◆` : `Pose ${i + 1}`;
     if (marked) b.title = 'The linkage must hit this pose';
+    else b.removeAttribute('title');
     b.className = i === store.ui.pose ? 'on' : '';
     b.setAttribute('aria-pressed', String(i === store.ui.pose));
-    b.addEventListener('click', () => goToPose(i));
-    return b;
-  }));
+  });
   $('btn-pose-delete').disabled = n <= 2;
   $('btn-pose-earlier').disabled = store.ui.pose === 0;
   $('btn-pose-later').disabled = store.ui.pose >= n - 1;
@@ -238,7 +244,8 @@ $('welcome-start').addEventListener('click', () => {
 // ---- Keyboard ----------------------------------------------------------------------------------
 
 window.addEventListener('keydown', (e) => {
-  if (e.key === 'Escape' && $('shortcuts').open) { $('shortcuts').close(); return; }
+  // An open dialog (the examples, this list) has the keyboard to itself: Escape closes it.
+  if (document.querySelector('dialog[open]')) return;
   const typing = e.target.closest?.('input, select, textarea') && !['checkbox', 'range', 'radio'].includes(e.target.type);
   const mod = e.ctrlKey || e.metaKey;
   if (mod && e.key.toLowerCase() === 'z') {
@@ -253,6 +260,9 @@ window.addEventListener('keydown', (e) => {
   if (typing || mod || e.altKey) return;
   // Arrow keys and Space on a radio button choose in its group (Settings › Build).
   if (e.target.type === 'radio') return;
+  // Enter and Space press the focused button, link or disclosure, as everywhere else.
+  const pressable = e.target.closest?.('button, a[href], summary, [role=button], input[type=checkbox]');
+  if (pressable && (e.key === 'Enter' || e.key === ' ')) return;
   if (e.key === ' ') {
     // A tap plays or pauses the design shown; held, it pans while dragging (see keyup).
     if (!e.repeat) tools.spacePanned = false;

@@ -49,6 +49,7 @@ export class Results {
     this.save = save; // (blob, filename) => void
     this.fitView = () => {}; // frames the view (set by the app)
     this.controller = null;
+    this.epoch = 0; // counts the scenes opened: an answer for an earlier one is dropped
     this.error = null; // {message, issues, scene}: why the last design failed, and for which scene
     this.pos = 0;
     this.dir = 1;
@@ -224,16 +225,21 @@ export class Results {
     if (this.controller || this.store.scene.moving_bodies.length === 0) return;
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
-    this.controller = new AbortController();
+    const controller = new AbortController();
+    this.controller = controller;
+    // A design answers the scene it was asked for: another scene opened meanwhile drops it.
+    const epoch = this.epoch;
     this.error = null;
     this.progress({ fraction: 0, text: 'Starting…' });
     this.sync();
     try {
       const request = { scene, print_settings: savedPrintSettings() };
-      const design = await api.designStream(request, (name, data) => this.onEvent(name, data), this.controller.signal);
+      const design = await api.designStream(request, (name, data) => this.onEvent(name, data), controller.signal);
+      if (epoch !== this.epoch) return;
       if (design) {
         this.store.result = newResult({ design, scene, key, warnings: this.warnings });
         await this.select(null);
+        if (epoch !== this.epoch) return;
         this.store.setUi({ tab: 'result' });
         if (design.status === 'ok') {
           this.fitView();
@@ -249,12 +255,15 @@ export class Results {
         this.store.hint('Design cancelled.');
       }
     } catch (e) {
+      if (epoch !== this.epoch) return;
       this.error = { message: e.message, issues: e.issues || [], scene: JSON.stringify(scene) };
       this.store.setUi({ tab: 'result' });
       this.store.hint(e.issues?.length ? 'Cannot design this yet: the Result tab lists what to change.' : `Cannot design: ${e.message}`);
     } finally {
-      this.controller = null;
-      this.progress(null);
+      if (this.controller === controller) {
+        this.controller = null;
+        this.progress(null);
+      }
       this.sync();
       this.store.changed('result');
     }
@@ -347,8 +356,15 @@ export class Results {
     this.drawFrame();
   }
 
-  /** Forgets the design and any error (a new scene was opened). */
+  /** Forgets the design and any error (a new scene was opened); a design, a live redesign or parts
+   * still being made for the scene before are stopped, and what they answer is dropped. */
   clear() {
+    this.epoch += 1;
+    this.controller?.abort();
+    this.controller = null;
+    this.progress(null);
+    this.livePending = false;
+    this.fab?.forget();
     this.store.result = null;
     this.error = null;
     this.good = null;
@@ -392,12 +408,15 @@ export class Results {
     this.livePending = false;
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
+    const epoch = this.epoch;
     try {
       // The motion analysis comes with the design: one round trip less per step of the drag.
       let analysis = null;
       const request = { scene, from: this.lastGood(), print_settings: savedPrintSettings(), analysis: true };
       const design = await api.designStream(request, (name, data) => { if (name === 'analysis') analysis = data; });
-      if (design?.status === 'ok') {
+      if (epoch !== this.epoch) {
+        // Another scene was opened: this answer is not for it.
+      } else if (design?.status === 'ok') {
         this.store.result = newResult({ design, scene, key });
         await this.select(null, { keep: true, analysis });
         this.verify();
@@ -406,7 +425,7 @@ export class Results {
         this.store.hint('Live: no linkage reaches the poses as they are now; move the pose back a little, or press Design linkage.');
       }
     } catch (e) {
-      this.store.hint(`Live: ${e.message}`);
+      if (epoch === this.epoch) this.store.hint(`Live: ${e.message}`);
     }
     // The scene the last live request answered (a design or not), for whoever waits on it.
     this.liveAnswered = scene;
@@ -457,7 +476,10 @@ export class Results {
     }
     try {
       const before = this.frameCount();
-      r.analysis = analysis || await api.simulate(r.scene, d, which);
+      const got = analysis || await api.simulate(r.scene, d, which);
+      // Another design (or mechanism) shown meanwhile: this analysis is not for it.
+      if (this.result !== r || r.which !== which) return;
+      r.analysis = got;
       const held = keep && this.heldPose != null ? r.analysis.poses?.[this.heldPose] : null;
       if (held) {
         this.pos = held.frame;
@@ -475,6 +497,7 @@ export class Results {
       this.drawFrame();
       this.setPlaying(!held);
     } catch (e) {
+      if (this.result !== r || r.which !== which) return;
       this.error = { message: e.message, issues: e.issues || [] };
     }
     this.store.changed('result');

@@ -308,7 +308,7 @@ export class Tools {
       return true;
     }
     if (e.key.startsWith('Arrow') && ui.selection) {
-      const step = e.shiftKey ? this.view.gridStep() * 5 : this.view.gridStep();
+      const step = e.shiftKey ? this.view.gridStep() * 10 : this.view.gridStep();
       const delta = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, step], ArrowDown: [0, -step] }[e.key];
       this.actions.leaveResult();
       this.store.edit('nudge', (sc) => S.translate(sc, ui.selection, delta, ui.pose));

@@ -1,0 +1,154 @@
+//! The app in a real headless Chromium, used from the keyboard and in a hurry: Enter and Space press
+//! the focused button (and only it), the toolbar works from Tab alone, and opening another scene
+//! while a design or its parts are being made drops what they answer for the scene before.
+//! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
+
+mod browser;
+mod common;
+
+use browser::*;
+use chromiumoxide::Page;
+use serde_json::Value;
+use std::time::Duration;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_keyboard_presses_buttons_and_a_new_scene_drops_answers_for_the_old() -> Result<()> {
+    let Some(app) = App::launch("web_keyboard_and_races").await? else { return Ok(()) };
+    let outcome = async {
+        app.open().await?;
+        keyboard(&app.page).await?;
+        races(&app.page).await
+    }
+    .await;
+    app.finish(outcome).await
+}
+
+/// True while a design runs.
+const DESIGNING: &str = "window.linkwright.results.controller !== null";
+
+/// Focuses the element `selector`.
+async fn focus(page: &Page, selector: &str) -> Result<()> {
+    let js = format!(
+        "(() => {{ const e = document.querySelector({}); e.focus(); return document.activeElement === e; }})()",
+        serde_json::to_string(selector)?
+    );
+    assert_eq!(eval(page, &js).await?, Value::Bool(true), "{selector} takes the focus");
+    Ok(())
+}
+
+/// The selector-ish name of the focused element.
+async fn focused(page: &Page) -> Result<String> {
+    let js = "(() => { const e = document.activeElement; return e.id ? `#${e.id}` : e.textContent.trim(); })()";
+    Ok(eval(page, js).await?.as_str().unwrap_or_default().to_string())
+}
+
+/// Enter and Space on a focused button press it: the Examples button opens the gallery and neither
+/// starts a design nor plays; Enter on a gallery entry opens that example; Tab reaches the toolbar's
+/// buttons in order; Enter on "Later" moves the pose, Enter on a pose button goes to it and keeps the
+/// focus; with nothing focused, Enter still designs.
+async fn keyboard(page: &Page) -> Result<()> {
+    for (name, text, code, key_code) in [("Enter", "\r", "Enter", 13), (" ", " ", "Space", 32)] {
+        focus(page, "#btn-examples").await?;
+        press(page, name, code, key_code, text).await?;
+        until(page, "document.getElementById('gallery').open", Duration::from_secs(2))
+            .await
+            .map_err(|e| format!("{name} on Examples: {e}"))?;
+        assert_eq!(eval(page, DESIGNING).await?, Value::Bool(false), "{name} on Examples started a design");
+        press(page, "Escape", "Escape", 27, "").await?;
+        until(page, "!document.getElementById('gallery').open", Duration::from_secs(2)).await?;
+    }
+
+    // An example, chosen from the gallery with the keyboard.
+    focus(page, "#btn-examples").await?;
+    press_enter(page).await?;
+    let entry = "[data-example=k1_garbage_truck]";
+    until(page, &format!("document.querySelector('{entry} svg') !== null"), Duration::from_secs(10)).await?;
+    focus(page, entry).await?;
+    press_enter(page).await?;
+    until(page, "window.linkwright.store.scene.name === 'garbage truck'", Duration::from_secs(2)).await?;
+    assert_eq!(eval(page, DESIGNING).await?, Value::Bool(false));
+
+    // Tab walks the header's buttons in order, from New on.
+    focus(page, "#btn-new").await?;
+    let mut walked = Vec::new();
+    for _ in 0..3 {
+        key(page, "Tab", "Tab", 9, 0).await?;
+        walked.push(focused(page).await?);
+    }
+    assert_eq!(walked, ["#btn-open", "#btn-save", "#btn-examples"], "Tab from New");
+
+    // The pose bar: Enter on "Later" makes pose 1 come later (pose 2 is then the current one) and
+    // designs nothing; Enter on a pose button goes to that pose and keeps the focus on it.
+    let first = eval(page, "JSON.stringify(window.linkwright.store.scene.moving_bodies[0].poses[0])").await?;
+    focus(page, "#btn-pose-later").await?;
+    press_enter(page).await?;
+    until(page, "window.linkwright.store.ui.pose === 1", Duration::from_secs(2)).await?;
+    let moved = eval(page, "JSON.stringify(window.linkwright.store.scene.moving_bodies[0].poses[1])").await?;
+    assert_eq!(moved, first, "pose 1 came later");
+    assert_eq!(eval(page, DESIGNING).await?, Value::Bool(false), "Enter on Later started a design");
+    undo(page).await?;
+    focus(page, "#pose-buttons button:nth-child(3)").await?;
+    press_enter(page).await?;
+    until(page, "window.linkwright.store.ui.pose === 2", Duration::from_secs(2)).await?;
+    assert_eq!(focused(page).await?, "Pose 3", "the pose button keeps the focus");
+    press_space(page).await?;
+    assert_eq!(eval(page, DESIGNING).await?, Value::Bool(false));
+
+    // Nothing focused: Enter designs (then Cancel stops it).
+    eval(page, "document.activeElement.blur() || true").await?;
+    key(page, "Enter", "Enter", 13, 0).await?;
+    until(page, DESIGNING, Duration::from_secs(2)).await?;
+    click(page, "#btn-cancel").await?;
+    until(page, &format!("!({DESIGNING})"), Duration::from_secs(10)).await
+}
+
+/// Opens the example `name` from the gallery with the mouse.
+async fn open_example(page: &Page, name: &str) -> Result<()> {
+    click(page, "#btn-examples").await?;
+    until(page, &format!("document.querySelector('[data-example={name}] svg') !== null"), Duration::from_secs(10))
+        .await?;
+    click(page, &format!("[data-example={name}]")).await
+}
+
+/// A design running for the wall bed when the sofa bed is opened is stopped, and nothing of it shows
+/// on the sofa bed; so are parts being made for the sofa bed's design when the table is opened.
+async fn races(page: &Page) -> Result<()> {
+    open_example(page, "k2_wall_bed").await?;
+    click(page, "#btn-design").await?;
+    until(page, DESIGNING, Duration::from_secs(2)).await?;
+    open_example(page, "k1_sofa_bed").await?;
+    let sofa = eval(page, "window.linkwright.store.scene.name").await?;
+    // Long enough for the wall bed's design to have come back, had it not been stopped.
+    tokio::time::sleep(Duration::from_secs(3)).await;
+    settle(page).await?;
+    assert_eq!(eval(page, DESIGNING).await?, Value::Bool(false), "the wall bed's design was stopped");
+    assert_eq!(eval(page, "window.linkwright.store.result").await?, Value::Null, "no result for the sofa bed");
+    assert_eq!(eval(page, "document.getElementById('player').hidden").await?, Value::Bool(true));
+    assert_eq!(eval(page, "window.linkwright.store.scene.name").await?, sofa);
+
+    // The sofa bed designed; its parts asked for, and the table opened from the gallery at once (the
+    // gallery is open before, so the parts are still being made when it is chosen).
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    click(page, "#btn-design").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    assert_eq!(eval(page, "window.linkwright.store.result.scene.name").await?, sofa);
+    click(page, "[data-tab=result]").await?;
+    click(page, "#btn-examples").await?;
+    until(page, "document.querySelector('[data-example=k1_table] svg') !== null", Duration::from_secs(10)).await?;
+    let js = "(() => { document.getElementById('btn-fabricate').click(); const making = window.linkwright.results.fab.job !== null; \
+              document.querySelector('[data-example=k1_table]').click(); return making; })()";
+    assert_eq!(eval(page, js).await?, Value::Bool(true), "the parts were being made when the table was opened");
+    until(page, "window.linkwright.results.fab.job === null", Duration::from_secs(60)).await?;
+    tokio::time::sleep(Duration::from_secs(1)).await;
+    settle(page).await?;
+    let shown = "(() => { const f = window.linkwright.results.fab; return {made: f.made, error: f.error, \
+                 links: document.querySelectorAll('a[data-file]').length, view3d: !document.getElementById('view3d').hidden}; })()";
+    assert_eq!(
+        eval(page, shown).await?,
+        serde_json::json!({"made": null, "error": null, "links": 0, "view3d": false}),
+        "nothing of the sofa bed's parts stays"
+    );
+    assert_eq!(eval(page, "window.linkwright.store.scene.name").await?, "table");
+    Ok(())
+}
