@@ -34,22 +34,25 @@ fn model(model: u32, object: u32) -> Build {
 }
 
 /// The scale an `auto` model gets by the documented rule, found by trying every scale of the series:
-/// the region's diagonal plus a link's width fits along the print area's diagonal, the region is
-/// [`PIN_SPACINGS_PER_REGION`] pin spacings across, and of those the nearest 1:1.
+/// of those at which the region's diagonal plus a link's width fits along the print area's diagonal
+/// and the region is [`PIN_SPACINGS_PER_REGION`] pin spacings across, 1:1 if it is one, else the
+/// largest.
 fn expected_auto(scene: &Scene) -> Ratio {
     let s = PrintSettings::default();
     let usable = (s.bed.width - 2.0 * s.bed.margin).hypot(s.bed.depth - 2.0 * s.bed.margin);
     let spacing = 2.0 * (0.5 * s.link_width - s.wall).max(s.pin_radius + s.radial_clearance + s.wall) + s.wall;
     let region = Problem::new(scene).unwrap().region.aabb().diagonal();
-    let mut fitting: Vec<Ratio> = Ratio::series()
+    let fitting: Vec<Ratio> = Ratio::series()
         .into_iter()
         .filter(|r| {
             let across = region * r.factor();
             across + s.link_width <= usable && across >= PIN_SPACINGS_PER_REGION * spacing
         })
         .collect();
-    fitting.sort_by(|a, b| a.factor().ln().abs().total_cmp(&b.factor().ln().abs()));
-    fitting[0]
+    if fitting.contains(&Ratio::ONE) {
+        return Ratio::ONE;
+    }
+    *fitting.iter().max_by(|a, b| a.factor().total_cmp(&b.factor())).unwrap()
 }
 
 #[test]
@@ -61,9 +64,12 @@ fn an_auto_model_is_at_the_scale_nearest_full_size_that_fits() {
         // more than the 297 mm diagonal of the print area.
         (wall_bed.clone(), Ratio { model: 1, object: 5 }),
         (table.clone(), Ratio::ONE),
-        (scaled_scene(&table, 0.01), Ratio { model: 50, object: 1 }),
+        // The table's region is 93 mm across. Drawn a hundredth as large (0.93 mm), its model is as
+        // large as the bed takes: 186 mm at 200:1 (465 mm at 500:1 is too long), twice its own size.
+        (scaled_scene(&table, 0.01), Ratio { model: 200, object: 1 }),
         (scaled_scene(&table, 100.0), Ratio { model: 1, object: 50 }),
-        (scaled_scene(&wall_bed, 0.001), Ratio { model: 50, object: 1 }),
+        // The wall bed drawn a thousandth as large: 0.89 mm across, 178 mm at 200:1.
+        (scaled_scene(&wall_bed, 0.001), Ratio { model: 200, object: 1 }),
     ];
     for (scene, scale) in cases {
         assert_eq!(expected_auto(&scene), scale, "{}", scene.name);
@@ -158,19 +164,25 @@ fn a_drawing_too_small_for_its_scale_is_told_so_in_numbers() {
     // At the auto scale it designs.
     let (_, _, file, _) = design(&scene, Build::default(), 20_000);
     assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
-    assert_eq!(file.build.unwrap().checked, model(50, 1));
+    assert_eq!(file.build.unwrap().checked, model(200, 1));
 }
 
 #[test]
 fn an_auto_model_that_prints_nothing_is_tried_at_larger_scales() {
-    // The two-body wall bed drawn 1/100 as large (2 mm): the drawing decides 20:1, where its pins
-    // leave no linkage; at 100:1 (its own size at 1:1) it prints.
-    let scene = scaled_scene(&example("k2_wall_bed"), 0.01);
-    let plan = BuildPlan::new(&Problem::new(&scene).unwrap(), &PrintSettings::default()).unwrap();
-    assert_eq!(plan.model_scale(), Some(Ratio { model: 20, object: 1 }));
-    let (_, _, file, unbuildable) = design(&scene, Build::default(), 100_000);
-    assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
-    assert!(!unbuildable);
-    let record = file.build.unwrap();
-    assert_eq!((record.asked, record.checked), (Build::default(), model(100, 1)));
+    // The paper's folding roof (three bodies), drawn without a linkage region: everything drawn is
+    // longer along its diagonal than the bed, so the drawing decides 1:2, where its pins leave no
+    // linkage; at 1:1 its links fit and it prints. Drawn a hundredth as large, the same at 100:1.
+    let path = format!("{}/tests/fixtures/reference-scenes/k3_new_folding_roof4.json", env!("CARGO_MANIFEST_DIR"));
+    let roof = Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+    for (scene, decided, printed) in
+        [(roof.clone(), model(1, 2), model(1, 1)), (scaled_scene(&roof, 0.01), model(50, 1), model(100, 1))]
+    {
+        let plan = BuildPlan::new(&Problem::new(&scene).unwrap(), &PrintSettings::default()).unwrap();
+        assert_eq!(plan.checked, decided);
+        let (_, _, file, unbuildable) = design(&scene, Build::default(), 20_000);
+        assert_eq!(file.status, Status::Ok, "{:?}", file.reason);
+        assert!(!unbuildable);
+        let record = file.build.unwrap();
+        assert_eq!((record.asked, record.checked), (Build::default(), printed));
+    }
 }

@@ -50,8 +50,8 @@ pub struct DesignArgs {
     /// links): the paper's synthesis alone, for designs built some other way.
     #[arg(long, conflicts_with_all = ["fabricate", "build"])]
     no_print_check: bool,
-    /// How the object is built (overrides the scene's `build`): model:auto (a printed model at the
-    /// scale nearest 1:1 that fits the bed, the default), model:1:10 (a printed model at that scale:
+    /// How the object is built (overrides the scene's `build`): model:auto (a printed model, at 1:1
+    /// when it fits the bed, else at the largest scale that does: the default), model:1:10 (a printed model at that scale:
     /// the design must print at it), or full:plywood, full:aluminium, full:steel (full size, cut in a
     /// workshop: no print check).
     #[arg(long, value_name = "BUILD", value_parser = crate::build_choice())]

@@ -11,9 +11,15 @@
 //! search costs microseconds; the drawing only bounds the links, so when nothing prints at that scale
 //! the search runs again at a few larger ones ([`BuildPlan::synthesize`]).
 //!
-//! The scale nearest 1:1 depends on the object's size, so the same object drawn at another size may
-//! be printed as a model of another size, whose pins are relatively larger or smaller, and get
-//! another linkage (`linkwright bench --sizes` measures how much the pose errors differ).
+//! **Why 1:1, else the largest scale that fits.** An object that prints at its own size is printed so.
+//! Any other is a model, and a model is best as large as the bed takes: its pins are then smallest
+//! beside its links, so the print check refuses least. A large object's largest model is also its
+//! scale nearest 1:1; a small object is enlarged that far too. The least enlargement at which the
+//! pins fit gave worse designs: the paper's example 6 drawn a hundredth as large missed its poses by
+//! 0.63 d at 50:1, and by 0.15 d at 100:1 (`linkwright bench --sizes
+//! crates/linkwright-core/tests/fixtures/reference-scenes/k1_example6.json`). Since the series is
+//! closed under a factor of 10, the same object drawn 100 times larger or smaller gets the same
+//! model, so the same linkage.
 
 use super::settings::{Bed, Dims};
 use super::{millimetres_per_unit, FabError, FeasibilityCheck, PrintSettings};
@@ -123,20 +129,26 @@ impl Sizes {
     fn large_enough(&self, scale: Ratio) -> bool {
         scale.factor() * self.reach_mm >= self.need_mm
     }
-    /// The scale of the series nearest 1:1 that fits and is large enough; when none is both, the
-    /// largest that fits (the bed is a hard limit, and small links are refused one by one); when
-    /// none fits, the smallest.
+    /// 1:1 when it fits and is large enough, else the largest scale of the series that fits and is
+    /// large enough: a large object's nearest to 1:1, a small object's model as large as the bed
+    /// takes (an enlarged model is not the object's size anyway, and the larger it is the smaller its
+    /// pins are beside its links). When none is both, the largest that fits (the bed is a hard limit,
+    /// and small links are refused one by one); when none fits, the smallest.
     fn auto(&self) -> Ratio {
         let series = Ratio::series();
-        let distance = |r: &Ratio| r.factor().ln().abs();
-        // The smaller of two scales as near 1:1 (fewer, smaller parts).
-        series
-            .iter()
-            .filter(|&&r| self.fits(r) && self.large_enough(r))
-            .min_by(|a, b| distance(a).total_cmp(&distance(b)).then(a.factor().total_cmp(&b.factor())))
-            .or_else(|| series.iter().find(|&&r| self.fits(r)))
-            .copied()
+        let both: Vec<Ratio> = series.iter().copied().filter(|&r| self.fits(r) && self.large_enough(r)).collect();
+        if both.contains(&Ratio::ONE) {
+            return Ratio::ONE;
+        }
+        let largest = |rs: &mut dyn Iterator<Item = Ratio>| rs.max_by(|a, b| a.factor().total_cmp(&b.factor()));
+        largest(&mut both.into_iter())
+            .or_else(|| largest(&mut series.iter().copied().filter(|&r| self.fits(r))))
             .unwrap_or(series[series.len() - 1])
+    }
+    /// Whether a retry may print at `scale`: its region's diagonal is at most twice the longest link
+    /// the bed takes (links are seldom as long as the region's diagonal).
+    fn may_retry(&self, scale: Ratio) -> bool {
+        scale.factor() * self.reach_mm <= 2.0 * self.bed_mm
     }
     /// What is wrong at `scale`.
     fn notes(&self, scale: Ratio) -> Vec<SizeNote> {
@@ -207,8 +219,8 @@ impl BuildPlan {
     /// Runs the synthesis (`options`, whose own check is replaced by this build's) for this build.
     /// With an `auto` scale, when the print check refused every valid linkage at the scale the drawing
     /// decided, or the search found none in a model whose region is under twice the least (the pins
-    /// crowd it), the search runs again at the next larger scales of the series that fit the bed (or
-    /// are not enlarged), at most [`AUTO_RETRIES`] of them, until one gives a design that prints; when
+    /// crowd it), the search runs again at the next larger scales of the series whose region is at
+    /// most twice what the bed takes, at most [`AUTO_RETRIES`] of them, until one gives a design that prints; when
     /// the search found none in a model that is not crowded, at the next larger scale alone. The
     /// drawing bounds the links only from above, and how far apart their joints are shows only in the
     /// search. Returns the plan of the outcome kept (the first printable one, else the
@@ -230,9 +242,9 @@ impl BuildPlan {
         };
         // The pin spacing also thins the samples before any check counts them, so a search with no
         // design at all may be the scale's doing too: in a model whose region is crowded (under twice
-        // the least), up to AUTO_RETRIES larger scales that fit are tried; elsewhere the next larger
-        // scale alone, even where the region's diagonal does not fit the bed as long as it is not
-        // enlarged (links are seldom as long as the region's diagonal), and then the poses are at fault.
+        // the least), up to AUTO_RETRIES larger scales are tried; elsewhere the next larger scale alone,
+        // and then the poses are at fault. Both even where the region's diagonal does not fit the bed
+        // (`Sizes::may_retry`).
         let refused = |o: &Outcome| o.unbuildable || o.best.is_none();
         if !refused(&first) {
             return Ok((self, first));
@@ -242,7 +254,7 @@ impl BuildPlan {
         let larger: Vec<Ratio> = Ratio::series()
             .into_iter()
             .rev()
-            .filter(|r| r.factor() > scale.factor() && (self.sizes.fits(*r) || r.factor() <= 1.0))
+            .filter(|r| r.factor() > scale.factor() && self.sizes.may_retry(*r))
             .take(tries)
             .collect();
         for scale in larger {

@@ -54,8 +54,9 @@ impl fmt::Display for Ratio {
 /// The scale of a printed model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum ModelScale {
-    /// The scale of [`Ratio::series`] nearest 1:1 at which the links fit the print bed and the pins
-    /// fit the links, chosen from the drawing before the search (fabrication decides it).
+    /// 1:1 when the links fit the print bed and the pins fit the links, else the largest scale of
+    /// [`Ratio::series`] at which they do, chosen from the drawing before the search (fabrication
+    /// decides it).
     #[default]
     Auto,
     /// A scale the person chose.

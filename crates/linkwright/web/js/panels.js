@@ -163,7 +163,7 @@ function buildSection(store) {
     const scales = [...new Set([...SCALES, ...(b.scale === 'auto' ? [] : [b.scale])])];
     const size = b.scale === 'auto' ? null : modelExtent(scene, b.scale);
     const help = b.scale === 'auto'
-      ? 'the scale nearest 1:1 at which the links fit the printer’s bed and the pins fit the parts (the Result tab names it)'
+      ? '1:1 when the links fit the printer’s bed and the pins fit the parts, else the largest scale at which they do (the Result tab names it)'
       : size ? `everything drawn is ${extent(size)} in the model` : 'one length of the model for so many of the object';
     out.push(html('div', { class: 'field' }, [
       ...menu('build-scale', 'Scale', [['auto', 'Auto'], ...scales.map((r) => [r, r === '1:1' ? '1:1 (real size)' : r])], b.scale,
