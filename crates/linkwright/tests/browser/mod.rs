@@ -340,3 +340,41 @@ pub async fn overflowing(page: &Page, tab: &str) -> Result<Vec<String>> {
     let found = eval(page, &js).await?;
     Ok(found.as_array().into_iter().flatten().filter_map(|v| v.as_str().map(String::from)).collect())
 }
+
+/// What does not fit the window as it is: the page scrolling sideways or down, a control of the
+/// header, the toolbars, the player, the tabs or the tab shown (where its own scrolling shows it)
+/// outside the window or covered by something else, the player sticking out of the drawing. Empty
+/// when everything fits.
+pub async fn layout_problems(page: &Page) -> Result<Vec<String>> {
+    let js = r#"(() => {
+      const out = [], W = innerWidth, H = innerHeight, root = document.documentElement;
+      if (root.scrollWidth > W) out.push(`the page scrolls sideways: ${root.scrollWidth} > ${W}`);
+      if (root.scrollHeight > H) out.push(`the page scrolls down: ${root.scrollHeight} > ${H}`);
+      const tab = [...document.querySelectorAll('.tab')].find((t) => !t.hidden);
+      const seen = tab.getBoundingClientRect();
+      const name = (e) => e.id || e.getAttribute('aria-label') || e.dataset.key || e.textContent.trim() || e.tagName;
+      const controls = [...document.querySelectorAll('header button, header input, .toolbar button, .toolbar input, '
+        + '.posebar button, #player button, #player input, #player select, .tabs button')]
+        .concat([...tab.querySelectorAll('button, input, select')].filter((e) => {
+          const r = e.getBoundingClientRect(), y = r.top + r.height / 2;
+          return y > seen.top && y < seen.bottom;
+        }))
+        .filter((e) => e.checkVisibility() && e.type !== 'file');
+      for (const e of controls) {
+        const r = e.getBoundingClientRect();
+        if (r.left < -0.5 || r.right > W + 0.5 || r.top < -0.5 || r.bottom > H + 0.5) {
+          out.push(`${name(e)} is outside the window`);
+          continue;
+        }
+        const top = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);
+        const own = top && (top === e || e.contains(top) || (top.tagName === 'LABEL' && top.contains(e)));
+        if (!own) out.push(`${name(e)} is covered by ${top ? name(top) : 'nothing'}`);
+      }
+      const player = document.getElementById('player');
+      if (!player.hidden && player.getBoundingClientRect().right > player.parentElement.getBoundingClientRect().right + 0.5) {
+        out.push('the player sticks out of the drawing');
+      }
+      return out;
+    })()"#;
+    Ok(serde_json::from_value(eval(page, js).await?)?)
+}

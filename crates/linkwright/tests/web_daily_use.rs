@@ -1,6 +1,7 @@
-//! The app in a real headless Chromium, used from the keyboard and in a hurry: Enter and Space press
-//! the focused button (and only it), the toolbar works from Tab alone, and opening another scene
-//! while a design or its parts are being made drops what they answer for the scene before.
+//! The app in a real headless Chromium, used from the keyboard, in a hurry and in a small window:
+//! Enter and Space press the focused button (and only it), the toolbar works from Tab alone; opening
+//! another scene while a design or its parts are being made drops what they answer for the scene
+//! before; at 900 × 700 and 1920 × 1080 nothing scrolls sideways and no control is covered.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -12,12 +13,13 @@ use serde_json::Value;
 use std::time::Duration;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn the_keyboard_presses_buttons_and_a_new_scene_drops_answers_for_the_old() -> Result<()> {
-    let Some(app) = App::launch("web_keyboard_and_races").await? else { return Ok(()) };
+async fn keyboard_races_and_small_windows() -> Result<()> {
+    let Some(app) = App::launch("web_daily_use").await? else { return Ok(()) };
     let outcome = async {
         app.open().await?;
         keyboard(&app.page).await?;
-        races(&app.page).await
+        races(&app.page).await?;
+        windows(&app.page, app.shots.as_deref()).await
     }
     .await;
     app.finish(outcome).await
@@ -151,4 +153,35 @@ async fn races(page: &Page) -> Result<()> {
     );
     assert_eq!(eval(page, "window.linkwright.store.scene.name").await?, "table");
     Ok(())
+}
+
+/// At 900 × 700 and at 1920 × 1080, with a design playing, on every tab (the Result tab scrolled to
+/// its joints), and while a design runs: nothing scrolls sideways, no control is covered.
+async fn windows(page: &Page, shots: Option<&std::path::Path>) -> Result<()> {
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    click(page, "#btn-design").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    for (width, height) in [(900, 700), (1920, 1080)] {
+        window_size(page, width, height).await?;
+        for tab in ["object", "settings", "result"] {
+            click(page, &format!("[data-tab={tab}]")).await?;
+            if tab == "result" {
+                eval(page, "document.querySelector('#tab-result table.joint-table').scrollIntoView() || true").await?;
+                settle(page).await?;
+            }
+            let problems = layout_problems(page).await?;
+            assert!(problems.is_empty(), "{tab} tab at {width} × {height}: {problems:?}");
+            screenshot(page, shots, &format!("window_{tab}_{width}x{height}.png")).await?;
+        }
+        // While a design runs, its progress takes the Design button's place in the header.
+        click(page, "#btn-design").await?;
+        until(page, DESIGNING, Duration::from_secs(2)).await?;
+        let problems = layout_problems(page).await?;
+        screenshot(page, shots, &format!("window_designing_{width}x{height}.png")).await?;
+        click(page, "#btn-cancel").await?;
+        until(page, &format!("!({DESIGNING})"), Duration::from_secs(10)).await?;
+        assert!(problems.is_empty(), "designing at {width} × {height}: {problems:?}");
+    }
+    window_size(page, WIDTH, HEIGHT).await
 }
