@@ -23,8 +23,8 @@ pub fn read_problem(path: &Path) -> Result<(Scene, Problem), Failure> {
 /// [`read_problem`] with `edit` applied to the scene before it is validated.
 pub fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(Scene, Problem), Failure> {
     let text = read_text(path)?;
-    let mut scene = Scene::from_json(&text)
-        .map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.path, e.message)))?;
+    let mut scene =
+        scene_of(&text).map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.path, e.message)))?;
     edit(&mut scene);
     match Problem::new(&scene) {
         Ok(problem) => {
@@ -39,6 +39,23 @@ pub fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(
             lines.push(format!("{}: {errors} error(s); fix them and run again", path.display()));
             Err(Failure::Input(lines.join("\n")))
         }
+    }
+}
+
+/// The scene of a scene file, or of a project file the app saved (`project/1`: the scene with its
+/// design; docs/formats.md), whose errors then name their place under `scene`.
+fn scene_of(text: &str) -> Result<Scene, linkwright_core::ParseError> {
+    #[derive(serde::Deserialize)]
+    struct Project {
+        linkwright: String,
+        scene: serde_json::Value,
+    }
+    match serde_json::from_str::<Project>(text) {
+        Ok(project) if project.linkwright == "project/1" => Scene::from_json(&project.scene.to_string()).map_err(|e| {
+            let path = if e.path == "." { "scene".to_string() } else { format!("scene.{}", e.path) };
+            linkwright_core::ParseError { path, ..e }
+        }),
+        _ => Scene::from_json(text),
     }
 }
 

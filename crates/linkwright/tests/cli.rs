@@ -32,6 +32,20 @@ fn design_writes_the_design_its_pictures_and_passes_check() {
     let check = linkwright(&["check", &example("k1_garbage_truck"), design.to_str().unwrap()]);
     assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
 
+    // A project the app saved (the scene with its design) reads as its scene; a fault in it is named
+    // under `scene`.
+    let scene: Value = serde_json::from_str(&std::fs::read_to_string(example("k1_garbage_truck")).unwrap()).unwrap();
+    let mut project = serde_json::json!({"linkwright": "project/1", "scene": scene, "design": parsed, "which": null});
+    let saved = out.join("project.json");
+    std::fs::write(&saved, project.to_string()).unwrap();
+    let check = linkwright(&["check", saved.to_str().unwrap(), design.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}{}", text(&check.stdout), text(&check.stderr));
+    project["scene"]["moving_bodies"] = Value::from("none");
+    std::fs::write(&saved, project.to_string()).unwrap();
+    let check = linkwright(&["check", saved.to_str().unwrap(), design.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(2), "{}", text(&check.stderr));
+    assert!(text(&check.stderr).contains("scene.moving_bodies"), "{}", text(&check.stderr));
+
     // A design whose reported accuracy is wrong, and whose crank starts elsewhere, fails the check.
     let mut tampered = parsed.clone();
     tampered["metrics"]["accuracy"] = Value::from(123.0);

@@ -1,7 +1,9 @@
 //! The app in a real headless Chromium, used from the keyboard, in a hurry and in a small window:
 //! Enter and Space press the focused button (and only it), the toolbar works from Tab alone; opening
 //! another scene while a design or its parts are being made drops what they answer for the scene
-//! before; at 900 × 700 and 1920 × 1080 nothing scrolls sideways and no control is covered.
+//! before; at 900 × 700 and 1920 × 1080 nothing scrolls sideways and no control is covered; a saved
+//! project opens with its design, alternative, pins, springs and print settings, without a redesign,
+//! and a plain scene file still opens.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -10,16 +12,18 @@ mod common;
 use browser::*;
 use chromiumoxide::Page;
 use serde_json::Value;
+use std::path::Path;
 use std::time::Duration;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn keyboard_races_and_small_windows() -> Result<()> {
+async fn keyboard_races_small_windows_and_projects() -> Result<()> {
     let Some(app) = App::launch("web_daily_use").await? else { return Ok(()) };
     let outcome = async {
         app.open().await?;
         keyboard(&app.page).await?;
         races(&app.page).await?;
-        windows(&app.page, app.shots.as_deref()).await
+        windows(&app.page, app.shots.as_deref()).await?;
+        projects(&app.page, &app.downloads).await
     }
     .await;
     app.finish(outcome).await
@@ -184,4 +188,79 @@ async fn windows(page: &Page, shots: Option<&std::path::Path>) -> Result<()> {
         assert!(problems.is_empty(), "designing at {width} × {height}: {problems:?}");
     }
     window_size(page, WIDTH, HEIGHT).await
+}
+
+/// What a project keeps, as the app holds it: the scene, the design and the mechanism shown, the
+/// springs suggested and the print settings, each as JSON text.
+const KEPT: &str = "(() => { const l = window.linkwright, r = l.store.result; return { \
+    scene: JSON.stringify(l.store.scene), design: JSON.stringify(r?.design ?? null), which: r?.which ?? null, \
+    balance: JSON.stringify(r?.balance ?? null), print: JSON.stringify(l.results.fab.print) }; })()";
+
+/// The table designed (by `windows`), its first alternative chosen, a joint pinned, a print setting
+/// typed and springs suggested; saved with Ctrl+S; a new scene; the saved file opened: everything as
+/// it was, with no request to design. Then the bundled table's plain scene file opens as a scene.
+async fn projects(page: &Page, downloads: &Path) -> Result<()> {
+    click(page, "[data-tab=result]").await?;
+    click(page, "[data-which='0']").await?;
+    until(
+        page,
+        "window.linkwright.store.result.which === 0 && window.linkwright.store.result.analysis !== null",
+        Duration::from_secs(10),
+    )
+    .await?;
+    click(page, "input[data-pin]").await?;
+    until(page, "Object.keys(window.linkwright.store.scene.pinned_joints || {}).length === 1", Duration::from_secs(2))
+        .await?;
+    let js = "(() => { const d = document.querySelector('details.print-settings'); d.open = true; \
+              const i = d.querySelector('input'); i.value = '12'; i.dispatchEvent(new Event('change')); return true; })()";
+    eval(page, js).await?;
+    click(page, "[data-action=springs]").await?;
+    until(page, "window.linkwright.store.result.balance != null", Duration::from_secs(60)).await?;
+    let before = eval(page, KEPT).await?;
+    assert_eq!(before["which"], 0, "{before}");
+    assert!(before["print"].as_str().unwrap_or_default().contains("12"), "{before}");
+    assert_ne!(before["balance"], "null");
+
+    key(page, "s", "KeyS", 83, 2).await?;
+    let saved = wait_for_file(downloads, "table.json", Duration::from_secs(10)).await?;
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&saved)?)?;
+    assert_eq!(file["linkwright"], "project/1");
+    click(page, "#btn-new").await?;
+    assert_eq!(eval(page, "window.linkwright.store.result").await?, Value::Null);
+    // Every request to design counted from here.
+    eval(page, "(() => { window.designRequests = 0; const f = window.fetch; window.fetch = (u, o) => { \
+                if (String(u).startsWith('/api/design')) window.designRequests += 1; return f(u, o); }; return true; })()").await?;
+    choose_file(page, "#file-input", &saved).await?;
+    until(
+        page,
+        "window.linkwright.store.result?.analysis != null && window.linkwright.store.result.balance != null",
+        Duration::from_secs(10),
+    )
+    .await?;
+    let after = eval(page, KEPT).await?;
+    for field in ["scene", "design", "which", "balance", "print"] {
+        let (a, b) = (after[field].to_string(), before[field].to_string());
+        let at = a.chars().zip(b.chars()).take_while(|(x, y)| x == y).count();
+        let around = |t: &str| t.chars().skip(at.saturating_sub(80)).take(160).collect::<String>();
+        assert!(a == b, "{field} differs after opening the project, at {at}: {} against {}", around(&a), around(&b));
+    }
+    assert_eq!(eval(page, "window.designRequests").await?, 0, "opening a project designs nothing");
+    assert_eq!(
+        eval(page, "document.getElementById('player').hidden").await?,
+        Value::Bool(false),
+        "its design is shown"
+    );
+
+    // A plain scene file, as the CLI and older versions write them.
+    let plain = downloads.join("plain_table.json");
+    std::fs::copy(format!("{}/../../examples/k1_table.json", env!("CARGO_MANIFEST_DIR")), &plain)?;
+    choose_file(page, "#file-input", &plain).await?;
+    until(
+        page,
+        "window.linkwright.store.result === null && window.linkwright.store.scene.name === 'table'",
+        Duration::from_secs(5),
+    )
+    .await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.pinned_joints ?? null").await?, Value::Null);
+    Ok(())
 }

@@ -1019,22 +1019,6 @@ async fn check_pose_errors(page: &Page, reached: Option<bool>) -> Result<()> {
     Ok(())
 }
 
-async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<PathBuf> {
-    let start = Instant::now();
-    loop {
-        if let Some(found) = std::fs::read_dir(dir)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .find(|p| p.to_string_lossy().ends_with(suffix))
-        {
-            return Ok(found);
-        }
-        if start.elapsed() > within {
-            return Err(format!("no *{suffix} in {} after {within:?}", dir.display()).into());
-        }
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
-}
-
 /// Waits for the design of the scene with build `word` to be shown (its job over), and returns its
 /// file's `build` record, whose `checked` build must be `word` (a fixed build is checked as asked).
 async fn designed_for(page: &Page, word: &str) -> Result<Value> {

@@ -10,6 +10,7 @@
 use crate::common::Server;
 use chromiumoxide::browser::{Browser, BrowserConfig};
 use chromiumoxide::cdp::browser_protocol::browser::{SetDownloadBehaviorBehavior, SetDownloadBehaviorParams};
+use chromiumoxide::cdp::browser_protocol::dom::SetFileInputFilesParams;
 use chromiumoxide::cdp::browser_protocol::emulation::SetDeviceMetricsOverrideParams;
 use chromiumoxide::cdp::browser_protocol::input::{
     DispatchKeyEventParams, DispatchKeyEventType, DispatchMouseEventParams, DispatchMouseEventType, MouseButton,
@@ -377,4 +378,31 @@ pub async fn layout_problems(page: &Page) -> Result<Vec<String>> {
       return out;
     })()"#;
     Ok(serde_json::from_value(eval(page, js).await?)?)
+}
+
+pub async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<PathBuf> {
+    let start = Instant::now();
+    loop {
+        if let Some(found) = std::fs::read_dir(dir)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.to_string_lossy().ends_with(suffix))
+        {
+            return Ok(found);
+        }
+        if start.elapsed() > within {
+            return Err(format!("no *{suffix} in {} after {within:?}", dir.display()).into());
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}
+
+/// Chooses `file` in the file input `selector`, as a person does in the file dialog.
+pub async fn choose_file(page: &Page, selector: &str, file: &Path) -> Result<()> {
+    let input = page.find_element(selector).await?;
+    let params = SetFileInputFilesParams::builder()
+        .files(vec![file.to_string_lossy().into_owned()])
+        .backend_node_id(input.backend_node_id)
+        .build()?;
+    page.execute(params).await?;
+    settle(page).await
 }

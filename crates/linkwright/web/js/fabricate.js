@@ -142,6 +142,13 @@ export class Fabricator {
     return settingsOf(this.print);
   }
 
+  /** Print settings from a project file, kept as if typed here. */
+  usePrint(print) {
+    this.print = { values: { ...print.values }, faces: typeof print.faces === 'string' ? print.faces : 'auto' };
+    if ('springs' in print) this.print.springs = !!print.springs;
+    this.saveSettings();
+  }
+
   saveSettings() {
     try {
       localStorage.setItem(SAVED, JSON.stringify(this.print));

@@ -19,14 +19,31 @@ export function saveBlob(blob, name) {
   setTimeout(() => URL.revokeObjectURL(url), 10000);
 }
 
-export function saveScene(scene) {
+/**
+ * Saves the scene as a file: a project/1 (docs/formats.md) when `design` is given — the design shown
+ * for it, with `which` (null: the design itself, i: its alternative i), the counterbalance springs
+ * suggested (`balance`, or null) and the print settings (`print`) — so that it opens with all of it,
+ * without a redesign; else the plain scene/1.
+ */
+export function saveScene(scene, { design = null, which = null, balance = null, print = null } = {}) {
   const name = (scene.name || 'scene').replace(/[^\w.-]+/g, '_');
-  saveBlob(new Blob([JSON.stringify(toFile(scene), null, 1)], { type: 'application/json' }), `${name}.json`);
+  const doc = design
+    ? { linkwright: PROJECT, scene: toFile(scene), design, which, balance, print }
+    : toFile(scene);
+  saveBlob(new Blob([JSON.stringify(doc, null, 1)], { type: 'application/json' }), `${name}.json`);
 }
 
-/** Reads a dropped or chosen file: a scene/1 or a design/1. */
+/** The project file's format. */
+export const PROJECT = 'project/1';
+
+/** Files larger than this are not scenes, designs or projects (a project of the largest example with
+ * its design is about 300 kB). */
+const MAX_FILE_BYTES = 8 * 1024 * 1024;
+
+/** Reads a dropped or chosen file: a scene/1, a design/1 (for the scene shown), or a project/1 (a
+ * scene with its design: `{scene, project: {design, which, balance, print}}`). */
 export async function readFile(file) {
-  if (file.size > 2 * 1024 * 1024) throw new Error(`${file.name} is larger than 2 MB: not a scene file`);
+  if (file.size > MAX_FILE_BYTES) throw new Error(`${file.name} is larger than 8 MB: not a Linkwright file`);
   let doc;
   try {
     doc = JSON.parse(await file.text());
@@ -34,7 +51,26 @@ export async function readFile(file) {
     throw new Error(`${file.name} is not JSON (${e.message})`);
   }
   if (doc?.linkwright === 'design/1') return { design: doc };
+  if (doc?.linkwright === PROJECT) return { scene: normalize(doc.scene), project: project(doc) };
   return { scene: normalize(doc) };
+}
+
+/** The parts of a project/1 besides its scene, checked for their shape (the server checks the design
+ * against the scene when it is shown). */
+function project(doc) {
+  const object = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);
+  const design = doc.design;
+  if (!object(design) || design.linkwright !== 'design/1') {
+    throw new Error('its "design" is not a design/1 document');
+  }
+  const count = design.alternatives?.length ?? 0;
+  const which = doc.which ?? null;
+  if (which !== null && !(Number.isInteger(which) && which >= 0 && which < count)) {
+    throw new Error(`its "which" is ${JSON.stringify(which)}: null for the design, or an alternative from 0 to ${count - 1}`);
+  }
+  const balance = object(doc.balance) && Array.isArray(doc.balance.springs) ? doc.balance : null;
+  const print = object(doc.print) && object(doc.print.values) ? doc.print : null;
+  return { design, which, balance, print };
 }
 
 /** Wires drag-and-drop of files onto the page; `open(file)` handles one. */

@@ -186,8 +186,11 @@ async function openFile(file) {
       results.leave();
       store.replace(got.scene, `open ${file.name}`);
       results.clear();
+      if (got.project) await openProject(got.project);
       fit();
-      store.hint(`Opened ${file.name}. (Undo brings the previous scene back.)`);
+      store.hint(got.project
+        ? `Opened ${file.name} with its design, as it was saved. (Undo brings the previous scene back.)`
+        : `Opened ${file.name}. (Undo brings the previous scene back.)`);
     } else {
       store.result = newResult({ design: got.design, scene: S.toFile(store.scene), key: geometryKey(store.scene) });
       await results.select(null);
@@ -199,6 +202,16 @@ async function openFile(file) {
   }
 }
 
+/** Shows a project's design (as saved: no redesign), its springs and its print settings. */
+async function openProject({ design, which, balance, print }) {
+  if (print) results.fab.usePrint(print);
+  store.result = newResult({ design, scene: S.toFile(store.scene), key: geometryKey(store.scene) });
+  await results.select(which);
+  if (balance && store.result?.analysis) store.result.balance = balance;
+  store.setUi({ tab: 'result' });
+  results.verify();
+}
+
 $('btn-open').addEventListener('click', () => $('file-input').click());
 $('file-input').addEventListener('change', (e) => {
   const file = e.target.files[0];
@@ -206,8 +219,15 @@ $('file-input').addEventListener('change', (e) => {
   if (file) openFile(file);
 });
 $('btn-save').addEventListener('click', () => {
-  F.saveScene(store.scene);
-  store.hint(`Saved ${store.scene.name}.json to your downloads.`);
+  // With the design shown for the drawing as it is, the file keeps it (a project); else the scene.
+  const r = store.result;
+  const shown = r?.design && results.fresh()
+    ? { design: r.design, which: r.which, balance: r.balance || null, print: results.fab.print }
+    : undefined;
+  F.saveScene(store.scene, shown);
+  store.hint(shown
+    ? `Saved ${store.scene.name}.json to your downloads: the scene with its design, springs and print settings.`
+    : `Saved ${store.scene.name}.json to your downloads.`);
 });
 $('btn-new').addEventListener('click', () => {
   results.leave();
