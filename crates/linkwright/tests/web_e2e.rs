@@ -15,8 +15,8 @@ use chromiumoxide::cdp::browser_protocol::input::DispatchMouseEventType;
 use chromiumoxide::Page;
 use common::Server;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::path::Path;
+use std::time::Duration;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_person_draws_designs_watches_downloads_and_reloads() -> Result<()> {
