@@ -207,6 +207,43 @@ fn a_warm_start_after_a_moved_pose_gives_a_sound_design_from_few_samples() {
     assert_eq!(cold.stats.samples, 2000);
 }
 
+/// A live redesign follows the design shown: the wall bed's last pose dragged by 1% of its size at a
+/// time, each step designed from the step before with [`Start::Follow`], keeps its family and moves
+/// no joint by more than 5% of the body's size in a step (the app's promise: a small move of a pose
+/// moves the linkage a little). The design shown before each step, refitted, is kept when valid.
+#[test]
+fn a_live_redesign_follows_the_design_shown() {
+    use linkwright_core::{synthesize_with, Options, Start};
+    let mut problem = example("k2_wall_bed");
+    problem.settings.samples = 40000;
+    problem.settings.iterations = 8;
+    let mut shown = synthesize(&problem, &Silent).unwrap().best.expect("a design").mechanism;
+    let d = problem.bodies[0].size;
+    for step in 1..=4 {
+        let pose = problem.bodies[0].poses[1];
+        problem.bodies[0].poses[1] = linkwright_core::geom::Rigid::new(
+            pose.angle(),
+            pose.translation() + linkwright_core::geom::Vec2::new(0.007 * d, 0.007 * d),
+        );
+        let previous = [shown.clone()];
+        let next = synthesize_with(&problem, &Options { start: Start::Follow(&previous), printable: None }, &Silent)
+            .unwrap()
+            .best
+            .expect("a design")
+            .mechanism;
+        assert_eq!(next.topology.mechanism_type, shown.topology.mechanism_type, "step {step}");
+        let moved = next
+            .topology
+            .joint_names
+            .iter()
+            .zip(&next.joints)
+            .map(|(name, p)| p.distance(shown.joint(name).expect("the same joints")))
+            .fold(0.0, f64::max);
+        assert!(moved <= 0.05 * d, "step {step}: a joint moved {:.3} d", moved / d);
+        shown = next;
+    }
+}
+
 /// With every family allowed (`auto`), a warm start searches only the family of the design it
 /// starts from: a live redesign refines the linkage shown and must not wait for a search of another
 /// family. It starts from a design file, as the app and `design --from` do: the design and its

@@ -1,8 +1,10 @@
 //! `linkwright bench`: the paper's Table 1, measured side by side on this machine; with `--known`,
 //! the quality of the designs on scenes whose exact answer is known (see [`known`]); with `--sizes`,
-//! how the scenes given design and print at a hundredth and a hundred times their size ([`sizes`]).
+//! how the scenes given design and print at a hundredth and a hundred times their size ([`sizes`]);
+//! with `--live`, how a live redesign follows a dragged pose ([`live`]).
 
 mod known;
+mod live;
 mod sizes;
 
 use crate::files::read_problem;
@@ -43,6 +45,11 @@ pub struct BenchArgs {
     /// model): the model's scale, the worst pose error at each size, and whether its parts fit the plates.
     #[arg(long, conflicts_with_all = ["known", "repeat"])]
     sizes: bool,
+    /// Drag the middle pose of each scene given by a tenth of its body's size in ten steps, each
+    /// redesigned live (as the app does) from the design before: family changes, how far the joints
+    /// jump per step, and the seconds per step.
+    #[arg(long, conflicts_with_all = ["known", "repeat", "sizes"])]
+    live: bool,
 }
 
 /// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
@@ -134,6 +141,9 @@ pub fn bench(args: BenchArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
     if args.known {
         return known::bench_known(args.quick, args.seed, args.save.as_deref(), &pool, args.json);
+    }
+    if args.live {
+        return live::bench_live(&args.scenes, &pool, args.json);
     }
     if args.sizes {
         return sizes::bench_sizes(&args.scenes, &pool, args.json);

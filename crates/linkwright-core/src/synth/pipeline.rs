@@ -7,7 +7,7 @@ use super::context::Context;
 use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
 use super::refine::{refine_design, RefineOptions};
-use super::sample::{x_from_mechanism, SampleScratch, Sampler};
+use super::sample::{x_from_mechanism, Near, SampleScratch, Sampler};
 use super::workspace::Workspace;
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, MechanismType, Topology};
@@ -185,7 +185,20 @@ pub enum Start<'a> {
     /// linkwright --test web_e2e -- --nocapture | grep latency`). If it finds nothing valid, that
     /// family falls back to a cold start.
     Warm(&'a [Mechanism]),
+    /// A live redesign after a small edit (a pose dragged a little): searched as [`Start::Warm`] from
+    /// the design shown (the first) and its alternatives, and the answer is the design whose joints
+    /// moved least from the design shown, of those costing at most [`FOLLOW_COST_SLACK`] more than
+    /// the cheapest: a small edit moves the linkage a little (same family, same branch, joints near
+    /// where they were) rather than jumping to another linkage that is a little cheaper.
+    Follow(&'a [Mechanism]),
 }
+
+/// How much more than the cheapest design (a fraction of its cost) the design that follows the one
+/// shown may cost ([`Start::Follow`]). Dragging a pose by a tenth of the body's size in ten steps, a
+/// redesign that took the cheapest moved a joint by a median 0.17 d per step on the garbage truck
+/// and 0.20 d on the wall bed; following, by 0.06 d and 0.005 d (`linkwright bench --live
+/// examples/k1_garbage_truck.json examples/k2_wall_bed.json`).
+pub const FOLLOW_COST_SLACK: f64 = 0.25;
 
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
@@ -342,6 +355,33 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     Ok(Outcome { best, alternatives: picked.collect(), stats, reason, unbuildable })
 }
 
+/// Puts first, of the valid linkages (cheapest first) costing at most [`FOLLOW_COST_SLACK`] more
+/// than the cheapest, the one whose joints moved least from `shown` (the largest distance of a joint
+/// from where it was at the first pose); linkages of another family never follow it. The designs are
+/// then picked from the others as ever, distinct from it.
+fn follow(shown: &Mechanism, valid: &mut [Candidate]) {
+    let Some(cheapest) = valid.first().map(|c| c.cost) else { return };
+    let limit = cheapest + FOLLOW_COST_SLACK * cheapest.abs();
+    let moved = |c: &Candidate| {
+        let m = &c.mechanism;
+        if m.topology.mechanism_type != shown.topology.mechanism_type {
+            return None;
+        }
+        let names = &m.topology.joint_names;
+        let each = names.iter().zip(&m.joints).map(|(name, p)| shown.joint(name).map(|q| p.distance(q)));
+        each.collect::<Option<Vec<f64>>>().map(|d| d.into_iter().fold(0.0, f64::max))
+    };
+    let nearest = valid
+        .iter()
+        .enumerate()
+        .take_while(|(_, c)| c.cost <= limit)
+        .filter_map(|(i, c)| moved(c).map(|d| (i, d)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((i, _)) = nearest {
+        valid[..=i].rotate_right(1);
+    }
+}
+
 /// One search over every family (`contexts`, with their `workspaces`): sampling, checks and the
 /// particle filter per family, then the designs picked from all of them and finished, best first.
 fn design_round(
@@ -360,7 +400,7 @@ fn design_round(
         .iter()
         .map(|ctx| match options.start {
             Start::Cold => Vec::new(),
-            Start::Warm(previous)
+            Start::Warm(previous) | Start::Follow(previous)
                 if previous.first().is_some_and(|m| m.topology.mechanism_type == ctx.topology.mechanism_type) =>
             {
                 previous
@@ -373,10 +413,11 @@ fn design_round(
                     })
                     .collect()
             }
-            Start::Warm(_) => Vec::new(),
+            Start::Warm(_) | Start::Follow(_) => Vec::new(),
         })
         .collect();
     let warm = seeds.iter().any(|s| !s.is_empty());
+    let following = matches!(options.start, Start::Follow(_));
     for (f, ((ctx, workspace), seeds)) in contexts.iter().zip(workspaces).zip(&seeds).enumerate() {
         if warm && seeds.is_empty() {
             continue;
@@ -390,10 +431,10 @@ fn design_round(
         let report = |stage, x, b| report(stage, x, min_opt(best_cost, b));
         let mut found = Vec::new();
         if !seeds.is_empty() {
-            found = run_family(run, stage, family, seeds, &report)?;
+            found = run_family(run, stage, family, seeds, following, &report)?;
         }
         if found.is_empty() {
-            found = run_family(run, stage, family, &[], &report)?;
+            found = run_family(run, stage, family, &[], false, &report)?;
         }
         for c in &found {
             best_cost = min_opt(best_cost, Some(c.cost));
@@ -402,6 +443,9 @@ fn design_round(
     }
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    if let Start::Follow([shown, ..]) = options.start {
+        follow(shown, &mut valid);
+    }
     let t = Instant::now();
     let mut picked = pick_designs(problem, valid, run)?;
     run.stats.seconds_printability += t.elapsed().as_secs_f64();
@@ -410,8 +454,12 @@ fn design_round(
         picked.extend(run.refused.take());
     }
     let t = Instant::now();
-    let picked = finish_designs(problem, contexts, workspaces, picked, run)?;
+    let mut picked = finish_designs(problem, contexts, workspaces, picked, run)?;
     run.stats.seconds_refinement += t.elapsed().as_secs_f64();
+    // Finished designs come cheapest first: the one that follows goes first again.
+    if let Start::Follow([shown, ..]) = options.start {
+        follow(shown, &mut picked);
+    }
     Ok(picked)
 }
 
@@ -567,6 +615,7 @@ fn run_family(
     stage: FamilyStage,
     family: MechanismType,
     seeds: &[Vec<f64>],
+    following: bool,
     report: &dyn Fn(Stage, f64, Option<f64>),
 ) -> Result<Vec<Candidate>, Cancelled> {
     let FamilyStage { ctx, workspace } = stage;
@@ -582,9 +631,22 @@ fn run_family(
 
     let t = Instant::now();
     let draw = |i: usize, scratch: &mut SampleScratch| {
-        let near = (!seeds.is_empty()).then(|| seeds[i % seeds.len()].as_slice());
+        // Following the design shown, the samples are drawn around it alone.
+        let around = if following { 1 } else { seeds.len() };
+        let near = (!seeds.is_empty()).then(|| Near { start: seeds[i % around].as_slice(), exact: false });
         sampler.draw(seed, i as u64, near, scratch)
     };
+    // A warm start keeps each earlier design, changed as little as the poses now need, when it is
+    // still valid: the filter starts from it too, and a live redesign can follow it.
+    let mut kept = Vec::new();
+    if warm {
+        let exact = |i: usize, scratch: &mut SampleScratch| {
+            sampler.draw(seed, i as u64, Some(Near { start: seeds[i].as_slice(), exact: true }), scratch)
+        };
+        let mut floors = screen_samples(run, stage, seeds.len(), &exact, &|_| {})?;
+        let candidates = simulate_cheapest(run, stage, &mut floors, seeds.len(), &exact, &|_| {})?;
+        kept = check_in_order(run, stage, candidates, seeds.len(), COLLISION_BATCH_CHUNKS)?;
+    }
     let mut floors =
         screen_samples(run, stage, total, &draw, &|x| report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None))?;
     let candidates = simulate_cheapest(run, stage, &mut floors, CANDIDATE_CAP, &draw, &|x| {
@@ -607,6 +669,7 @@ fn run_family(
         VALID_PER_PARTICLE * settings.particles.max(1)
     };
     let mut valid = check_in_order(run, stage, candidates, enough, COLLISION_BATCH_CHUNKS)?;
+    valid.splice(0..0, kept);
     run.stats.valid += valid.len();
     run.stats.seconds_collision += t.elapsed().as_secs_f64();
     let best = valid.iter().map(|c| c.cost).reduce(f64::min);

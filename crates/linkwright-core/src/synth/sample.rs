@@ -68,6 +68,15 @@ impl SampleScratch {
     }
 }
 
+/// Where a warm sample starts ([`Sampler::draw`]): a previous design's parameter vector, and whether
+/// it is fitted as it is to the poses as drawn (`exact`: the least change that makes that design
+/// rigid through the poses now) rather than jittered and fitted to perturbed poses like any sample.
+#[derive(Clone, Copy, Debug)]
+pub struct Near<'a> {
+    pub start: &'a [f64],
+    pub exact: bool,
+}
+
 impl<'c, 'p> Sampler<'c, 'p> {
     pub fn new(ctx: &'c Context<'p>, family: u64) -> Self {
         Sampler {
@@ -99,21 +108,28 @@ impl<'c, 'p> Sampler<'c, 'p> {
     /// Without `near`, joints are drawn uniformly in the region and the others solved in closed form
     /// where the poses allow it, the rest fitted from the constructed start. With `near`, every joint
     /// starts from that parameter vector (a previous design's, see [`x_from_mechanism`]) jittered by
-    /// [`WARM_JITTER`]·d and the whole linkage is fitted.
-    pub fn draw(&self, seed: u64, index: u64, near: Option<&[f64]>, scratch: &mut SampleScratch) -> bool {
+    /// [`WARM_JITTER`]·d and the whole linkage is fitted; an `exact` one is fitted as it is, through
+    /// the poses as drawn.
+    pub fn draw(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> bool {
         let ctx = self.ctx;
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
-        self.perturbed_motions(&mut rng, scratch);
+        if near.is_some_and(|n| n.exact) {
+            scratch.motions.clone_from(&ctx.motions);
+        } else {
+            self.perturbed_motions(&mut rng, scratch);
+        }
         let n = ctx.topology.joint_count();
         let SampleScratch { motions, x, fit, construct, .. } = scratch;
         x.clear();
         // The slider's direction when no fit turns it afterwards, else read from `x`.
         let mut slider_direction = None;
         let deviation = match near {
-            Some(start) => {
+            Some(Near { start, exact }) => {
                 x.extend_from_slice(start);
                 for v in &mut x[..2 * n] {
-                    *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
+                    if !exact {
+                        *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
+                    }
                 }
                 ctx.pin(x);
                 ctx.rigidity.fit(x, motions, ctx.body_size, fit).max_relative_deviation
@@ -163,13 +179,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
 
     /// [`Sampler::draw`], as an owned mechanism (`None` when the fit failed).
     #[cfg(test)]
-    pub fn sample(
-        &self,
-        seed: u64,
-        index: u64,
-        near: Option<&[f64]>,
-        scratch: &mut SampleScratch,
-    ) -> Option<Mechanism> {
+    pub fn sample(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> Option<Mechanism> {
         self.draw(seed, index, near, scratch).then(|| scratch.mechanism().clone())
     }
 

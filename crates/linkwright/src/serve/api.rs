@@ -205,6 +205,9 @@ struct DesignInput {
     settings: PrintSettings,
     /// Whether the design's motion analysis is wanted with it (`"analysis": true`).
     analysis: bool,
+    /// Whether the design follows `from`'s design, as a live redesign does (`"follow": true`): the
+    /// design nearest it rather than the cheapest ([`Start::Follow`]).
+    follow: bool,
 }
 
 impl DesignInput {
@@ -220,7 +223,7 @@ impl DesignInput {
             let (scene, problem) = scene_of(text, "")?;
             let settings = PrintSettings::default();
             printable_size(&problem, &scene.units, &settings, "")?;
-            return Ok(DesignInput { problem, previous: Vec::new(), settings, analysis: false });
+            return Ok(DesignInput { problem, previous: Vec::new(), settings, analysis: false, follow: false });
         };
         let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
         let settings = print_settings(value.get("print_settings"), "print_settings")?;
@@ -234,15 +237,14 @@ impl DesignInput {
                 file.usable_mechanisms()
             }
         };
-        let analysis = match value.get("analysis") {
-            None | Some(Value::Null) => false,
-            Some(Value::Bool(b)) => *b,
-            Some(_) => {
-                return Err(ApiError::bad_request("analysis must be true or false")
-                    .with_issue("analysis", "must be true or false"))
-            }
+        let flag = |name: &str| match value.get(name) {
+            None | Some(Value::Null) => Ok(false),
+            Some(Value::Bool(b)) => Ok(*b),
+            Some(_) => Err(ApiError::bad_request(format!("{name} must be true or false"))
+                .with_issue(name, "must be true or false")),
         };
-        Ok(DesignInput { problem, previous, settings, analysis })
+        let (analysis, follow) = (flag("analysis")?, flag("follow")?);
+        Ok(DesignInput { problem, previous, settings, analysis, follow })
     }
 
     /// The motion analysis of `file`'s design when it was asked for and there is one.
@@ -263,7 +265,11 @@ impl DesignInput {
         // threads that answer every other request.
         // A scene in units that are not a length is designed without a build (nothing is printed).
         let plan = BuildPlan::new(&self.problem, &self.settings).ok();
-        let start = if self.previous.is_empty() { Start::Cold } else { Start::Warm(&self.previous) };
+        let start = match (self.previous.is_empty(), self.follow) {
+            (true, _) => Start::Cold,
+            (false, false) => Start::Warm(&self.previous),
+            (false, true) => Start::Follow(&self.previous),
+        };
         let options = Options { start, printable: None };
         let observer = JobObserver { flag: flag.clone(), on_progress };
         let (plan, outcome) = match plan {

@@ -412,7 +412,8 @@ export class Results {
     try {
       // The motion analysis comes with the design: one round trip less per step of the drag.
       let analysis = null;
-      const request = { scene, from: this.lastGood(), print_settings: savedPrintSettings(), analysis: true };
+      // The design that follows the one shown, not the cheapest: a small drag moves the linkage a little.
+      const request = { scene, from: this.lastGood(), print_settings: savedPrintSettings(), analysis: true, follow: true };
       const design = await api.designStream(request, (name, data) => { if (name === 'analysis') analysis = data; });
       if (epoch !== this.epoch) {
         // Another scene was opened: this answer is not for it.
@@ -676,8 +677,10 @@ export class Results {
       return;
     }
     const d = r.design;
-    if (!this.fresh()) {
-      host.append(html('div', { class: 'callout warn', text: 'The drawing changed since this design. Press “Design linkage” to update it.' }));
+    // While a live redesign follows a dragged pose, the next design is on its way: no warning.
+    const following = this.store.ui.live && (this.liveBusy || this.heldPose != null);
+    if (!this.fresh() && !following) {
+      host.append(html('div', { class: 'callout warn', 'data-stale': '', text: 'The drawing changed since this design. Press “Design linkage” to update it.' }));
     }
     if (d.status !== 'ok') {
       host.append(html('div', { class: 'callout warn' }, [
