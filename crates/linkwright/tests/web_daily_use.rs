@@ -3,7 +3,10 @@
 //! another scene while a design or its parts are being made drops what they answer for the scene
 //! before; at 900 × 700 and 1920 × 1080 nothing scrolls sideways and no control is covered; a saved
 //! project opens with its design, alternative, pins, springs and print settings, without a redesign,
-//! and a plain scene file still opens.
+//! and a plain scene file still opens; and the small things: Insert pose stops at the engine's most
+//! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
+//! selecting, a part's file is saved under the scene's name, Live redesign stays ticked after a
+//! reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -23,7 +26,8 @@ async fn keyboard_races_small_windows_and_projects() -> Result<()> {
         keyboard(&app.page).await?;
         races(&app.page).await?;
         windows(&app.page, app.shots.as_deref()).await?;
-        projects(&app.page, &app.downloads).await
+        projects(&app.page, &app.downloads).await?;
+        small_things(&app.page).await
     }
     .await;
     app.finish(outcome).await
@@ -262,5 +266,58 @@ async fn projects(page: &Page, downloads: &Path) -> Result<()> {
     )
     .await?;
     assert_eq!(eval(page, "window.linkwright.store.scene.pinned_joints ?? null").await?, Value::Null);
+    Ok(())
+}
+
+/// The small things, on the table.
+async fn small_things(page: &Page) -> Result<()> {
+    // Parts: each part's file is saved under the scene's name.
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    click(page, "#btn-design").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    click(page, "[data-tab=result]").await?;
+    click(page, "#btn-fabricate").await?;
+    until(page, "document.querySelector('a[data-file^=\"parts/\"]') !== null", Duration::from_secs(60)).await?;
+    let names = eval(page, "[...document.querySelectorAll('a[data-file^=\"parts/\"]')].map((a) => a.download)").await?;
+    let names: Vec<&str> = names.as_array().ok_or("names")?.iter().filter_map(Value::as_str).collect();
+    assert!(!names.is_empty() && names.iter().all(|n| n.starts_with("table_") && n.ends_with(".stl")), "{names:?}");
+
+    // Poses up to the engine's limit, every one reachable in the pose bar, and no more.
+    let most = eval(page, "fetch('/api/status').then((r) => r.json()).then((s) => s.limits.poses_per_body)").await?;
+    let most = most.as_u64().ok_or("the limit on poses")? as usize;
+    click(page, "#btn-edit").await?;
+    let count = "window.linkwright.store.scene.moving_bodies[0].poses.length";
+    loop {
+        let n = eval(page, count).await?.as_u64().ok_or("poses")? as usize;
+        if n >= most {
+            break;
+        }
+        click(page, "#btn-pose-insert").await?;
+    }
+    assert_eq!(eval(page, count).await?.as_u64(), Some(most as u64));
+    assert_eq!(eval(page, "document.getElementById('btn-pose-insert').disabled").await?, Value::Bool(true));
+    for (width, height) in [(900, 700), (1920, 1080)] {
+        window_size(page, width, height).await?;
+        let problems = layout_problems(page).await?;
+        assert!(problems.is_empty(), "{most} poses at {width} × {height}: {problems:?}");
+        click(page, &format!("#pose-buttons button:nth-child({most})")).await?;
+        assert_eq!(eval(page, "window.linkwright.store.ui.pose").await?.as_u64(), Some(most as u64 - 1));
+    }
+    window_size(page, WIDTH, HEIGHT).await?;
+
+    // Selecting: no kind of shape shown chosen; a shape tool: the kind it draws.
+    click(page, "[data-tool=select]").await?;
+    assert_eq!(eval(page, "document.querySelectorAll('[data-kind-choice].on').length").await?, 0);
+    click(page, "[data-tool=rect]").await?;
+    assert_eq!(eval(page, "document.querySelectorAll('[data-kind-choice].on').length").await?, 1);
+
+    // Live redesign, ticked, stays ticked after a reload.
+    click(page, "#opt-live").await?;
+    assert_eq!(eval(page, "document.getElementById('opt-live').checked").await?, Value::Bool(true));
+    tokio::time::sleep(Duration::from_millis(400)).await;
+    page.reload().await?;
+    until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
+    assert_eq!(eval(page, "document.getElementById('opt-live').checked").await?, Value::Bool(true));
     Ok(())
 }

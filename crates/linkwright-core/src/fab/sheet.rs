@@ -13,7 +13,12 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
     let mut out = Vec::new();
     let parts = &fab.parts;
     let members = &fab.layout.members;
-    out.push(format!("Print the {} parts (the plates hold them all); no screws or glue needed.", parts.len()));
+    let halves = parts.iter().any(|p| p.name.ends_with("_back"));
+    out.push(format!(
+        "Print the {} parts (the plates hold them all); no screws{} needed.",
+        parts.len(),
+        if halves { "" } else { " or glue" }
+    ));
     let bodies: Vec<&str> =
         parts.iter().filter(|p| matches!(p.role, Role::Body | Role::Ground)).map(|p| p.name.as_str()).collect();
     out.push(format!("Lay {} flat, posts and pins up, in their first pose as drawn.", bodies.join(", ")));
@@ -37,7 +42,7 @@ pub fn steps(fab: &Fabrication) -> Vec<String> {
             cut.join(", ")
         ));
     }
-    if parts.iter().any(|p| p.name.ends_with("_back")) {
+    if halves {
         out.push("Bodies printed in two halves: after finishing the front face, turn the object over and build the back face the same way, then glue or press the halves together.".into());
     }
     let joint = |j: usize| fab.layout_joint_name(j);

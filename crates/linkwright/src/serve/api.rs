@@ -122,6 +122,8 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
             "body_seconds": super::connections::BODY_READ_TIMEOUT.as_secs_f64(),
             "header_seconds": super::connections::HEADER_READ_TIMEOUT.as_secs_f64(),
             "connections": super::connections::MAX_CONNECTIONS,
+            "poses_per_body": linkwright_core::limits::MAX_POSES,
+            "moving_bodies": linkwright_core::limits::MAX_MOVING_BODIES,
         },
     }))
 }

@@ -354,17 +354,20 @@ pub async fn layout_problems(page: &Page) -> Result<Vec<String>> {
       const tab = [...document.querySelectorAll('.tab')].find((t) => !t.hidden);
       const seen = tab.getBoundingClientRect();
       const name = (e) => e.id || e.getAttribute('aria-label') || e.dataset.key || e.textContent.trim() || e.tagName;
+      // The tab's own controls scroll with it: those whose middle it shows are checked for cover.
+      const inTab = [...tab.querySelectorAll('button, input, select')].filter((e) => {
+        const r = e.getBoundingClientRect(), y = r.top + r.height / 2;
+        return y > seen.top && y < seen.bottom;
+      });
       const controls = [...document.querySelectorAll('header button, header input, .toolbar button, .toolbar input, '
         + '.posebar button, #player button, #player input, #player select, .tabs button')]
-        .concat([...tab.querySelectorAll('button, input, select')].filter((e) => {
-          const r = e.getBoundingClientRect(), y = r.top + r.height / 2;
-          return y > seen.top && y < seen.bottom;
-        }))
+        .concat(inTab)
         .filter((e) => e.checkVisibility() && e.type !== 'file');
       for (const e of controls) {
         const r = e.getBoundingClientRect();
-        if (r.left < -0.5 || r.right > W + 0.5 || r.top < -0.5 || r.bottom > H + 0.5) {
-          out.push(`${name(e)} is outside the window`);
+        const outside = r.left < -0.5 || r.right > W + 0.5 || r.top < -0.5 || r.bottom > H + 0.5;
+        if (outside && !inTab.includes(e)) {
+          out.push(`${name(e)} is outside the window (${Math.round(r.left)}, ${Math.round(r.top)}; the window is ${W} × ${H})`);
           continue;
         }
         const top = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);

@@ -51,6 +51,8 @@ async function request(method, path, body, { as = 'json', signal } = {}) {
 
 export const examples = () => request('GET', '/api/examples');
 export const families = () => request('GET', '/api/families');
+/** The server's jobs and limits (of scenes too: `limits.poses_per_body`, `limits.moving_bodies`). */
+export const status = () => request('GET', '/api/status');
 export const example = (name) => request('GET', `/api/examples/${encodeURIComponent(name)}`);
 export const check = (scene, design) => request('POST', '/api/check', { scene, design });
 /** The torque along the motion, the counterbalance springs and the torque with them, at the rows of

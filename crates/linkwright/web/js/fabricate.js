@@ -388,13 +388,18 @@ export class Fabricator {
     const rows = [];
     const parts = report.parts || [];
     const count = (role) => parts.filter((p) => p.role === role).length;
+    // Bodies printed in halves or cut to fit the bed are several pieces of one body.
+    const bodies = (this.results.result?.scene || this.store.scene).moving_bodies.length;
+    const pieces = count('body') === bodies ? plural(bodies, 'moving body', 'moving bodies')
+      : `${plural(count('body'), 'piece')} of ${plural(bodies, 'moving body', 'moving bodies')}`;
     const kinds = [
       [count('link') + count('guide'), 'link'], [count('connector'), 'connector'], [count('spring_bracket'), 'spring bracket'],
-      [count('body'), 'moving body', 'moving bodies'], [count('ground'), 'fixed piece'],
-    ].filter(([n]) => n > 0).map(([n, one, many]) => plural(n, one, many)).join(', ');
-    if (report.totals) rows.push(['Parts', kinds ? `${report.totals.parts} (${kinds})` : String(report.totals.parts)]);
+    ].filter(([n]) => n > 0).map(([n, one]) => plural(n, one));
+    if (count('body')) kinds.push(pieces);
+    if (count('ground')) kinds.push(plural(count('ground'), 'fixed piece'));
+    if (report.totals) rows.push(['Parts', kinds.length ? `${report.totals.parts} (${kinds.join(', ')})` : String(report.totals.parts)]);
     const layers = report.layers;
-    if (layers) rows.push(['Layers of links', layers.back ? `${layers.count} (front ${layers.front}, back ${layers.back})` : String(layers.count)]);
+    if (layers) rows.push(['Layers of links', layers.back ? `${layers.front} on the front face, ${layers.back} on the back` : String(layers.count)]);
     const s = report.settings;
     if (report.plates && s?.bed) rows.push(['Print beds', `${report.plates.length} of ${s.bed.width} × ${s.bed.depth} mm`]);
     if (Number.isFinite(report.totals?.volume_mm3)) rows.push(['Print volume', `${(report.totals.volume_mm3 / 1000).toFixed(1)} cm³`]);
@@ -486,10 +491,14 @@ export class Fabricator {
     return out;
   }
 
-  /** A download link for a file of the answer. */
+  /** A download link for a file of the answer; a part's file is saved under the scene's name too
+   * (`garbage_truck_crank.stl`), so that parts of several objects do not overwrite each other. */
   link(file, text = file.name.split('/').pop(), cls = 'file') {
+    const base = file.name.split('/').pop();
+    const scene = (this.results.result?.scene?.name || '').replace(/[^\w.-]+/g, '_');
+    const saved = file.name.startsWith('parts/') && scene ? `${scene}_${base}` : base;
     return html('a', {
-      class: cls, href: file.url, download: file.name.split('/').pop(), 'data-file': file.name, text,
+      class: cls, href: file.url, download: saved, 'data-file': file.name, text,
       title: Number.isFinite(file.bytes) ? `${file.name} · ${kilobytes(file.bytes)}` : file.name,
     });
   }

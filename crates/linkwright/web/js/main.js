@@ -153,6 +153,11 @@ function renderPoseBar() {
     b.setAttribute('aria-pressed', String(i === store.ui.pose));
   });
   $('btn-pose-delete').disabled = n <= 2;
+  const most = store.limits?.poses_per_body;
+  $('btn-pose-insert').disabled = Number.isFinite(most) && n >= most;
+  $('btn-pose-insert').title = $('btn-pose-insert').disabled
+    ? `A body has at most ${most} poses: delete one to insert another`
+    : 'Insert a pose after the current one, halfway to the next';
   $('btn-pose-earlier').disabled = store.ui.pose === 0;
   $('btn-pose-later').disabled = store.ui.pose >= n - 1;
 }
@@ -330,6 +335,11 @@ api.families().then((families) => {
   store.families = families;
   store.changed('families');
 }, (e) => store.hint(`Cannot reach the engine: ${e.message}`));
+// The engine's limits on a scene: Insert pose stops at its most poses.
+api.status().then((status) => {
+  store.limits = status.limits;
+  store.changed('ui');
+}, () => {});
 
 let saveTimer = null;
 store.subscribe((what) => {
@@ -339,7 +349,9 @@ store.subscribe((what) => {
   $('btn-undo').disabled = !store.canUndo();
   $('btn-redo').disabled = !store.canRedo();
   for (const b of document.querySelectorAll('[data-tool]')) b.classList.toggle('on', b.dataset.tool === store.ui.tool);
-  for (const b of document.querySelectorAll('[data-kind-choice]')) b.classList.toggle('on', b.dataset.kindChoice === store.ui.kind);
+  // What the shape tools draw is shown chosen only while one of them is.
+  const drawing = ['rect', 'polygon', 'ellipse'].includes(store.ui.tool);
+  for (const b of document.querySelectorAll('[data-kind-choice]')) b.classList.toggle('on', drawing && b.dataset.kindChoice === store.ui.kind);
   $('welcome').hidden = !S.isEmpty(store.scene) || !!store.ui.welcomeClosed;
   $('hint').textContent = store.ui.hint;
   renderPoseBar();
@@ -356,6 +368,7 @@ function persist() {
     pose: store.ui.pose,
     view: { ox: view.ox, oy: view.oy, k: view.k, left: canvasAt?.left, top: canvasAt?.top },
     result: r && results.fresh() ? { design: r.design, scene: r.scene, which: r.which } : null,
+    live: !!store.ui.live,
   });
 }
 window.addEventListener('pagehide', persist);
@@ -374,6 +387,10 @@ if (saved) {
     resize();
   } else fit();
   store.hint('Welcome back: your last scene is restored.');
+  if (saved.live) {
+    store.ui.live = true;
+    $('opt-live').checked = true;
+  }
   if (saved.result?.design) {
     store.result = newResult({ design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene) });
     results.select(saved.result.which ?? null).then(() => results.verify());
