@@ -283,6 +283,37 @@ async fn small_things(page: &Page) -> Result<()> {
     let names: Vec<&str> = names.as_array().ok_or("names")?.iter().filter_map(Value::as_str).collect();
     assert!(!names.is_empty() && names.iter().all(|n| n.starts_with("table_") && n.ends_with(".stl")), "{names:?}");
 
+    // Picking an alternative far down the Result tab keeps the tab where it was scrolled to.
+    click(page, "[data-tab=result]").await?;
+    eval(page, "document.querySelector('[data-which=\"1\"]').scrollIntoView() || true").await?;
+    settle(page).await?;
+    let scrolled = eval(page, "document.getElementById('tab-result').scrollTop").await?.as_f64().ok_or("scrollTop")?;
+    assert!(scrolled > 0.0, "the alternatives are below the fold");
+    click(page, "[data-which='1']").await?;
+    until(
+        page,
+        "window.linkwright.store.result.which === 1 && window.linkwright.store.result.analysis !== null",
+        Duration::from_secs(10),
+    )
+    .await?;
+    settle(page).await?;
+    let now = eval(page, "document.getElementById('tab-result').scrollTop").await?.as_f64().ok_or("scrollTop")?;
+    assert!((now - scrolled).abs() < 1.0, "the Result tab scrolled from {scrolled} to {now}");
+
+    // F frames everything above the player; renaming a body keeps the design.
+    key(page, "f", "KeyF", 70, 0).await?;
+    let above = "(() => { const l = window.linkwright, s = l.store.scene, pts = s.fixed_bodies.flatMap((b) => b.polygon); \
+                 for (const b of s.moving_bodies) for (const [x, y, a] of b.poses) { const c = Math.cos(a * Math.PI / 180), \
+                 n = Math.sin(a * Math.PI / 180); for (const [u, v] of b.polygon) pts.push([x + c * u - n * v, y + n * u + c * v]); } \
+                 const bottom = Math.max(...pts.map((p) => l.screenOf(p)[1])); \
+                 return bottom <= document.getElementById('player').getBoundingClientRect().top; })()";
+    assert_eq!(eval(page, above).await?, Value::Bool(true), "F puts the drawing under the player");
+    click(page, "[data-tab=object]").await?;
+    let rename = "(() => { const i = document.querySelector('[data-key=moving-name-0]'); i.value = 'leaf'; \
+                  i.dispatchEvent(new Event('change')); return true; })()";
+    eval(page, rename).await?;
+    assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "renaming kept the design");
+
     // Poses up to the engine's limit, every one reachable in the pose bar, and no more.
     let most = eval(page, "fetch('/api/status').then((r) => r.json()).then((s) => s.limits.poses_per_body)").await?;
     let most = most.as_u64().ok_or("the limit on poses")? as usize;

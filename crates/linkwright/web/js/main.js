@@ -81,8 +81,12 @@ $('btn-redo').addEventListener('click', redo);
 $('scene-name').addEventListener('change', (e) => store.edit('rename the scene', (s) => { s.name = e.target.value || 'untitled'; }));
 
 /** Frames the drawing and, while a design is shown, its whole motion. */
+/** Frames everything (the whole motion while a design is shown), clear of the player at the bottom
+ * and with room above for a selected shape's rotation handle. */
 function fit() {
-  view.fit([...S.allPoints(store.scene), ...results.motionPoints()]);
+  const player = $('player');
+  const bottom = player.hidden ? 40 : player.offsetHeight + 28;
+  view.fit([...S.allPoints(store.scene), ...results.motionPoints()], 40, { top: 64, bottom });
   canvas.render();
 }
 results.fitView = fit;
@@ -179,7 +183,12 @@ function renderTabs(what) {
   shownTab = tab;
   if (tab === 'object') renderObjectTab($('tab-object'), store);
   if (tab === 'settings' && (switched || what.has('scene') || what.has('families'))) renderSettingsTab($('tab-settings'), store);
-  if (tab === 'result' && (switched || what.has('result') || what.has('scene'))) results.renderTab($('tab-result'));
+  if (tab === 'result' && (switched || what.has('result') || what.has('scene'))) {
+    // Drawn again on every change: where the person had scrolled to stays (unless the tab was just opened).
+    const host = $('tab-result'), top = host.scrollTop;
+    results.renderTab(host);
+    if (!switched) host.scrollTop = top;
+  }
 }
 
 // ---- Files -------------------------------------------------------------------------------------

@@ -30,7 +30,9 @@ const EXPORT_FRAMES = 60;
 export function geometryKey(scene) {
   return JSON.stringify([
     // A body's mass (or its material and thickness) changes the torque, not the design.
-    scene.fixed_bodies, scene.moving_bodies.map(({ mass_kg, material, thickness, ...body }) => body), scene.linkage_region || null,
+    // Nor does a body's name.
+    scene.fixed_bodies.map(({ name, ...body }) => body),
+    scene.moving_bodies.map(({ mass_kg, material, thickness, name, ...body }) => body), scene.linkage_region || null,
     scene.avoid_regions || [], scene.must_hit_poses || [],
   ]);
 }

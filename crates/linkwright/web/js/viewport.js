@@ -46,18 +46,18 @@ export class Viewport {
   }
 
   /** Shows all of `points` with a margin (a default view when there are none). */
-  fit(points, margin = 40) {
+  fit(points, margin = 40, { top = margin, bottom = margin } = {}) {
     if (points.length === 0) {
       this.k = Math.min(this.width / 320, this.height / 220);
       this.ox = margin;
-      this.oy = this.height - margin;
+      this.oy = this.height - bottom;
       return;
     }
     const b = bounds(points);
     const w = Math.max(b.maxX - b.minX, 1e-6), h = Math.max(b.maxY - b.minY, 1e-6);
-    this.k = Math.min((this.width - 2 * margin) / w, (this.height - 2 * margin) / h);
+    this.k = Math.min((this.width - 2 * margin) / w, (this.height - top - bottom) / h);
     this.ox = (this.width - w * this.k) / 2 - b.minX * this.k;
-    this.oy = (this.height + h * this.k) / 2 + b.minY * this.k;
+    this.oy = top + (this.height - top - bottom + h * this.k) / 2 + b.minY * this.k;
   }
 
   /** The grid spacing (world units) that keeps lines at least `minPx` apart: 1, 2 or 5 × 10ⁿ. */
