@@ -13,6 +13,7 @@ mod browser;
 mod common;
 
 use browser::*;
+use chromiumoxide::cdp::browser_protocol::input::DispatchMouseEventType;
 use chromiumoxide::Page;
 use serde_json::Value;
 use std::path::Path;
@@ -342,6 +343,22 @@ async fn small_things(page: &Page) -> Result<()> {
     assert_eq!(eval(page, "document.querySelectorAll('[data-kind-choice].on').length").await?, 0);
     click(page, "[data-tool=rect]").await?;
     assert_eq!(eval(page, "document.querySelectorAll('[data-kind-choice].on').length").await?, 1);
+
+    // The pointer's place is given in the scene's units, at once when they change.
+    let over = at(page, 10.0, 10.0).await?;
+    mouse(page, DispatchMouseEventType::MouseMoved, over.0, over.1, 0).await?;
+    until(page, "document.getElementById('coords').textContent.endsWith(' mm')", Duration::from_secs(2)).await?;
+    let units = "(() => { const s = document.querySelector('select[data-key=units]'); s.value = 'cm'; \
+                 s.dispatchEvent(new Event('change')); return true; })()";
+    for tab in ["object", "settings"] {
+        click(page, &format!("[data-tab={tab}]")).await?;
+        if eval(page, "document.querySelector('select[data-key=units]') !== null").await? == Value::Bool(true) {
+            eval(page, units).await?;
+            break;
+        }
+    }
+    until(page, "document.getElementById('coords').textContent.endsWith(' cm')", Duration::from_secs(2)).await?;
+    undo(page).await?;
 
     // Live redesign, ticked, stays ticked after a reload.
     click(page, "#opt-live").await?;

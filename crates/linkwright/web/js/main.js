@@ -16,6 +16,13 @@ const $ = (id) => document.getElementById(id);
 const WELCOME_HINT = 'Start by drawing the part of your object that never moves: “Fixed body” is chosen, so drag a rectangle on the grid. Or open one of the Examples.';
 
 const saved = F.restore();
+
+/** Where the pointer was last over the drawing, in the scene's units (again when they change). */
+let pointerAt = null;
+function showPointer() {
+  if (pointerAt) $('coords').textContent = `x ${pointerAt[0].toFixed(1)}  y ${pointerAt[1].toFixed(1)} ${store.scene.units || 'mm'}`;
+}
+
 const store = new Store(saved?.scene ?? S.newScene());
 const view = new Viewport();
 const root = $('canvas');
@@ -40,7 +47,7 @@ const tools = new Tools(root, store, canvas, view, {
   moveJoint: (w) => results.moveJoint(w),
   endJointDrag: () => results.endJointDrag(),
   deleteSelection,
-  pointer: (w) => { $('coords').textContent = `x ${w[0].toFixed(1)}  y ${w[1].toFixed(1)} ${store.scene.units || 'mm'}`; },
+  pointer: (w) => { pointerAt = w; showPointer(); },
 });
 
 function deleteSelection() {
@@ -363,6 +370,7 @@ store.subscribe((what) => {
   for (const b of document.querySelectorAll('[data-kind-choice]')) b.classList.toggle('on', drawing && b.dataset.kindChoice === store.ui.kind);
   $('welcome').hidden = !S.isEmpty(store.scene) || !!store.ui.welcomeClosed;
   $('hint').textContent = store.ui.hint;
+  showPointer();
   renderPoseBar();
   renderTabs(what);
   canvas.render();
