@@ -300,6 +300,8 @@ async fn small_things(page: &Page) -> Result<()> {
     settle(page).await?;
     let now = eval(page, "document.getElementById('tab-result').scrollTop").await?.as_f64().ok_or("scrollTop")?;
     assert!((now - scrolled).abs() < 1.0, "the Result tab scrolled from {scrolled} to {now}");
+    // The status line says which design is shown now.
+    until(page, "window.linkwright.store.ui.hint.startsWith('Alternative 2: ')", Duration::from_secs(5)).await?;
 
     // F frames everything above the player; renaming a body keeps the design.
     key(page, "f", "KeyF", 70, 0).await?;

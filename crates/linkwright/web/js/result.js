@@ -885,7 +885,10 @@ export class Results {
       'data-which': which === null ? 'best' : String(which),
       onclick: async () => {
         await this.select(which);
-        if (this.result?.design === d && this.result.which === which) this.verify();
+        if (this.result?.design !== d || this.result.which !== which) return;
+        this.verify();
+        const m = which === null ? d.mechanism : d.alternatives[which].mechanism;
+        this.store.hint(`${which === null ? 'Best design' : `Alternative ${which + 1}`}: ${mechanismName(m)}, cost ${metrics.cost.toFixed(2)}.`);
       },
     }, [pic, html('span', { text: `${label} · ${metrics.cost.toFixed(2)}` })]);
   }
