@@ -220,8 +220,9 @@ impl BuildPlan {
     /// With an `auto` scale, when the print check refused every valid linkage at the scale the drawing
     /// decided, or the search found none in a model whose region is under twice the least (the pins
     /// crowd it), the search runs again at the next larger scales of the series whose region is at
-    /// most twice what the bed takes, at most [`AUTO_RETRIES`] of them, until one gives a design that prints; when
-    /// the search found none in a model that is not crowded, at the next larger scale alone. The
+    /// most twice what the bed takes, at most [`AUTO_RETRIES`] of them, until one gives a design that
+    /// prints; when the search found none in a model that is not crowded, at the next larger scale
+    /// alone. The
     /// drawing bounds the links only from above, and how far apart their joints are shows only in the
     /// search. Returns the plan of the outcome kept (the first printable one, else the
     /// first).

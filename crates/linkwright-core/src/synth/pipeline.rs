@@ -355,12 +355,13 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     Ok(Outcome { best, alternatives: picked.collect(), stats, reason, unbuildable })
 }
 
-/// Puts first, of the valid linkages (cheapest first) costing at most [`FOLLOW_COST_SLACK`] more
-/// than the cheapest, the one whose joints moved least from `shown` (the largest distance of a joint
-/// from where it was at the first pose); linkages of another family never follow it. The designs are
-/// then picked from the others as ever, distinct from it.
-fn follow(shown: &Mechanism, valid: &mut [Candidate]) {
-    let Some(cheapest) = valid.first().map(|c| c.cost) else { return };
+/// Puts first, of `designs` (cheapest first) costing at most [`FOLLOW_COST_SLACK`] more than the
+/// cheapest, the one whose joints moved least from `shown` (the largest distance of a joint from
+/// where it was at the first pose); linkages of another family never follow it. Run on the valid
+/// linkages before the designs are picked (so that it is picked, and the others distinct from it),
+/// and again on the finished designs, which come back cheapest first.
+fn follow(shown: &Mechanism, designs: &mut [Candidate]) {
+    let Some(cheapest) = designs.first().map(|c| c.cost) else { return };
     let limit = cheapest + FOLLOW_COST_SLACK * cheapest.abs();
     let moved = |c: &Candidate| {
         let m = &c.mechanism;
@@ -371,14 +372,14 @@ fn follow(shown: &Mechanism, valid: &mut [Candidate]) {
         let each = names.iter().zip(&m.joints).map(|(name, p)| shown.joint(name).map(|q| p.distance(q)));
         each.collect::<Option<Vec<f64>>>().map(|d| d.into_iter().fold(0.0, f64::max))
     };
-    let nearest = valid
+    let nearest = designs
         .iter()
         .enumerate()
         .take_while(|(_, c)| c.cost <= limit)
         .filter_map(|(i, c)| moved(c).map(|d| (i, d)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((i, _)) = nearest {
-        valid[..=i].rotate_right(1);
+        designs[..=i].rotate_right(1);
     }
 }
 

@@ -126,8 +126,8 @@ impl<'c, 'p> Sampler<'c, 'p> {
         let deviation = match near {
             Some(Near { start, exact }) => {
                 x.extend_from_slice(start);
-                for v in &mut x[..2 * n] {
-                    if !exact {
+                if !exact {
+                    for v in &mut x[..2 * n] {
                         *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
                     }
                 }
