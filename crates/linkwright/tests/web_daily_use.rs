@@ -118,7 +118,8 @@ async fn open_example(page: &Page, name: &str) -> Result<()> {
     click(page, "#btn-examples").await?;
     until(page, &format!("document.querySelector('[data-example={name}] svg') !== null"), Duration::from_secs(10))
         .await?;
-    click(page, &format!("[data-example={name}]")).await
+    click(page, &format!("[data-example={name}]")).await?;
+    replace_if_asked(page).await
 }
 
 /// A design running for the wall bed when the sofa bed is opened is stopped, and nothing of it shows
@@ -150,6 +151,7 @@ async fn races(page: &Page) -> Result<()> {
     let js = "(() => { document.getElementById('btn-fabricate').click(); const making = window.linkwright.results.fab.job !== null; \
               document.querySelector('[data-example=k1_table]').click(); return making; })()";
     assert_eq!(eval(page, js).await?, Value::Bool(true), "the parts were being made when the table was opened");
+    replace_if_asked(page).await?;
     until(page, "window.linkwright.results.fab.job === null", Duration::from_secs(60)).await?;
     tokio::time::sleep(Duration::from_secs(1)).await;
     settle(page).await?;
@@ -361,6 +363,24 @@ async fn small_things(page: &Page) -> Result<()> {
     }
     until(page, "document.getElementById('coords').textContent.endsWith(' cm')", Duration::from_secs(2)).await?;
     undo(page).await?;
+
+    // An example replaces a drawing with unsaved changes only after asking: kept, then replaced.
+    let renamed = "(() => { const s = window.linkwright.store; s.edit('rename', (x) => { x.name = 'my table'; }); return true; })()";
+    eval(page, renamed).await?;
+    click(page, "#btn-examples").await?;
+    until(page, "document.querySelector('[data-example=k1_sofa_bed] svg') !== null", Duration::from_secs(10)).await?;
+    click(page, "[data-example=k1_sofa_bed]").await?;
+    until(page, "document.getElementById('replace').open", Duration::from_secs(2)).await?;
+    click(page, "#btn-replace-keep").await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.name").await?, "my table", "the drawing is kept");
+    open_example(page, "k1_sofa_bed").await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.name").await?, "sofa bed");
+    // Unchanged since it was opened: the next example opens without asking.
+    click(page, "#btn-examples").await?;
+    until(page, "document.querySelector('[data-example=k1_table] svg') !== null", Duration::from_secs(10)).await?;
+    click(page, "[data-example=k1_table]").await?;
+    assert_eq!(eval(page, "document.getElementById('replace').open").await?, Value::Bool(false));
+    assert_eq!(eval(page, "window.linkwright.store.scene.name").await?, "table");
 
     // Live redesign, ticked, stays ticked after a reload.
     click(page, "#opt-live").await?;

@@ -384,6 +384,7 @@ async fn design_example(page: &Page, name: &str, samples: u32, shots: Option<&Pa
     until(page, &listed, Duration::from_secs(10)).await?;
     screenshot(page, shots, "gallery.png").await?;
     click(page, &format!("[data-example={name}]")).await?;
+    replace_if_asked(page).await?;
     click(page, "[data-tab=settings]").await?;
     click(page, &format!("button[title='{samples} samples']")).await?;
     key(page, "Enter", "Enter", 13, 0).await?;

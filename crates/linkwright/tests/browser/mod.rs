@@ -409,3 +409,12 @@ pub async fn choose_file(page: &Page, selector: &str, file: &Path) -> Result<()>
     page.execute(params).await?;
     settle(page).await
 }
+
+/// Answers "Open the example" when the app asks before an example replaces unsaved changes (it asks
+/// at once, when the example is chosen).
+pub async fn replace_if_asked(page: &Page) -> Result<()> {
+    let js = "(() => { const d = document.getElementById('replace'); \
+              if (d.open) document.getElementById('btn-replace').click(); return true; })()";
+    eval(page, js).await?;
+    settle(page).await
+}

@@ -206,6 +206,7 @@ async function openFile(file) {
     if (got.scene) {
       results.leave();
       store.replace(got.scene, `open ${file.name}`);
+      markSaved();
       results.clear();
       if (got.project) await openProject(got.project);
       fit();
@@ -246,6 +247,7 @@ $('btn-save').addEventListener('click', () => {
     ? { design: r.design, which: r.which, balance: r.balance || null, print: results.fab.print }
     : undefined;
   F.saveScene(store.scene, shown);
+  markSaved();
   store.hint(shown
     ? `Saved ${store.scene.name}.json to your downloads: the scene with its design, springs and print settings.`
     : `Saved ${store.scene.name}.json to your downloads.`);
@@ -253,6 +255,7 @@ $('btn-save').addEventListener('click', () => {
 $('btn-new').addEventListener('click', () => {
   results.leave();
   store.replace(S.newScene(), 'new scene');
+  markSaved();
   results.clear();
   // As "Start drawing" does: the hint below tells the person to draw the fixed part first.
   store.setUi({ kind: 'fixed' });
@@ -262,13 +265,41 @@ $('btn-new').addEventListener('click', () => {
 });
 F.dropTarget($('drop'), openFile);
 
+/** The scene as it was last saved or opened (null: not known to be saved, as after a reload). */
+let savedScene = null;
+const unsaved = () => !S.isEmpty(store.scene) && JSON.stringify(S.toFile(store.scene)) !== savedScene;
+const markSaved = () => { savedScene = JSON.stringify(S.toFile(store.scene)); };
+
+/** Asks whether to replace a drawing with unsaved changes by `what`: true to go on (after saving it,
+ * when the person asks to). A drawing without unsaved changes is replaced without asking. */
+function askReplace(what) {
+  if (!unsaved()) return Promise.resolve(true);
+  const ask = $('replace');
+  $('replace-text').textContent = `“${store.scene.name}” has changes that are not saved in a file. Opening ${what} replaces it (Undo brings it back while this page is open).`;
+  return new Promise((resolve) => {
+    const answer = (go, save = false) => () => {
+      ask.onclose = null;
+      ask.close();
+      if (save) $('btn-save').click();
+      resolve(go);
+    };
+    $('btn-replace').onclick = answer(true);
+    $('btn-replace-save').onclick = answer(true, true);
+    $('btn-replace-keep').onclick = answer(false);
+    ask.onclose = () => resolve(false);
+    ask.showModal();
+  });
+}
+
 const gallery = $('gallery');
 function openGallery() {
   gallery.showModal();
-  F.fillGallery($('gallery-list'), (scene, entry) => {
+  F.fillGallery($('gallery-list'), async (scene, entry) => {
     gallery.close();
+    if (!(await askReplace(`the ${entry.title} example`))) return;
     results.leave();
     store.replace(scene, `open the ${entry.title} example`);
+    markSaved();
     results.clear();
     fit();
     store.hint(`Opened the ${entry.title} example: press “Design linkage” to find its mechanism.`);
