@@ -273,3 +273,26 @@ fn a_warm_start_keeps_to_the_family_it_starts_from() {
     let designs: Vec<_> = warm.best.iter().chain(&warm.alternatives).collect();
     assert!(!designs.is_empty() && designs.iter().all(|c| c.mechanism.topology.mechanism_type == family));
 }
+
+/// A pose drawn on an earlier one (the table's last pose put back on its first) is named as such: a
+/// warning on that pose, and when nothing is found, the reason says it rather than blaming the order
+/// of the poses.
+#[test]
+fn a_pose_drawn_on_an_earlier_one_is_named() {
+    let path = format!("{}/../../examples/k1_table.json", env!("CARGO_MANIFEST_DIR"));
+    let mut scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let poses = &mut scene.moving_bodies[0].poses;
+    let last = poses.len() - 1;
+    poses[last] = poses[0];
+    scene.settings.samples = 4000;
+    let problem = Problem::new(&scene).unwrap();
+    let field = format!("moving_bodies[0].poses[{last}]");
+    let warning = problem.warnings.iter().find(|w| w.field == field).expect("a warning on the repeated pose");
+    assert!(warning.message.contains(&format!("pose {} of ", last + 1)), "{}", warning.message);
+    assert!(warning.message.contains("is the same as pose 1"), "{}", warning.message);
+    let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
+    if file.status == Status::NoSolution {
+        let reason = file.reason.unwrap_or_default();
+        assert!(reason.contains("is the same as pose 1") && !reason.contains("out of order"), "{reason}");
+    }
+}

@@ -6,6 +6,7 @@ mod problem;
 mod validate;
 
 pub use build::{Build, BuildParseError, Material, ModelScale, Ratio, MAX_RATIO_TERM};
+pub(crate) use problem::repeated_pose_words;
 pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
 pub use validate::{limits, validate, Issue, Severity};
 

@@ -29,6 +29,22 @@ impl MovingBodyProblem {
         self.poses[0].to(&self.poses[i])
     }
 
+    /// Each pose drawn where an earlier one is, as `(pose, earlier pose)`: within a thousandth of d
+    /// and a twentieth of a degree. A linkage reaches one pose twice only after its crank has turned
+    /// a whole turn, so a repeat is most often a pose placed on another by mistake.
+    pub fn repeated_poses(&self) -> Vec<(usize, usize)> {
+        (1..self.poses.len())
+            .filter_map(|i| {
+                (0..i)
+                    .find(|&j| {
+                        let miss = self.miss(i, &self.poses[j]);
+                        miss.position_rel_d <= 1e-3 && miss.angle_deg <= 0.05
+                    })
+                    .map(|j| (i, j))
+            })
+            .collect()
+    }
+
     /// How far `reached` (a `body_to_world`) is from input pose `i`.
     pub fn miss(&self, i: usize, reached: &Rigid) -> PoseMiss {
         let wanted = &self.poses[i];
@@ -38,6 +54,20 @@ impl MovingBodyProblem {
         let angle = turn.min(std::f64::consts::TAU - turn);
         PoseMiss { position, position_rel_d: position / self.size, angle_deg: angle.to_degrees() }
     }
+}
+
+/// What is wrong with pose `i` of `body` repeating its pose `j`, and what to do.
+pub(crate) fn repeated_pose_words(body: &MovingBodyProblem, i: usize, j: usize) -> String {
+    format!(
+        "pose {} of {} is the same as pose {}: a linkage reaches one pose twice only after its crank has turned \
+         a whole turn; move pose {} to where the body should be then, or leave it out (to come back, end the \
+         motion just short of pose {})",
+        i + 1,
+        body.name,
+        j + 1,
+        i + 1,
+        j + 1
+    )
 }
 
 /// How far a body is from one of its input poses.
@@ -104,7 +134,7 @@ pub struct Problem {
 impl Problem {
     /// Validates `scene` and derives the problem, or returns every issue when any is an error.
     pub fn new(scene: &Scene) -> Result<Problem, Vec<Issue>> {
-        let issues = validate(scene);
+        let mut issues = validate(scene);
         if issues.iter().any(|i| i.severity == Severity::Error) {
             return Err(issues);
         }
@@ -125,6 +155,15 @@ impl Problem {
                 }
             })
             .collect();
+        for (k, body) in bodies.iter().enumerate() {
+            for (i, j) in body.repeated_poses() {
+                issues.push(Issue {
+                    severity: Severity::Warning,
+                    field: format!("moving_bodies[{k}].poses[{i}]"),
+                    message: repeated_pose_words(body, i, j),
+                });
+            }
+        }
         let mut drawn: Option<Aabb> = None;
         let mut add = |bb: Aabb| drawn = Some(drawn.map_or(bb, |d| d.union(&bb)));
         for f in &fixed {

@@ -932,6 +932,12 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
              most {most_exact} poses exactly: mark fewer must_hit_poses."
         );
     }
+    // A pose drawn on another explains a search with no design better than what the samples met.
+    let repeated = problem.bodies.iter().find_map(|b| b.repeated_poses().first().map(|&(i, j)| (b, i, j)));
+    if let Some((body, i, j)) = repeated {
+        let words = crate::scene::repeated_pose_words(body, i, j);
+        return format!("No linkage found: {words}.");
+    }
     if stats.fitted == 0 {
         return format!(
             "No linkage could be fitted through the poses ({} samples): the poses may ask for a motion no \
