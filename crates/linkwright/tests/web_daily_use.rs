@@ -286,6 +286,22 @@ async fn small_things(page: &Page) -> Result<()> {
     let names: Vec<&str> = names.as_array().ok_or("names")?.iter().filter_map(Value::as_str).collect();
     assert!(!names.is_empty() && names.iter().all(|n| n.starts_with("table_") && n.ends_with(".stl")), "{names:?}");
 
+    // The pose errors name their measure, and the charts' tick labels lie inside the charts.
+    let header = "document.querySelector('table.pose-errors thead th:nth-child(3)').textContent";
+    assert_eq!(eval(page, header).await?, "of width");
+    let clipped = "[...document.querySelectorAll('#tab-result svg.plot .axes text')].filter((t) => t.getBBox().x < 0) \
+                   .map((t) => t.textContent)";
+    assert_eq!(eval(page, clipped).await?, serde_json::json!([]), "tick labels cut at the chart's edge");
+    let labels = eval(page, "document.querySelectorAll('#tab-result svg.plot .axes text').length").await?;
+    assert!(labels.as_u64() > Some(0), "the charts are shown");
+    // Errors of a few nanometres, as an exact design has: their labels fit too.
+    let tiny = "import('/js/plots.js').then((m) => { const chart = m.errorPlot({poses: [{pose: 0, bodies: \
+                [{max_vertex: 3e-9, angle_deg: 0}]}, {pose: 1, bodies: [{max_vertex: 1e-9, angle_deg: 0}]}]}, \
+                {units: 'mm', moving_bodies: [{name: 'lid'}]}); document.getElementById('tab-result').append(chart); \
+                const cut = [...chart.querySelectorAll('.axes text')].filter((t) => t.getBBox().x < 0).map((t) => t.textContent); \
+                chart.remove(); return cut; })";
+    assert_eq!(eval(page, tiny).await?, serde_json::json!([]), "tiny errors' tick labels are cut");
+
     // Picking an alternative far down the Result tab keeps the tab where it was scrolled to.
     click(page, "[data-tab=result]").await?;
     eval(page, "document.querySelector('[data-which=\"1\"]').scrollIntoView() || true").await?;

@@ -102,7 +102,7 @@ export function reachText(e, scene) {
     return `✓ Re-simulated independently: reaches every pose within ${fmtUp(e.max.position)} ${units} and ${fmtUp(e.max.angle)}°`;
   }
   const w = e.worst;
-  return `Pose ${w.pose + 1} (${bodyName(scene, w.body)}) is missed by ${fmt(w.position)} ${units} (${pct(w.rel)} of its size) and ${fmt(w.angle)}°`;
+  return `Pose ${w.pose + 1} (${bodyName(scene, w.body)}) is missed by ${fmt(w.position)} ${units} (${pct(w.rel)} of its width) and ${fmt(w.angle)}°`;
 }
 
 /** The badge for errors `e` once the design has passed the independent check. */
@@ -111,8 +111,8 @@ export function reachBadge(e, scene) {
     class: e.reached ? 'badge ok verified' : 'badge warn verified',
     text: reachText(e, scene),
     title: e.reached
-      ? `Every hard constraint holds, and every pose is reached within ${REACHED.positionRelD * 100}% of the body's size and ${REACHED.angleDeg}°.`
-      : `Every hard constraint holds, but the design only approximates the poses: a pose counts as reached within ${REACHED.positionRelD * 100}% of the body's size and ${REACHED.angleDeg}°.`,
+      ? `Every hard constraint holds, and every pose is reached within ${REACHED.positionRelD * 100}% of the body's width (the shorter side of its outline's box) and ${REACHED.angleDeg}°.`
+      : `Every hard constraint holds, but the design only approximates the poses: a pose counts as reached within ${REACHED.positionRelD * 100}% of the body's width (the shorter side of its outline's box) and ${REACHED.angleDeg}°.`,
   });
 }
 
@@ -125,7 +125,7 @@ export function poseTable(e, scene) {
       html('th', { text: 'Pose' }),
       several ? html('th', { class: 'name', text: 'Body' }) : null,
       html('th', { text: `Off by (${units})`, title: "the largest distance of an outline corner from where it was drawn" }),
-      html('th', { text: 'of size', title: "that distance as a share of the body's size (the shorter side of its bounding box)" }),
+      html('th', { text: 'of width', title: "that distance as a share of the body's width (the shorter side of its outline's box: a lid 200 mm long and 15 mm thick is 15 mm wide)" }),
       html('th', { text: 'Angle', title: 'the rotation still missing' }),
     ])]),
     html('tbody', {}, e.rows.map((r) => {

@@ -6,15 +6,16 @@ import { html, points, svg } from './svg.js';
 
 const W = 300, H = 150, PAD = { l: 40, r: 8, t: 14, b: 30 };
 
-/** Axes with horizontal grid lines at `yTicks`, labelled with `unit`, and an x-axis caption. */
-function axes(xLabel, unit, yTicks, scaleY) {
+/** Axes with horizontal grid lines at `yTicks`, labelled (`format`ted) with `unit`, and an x-axis
+ * caption. */
+function axes(xLabel, unit, yTicks, scaleY, format = String) {
   const g = svg('g', { class: 'axes' });
   g.append(svg('line', { x1: PAD.l, y1: H - PAD.b, x2: W - PAD.r, y2: H - PAD.b }));
   g.append(svg('line', { x1: PAD.l, y1: PAD.t, x2: PAD.l, y2: H - PAD.b }));
   for (const t of yTicks) {
     const y = scaleY(t);
     g.append(svg('line', { class: 'tick', x1: PAD.l - 3, y1: y, x2: W - PAD.r, y2: y }));
-    g.append(svg('text', { x: PAD.l - 5, y, dy: '0.35em', 'text-anchor': 'end', text: `${t}${unit}` }));
+    g.append(svg('text', { x: PAD.l - 5, y, dy: '0.35em', 'text-anchor': 'end', text: `${format(t)}${unit}` }));
   }
   g.append(svg('text', { x: (PAD.l + W - PAD.r) / 2, y: H - 4, 'text-anchor': 'middle', text: xLabel }));
   return g;
@@ -67,7 +68,8 @@ export function errorPlot(analysis, scene) {
   const top = niceCeil(max);
   const sy = (y) => H - PAD.b - (y / top) * (H - PAD.t - PAD.b);
   const root = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', role: 'img', 'aria-label': 'error at each pose' });
-  root.append(axes('pose', ` ${scene.units || 'mm'}`, [0, top / 2, top].map((t) => +t.toPrecision(3)), sy));
+  // The unit goes in the caption: beside every tick, a tiny error's label ("5e-10 mm") would not fit.
+  root.append(axes(`pose (off by, ${scene.units || 'mm'})`, '', [0, top / 2, top], sy, tick));
   const slot = (W - PAD.l - PAD.r) / poses.length;
   const bar = Math.min(28, (slot * 0.7) / Math.max(bodies, 1));
   poses.forEach((p, i) => {
@@ -85,6 +87,13 @@ export function errorPlot(analysis, scene) {
   return html('div', { class: 'chart' }, [root, html('small', {
     text: `How far each body's outline is from where it was drawn, at each pose (largest corner distance). Largest angle miss: ${worst.toFixed(2)}°.`,
   })]);
+}
+
+/** A tick's number in at most five characters: 0, 0.05, 250, 2e+4, 5e-10. */
+function tick(t) {
+  if (t === 0) return '0';
+  const plain = String(+t.toPrecision(3));
+  return plain.length <= 5 ? plain : t.toExponential(0);
 }
 
 /** 1, 2 or 5 × 10ⁿ at or above `x`. */
