@@ -577,6 +577,11 @@ async fn joint_editing(page: &Page) -> Result<()> {
     assert!((in_motion[0] - after[0]).abs() < 1e-6 && (in_motion[1] - after[1]).abs() < 1e-6);
     let hint = eval(page, "window.linkwright.store.ui.hint").await?;
     assert!(hint.as_str().unwrap_or_default().starts_with("Joint q0 at"), "{hint}");
+    // The status line does not say all is well when the moved linkage misses a pose.
+    let honest = "(() => { const w = window.linkwright.store.result.design.metrics.worst_pose_error, \
+                  h = window.linkwright.store.ui.hint; return w.position_rel_d > 0.01 || Math.abs(w.angle_deg) > 1 \
+                  ? h.includes(' is missed by ') : h.includes('every hard constraint holds'); })()";
+    assert_eq!(eval(page, honest).await?, Value::Bool(true), "{hint}");
     undo(page).await?;
     assert_eq!(floats(&eval(page, q0).await?), before, "undo brings the joint back");
     redo(page).await?;
@@ -1268,10 +1273,16 @@ async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
     let bed = "window.linkwright.store.result.analysis?.torque?.parts.find((p) => \
                p.name === window.linkwright.store.result.mechanism.parts.find((q) => q.kind === 'body' && q.body === 0).name)?.mass_kg";
     until(page, &format!("{bed} === 60"), Duration::from_secs(10)).await?;
+    // Springs suggested for 60 kg are dropped at 75 kg, and the status line says to ask again.
+    click(page, "[data-action=springs]").await?;
+    until(page, "window.linkwright.store.result.balance != null", Duration::from_secs(60)).await?;
     let js = "(() => { const i = document.querySelector('#tab-result input[data-mass=\"0\"]'); i.value = '75'; \
               i.dispatchEvent(new Event('change')); return true; })()";
     eval(page, js).await?;
     until(page, &format!("{bed} === 75"), Duration::from_secs(10)).await?;
+    until(page, "window.linkwright.store.ui.hint.includes('press Suggest springs again')", Duration::from_secs(5))
+        .await?;
+    assert_eq!(eval(page, "window.linkwright.store.result.balance").await?, Value::Null);
     assert_eq!(eval(page, "window.linkwright.store.scene.moving_bodies[0].mass_kg").await?.as_f64(), Some(75.0));
     assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "the design is still shown");
     // Its parts panel asks for the workshop files, and shows them: every part to cut, the files, and

@@ -1,7 +1,7 @@
 // Running a design (with live progress and cancel), showing the result: the animation player, the
 // metrics, alternatives as thumbnails, the analysis plots and the downloads.
 
-import { fmt, poseErrors, poseTable, reachBadge } from './accuracy.js';
+import { fmt, poseErrors, poseTable, reachBadge, reachText } from './accuracy.js';
 import { DEFAULT_BUILD, describe, describeRecord, parseBuild, suggestedScale } from './build.js';
 import { captureFrames, encodeGif, recordWebm } from './record.js';
 import * as api from './api.js';
@@ -25,6 +25,9 @@ function familyLabel(store, id) {
 const TRAVEL_SECONDS = 3;
 /** Frames of an exported motion (20 a second over one travel). */
 const EXPORT_FRAMES = 60;
+
+/** `text` with its first letter in lower case, to go on after a colon. */
+const lowerFirst = (text) => text.charAt(0).toLowerCase() + text.slice(1);
 
 /** What a design depends on in the drawing (settings may change without hiding it). */
 export function geometryKey(scene) {
@@ -332,9 +335,14 @@ export class Results {
           this.canvas.rejectedJoint = null;
           drag.moved = true;
           const broken = answer.violations[0];
+          // Sound, the moved linkage may still miss a pose: the status line says so, as the badge does.
+          const errors = poseErrors(answer.design.metrics, answer.analysis, base.scene);
+          const place = `Joint ${drag.name} at (${w[0].toFixed(1)}, ${w[1].toFixed(1)})`;
           this.store.hint(broken
-            ? `Joint ${drag.name} at (${w[0].toFixed(1)}, ${w[1].toFixed(1)}): ${broken.constraint}: ${broken.message}`
-            : `Joint ${drag.name} at (${w[0].toFixed(1)}, ${w[1].toFixed(1)}): every hard constraint holds (cost ${answer.design.metrics.cost.toFixed(3)}).`);
+            ? `${place}: ${broken.constraint}: ${broken.message}`
+            : errors && !errors.reached
+              ? `${place}: the linkage works, but ${lowerFirst(reachText(errors, base.scene))}.`
+              : `${place}: every hard constraint holds (cost ${answer.design.metrics.cost.toFixed(3)}).`);
         } else {
           this.canvas.rejectedJoint = { name: drag.name, at: w, message: answer.rejected.message };
           this.store.hint(`Joint ${drag.name} cannot go to (${w[0].toFixed(1)}, ${w[1].toFixed(1)}): ${answer.rejected.message}.`);
@@ -533,9 +541,11 @@ export class Results {
         }
         const set = (b) => { if (text === '') delete b.mass_kg; else b.mass_kg = v; };
         this.store.edit(`mass of ${body.name}`, (s) => { set(s.moving_bodies[i]); });
-        // The design stays (a mass changes no geometry): its torque is weighed again.
+        // The design stays (a mass changes no geometry): its torque is weighed again, and springs
+        // found for the old masses are dropped (the status line says so).
         set(r.scene.moving_bodies[i]);
-        this.select(r.which, { keep: true });
+        const hadSprings = !!r.balance;
+        this.select(r.which, { keep: true }).then(() => this.store.hint(`${body.name} weighs ${text === '' ? 'what its material does' : `${v} kg`} now: the torque is weighed again${hadSprings ? '; the springs were for the old masses, so press Suggest springs again' : ''}.`));
       };
       return html('tr', {}, [
         html('th', { text: body.name }),
