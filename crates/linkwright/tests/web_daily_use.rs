@@ -302,6 +302,15 @@ async fn small_things(page: &Page) -> Result<()> {
                 chart.remove(); return cut; })";
     assert_eq!(eval(page, tiny).await?, serde_json::json!([]), "tiny errors' tick labels are cut");
 
+    // The engine's reasons are shown in the screen's words, not the file's.
+    let words =
+        "import('/js/fields.js').then((m) => m.screenWords('Raise settings.pose_tolerance (now 0.05), widen the \
+                 linkage_region, or move moving_bodies[0].poses[2]', window.linkwright.store.scene))";
+    assert_eq!(
+        eval(page, words).await?,
+        "Raise “Settings › Pose tolerance” (now 0.05), widen the linkage region, or move Moving body “body1”, pose 3"
+    );
+
     // Picking an alternative far down the Result tab keeps the tab where it was scrolled to.
     click(page, "[data-tab=result]").await?;
     eval(page, "document.querySelector('[data-which=\"1\"]').scrollIntoView() || true").await?;

@@ -16,6 +16,21 @@ const SETTINGS = {
 const WEIGHTS = { accuracy: 'Accuracy', smoothness: 'Smoothness', location: 'Location', size: 'Size' };
 
 /**
+ * `message` (the engine's words) with the scene file's names of places (`settings.pose_tolerance`,
+ * `linkage_region`, `moving_bodies[0].poses[2]`) in the screen's words.
+ */
+export function screenWords(message, scene) {
+  return message
+    .replace(/\b(?:moving_bodies|fixed_bodies)\[\d+\](?:\.poses\[\d+\])?/g, (f) => screenField(f, scene).text)
+    .replace(/\b(?:settings|weights)\.\w+/g, (f) => `“${screenField(f, scene).text}”`)
+    .replace(/\blinkage_region\b/g, 'the linkage region')
+    .replace(/\bavoid_regions\b/g, 'the avoid regions')
+    .replace(/\bmust_hit_poses\b/g, 'the poses marked must-hit')
+    .replace(/\bpinned_joints\b/g, 'the pinned joints')
+    .replace(/\bthe the\b/g, 'the');
+}
+
+/**
  * Where `field` is on screen: `{text}` in words (“Moving body “lid”, pose 2”, “Settings › Samples”),
  * with `selection` and `pose` when it names a drawn shape or one of its poses.
  */

@@ -10,7 +10,7 @@ import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
 import { errorPlot, loopList, NO_SPRING, springCut, springList, torquePlot, transmissionPlot } from './plots.js';
 import { toFile } from './scene.js';
-import { screenField } from './fields.js';
+import { screenField, screenWords } from './fields.js';
 import { newResult } from './store.js';
 import { clear, html, points, svg } from './svg.js';
 
@@ -676,7 +676,7 @@ export class Results {
         const select = at.selection ? () => this.store.setUi({ selection: at.selection, pose: at.pose ?? this.store.ui.pose, tab: 'object' }) : null;
         return html('li', { class: i.severity }, [
           select ? html('a', { href: '#', text: at.text, onclick: (e) => { e.preventDefault(); select(); } }) : html('b', { text: at.text }),
-          `: ${i.message}`,
+          `: ${screenWords(i.message, this.store.scene)}`,
         ]);
       };
       host.append(html('div', { class: 'callout error' }, [
@@ -697,7 +697,7 @@ export class Results {
     if (d.status !== 'ok') {
       host.append(html('div', { class: 'callout warn' }, [
         html('b', { text: 'No linkage found' }),
-        html('p', { text: d.reason || '' }),
+        html('p', { class: 'reason', text: screenWords(d.reason || '', this.store.scene) }),
         // When the drawing's size does not suit the build, the reason says so first.
         /does not suit the build/.test(d.reason || '') ? this.buildActions(d.build, d.reason) : null,
       ]));
