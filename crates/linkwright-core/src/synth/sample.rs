@@ -74,7 +74,21 @@ impl SampleScratch {
 #[derive(Clone, Copy, Debug)]
 pub struct Near<'a> {
     pub start: &'a [f64],
-    pub exact: bool,
+    /// The jitter of each joint, a fraction of d ([`WARM_JITTER`] for a warm start).
+    pub jitter: f64,
+    /// Whether the poses are perturbed as for any sample (else fitted as drawn).
+    pub perturbed: bool,
+}
+
+impl<'a> Near<'a> {
+    /// Fitted as it is, through the poses as drawn.
+    pub fn exact(start: &'a [f64]) -> Self {
+        Near { start, jitter: 0.0, perturbed: false }
+    }
+    /// Jittered by [`WARM_JITTER`]·d and fitted to perturbed poses, as a warm start's samples are.
+    pub fn warm(start: &'a [f64]) -> Self {
+        Near { start, jitter: WARM_JITTER, perturbed: true }
+    }
 }
 
 impl<'c, 'p> Sampler<'c, 'p> {
@@ -113,7 +127,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
     pub fn draw(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> bool {
         let ctx = self.ctx;
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
-        if near.is_some_and(|n| n.exact) {
+        if near.is_some_and(|n| !n.perturbed) {
             scratch.motions.clone_from(&ctx.motions);
         } else {
             self.perturbed_motions(&mut rng, scratch);
@@ -124,11 +138,11 @@ impl<'c, 'p> Sampler<'c, 'p> {
         // The slider's direction when no fit turns it afterwards, else read from `x`.
         let mut slider_direction = None;
         let deviation = match near {
-            Some(Near { start, exact }) => {
+            Some(Near { start, jitter, .. }) => {
                 x.extend_from_slice(start);
-                if !exact {
+                if jitter > 0.0 {
                     for v in &mut x[..2 * n] {
-                        *v += normal(&mut rng) * WARM_JITTER * ctx.body_size;
+                        *v += normal(&mut rng) * jitter * ctx.body_size;
                     }
                 }
                 ctx.pin(x);
