@@ -68,9 +68,9 @@ impl SampleScratch {
     }
 }
 
-/// Where a warm sample starts ([`Sampler::draw`]): a previous design's parameter vector, and whether
-/// it is fitted as it is to the poses as drawn (`exact`: the least change that makes that design
-/// rigid through the poses now) rather than jittered and fitted to perturbed poses like any sample.
+/// Where a warm sample starts ([`Sampler::draw`]): a previous design's parameter vector, how far its
+/// joints are jittered, and whether it is fitted to perturbed poses like any sample or to the poses
+/// as drawn ([`Near::exact`]: the least change that makes that design rigid through the poses now).
 #[derive(Clone, Copy, Debug)]
 pub struct Near<'a> {
     pub start: &'a [f64],
@@ -121,9 +121,8 @@ impl<'c, 'p> Sampler<'c, 'p> {
     ///
     /// Without `near`, joints are drawn uniformly in the region and the others solved in closed form
     /// where the poses allow it, the rest fitted from the constructed start. With `near`, every joint
-    /// starts from that parameter vector (a previous design's, see [`x_from_mechanism`]) jittered by
-    /// [`WARM_JITTER`]·d and the whole linkage is fitted; an `exact` one is fitted as it is, through
-    /// the poses as drawn.
+    /// starts from that parameter vector (a previous design's, see [`x_from_mechanism`]) jittered as
+    /// `near` says, and the whole linkage is fitted.
     pub fn draw(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> bool {
         let ctx = self.ctx;
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
