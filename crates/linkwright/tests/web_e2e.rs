@@ -472,6 +472,10 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     let drawn = eval(page, PREVIEW_PIXELS).await?.as_u64().unwrap_or(0);
     assert!(drawn > 5000, "the 3D preview shows the parts: {drawn} pixels");
     let frames = "Number(document.getElementById('view3d-canvas').dataset.frames)";
+    // Playing (a joint edit before leaves the animation waiting at the first pose).
+    if eval(page, "window.linkwright.results.playing").await? != Value::Bool(true) {
+        click(page, "#btn-play").await?;
+    }
     let before = eval(page, frames).await?.as_u64().unwrap_or(0);
     until(page, &format!("{frames} > {before}"), Duration::from_secs(5)).await?;
     // No part leaves the view anywhere along the motion (one travel takes 3 s as it plays): the
@@ -541,17 +545,20 @@ async fn joint_editing(page: &Page) -> Result<()> {
         p.0, p.1
     );
     assert_eq!(eval(page, &on_truck).await?, true, "the pivot lies on a fixed body");
-    // A few pixels one way; where the linkage would lock up there (the app says so, and the design
-    // stays where the drag last could take it: undone), the other ways in turn.
+    // A few pixels one way; where the linkage would lock up or collide there (the app says so, and
+    // the drag is undone), the other ways in turn.
     let settled =
         "!window.linkwright.results.editBusy && /^Joint q0 (at|cannot go)/.test(window.linkwright.store.ui.hint)";
     let mut before = before;
-    for (dx, dy) in [(5.0, -3.0), (-5.0, 3.0), (3.0, 5.0), (-3.0, -5.0)] {
+    let ways = [(5.0, -3.0), (-5.0, 3.0), (3.0, 5.0), (-3.0, -5.0), (3.0, -2.0), (-3.0, 2.0), (2.0, 3.0), (-2.0, -3.0)];
+    for (dx, dy) in ways {
         let start = floats(&eval(page, q0).await?);
         eval(page, "(window.linkwright.store.ui.hint = '') || true").await?;
         drag(page, p, (p.0 + dx, p.1 + dy)).await?;
         until(page, settled, Duration::from_secs(10)).await?;
-        let done = eval(page, "window.linkwright.store.ui.hint.startsWith('Joint q0 at')").await? == Value::Bool(true);
+        // Moved, and sound (a drag may take the linkage into a collision: that one is undone too).
+        let sound = "window.linkwright.store.ui.hint.startsWith('Joint q0 at') && window.linkwright.store.result.verified?.ok === true";
+        let done = eval(page, sound).await? == Value::Bool(true);
         let now = floats(&eval(page, q0).await?);
         if done && now != start {
             before = start;
@@ -577,9 +584,12 @@ async fn joint_editing(page: &Page) -> Result<()> {
     assert!((in_motion[0] - after[0]).abs() < 1e-6 && (in_motion[1] - after[1]).abs() < 1e-6);
     let hint = eval(page, "window.linkwright.store.ui.hint").await?;
     assert!(hint.as_str().unwrap_or_default().starts_with("Joint q0 at"), "{hint}");
-    // The status line does not say all is well when the moved linkage misses a pose.
-    let honest = "(() => { const w = window.linkwright.store.result.design.metrics.worst_pose_error, \
-                  h = window.linkwright.store.ui.hint; return w.position_rel_d > 0.01 || Math.abs(w.angle_deg) > 1 \
+    // The status line does not say all is well when the moved linkage breaks a constraint or misses
+    // a pose.
+    let honest = "(() => { const r = window.linkwright.store.result, w = r.design.metrics.worst_pose_error, \
+                  h = window.linkwright.store.ui.hint; if (r.verified && !r.verified.ok) \
+                  return h.includes(`${r.verified.violations[0].constraint}: `); \
+                  return w.position_rel_d > 0.01 || Math.abs(w.angle_deg) > 1 \
                   ? h.includes(' is missed by ') : h.includes('every hard constraint holds'); })()";
     assert_eq!(eval(page, honest).await?, Value::Bool(true), "{hint}");
     undo(page).await?;

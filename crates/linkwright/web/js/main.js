@@ -87,7 +87,6 @@ $('btn-undo').addEventListener('click', undo);
 $('btn-redo').addEventListener('click', redo);
 $('scene-name').addEventListener('change', (e) => store.edit('rename the scene', (s) => { s.name = e.target.value || 'untitled'; }));
 
-/** Frames the drawing and, while a design is shown, its whole motion. */
 /** Frames everything (the whole motion while a design is shown), clear of the player at the bottom
  * and with room above for a selected shape's rotation handle. */
 function fit() {
