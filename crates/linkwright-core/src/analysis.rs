@@ -6,13 +6,14 @@
 //! crank travel; [`analyze`] turns a replay into a serializable [`MotionAnalysis`]. Angles in the
 //! output are degrees, as in the files; positions are world coordinates, y up.
 
+use crate::balance::Balancing;
 use crate::design::{DesignError, DesignFile, MechanismJson, Motion};
 use crate::fab::PrintSettings;
 use crate::geom::{Point, Rigid};
 use crate::kinematics::{BodyFrames, CompileError, Plan, Step, SweepError, Trace};
 use crate::mechanism::{Loop, Mechanism, PartKind};
 use crate::scene::Problem;
-use crate::statics::{driving_torque, Masses, Torque};
+use crate::statics::{driving_torque, Masses, StaticsError, Torque};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -111,6 +112,16 @@ pub struct Replay {
 }
 
 impl Replay {
+    /// The torque the crank needs along this motion to hold `masses` against gravity.
+    pub fn torque(&self, problem: &Problem, masses: &Masses) -> Result<Torque, StaticsError> {
+        driving_torque(problem, &self.mechanism, &self.plan, &self.trace, masses)
+    }
+
+    /// The search for springs that counterbalance this motion, whose torque without them is `torque`.
+    pub fn balancing<'a>(&'a self, problem: &'a Problem, masses: &'a Masses, torque: &'a Torque) -> Balancing<'a> {
+        Balancing { problem, mechanism: &self.mechanism, plan: &self.plan, trace: &self.trace, masses, torque }
+    }
+
     /// Re-simulates mechanism `which` of `design` against `problem` in `steps` equal crank steps (plus
     /// the pose angles).
     pub fn new(problem: &Problem, design: &DesignFile, which: Which, steps: usize) -> Result<Replay, AnalysisError> {
@@ -401,7 +412,7 @@ pub fn describe(problem: &Problem, design: Option<&DesignFile>, replay: &Replay)
         min_transmission_bound_deg: problem.settings.min_transmission_deg,
         torque: Masses::for_design(problem, design, &PrintSettings::default())
             .ok()
-            .and_then(|masses| driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses).ok()),
+            .and_then(|masses| replay.torque(problem, &masses).ok()),
     }
 }
 

@@ -24,8 +24,7 @@ fn design(scene: &Scene, build: Build, samples: usize) -> (Problem, BuildPlan, D
     let plan = BuildPlan::new(&problem, &PrintSettings::default()).unwrap();
     let settings = PrintSettings::default();
     let (plan, outcome) = plan.synthesize(&problem, &settings, &Options::default(), &Silent).unwrap();
-    let mut file = DesignFile::from_outcome(&problem, &outcome);
-    plan.finish(&outcome, &mut file);
+    let file = plan.design_file(&problem, &outcome);
     (problem, plan, file, outcome.unbuildable)
 }
 

@@ -206,10 +206,10 @@ fn write_outputs(
             let design = s.spawn(move || write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes()));
             (design, animation)
         });
-        let mut file = DesignFile::from_outcome(problem, outcome);
-        if let Some(plan) = plan {
-            plan.finish(outcome, &mut file);
-        }
+        let file = match plan {
+            Some(plan) => plan.design_file(problem, outcome),
+            None => DesignFile::from_outcome(problem, outcome),
+        };
         let json = file.to_json();
         let written = write_atomically(&out_dir.join("design.json"), json.as_bytes());
         let pictures = pictures.map(|(design, animation)| (joined(design), joined(animation)));

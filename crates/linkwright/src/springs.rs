@@ -3,9 +3,9 @@
 
 use crate::Failure;
 use linkwright_core::analysis::{Replay, Which};
-use linkwright_core::balance::{Balance, Balancing, Spring, SpringSearch};
+use linkwright_core::balance::{Balance, Spring, SpringSearch};
 use linkwright_core::fab::PrintSettings;
-use linkwright_core::statics::{driving_torque, Masses, Torque};
+use linkwright_core::statics::{Masses, Torque};
 use linkwright_core::{DesignFile, Problem, Silent};
 
 /// Steps of the crank's travel the torque is given at.
@@ -26,10 +26,9 @@ pub fn counterbalanced(
         return Err(fail(design_name, &"has no mechanism (status no_solution)"));
     }
     let replay = Replay::new(problem, design, Which::Best, ANALYZE_STEPS).map_err(|e| fail(design_name, &e))?;
-    let torque = driving_torque(problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
-        .map_err(|e| fail(design_name, &e))?;
-    let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
-    let balance = Balancing { problem, mechanism, plan, trace, masses: &masses, torque: &torque }
+    let torque = replay.torque(problem, &masses).map_err(|e| fail(design_name, &e))?;
+    let balance = replay
+        .balancing(problem, &masses, &torque)
         .best(SpringSearch::ANALYSIS, &Silent)
         .expect("a silent search is never cancelled");
     Ok((torque, balance))

@@ -312,10 +312,11 @@ impl BuildPlan {
         BuildRecord { asked: self.asked, checked: self.checked, buildable, reason, model_mm: self.model_mm() }
     }
 
-    /// Records the build in `file` (the design file of `outcome`), and when there is no design and the
-    /// drawing's size does not suit the build, says that instead (the search's own reason would blame
-    /// the poses).
-    pub fn finish(&self, outcome: &Outcome, file: &mut DesignFile) {
+    /// The design file of `outcome` (a search of `problem` for this build), with the build recorded;
+    /// when there is no design and the drawing's size does not suit the build, its reason says that
+    /// instead (the search's own reason would blame the poses).
+    pub fn design_file(&self, problem: &Problem, outcome: &Outcome) -> DesignFile {
+        let mut file = DesignFile::from_outcome(problem, outcome);
         file.build = Some(self.record(outcome));
         if file.status == Status::NoSolution && !self.notes.is_empty() {
             let size: Vec<String> = self.notes.iter().map(|n| n.to_string()).collect();
@@ -325,6 +326,7 @@ impl BuildPlan {
                 size.join("; ")
             ));
         }
+        file
     }
 
     /// Why `mechanism` cannot be printed at the model's scale (the print check's `error`), in numbers,

@@ -48,9 +48,7 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
             let options = Options { start, printable: None };
             let (plan, outcome) =
                 pool.install(|| plan.synthesize(problem, &settings, &options, &Silent)).expect("never cancelled");
-            let mut file = DesignFile::from_outcome(problem, &outcome);
-            plan.finish(&outcome, &mut file);
-            Ok(file)
+            Ok(plan.design_file(problem, &outcome))
         };
         let mut shown = design(&problem, Start::Cold)?;
         if shown.status != Status::Ok {

@@ -7,7 +7,7 @@ use crate::files::read_problem;
 use crate::Failure;
 use linkwright_core::fab::{bundle, fabricate_design, BuildPlan, PrintSettings};
 use linkwright_core::testbed::scaled_scene;
-use linkwright_core::{DesignFile, Options, Problem, Silent, Status};
+use linkwright_core::{Options, Problem, Silent, Status};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -59,8 +59,7 @@ pub fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> 
                 .install(|| plan.synthesize(&problem, &settings, &Options::default(), &Silent))
                 .expect("never cancelled");
             let seconds_design = t.elapsed().as_secs_f64();
-            let mut file = DesignFile::from_outcome(&problem, &outcome);
-            plan.finish(&outcome, &mut file);
+            let file = plan.design_file(&problem, &outcome);
             let designed = file.status == Status::Ok;
             let fabricated = designed
                 .then(|| fabricate_design(&problem, &scaled.units, &file, &settings).ok())

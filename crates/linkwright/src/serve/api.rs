@@ -15,10 +15,10 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
-use linkwright_core::balance::{Balanced, Balancing, SpringSearch};
+use linkwright_core::balance::{Balance, Balanced, SpringSearch};
 use linkwright_core::fab::{millimetres_per_unit, model_scale, BuildPlan, PrintSettings};
 use linkwright_core::geom::Point;
-use linkwright_core::statics::{driving_torque, Masses};
+use linkwright_core::statics::Masses;
 use linkwright_core::{
     animation_svg, design_svg, synthesize_with, DesignFile, EditError, Mechanism, MechanismType, Options, Problem,
     Progress, Reject, RenderInput, Scene, Start, Status,
@@ -281,10 +281,10 @@ impl DesignInput {
             None => synthesize_with(&self.problem, &options, &observer).map(|o| (None, o)),
         }
         .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))?;
-        let mut file = DesignFile::from_outcome(&self.problem, &outcome);
-        if let Some(plan) = plan {
-            plan.finish(&outcome, &mut file);
-        }
+        let file = match plan {
+            Some(plan) => plan.design_file(&self.problem, &outcome),
+            None => DesignFile::from_outcome(&self.problem, &outcome),
+        };
         Ok(file)
     }
 }
@@ -532,24 +532,31 @@ pub async fn balance(
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
     let work = move |flag: &Arc<StopFlag>| {
         let replay = request.replay(steps)?;
-        let torque = driving_torque(&request.problem, &replay.mechanism, &replay.plan, &replay.trace, &masses)
-            .map_err(|e| {
-                ApiError::unprocessable(format!("the torque cannot be computed: {e}"))
-                    .with_issue("design", e.to_string())
-            })?;
-        // The search stops when the job does (its deadline, or the client gone): the answer then says
-        // why (`Jobs::run`).
-        let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
-        let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
-        let balancing =
-            Balancing { problem: &request.problem, mechanism, plan, trace, masses: &masses, torque: &torque };
-        let balance = balancing
-            .best(SpringSearch::ANALYSIS, &observer)
-            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
-        Ok(serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null))
+        counterbalanced(&request.problem, &replay, &masses, flag).map(|(_, answer)| answer)
     };
     let answer = state.jobs.run(Kind::Analysis, &client, Work::BALANCE, work).await?;
     Ok(Json(answer))
+}
+
+/// The torque `replay`'s motion needs with `masses` and the springs that lower its peak: the springs,
+/// and both as `POST /api/balance` answers them. The search stops when the job does (its deadline, or
+/// the client gone): the answer then says why (`Jobs::run`).
+pub(super) fn counterbalanced(
+    problem: &Problem,
+    replay: &Replay,
+    masses: &Masses,
+    flag: &Arc<StopFlag>,
+) -> Result<(Balance, Value), ApiError> {
+    let torque = replay.torque(problem, masses).map_err(|e| {
+        ApiError::unprocessable(format!("the torque cannot be computed: {e}")).with_issue("design", e.to_string())
+    })?;
+    let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
+    let balance = replay
+        .balancing(problem, masses, &torque)
+        .best(SpringSearch::ANALYSIS, &observer)
+        .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
+    let answer = serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null);
+    Ok((balance, answer))
 }
 
 /// `POST /api/edit`: `{scene, design, alternative?, joints: {name: [x, y], ...}}` in: the design with

@@ -3,7 +3,7 @@
 //! [`super::bundles`]); the answer lists them with the report and, for printed parts, what the 3D
 //! preview needs.
 
-use super::api::{parsed, print_settings, printable_size, AppState, Client, Compound};
+use super::api::{counterbalanced, parsed, print_settings, printable_size, AppState, Client, Compound};
 use super::bundles::{media_type, Stored, ZIP_NAME};
 use super::error::ApiError;
 use super::jobs::JobObserver;
@@ -15,13 +15,13 @@ use axum::extract::{Path, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use linkwright_core::analysis::Which;
-use linkwright_core::balance::{Balanced, Balancing, SpringSearch};
+use linkwright_core::analysis::{Replay, Which};
+use linkwright_core::balance::Balanced;
 use linkwright_core::fab::{
     bundle, fabricate_design_or_alternative, sanitize, Chosen, FabError, PrintSettings, Report,
 };
 use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
-use linkwright_core::statics::{driving_torque, Masses};
+use linkwright_core::statics::Masses;
 use linkwright_core::workshop::{self, SpringOrder, Workshop, WorkshopSettings};
 use linkwright_core::{Build, DesignFile, Material, Problem, Progress};
 use serde::Serialize;
@@ -149,17 +149,9 @@ impl Request {
         };
         let masses = Masses::for_design(problem, Some(&self.design), &self.settings)
             .map_err(|e| unprocessable("the masses cannot be found", "scene", &e))?;
-        let replay =
-            linkwright_core::analysis::Replay::new(problem, &self.design, Which::Best, crate::springs::ANALYZE_STEPS)
-                .map_err(|e| unprocessable("the design cannot be replayed", "design", &e))?;
-        let (mechanism, plan, trace) = (&replay.mechanism, &replay.plan, &replay.trace);
-        let torque = driving_torque(problem, mechanism, plan, trace, &masses)
-            .map_err(|e| unprocessable("the torque cannot be computed", "design", &e))?;
-        let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
-        let balance = Balancing { problem, mechanism, plan, trace, masses: &masses, torque: &torque }
-            .best(SpringSearch::ANALYSIS, &observer)
-            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled"))?;
-        let answer = serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null);
+        let replay = Replay::new(problem, &self.design, Which::Best, crate::springs::ANALYZE_STEPS)
+            .map_err(|e| unprocessable("the design cannot be replayed", "design", &e))?;
+        let (balance, answer) = counterbalanced(problem, &replay, &masses, flag)?;
         Ok((SpringOrder::from_balance(&balance), answer))
     }
 
