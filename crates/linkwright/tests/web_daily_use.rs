@@ -140,10 +140,7 @@ async fn races(page: &Page) -> Result<()> {
 
     // The sofa bed designed; its parts asked for, and the table opened from the gallery at once (the
     // gallery is open before, so the parts are still being made when it is chosen).
-    click(page, "[data-tab=settings]").await?;
-    click(page, "button[title='5000 samples']").await?;
-    click(page, "#btn-design").await?;
-    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    design_quickly(page).await?;
     assert_eq!(eval(page, "window.linkwright.store.result.scene.name").await?, sofa);
     click(page, "[data-tab=result]").await?;
     click(page, "#btn-examples").await?;
@@ -169,10 +166,7 @@ async fn races(page: &Page) -> Result<()> {
 /// At 900 × 700 and at 1920 × 1080, with a design playing, on every tab (the Result tab scrolled to
 /// its joints), and while a design runs: nothing scrolls sideways, no control is covered.
 async fn windows(page: &Page, shots: Option<&std::path::Path>) -> Result<()> {
-    click(page, "[data-tab=settings]").await?;
-    click(page, "button[title='5000 samples']").await?;
-    click(page, "#btn-design").await?;
-    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    design_quickly(page).await?;
     for (width, height) in [(900, 700), (1920, 1080)] {
         window_size(page, width, height).await?;
         for tab in ["object", "settings", "result"] {
@@ -208,13 +202,7 @@ const KEPT: &str = "(() => { const l = window.linkwright, r = l.store.result; re
 /// it was, with no request to design. Then the bundled table's plain scene file opens as a scene.
 async fn projects(page: &Page, downloads: &Path) -> Result<()> {
     click(page, "[data-tab=result]").await?;
-    click(page, "[data-which='0']").await?;
-    until(
-        page,
-        "window.linkwright.store.result.which === 0 && window.linkwright.store.result.analysis !== null",
-        Duration::from_secs(10),
-    )
-    .await?;
+    pick_design(page, "0").await?;
     click(page, "input[data-pin]").await?;
     until(page, "Object.keys(window.linkwright.store.scene.pinned_joints || {}).length === 1", Duration::from_secs(2))
         .await?;
@@ -275,10 +263,7 @@ async fn projects(page: &Page, downloads: &Path) -> Result<()> {
 /// The small things, on the table.
 async fn small_things(page: &Page) -> Result<()> {
     // Parts: each part's file is saved under the scene's name.
-    click(page, "[data-tab=settings]").await?;
-    click(page, "button[title='5000 samples']").await?;
-    click(page, "#btn-design").await?;
-    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await?;
+    design_quickly(page).await?;
     click(page, "[data-tab=result]").await?;
     click(page, "#btn-fabricate").await?;
     until(page, "document.querySelector('a[data-file^=\"parts/\"]') !== null", Duration::from_secs(60)).await?;
@@ -317,13 +302,7 @@ async fn small_things(page: &Page) -> Result<()> {
     settle(page).await?;
     let scrolled = eval(page, "document.getElementById('tab-result').scrollTop").await?.as_f64().ok_or("scrollTop")?;
     assert!(scrolled > 0.0, "the alternatives are below the fold");
-    click(page, "[data-which='1']").await?;
-    until(
-        page,
-        "window.linkwright.store.result.which === 1 && window.linkwright.store.result.analysis !== null",
-        Duration::from_secs(10),
-    )
-    .await?;
+    pick_design(page, "1").await?;
     settle(page).await?;
     let now = eval(page, "document.getElementById('tab-result').scrollTop").await?.as_f64().ok_or("scrollTop")?;
     assert!((now - scrolled).abs() < 1.0, "the Result tab scrolled from {scrolled} to {now}");

@@ -259,13 +259,7 @@ async fn run(page: &Page, server: &Server, downloads: &Path, shots: Option<&Path
     let spans = eval(page, spans).await?;
     let spans: Vec<f64> = spans.as_array().ok_or("spans")?.iter().filter_map(Value::as_f64).collect();
     assert!(!spans.is_empty() && spans.iter().all(|&f| f >= 0.5), "joint spans of the thumbnails: {spans:?}");
-    click(page, "#tab-result .thumb[data-which='0']").await?;
-    until(
-        page,
-        "window.linkwright.store.result.which === 0 && window.linkwright.store.result.analysis !== null",
-        Duration::from_secs(10),
-    )
-    .await?;
+    pick_design(page, "0").await?;
     eval(page, "window.linkwright.store.edit('rename', (s) => { s.name = 'renamed'; }) && true").await?;
     click(page, "#tab-result button[title='the design/1 file']").await?;
     let file = wait_for_file(downloads, "renamed.design.json", Duration::from_secs(10)).await?;
@@ -424,21 +418,9 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     // An alternative shows its own errors, then the best design again.
     if eval(page, "document.querySelector(\"#tab-result .thumb[data-which='0']\") !== null").await? == Value::Bool(true)
     {
-        click(page, "#tab-result .thumb[data-which='0']").await?;
-        until(
-            page,
-            "window.linkwright.store.result.which === 0 && window.linkwright.store.result.analysis !== null",
-            Duration::from_secs(10),
-        )
-        .await?;
+        pick_design(page, "0").await?;
         check_pose_errors(page, None).await?;
-        click(page, "#tab-result .thumb[data-which='best']").await?;
-        until(
-            page,
-            "window.linkwright.store.result.which === null && window.linkwright.store.result.analysis !== null",
-            Duration::from_secs(10),
-        )
-        .await?;
+        pick_design(page, "best").await?;
         check_pose_errors(page, None).await?;
     }
 

@@ -418,3 +418,21 @@ pub async fn replace_if_asked(page: &Page) -> Result<()> {
     eval(page, js).await?;
     settle(page).await
 }
+
+/// Designs the scene shown with a quick search (5,000 samples, Settings) and waits for it to play.
+pub async fn design_quickly(page: &Page) -> Result<()> {
+    click(page, "[data-tab=settings]").await?;
+    click(page, "button[title='5000 samples']").await?;
+    click(page, "#btn-design").await?;
+    until(page, "!document.getElementById('player').hidden", Duration::from_secs(120)).await
+}
+
+/// Picks the design's thumbnail `which` (`best`, or an alternative's index) in the Result tab and
+/// waits for its motion.
+pub async fn pick_design(page: &Page, which: &str) -> Result<()> {
+    click(page, &format!("#tab-result .thumb[data-which='{which}']")).await?;
+    let shown = if which == "best" { "null".to_string() } else { which.to_string() };
+    let js =
+        format!("window.linkwright.store.result.which === {shown} && window.linkwright.store.result.analysis !== null");
+    until(page, &js, Duration::from_secs(10)).await
+}
