@@ -256,6 +256,16 @@ impl Mechanism {
     pub fn crank_start(&self) -> f64 {
         (self.joints[self.topology.driver_tip] - self.joints[self.topology.driver_pivot]).angle()
     }
+    /// The largest distance of a joint from where it is in `earlier` (both at the first pose); `None`
+    /// when `earlier` is of another family, so that no joint of one corresponds to a joint of the other.
+    pub fn farthest_move_from(&self, earlier: &Mechanism) -> Option<f64> {
+        if self.topology.mechanism_type != earlier.topology.mechanism_type {
+            return None;
+        }
+        let names = &self.topology.joint_names;
+        let mut each = names.iter().zip(&self.joints).map(|(name, p)| earlier.joint(name).map(|q| p.distance(q)));
+        each.try_fold(0.0, |far: f64, d| d.map(|d| far.max(d)))
+    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@ use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
-use super::refine::{refine_design, RefineOptions};
+use super::refine::{refine_design, Leash, RefineOptions};
 use super::sample::{x_from_mechanism, Near, SampleScratch, Sampler, WARM_JITTER};
 use super::workspace::Workspace;
 use crate::kinematics::Trace;
@@ -200,6 +200,11 @@ pub enum Start<'a> {
 /// 0.055 d (`linkwright bench --live examples/*.json`).
 pub const FOLLOW_COST_SLACK: f64 = 0.25;
 
+/// How far (fraction of d) the refinement may move the design that follows the one shown: the
+/// optimum itself can move several times as far as the pose dragged, and a design refined freely
+/// drifts from the one shown until it jumps (`linkwright bench --live examples/*.json`).
+const FOLLOW_REACH: f64 = 0.03;
+
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
 
@@ -356,31 +361,32 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
 }
 
 /// Puts first, of `designs` (cheapest first) costing at most [`FOLLOW_COST_SLACK`] more than the
-/// cheapest, the one whose joints moved least from `shown` (the largest distance of a joint from
-/// where it was at the first pose); linkages of another family never follow it. Run on the valid
-/// linkages before the designs are picked (so that it is picked, and the others distinct from it),
-/// and again on the finished designs, which come back cheapest first.
-fn follow(shown: &Mechanism, designs: &mut [Candidate]) {
+/// cheapest, the one whose joints moved least from `shown` ([`Mechanism::farthest_move_from`]) and
+/// that the independent re-simulation accepts ([`verifies`]: a linkage at the edge of a check may pass
+/// the search's and fail it); linkages of another family never follow it. Run on the valid linkages
+/// before the designs are picked (so that it is picked, and the others distinct from it), and again
+/// on the finished designs ([`finish_designs`]).
+fn follow(problem: &Problem, shown: &Mechanism, designs: &mut [Candidate]) {
     let Some(cheapest) = designs.first().map(|c| c.cost) else { return };
     let limit = cheapest + FOLLOW_COST_SLACK * cheapest.abs();
-    let moved = |c: &Candidate| {
-        let m = &c.mechanism;
-        if m.topology.mechanism_type != shown.topology.mechanism_type {
-            return None;
-        }
-        let names = &m.topology.joint_names;
-        let each = names.iter().zip(&m.joints).map(|(name, p)| shown.joint(name).map(|q| p.distance(q)));
-        each.collect::<Option<Vec<f64>>>().map(|d| d.into_iter().fold(0.0, f64::max))
-    };
-    let nearest = designs
+    let mut near: Vec<(usize, f64)> = designs
         .iter()
         .enumerate()
         .take_while(|(_, c)| c.cost <= limit)
-        .filter_map(|(i, c)| moved(c).map(|d| (i, d)))
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some((i, _)) = nearest {
+        .filter_map(|(i, c)| c.mechanism.farthest_move_from(shown).map(|d| (i, d)))
+        .collect();
+    near.sort_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some(&(i, _)) = near.iter().find(|&&(i, _)| verifies(problem, &designs[i])) {
         designs[..=i].rotate_right(1);
     }
+}
+
+/// Whether the independent re-simulation ([`verify_travel`], what a design file's check runs) finds
+/// `c` sound along its travel.
+fn verifies(problem: &Problem, c: &Candidate) -> bool {
+    let poses: Vec<f64> = c.pose_thetas().map(f64::to_degrees).collect();
+    let travel = Travel { start: poses[0], end: poses[poses.len() - 1], poses: &poses };
+    verify_travel(problem, &c.mechanism, travel).0.is_empty()
 }
 
 /// One search over every family (`contexts`, with their `workspaces`): sampling, checks and the
@@ -445,7 +451,7 @@ fn design_round(
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     if let Start::Follow([shown, ..]) = options.start {
-        follow(shown, &mut valid);
+        follow(problem, shown, &mut valid);
     }
     let t = Instant::now();
     let mut picked = pick_designs(problem, valid, run)?;
@@ -455,12 +461,12 @@ fn design_round(
         picked.extend(run.refused.take());
     }
     let t = Instant::now();
-    let mut picked = finish_designs(problem, contexts, workspaces, picked, run)?;
+    let shown = match options.start {
+        Start::Follow([shown, ..]) => Some(shown),
+        _ => None,
+    };
+    let picked = finish_designs(problem, (contexts, workspaces), picked, shown, run)?;
     run.stats.seconds_refinement += t.elapsed().as_secs_f64();
-    // Finished designs come cheapest first: the one that follows goes first again.
-    if let Start::Follow([shown, ..]) = options.start {
-        follow(shown, &mut picked);
-    }
     Ok(picked)
 }
 
@@ -500,14 +506,17 @@ fn pick_designs(problem: &Problem, valid: Vec<Candidate>, run: &mut Run) -> Resu
 }
 
 /// The picked designs refined to local optima of the cost ([`refine_design`]), each checked again:
-/// a refined design that cannot be printed gives way to its unrefined self, and a design the
-/// independent re-simulation ([`verify_travel`], what a design file's check runs) rejects is dropped
-/// and counted. Returned best first, each distinct from those before it.
+/// a refined design that cannot be printed, or that the independent re-simulation ([`verify_travel`],
+/// what a design file's check runs) rejects, gives way to its unrefined self; a design neither of
+/// which passes is dropped and counted. Returned best first, each distinct from those before it.
+///
+/// Following the design `shown`, the first picked (the one that follows it) is also refined on a
+/// [`FOLLOW_REACH`] leash, and the design that moved least from `shown` goes first ([`follow`]).
 fn finish_designs(
     problem: &Problem,
-    contexts: &[Context],
-    workspaces: &[Workspace],
+    (contexts, workspaces): (&[Context], &[Workspace]),
     picked: Vec<Candidate>,
+    shown: Option<&Mechanism>,
     run: &mut Run,
 ) -> Result<Vec<Candidate>, Cancelled> {
     run.go_on()?;
@@ -515,27 +524,38 @@ fn finish_designs(
     let family_of = |c: &Candidate| {
         contexts.iter().position(|ctx| ctx.topology.mechanism_type == c.mechanism.topology.mechanism_type)
     };
+    let verified = |c: Candidate| verifies(problem, &c).then_some(c);
     let options = RefineOptions::default();
-    let finished: Vec<Option<Candidate>> = picked
+    let finished: Vec<[Option<Candidate>; 3]> = picked
         .into_par_iter()
-        .map(|c| {
+        .enumerate()
+        .map(|(i, c)| {
             let f = family_of(&c).expect("every design comes from one of the run's families");
-            let mut refined = refine_design(&contexts[f], &c, &options, &mut workspaces[f].judging.take());
-            if let Some(check) = printable {
-                if refined.printable || check.accepts(&refined.mechanism, &refined.trace) {
-                    refined.printable = true;
-                } else if c.printable {
-                    refined = c;
+            let ctx = &contexts[f];
+            let refined = |leash| {
+                let mut refined = refine_design(ctx, &c, &options, leash, &mut workspaces[f].judging.take());
+                if let Some(check) = printable {
+                    refined.printable = refined.printable || check.accepts(&refined.mechanism, &refined.trace);
+                    if !refined.printable && c.printable {
+                        return None;
+                    }
                 }
-            }
-            let poses: Vec<f64> = refined.pose_thetas().map(f64::to_degrees).collect();
-            let travel = Travel { start: poses[0], end: poses[poses.len() - 1], poses: &poses };
-            verify_travel(problem, &refined.mechanism, travel).0.is_empty().then_some(refined)
+                verified(refined)
+            };
+            let leash = shown.filter(|_| i == 0).map(|shown| Leash { shown, reach: FOLLOW_REACH * ctx.body_size });
+            let leashed = leash.and_then(|leash| refined(Some(leash)));
+            let free = refined(None);
+            let unrefined =
+                (free.is_none() || (leash.is_some() && leashed.is_none())).then(|| verified(c.clone())).flatten();
+            [free, leashed, unrefined]
         })
         .collect();
-    run.stats.failed_verification = finished.iter().filter(|c| c.is_none()).count();
-    let mut finished: Vec<Candidate> = finished.into_iter().flatten().collect();
+    run.stats.failed_verification = finished.iter().filter(|c| c.iter().all(Option::is_none)).count();
+    let mut finished: Vec<Candidate> = finished.into_iter().flatten().flatten().collect();
     finished.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    if let Some(shown) = shown {
+        follow(problem, shown, &mut finished);
+    }
     let min_shift = min_shift(problem);
     let mut out: Vec<Candidate> = Vec::new();
     for c in finished {
@@ -637,7 +657,9 @@ fn run_family(
         let near = (!seeds.is_empty()).then(|| {
             let start = seeds[i % around].as_slice();
             // Following, every other sample stays close: a fifth of the jitter, through the poses as drawn.
-            if following && i % 2 == 0 {
+            if following && i % 4 == 0 {
+                Near { start, jitter: WARM_JITTER / 25.0, perturbed: false }
+            } else if following && i % 2 == 0 {
                 Near { start, jitter: WARM_JITTER / 5.0, perturbed: false }
             } else {
                 Near::warm(start)

@@ -19,6 +19,7 @@ use super::sample::{mechanism_from_x, x_from_mechanism};
 use super::terms::Term;
 use super::workspace::Buffers;
 use crate::kinematics::BodyFrames;
+use crate::mechanism::Mechanism;
 use nalgebra::{DMatrix, DVector};
 
 /// The refinement's constants.
@@ -36,6 +37,14 @@ impl Default for RefineOptions {
     fn default() -> Self {
         RefineOptions { iterations: 12, step: 1e-5, angle_step: 1e-5 }
     }
+}
+
+/// How far a refinement may take a design from the one a person is looking at: no joint farther than
+/// `reach` from where it is in `shown` (or than it was at the start, when that is farther).
+#[derive(Clone, Copy, Debug)]
+pub struct Leash<'a> {
+    pub shown: &'a Mechanism,
+    pub reach: f64,
 }
 
 /// Damped steps tried per Jacobian before the refinement gives up at this point.
@@ -81,10 +90,23 @@ fn judge(ctx: &Context, x: &mut [f64], scratch: &mut Scratch) -> Option<Candidat
     evaluate(ctx, mechanism_from_x(ctx, x), None, f64::INFINITY, scratch).ok()
 }
 
-/// `start` refined to a nearby local optimum of the cost, every hard constraint kept; `start` itself
-/// when no step improves it. Deterministic: no randomness, and the same arithmetic on any thread.
-pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, buffers: &mut Buffers) -> Candidate {
+/// `start` refined to a nearby local optimum of the cost, every hard constraint kept, and within the
+/// `leash` if any; `start` itself when no step improves it. Deterministic: no randomness, and the
+/// same arithmetic on any thread.
+pub fn refine_design(
+    ctx: &Context,
+    start: &Candidate,
+    options: &RefineOptions,
+    leash: Option<Leash>,
+    buffers: &mut Buffers,
+) -> Candidate {
     let Buffers { evaluation: scratch, sweep } = buffers;
+    let leashed = |c: &Candidate| {
+        leash.is_none_or(|Leash { shown, reach }| {
+            let reach = start.mechanism.farthest_move_from(shown).map_or(reach, |d| d.max(reach));
+            c.mechanism.farthest_move_from(shown).is_some_and(|d| d <= reach)
+        })
+    };
     let mut x = Vec::new();
     x_from_mechanism(&start.mechanism, &mut x);
     let joint_vars = 2 * ctx.topology.joint_count();
@@ -130,7 +152,7 @@ pub fn refine_design(ctx: &Context, start: &Candidate, options: &RefineOptions, 
             };
             let mut trial_x: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
             let accepted = judge(ctx, &mut trial_x, scratch)
-                .filter(|c| c.cost < best.cost && check_collisions(ctx, c, sweep).is_ok());
+                .filter(|c| c.cost < best.cost && leashed(c) && check_collisions(ctx, c, sweep).is_ok());
             match accepted {
                 Some(c) => {
                     let gain = best.cost - c.cost;
