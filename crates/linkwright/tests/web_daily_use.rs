@@ -5,8 +5,8 @@
 //! project opens with its design, alternative, pins, springs and print settings, without a redesign,
 //! and a plain scene file still opens; and the small things: Insert pose stops at the engine's most
 //! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
-//! selecting, a part's file is saved under the scene's name, Live redesign stays ticked after a
-//! reload.
+//! selecting, a part's file is saved under the scene's name, the motion video has every frame, Live
+//! redesign stays ticked after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -28,7 +28,7 @@ async fn keyboard_races_small_windows_and_projects() -> Result<()> {
         races(&app.page).await?;
         windows(&app.page, app.shots.as_deref()).await?;
         projects(&app.page, &app.downloads).await?;
-        small_things(&app.page).await
+        small_things(&app.page, &app.downloads).await
     }
     .await;
     app.finish(outcome).await
@@ -261,7 +261,7 @@ async fn projects(page: &Page, downloads: &Path) -> Result<()> {
 }
 
 /// The small things, on the table.
-async fn small_things(page: &Page) -> Result<()> {
+async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     // Parts: each part's file is saved under the scene's name.
     design_quickly(page).await?;
     click(page, "[data-tab=result]").await?;
@@ -286,6 +286,7 @@ async fn small_things(page: &Page) -> Result<()> {
                 const cut = [...chart.querySelectorAll('.axes text')].filter((t) => t.getBBox().x < 0).map((t) => t.textContent); \
                 chart.remove(); return cut; })";
     assert_eq!(eval(page, tiny).await?, serde_json::json!([]), "tiny errors' tick labels are cut");
+    motion_video_frames(page, downloads).await?;
 
     // The engine's reasons are shown in the screen's words, not the file's.
     let words =
@@ -394,4 +395,67 @@ async fn small_things(page: &Page) -> Result<()> {
     until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
     assert_eq!(eval(page, "document.getElementById('opt-live').checked").await?, Value::Bool(true));
     Ok(())
+}
+
+/// The motion exported as a WebM video has every frame the app draws (60, one travel), one every
+/// 50 ms: read back element by element (EBML), its blocks and their times.
+async fn motion_video_frames(page: &Page, downloads: &Path) -> Result<()> {
+    click(page, "#tab-result [data-export=webm]").await?;
+    let file = wait_for_file(downloads, ".motion.webm", Duration::from_secs(60)).await?;
+    until(page, "window.linkwright.store.ui.hint.startsWith('Saved the motion')", Duration::from_secs(10)).await?;
+    let times = webm_frame_times(&std::fs::read(&file)?).ok_or("a WebM file that reads")?;
+    let every: Vec<u64> = (0..60).map(|i| i * 50).collect();
+    assert_eq!(times, every, "the video's frames and their times (ms)");
+    Ok(())
+}
+
+/// The time of each frame (SimpleBlock or Block) of a WebM file in milliseconds, in file order: its
+/// cluster's time plus its own. Reads the EBML elements (IDs and sizes as variable-length integers;
+/// a size of all ones is unknown, running to the end of the parent) and walks into the segment, its
+/// clusters and block groups.
+fn webm_frame_times(bytes: &[u8]) -> Option<Vec<u64>> {
+    const SEGMENT: u64 = 0x1853_8067;
+    const CLUSTER: u64 = 0x1F43_B675;
+    const BLOCK_GROUP: u64 = 0xA0;
+    const TIMECODE: u64 = 0xE7;
+    const SIMPLE_BLOCK: u64 = 0xA3;
+    const BLOCK: u64 = 0xA1;
+    /// A variable-length integer at `at`: its value (with its length marker for an ID) and length.
+    fn vint(bytes: &[u8], at: usize, id: bool) -> Option<(u64, usize)> {
+        let first = *bytes.get(at)?;
+        let len = first.leading_zeros() as usize + 1;
+        if len > 8 {
+            return None;
+        }
+        let mut value = if id { u64::from(first) } else { u64::from(first) & (0xFF >> len) };
+        for k in 1..len {
+            value = (value << 8) | u64::from(*bytes.get(at + k)?);
+        }
+        Some((value, len))
+    }
+    fn walk(bytes: &[u8], mut at: usize, end: usize, cluster: &mut u64, out: &mut Vec<u64>) -> Option<()> {
+        while at < end {
+            let (id, id_len) = vint(bytes, at, true)?;
+            let (size, size_len) = vint(bytes, at + id_len, false)?;
+            let data = at + id_len + size_len;
+            let unknown = size == (1u64 << (7 * size_len)) - 1;
+            let stop = if unknown { end } else { (data + usize::try_from(size).ok()?).min(end) };
+            match id {
+                SEGMENT | CLUSTER | BLOCK_GROUP => walk(bytes, data, stop, cluster, out)?,
+                TIMECODE => *cluster = bytes.get(data..stop)?.iter().fold(0, |v, &b| (v << 8) | u64::from(b)),
+                SIMPLE_BLOCK | BLOCK => {
+                    let (_, track_len) = vint(bytes, data, false)?;
+                    let relative =
+                        i16::from_be_bytes([*bytes.get(data + track_len)?, *bytes.get(data + track_len + 1)?]);
+                    out.push(cluster.checked_add_signed(i64::from(relative))?);
+                }
+                _ => {}
+            }
+            at = stop;
+        }
+        Some(())
+    }
+    let mut out = Vec::new();
+    walk(bytes, 0, bytes.len(), &mut 0, &mut out)?;
+    Some(out)
 }

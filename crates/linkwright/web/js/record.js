@@ -1,6 +1,9 @@
 // The motion as a file: frames of the drawing as shown (the canvas' own SVG, with the page's style
 // sheet inlined), rasterised by the browser, then an animated GIF (encoded here: LZW after the GIF89a
-// specification, a palette of the drawing's own colours) or a WebM video (the browser's MediaRecorder).
+// specification, a palette of the drawing's own colours) or a WebM video (each frame encoded by the
+// browser's VideoEncoder, put in a WebM file here: webm.js).
+
+import { webmFile } from './webm.js';
 
 /** Longest side of an exported frame, pixels. */
 const MAX_SIDE = 800;
@@ -45,9 +48,11 @@ export async function drawSvg(svg, ctx, size, css) {
   ctx.drawImage(image, 0, 0, size.width, size.height);
 }
 
-/** A canvas the size of an export of `svg`, its 2D context (with `options`), and the page's style. */
-function frameCanvas(svg, options = {}) {
+/** A canvas the size of an export of `svg` (`even`: rounded down to even numbers of pixels, as a
+ * video's frames are), its 2D context (with `options`), and the page's style. */
+function frameCanvas(svg, options = {}, { even = false } = {}) {
   const size = exportSize(svg);
+  if (even) Object.assign(size, { width: size.width - (size.width % 2), height: size.height - (size.height % 2) });
   const canvas = document.createElement('canvas');
   canvas.width = size.width;
   canvas.height = size.height;
@@ -243,29 +248,42 @@ export function encodeGif(frames, delay) {
   return out.bytes();
 }
 
-/** A WebM video of `count` frames at `fps`, recorded by the browser from a canvas the frames are drawn
- * on in real time; null when the browser cannot record WebM. */
+/** The video codec: VP8, which every WebM player reads. */
+const VIDEO_CODEC = 'vp8';
+
+/**
+ * A WebM video of `count` frames at `fps`: `show(i)` puts frame i on the canvas, it is drawn, and the
+ * browser's video encoder takes it as the video's frame i, at i / fps seconds. The encoder is fed
+ * frame by frame, so however long a frame takes to draw, every frame is in the video at its own time
+ * (a recorder of the screen as it changes would miss the frames drawn faster than it looks). Null
+ * when the browser cannot encode VP8.
+ */
 export async function recordWebm(svg, count, fps, show) {
-  if (typeof MediaRecorder === 'undefined' || !MediaRecorder.isTypeSupported('video/webm')) return null;
-  const { canvas, ctx, size, css } = frameCanvas(svg);
-  show(0);
-  await drawSvg(svg, ctx, size, css);
-  const stream = canvas.captureStream(fps);
-  const recorder = new MediaRecorder(stream, { mimeType: 'video/webm' });
-  const chunks = [];
-  recorder.ondataavailable = (e) => e.data.size && chunks.push(e.data);
-  const stopped = new Promise((resolve) => { recorder.onstop = resolve; });
-  recorder.start();
-  const start = performance.now();
-  for (let i = 0; i < count; i++) {
+  if (typeof VideoEncoder === 'undefined') return null;
+  const { canvas, ctx, size, css } = frameCanvas(svg, {}, { even: true });
+  const config = { codec: VIDEO_CODEC, width: size.width, height: size.height, bitrate: 4e6, framerate: fps };
+  if (!(await VideoEncoder.isConfigSupported(config)).supported) return null;
+  const frames = [];
+  let failure = null;
+  const encoder = new VideoEncoder({
+    output: (chunk) => {
+      const data = new Uint8Array(chunk.byteLength);
+      chunk.copyTo(data);
+      frames.push({ data, ms: Math.round(chunk.timestamp / 1000), key: chunk.type === 'key' });
+    },
+    error: (e) => { failure = e; },
+  });
+  encoder.configure(config);
+  for (let i = 0; i < count && !failure; i++) {
     show(i);
     await drawSvg(svg, ctx, size, css);
-    // Each frame is on the canvas for its own share of the video's time.
-    const due = start + ((i + 1) * 1000) / fps;
-    await new Promise((r) => setTimeout(r, Math.max(0, due - performance.now())));
+    const frame = new VideoFrame(canvas, { timestamp: Math.round((i * 1e6) / fps), duration: Math.round(1e6 / fps) });
+    // A key frame every second, so a player can seek.
+    encoder.encode(frame, { keyFrame: i % Math.max(1, Math.round(fps)) === 0 });
+    frame.close();
   }
-  recorder.stop();
-  await stopped;
-  stream.getTracks().forEach((t) => t.stop());
-  return new Blob(chunks, { type: 'video/webm' });
+  if (!failure) await encoder.flush();
+  encoder.close();
+  if (failure) throw failure;
+  return new Blob([webmFile({ width: size.width, height: size.height, fps, frames })], { type: 'video/webm' });
 }
