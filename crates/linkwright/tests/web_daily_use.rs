@@ -5,8 +5,8 @@
 //! project opens with its design, alternative, pins, springs and print settings, without a redesign,
 //! and a plain scene file still opens; and the small things: Insert pose stops at the engine's most
 //! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
-//! selecting, a part's file is saved under the scene's name, the motion video has every frame, Live
-//! redesign stays ticked after a reload.
+//! selecting, a part's file is saved under the scene's name, undo and redo of a joint edit bring back
+//! that edit's designs, the motion video has every frame, Live redesign stays ticked after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -323,6 +323,7 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
                   i.dispatchEvent(new Event('change')); return true; })()";
     eval(page, rename).await?;
     assert_eq!(eval(page, "window.linkwright.results.fresh()").await?, Value::Bool(true), "renaming kept the design");
+    joint_edit_undone_and_redone(page).await?;
 
     // Poses up to the engine's limit, every one reachable in the pose bar, and no more.
     let most = eval(page, "fetch('/api/status').then((r) => r.json()).then((s) => s.limits.poses_per_body)").await?;
@@ -394,6 +395,51 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     page.reload().await?;
     until(page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await?;
     assert_eq!(eval(page, "document.getElementById('opt-live').checked").await?, Value::Bool(true));
+    Ok(())
+}
+
+/// The shown design's joints, as JSON text.
+const JOINTS: &str = "JSON.stringify(window.linkwright.store.result.mechanism.joints)";
+
+/// A joint of the design shown moved by typing its x (a place a few tenths away, one way or the
+/// other: the linkage may not follow every move); another design made after it; undo gives back the
+/// design before the edit, redo the edited one, not the design made since.
+async fn joint_edit_undone_and_redone(page: &Page) -> Result<()> {
+    click(page, "[data-tab=result]").await?;
+    let before = eval(page, JOINTS).await?;
+    let name = eval(page, "document.querySelector('#tab-result input[data-joint-x]').dataset.jointX").await?;
+    let name = name.as_str().ok_or("a joint in the Joints table")?.to_string();
+    let settled = format!(
+        "!window.linkwright.results.editBusy && /^Joint {name} (at|cannot go)/.test(window.linkwright.store.ui.hint)"
+    );
+    let mut edited = None;
+    for step in [0.3, -0.3, 0.6, -0.6, 1.0, -1.0] {
+        let x = eval(page, &format!("window.linkwright.store.result.mechanism.joints.{name}[0]")).await?;
+        let typed = ((x.as_f64().ok_or("x")? + step) * 10.0).round() / 10.0;
+        eval(page, "(window.linkwright.store.ui.hint = '') || true").await?;
+        type_into(page, &format!("#tab-result input[data-joint-x={name}]"), &typed.to_string()).await?;
+        until(page, &settled, Duration::from_secs(10)).await?;
+        let hint = eval(page, "window.linkwright.store.ui.hint").await?;
+        if hint.as_str().is_some_and(|h| h.starts_with(&format!("Joint {name} at"))) {
+            edited = Some(eval(page, JOINTS).await?);
+            break;
+        }
+    }
+    let edited = edited.ok_or(format!("no small move of joint {name} was taken"))?;
+    assert_ne!(edited, before);
+    // Designed again: the edited design has no alternatives, the new one has.
+    click(page, "#btn-design").await?;
+    let designed = format!(
+        "!({DESIGNING}) && window.linkwright.store.result.analysis !== null && \
+         window.linkwright.store.result.design.alternatives.length > 0"
+    );
+    until(page, &designed, Duration::from_secs(60)).await?;
+    eval(page, "document.activeElement.blur() || true").await?;
+    undo(page).await?;
+    assert_eq!(eval(page, JOINTS).await?, before, "undo gives back the design before the joint edit");
+    redo(page).await?;
+    assert_eq!(eval(page, JOINTS).await?, edited, "redo gives back the edited design");
+    assert_eq!(eval(page, "window.linkwright.store.result.which").await?, Value::Null);
     Ok(())
 }
 

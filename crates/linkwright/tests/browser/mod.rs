@@ -13,7 +13,8 @@ use chromiumoxide::cdp::browser_protocol::browser::{SetDownloadBehaviorBehavior,
 use chromiumoxide::cdp::browser_protocol::dom::SetFileInputFilesParams;
 use chromiumoxide::cdp::browser_protocol::emulation::SetDeviceMetricsOverrideParams;
 use chromiumoxide::cdp::browser_protocol::input::{
-    DispatchKeyEventParams, DispatchKeyEventType, DispatchMouseEventParams, DispatchMouseEventType, MouseButton,
+    DispatchKeyEventParams, DispatchKeyEventType, DispatchMouseEventParams, DispatchMouseEventType, InsertTextParams,
+    MouseButton,
 };
 use chromiumoxide::cdp::browser_protocol::page::CaptureScreenshotFormat;
 use chromiumoxide::cdp::js_protocol::runtime::EventExceptionThrown;
@@ -149,6 +150,27 @@ pub async fn press(page: &Page, key: &str, code: &str, key_code: i64, text: &str
         .windows_virtual_key_code(key_code)
         .build()?;
     page.execute(up).await?;
+    settle(page).await
+}
+
+/// Types `text` into the field `selector` as a person does: clicks into it, selects what it holds
+/// (Ctrl+A), types over it and leaves it with Tab (the change a field reports then).
+pub async fn type_into(page: &Page, selector: &str, text: &str) -> Result<()> {
+    let js = format!(
+        "(() => {{ const e = document.querySelector({}); if (!e) return false; e.scrollIntoView({{block: 'center'}}); \
+         const r = e.getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2]; }})()",
+        serde_json::to_string(selector)?
+    );
+    let at = eval(page, &js).await?;
+    let (x, y) = (at[0].as_f64().ok_or(format!("no field {selector}"))?, at[1].as_f64().ok_or("y")?);
+    tap(page, (x, y)).await?;
+    key(page, "a", "KeyA", 65, 2).await?;
+    if text.is_empty() {
+        key(page, "Delete", "Delete", 46, 0).await?;
+    } else {
+        page.execute(InsertTextParams::new(text)).await?;
+    }
+    key(page, "Tab", "Tab", 9, 0).await?;
     settle(page).await
 }
 

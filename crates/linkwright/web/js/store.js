@@ -17,6 +17,13 @@ export function newResult({ design, scene, key, warnings = [] }) {
   return { design, scene, key, warnings, which: null, analysis: null, verified: null };
 }
 
+/** `result` (or null) as it is now, for an undo step: a result's mechanism shown, analysis, check and
+ * springs are set anew as another mechanism is picked, while what they hold is replaced, not changed,
+ * so a shallow copy keeps it as it is. */
+function resultState(result) {
+  return result && { ...result };
+}
+
 export class Store {
   constructor(scene) {
     this.scene = scene;
@@ -95,9 +102,15 @@ export class Store {
     this.changed('scene');
   }
 
-  /** One undoable change of the design shown (its joints moved): `before` is the result it replaced. */
+  /**
+   * One undoable change of the design shown (its joints moved): `before` is the result it replaced.
+   * The step keeps both results as they are now, so that undo and redo bring back exactly these
+   * two, whatever is shown (or picked, or redesigned) in between.
+   */
   editResult(label, before) {
-    this.undoStack.push({ scene: JSON.stringify(this.scene), label, ui: this.uiSnapshot(), result: before });
+    this.undoStack.push({
+      scene: JSON.stringify(this.scene), label, ui: this.uiSnapshot(), result: resultState(before), undone: resultState(this.result),
+    });
     if (this.undoStack.length > HISTORY) this.undoStack.shift();
     this.redoStack = [];
     this.changed('result');
@@ -132,16 +145,19 @@ export class Store {
     return step.label;
   }
 
-  /** The step that takes back `step`: the state now, with the design shown when `step` changes it. */
+  /** The step that takes back `step`: the scene now, and for a change of the design shown, the
+   * design `step` took back (not whatever is shown now: a design made or picked since is not the
+   * step's). */
   opposite(step) {
     const back = { scene: JSON.stringify(this.scene), label: step.label, ui: this.uiSnapshot() };
-    if ('result' in step) back.result = this.result;
+    if ('result' in step) Object.assign(back, { result: step.undone, undone: step.result });
     return back;
   }
 
   restore(step) {
     if ('result' in step) {
-      this.result = step.result;
+      // A copy: the result shown changes as another mechanism is picked, the step's must not.
+      this.result = resultState(step.result);
       this.changed('result');
     }
     this.scene = JSON.parse(step.scene);
