@@ -6,7 +6,8 @@
 //! and a plain scene file still opens; and the small things: Insert pose stops at the engine's most
 //! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
 //! selecting, a part's file is saved under the scene's name, undo and redo of a joint edit bring back
-//! that edit's designs, the motion video has every frame, Live redesign stays ticked after a reload.
+//! that edit's designs, an outline that cannot be a shape is refused with the reason, the motion
+//! video has every frame, Live redesign stays ticked after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -369,6 +370,7 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     }
     until(page, "document.getElementById('coords').textContent.endsWith(' cm')", Duration::from_secs(2)).await?;
     undo(page).await?;
+    outlines_refused(page).await?;
 
     // An example replaces a drawing with unsaved changes only after asking: kept, then replaced.
     let renamed = "(() => { const s = window.linkwright.store; s.edit('rename', (x) => { x.name = 'my table'; }); return true; })()";
@@ -441,6 +443,62 @@ async fn joint_edit_undone_and_redone(page: &Page) -> Result<()> {
     assert_eq!(eval(page, JOINTS).await?, edited, "redo gives back the edited design");
     assert_eq!(eval(page, "window.linkwright.store.result.which").await?, Value::Null);
     Ok(())
+}
+
+/// Outlines drawn with the polygon tool that cannot be a body are refused when closed (Enter), with
+/// what is wrong and what to do in the status line, and no shape is added: two corners, three on one
+/// line, a sliver a pixel thick, a bow tie. The corners stay: one more off the line, and it is drawn.
+async fn outlines_refused(page: &Page) -> Result<()> {
+    click(page, "[data-tool=polygon]").await?;
+    click(page, "[data-kind-choice=fixed]").await?;
+    // Off the grid, so that a corner lands a pixel from the line.
+    let snap = eval(page, "document.getElementById('opt-snap').checked").await? == Value::Bool(true);
+    if snap {
+        click(page, "#opt-snap").await?;
+    }
+    let origin = eval(
+        page,
+        "(() => { const r = document.getElementById('canvas').getBoundingClientRect(); return [r.left, r.top]; })()",
+    )
+    .await?;
+    let at = |(x, y): (f64, f64)| (origin[0].as_f64().unwrap_or(0.0) + x, origin[1].as_f64().unwrap_or(0.0) + y);
+    let count = "window.linkwright.store.scene.fixed_bodies.length";
+    let before = eval(page, count).await?;
+    let hint = "window.linkwright.store.ui.hint";
+    // What is drawn, its corners (pixels in the canvas) and what the status line says.
+    let outlines = [
+        (
+            "two corners",
+            vec![(200.0, 500.0), (300.0, 500.0)],
+            "A body needs at least three corners that are not on one line",
+        ),
+        ("three on one line", vec![(200.0, 300.0), (300.0, 300.0), (400.0, 300.0)], "these are on one line"),
+        ("a sliver", vec![(500.0, 500.0), (700.0, 501.0), (900.0, 500.0)], "these are almost on one line"),
+        ("a bow tie", vec![(500.0, 200.0), (700.0, 300.0), (700.0, 200.0), (500.0, 300.0)], "crosses itself"),
+    ];
+    for (what, corners, says) in outlines {
+        eval(page, "(window.linkwright.store.ui.hint = '') || true").await?;
+        for corner in corners {
+            tap(page, at(corner)).await?;
+        }
+        press_enter(page).await?;
+        assert_eq!(eval(page, count).await?, before, "{what} was drawn");
+        let told = eval(page, hint).await?;
+        assert!(told.as_str().is_some_and(|h| h.contains(says)), "{what}: the status line says {told}");
+        press(page, "Escape", "Escape", 27, "").await?;
+    }
+    for corner in [(200.0, 300.0), (300.0, 300.0), (400.0, 300.0)] {
+        tap(page, at(corner)).await?;
+    }
+    press_enter(page).await?;
+    tap(page, at((300.0, 200.0))).await?;
+    press_enter(page).await?;
+    assert_eq!(eval(page, count).await?.as_u64(), before.as_u64().map(|n| n + 1), "the triangle is drawn");
+    undo(page).await?;
+    if snap {
+        click(page, "#opt-snap").await?;
+    }
+    click(page, "[data-tool=select]").await
 }
 
 /// The motion exported as a WebM video has every frame the app draws (60, one travel), one every

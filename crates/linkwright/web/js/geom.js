@@ -91,3 +91,71 @@ export function wrapDeg(a) {
 
 /** Rounds to a tidy number of decimals for display and files. */
 export const tidy = (x, decimals = 3) => Math.round(x * 10 ** decimals) / 10 ** decimals;
+
+const cross = (a, b) => a[0] * b[1] - a[1] * b[0];
+
+/** True when segments a0–a1 and b0–b1 cross away from their ends (by more than `tol` along each). */
+function segmentsCross(a0, a1, b0, b1, tol) {
+  const da = sub(a1, a0), db = sub(b1, b0);
+  const denom = cross(da, db), la = Math.hypot(...da), lb = Math.hypot(...db);
+  if (la === 0 || lb === 0 || Math.abs(denom) <= 1e-12 * la * lb) return false;
+  const w = sub(b0, a0);
+  const t = cross(w, db) / denom, u = cross(w, da) / denom;
+  return t > tol / la && t < 1 - tol / la && u > tol / lb && u < 1 - tol / lb;
+}
+
+/** The narrowest width of `points` (the least distance between two parallel lines with all of them
+ * between): across the direction of some pair of them, so every pair is tried. */
+export function narrowestWidth(points) {
+  let best = Infinity;
+  for (let i = 0; i < points.length; i++) {
+    for (let j = i + 1; j < points.length; j++) {
+      const d = sub(points[j], points[i]), len = Math.hypot(...d);
+      if (len === 0) continue;
+      let lo = 0, hi = 0;
+      for (const p of points) {
+        const s = cross(d, sub(p, points[i])) / len;
+        lo = Math.min(lo, s);
+        hi = Math.max(hi, s);
+      }
+      best = Math.min(best, hi - lo);
+    }
+  }
+  return best === Infinity ? 0 : best;
+}
+
+/**
+ * Why `points` (an outline, in order) cannot be a shape, or null when they can: `{kind: 'few'}` for
+ * fewer than three corners, `{kind: 'flat', width}` when it is narrower than `minWidth` (on one line,
+ * or almost), `{kind: 'crossing', sides: [i, j]}` (0-based, side i from corner i to the next) when it
+ * crosses itself. What the engine refuses (`Polygon::validate`: too few corners, no area, crossing),
+ * and with `minWidth` a sliver it would take, which is of no use as a part.
+ */
+export function outlineProblem(points, minWidth = 0) {
+  const n = points.length;
+  if (n < 3) return { kind: 'few' };
+  const box = bounds(points);
+  const size = Math.hypot(box.maxX - box.minX, box.maxY - box.minY);
+  const width = narrowestWidth(points);
+  if (width <= 1e-9 * size || width < minWidth) return { kind: 'flat', width };
+  const tol = 1e-9 * size;
+  for (let i = 0; i < n; i++) {
+    for (let j = i + 1; j < n; j++) {
+      const [a0, a1] = [points[i], points[(i + 1) % n]];
+      const [b0, b1] = [points[j], points[(j + 1) % n]];
+      if (j === i + 1 || (i === 0 && j === n - 1)) {
+        // Neighbouring sides meet at their shared corner only: one folded back onto the other is a spike.
+        const [shared, u0, v0] = j === i + 1 ? [a1, a0, b1] : [a0, a1, b0];
+        const u = sub(u0, shared), v = sub(v0, shared);
+        const folded = Math.abs(cross(u, v)) <= 1e-12 * Math.hypot(...u) * Math.hypot(...v) && u[0] * v[0] + u[1] * v[1] > 0;
+        if (folded) return { kind: 'crossing', sides: [i, j] };
+      } else if (segmentsCross(a0, a1, b0, b1, tol) || segmentDistance(b0, a0, a1).d <= tol || segmentDistance(a0, b0, b1).d <= tol) {
+        return { kind: 'crossing', sides: [i, j] };
+      }
+    }
+  }
+  // Wide, not crossing, yet of no area: only within rounding of the engine's own test.
+  if (Math.abs(signedArea(points)) <= 1e-9 * size * size) return { kind: 'flat', width };
+  return null;
+}
+

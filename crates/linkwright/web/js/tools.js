@@ -1,8 +1,8 @@
 // What the pointer and the keyboard do on the canvas: select and move shapes and poses, edit vertices,
 // rotate poses, draw rectangles, polygons and ellipses, pan and zoom.
 
-import { GRAB_PX } from './canvas.js';
-import { dist, ellipse, rectangle, segmentDistance, sub } from './geom.js';
+import { formatDimension, GRAB_PX } from './canvas.js';
+import { dist, ellipse, outlineProblem, rectangle, segmentDistance, sub } from './geom.js';
 import * as S from './scene.js';
 
 const KIND_NAMES = {
@@ -19,6 +19,25 @@ export const TOOL_HINTS = {
   ellipse: 'Ellipse: drag to draw {kind}.',
   polygon: 'Polygon: click to place corners of {kind}; click the first corner, double-click or press Enter to close. Backspace removes the last corner, Esc cancels.',
 };
+
+/** A drawn shape narrower than this on screen is refused, pixels: as a rectangle or an ellipse dragged
+ * less far, it would be a line, no part. */
+const MIN_SHAPE_PX = 4;
+
+/** What the status line says when the corners placed cannot be the shape: what is wrong, and what to
+ * do about it (the corners stay, so the person goes on from them). */
+function outlineHint(problem, kind, units) {
+  const what = kind === 'fixed' || kind === 'moving' ? 'A body' : 'A region';
+  const needs = `${what} needs at least three corners that are not on one line`;
+  const more = 'Backspace removes the last corner, Esc cancels';
+  if (problem.kind === 'few') return `${needs}: click more corners, then close it. (${more}.)`;
+  if (problem.kind === 'flat') {
+    const how = problem.width > 0 ? `these are almost on one line (${formatDimension(problem.width)} ${units} across)` : 'these are on one line';
+    return `${needs}: ${how}. Click a corner away from the line, then close it. (${more}.)`;
+  }
+  const [i, j] = problem.sides;
+  return `The outline crosses itself (side ${i + 1} crosses side ${j + 1}): place the corners in order around the shape. (${more}.)`;
+}
 
 export function toolHint(ui) {
   return TOOL_HINTS[ui.tool].replace('{kind}', KIND_NAMES[ui.kind]);
@@ -88,7 +107,8 @@ export class Tools {
     if (ui.tool === 'polygon') {
       const w = this.snapped(e);
       const first = this.polygon[0];
-      if (first && this.polygon.length >= 3 && dist(this.view.toScreen(first), s) <= GRAB_PX) {
+      // Clicking the first corner closes the outline (with too few corners, the hint says so).
+      if (first && this.polygon.length >= 2 && dist(this.view.toScreen(first), s) <= GRAB_PX) {
         this.finishPolygon();
         return;
       }
@@ -233,7 +253,7 @@ export class Tools {
   dblclick(e) {
     const ui = this.store.ui;
     if (ui.tool === 'polygon') {
-      if (this.polygon.length >= 3) this.finishPolygon();
+      if (this.polygon.length) this.finishPolygon();
       return;
     }
     if (ui.tool !== 'select' || !ui.selection) return;
@@ -260,12 +280,23 @@ export class Tools {
     this.actions.redraw();
   }
 
+  /** Closes the outline being drawn: adds the shape, or, when its corners cannot be one (too few, on
+   * one line or nearly, crossing), keeps them and says in the status line what is wrong and what to do. */
   finishPolygon() {
+    // A corner placed twice in a row, or the first placed again to close, counts once.
     const pts = this.polygon.filter((p, i, all) => i === 0 || dist(p, all[i - 1]) > 1e-9);
+    if (pts.length > 1 && dist(pts[0], pts[pts.length - 1]) <= 1e-9) pts.pop();
+    const problem = outlineProblem(pts, MIN_SHAPE_PX / this.view.k);
+    if (problem) {
+      this.polygon = pts;
+      this.canvas.preview = pts.length ? { points: pts, cursor: null, kind: this.store.ui.kind, closed: false } : null;
+      this.actions.redraw();
+      this.store.hint(outlineHint(problem, this.store.ui.kind, this.store.scene.units || 'mm'));
+      return;
+    }
     this.polygon = [];
     this.canvas.preview = null;
-    if (pts.length >= 3) this.addShape(pts);
-    else this.actions.redraw();
+    this.addShape(pts);
   }
 
   addShape(world) {
