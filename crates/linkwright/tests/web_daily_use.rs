@@ -6,8 +6,9 @@
 //! and a plain scene file still opens; and the small things: Insert pose stops at the engine's most
 //! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
 //! selecting, a part's file is saved under the scene's name, undo and redo of a joint edit bring back
-//! that edit's designs, an outline that cannot be a shape is refused with the reason, the motion
-//! video has every frame, Live redesign stays ticked after a reload.
+//! that edit's designs, an outline that cannot be a shape is refused with the reason, the labels on
+//! the drawing do not cover each other, the motion video has every frame, Live redesign stays ticked
+//! after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -261,7 +262,7 @@ async fn projects(page: &Page, downloads: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The small things, on the table.
+/// The small things, on the table, then on the examples that show each best.
 async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     // Parts: each part's file is saved under the scene's name.
     design_quickly(page).await?;
@@ -371,6 +372,8 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     until(page, "document.getElementById('coords').textContent.endsWith(' cm')", Duration::from_secs(2)).await?;
     undo(page).await?;
     outlines_refused(page).await?;
+
+    labels_apart(page).await?;
 
     // An example replaces a drawing with unsaved changes only after asking: kept, then replaced.
     let renamed = "(() => { const s = window.linkwright.store; s.edit('rename', (x) => { x.name = 'my table'; }); return true; })()";
@@ -499,6 +502,39 @@ async fn outlines_refused(page: &Page) -> Result<()> {
         click(page, "#opt-snap").await?;
     }
     click(page, "[data-tool=select]").await
+}
+
+/// Every label on the drawing shown (how far each pose is missed, the links' lengths, the ground
+/// pivots' places) and whether any two of them overlap.
+const LABELS: &str = "(() => { const all = [...document.querySelectorAll('#canvas .pose-miss, #canvas .dimension')]; \
+    const shown = all.filter((t) => t.checkVisibility()).map((t) => [t.textContent, t.getBoundingClientRect(), t.classList.contains('pose-miss')]); \
+    const over = []; for (let i = 0; i < shown.length; i++) for (let j = i + 1; j < shown.length; j++) { \
+      const [a, b] = [shown[i][1], shown[j][1]]; \
+      if (a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom) over.push(`${shown[i][0]} / ${shown[j][0]}`); } \
+    return {all: all.length, shown: shown.length, misses: shown.filter((s) => s[2]).length, over}; })()";
+
+/// The folding roof designed: at its first pose, halfway and at its last, no two labels on the
+/// drawing overlap, and most of them are shown.
+async fn labels_apart(page: &Page) -> Result<()> {
+    open_example(page, "k3_folding_roof").await?;
+    design_quickly(page).await?;
+    let scrub = eval(page, "(() => { const r = document.getElementById('scrub').getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2]; })()")
+        .await?;
+    let middle = (scrub[0].as_f64().ok_or("scrub")?, scrub[1].as_f64().ok_or("scrub")?);
+    tap(page, middle).await?;
+    for (place, key_name, code, key_code) in
+        [("halfway", "", "", 0), ("at the end", "End", "End", 35), ("at the start", "Home", "Home", 36)]
+    {
+        if !key_name.is_empty() {
+            key(page, key_name, code, key_code, 0).await?;
+        }
+        settle(page).await?;
+        let labels = eval(page, LABELS).await?;
+        assert_eq!(labels["over"], serde_json::json!([]), "labels overlap {place}: {labels}");
+        let (all, shown) = (labels["all"].as_u64().unwrap_or(0), labels["shown"].as_u64().unwrap_or(0));
+        assert!(all > 0 && 2 * shown > all && labels["misses"].as_u64() > Some(0), "{place}: {labels}");
+    }
+    Ok(())
 }
 
 /// The motion exported as a WebM video has every frame the app draws (60, one travel), one every

@@ -4,6 +4,7 @@
 
 import { poseErrors, fmt } from './accuracy.js';
 import { centroid, placed, toWorld } from './geom.js';
+import { besideShifts, placeLabels, tagShifts } from './labels.js';
 import { clear, points, svg } from './svg.js';
 
 export const BODY_COLOURS = ['#e67e22', '#2e9e4f', '#8e5cc2', '#a0522d', '#d6489b', '#1aa3b8', '#a6a61e'];
@@ -16,6 +17,8 @@ export const GRAB_PX = 9;
 const ROTATE_PX = 28;
 /** Outlines with more corners than this (curves) get no corner handles. */
 const MAX_VERTEX_HANDLES = 16;
+/** From the centre of a pose's number to the start of the label beside it, pixels (the number's disc has a radius of 9). */
+const TAG_REACH = 13;
 /** Width of the rulers along the canvas' top and left edges, pixels. */
 const RULER_PX = 18;
 
@@ -45,20 +48,22 @@ export class Canvas {
     }
     this.frame = null; // the result frame drawn now
     this.resultShown = false;
+    this.labelPlaces = new Map(); // where each label was put last (labels.js)
   }
 
   s(p) {
     return this.view.toScreen(p);
   }
 
-  /** Redraws everything but the moving result. */
+  /** Redraws everything. */
   render() {
     this.renderGrid();
     this.renderScene();
     this.renderResultStatic();
-    this.renderResultFrame(this.frame);
+    this.drawResultFrame(this.frame);
     this.renderOverlay();
     this.renderRulers();
+    this.layoutLabels();
   }
 
   renderGrid() {
@@ -185,8 +190,13 @@ export class Canvas {
     }
   }
 
-  /** The bodies and the linkage at one frame ({joints, bodies}); null hides them. */
+  /** The bodies and the linkage at one frame ({joints, bodies}), its labels kept apart; null hides them. */
   renderResultFrame(frame) {
+    this.drawResultFrame(frame);
+    this.layoutLabels();
+  }
+
+  drawResultFrame(frame) {
     this.frame = frame;
     this.renderDimensions(frame);
     const g = clear(this.layers.resultDynamic);
@@ -302,7 +312,7 @@ export class Canvas {
         let normal = [-(pb[1] - pa[1]) / len, (pb[0] - pa[0]) / len];
         if (normal[1] < 0) normal = [-normal[0], -normal[1]];
         g.append(label([mid[0] + normal[0] * 12, mid[1] + normal[1] * 12], `${formatDimension(length)} ${units}`, 'dimension', {
-          'text-anchor': 'middle', dy: '0.35em', 'data-link': `${a}-${b}`, 'data-length': length,
+          'text-anchor': 'middle', dy: '0.35em', 'data-link': `${a}-${b}`, 'data-length': length, 'data-label': `link ${a}-${b}`,
         }));
       }
     }
@@ -311,7 +321,7 @@ export class Canvas {
       if (!q || !index.has(name)) continue;
       const p = at(name);
       g.append(label([p[0] + 12, p[1] + 26], `${name} (${formatDimension(q[0])}, ${formatDimension(q[1])})`, 'dimension pivot', {
-        'data-pivot': name,
+        'data-pivot': name, 'data-label': `pivot ${name}`,
       }));
     }
   }
@@ -334,13 +344,45 @@ export class Canvas {
           svg('circle', { r: 9 }),
           svg('text', { 'text-anchor': 'middle', dy: '0.35em', text: String(p + 1) }),
           miss ? svg('text', {
-            class: 'pose-miss', x: 13, dy: '0.35em', 'data-pose': p, 'data-body': i,
+            class: 'pose-miss', x: TAG_REACH, dy: '0.35em', 'data-pose': p, 'data-body': i, 'data-label': `miss ${i} ${p}`,
             text: `off by ${fmt(miss.position)} ${units}, ${fmt(miss.angle)}°`,
           }) : null,
         ]));
       });
     });
     this.renderPreview(g);
+  }
+
+  /**
+   * Keeps the labels on the drawing from covering each other and the poses' numbers (labels.js): how
+   * far each pose is missed comes first, then where the ground pivots are, then the links' lengths; a
+   * label with no free place near its own is left out (the Result tab lists them all).
+   */
+  layoutLabels() {
+    const misses = [...this.layers.overlay.querySelectorAll('.pose-miss')];
+    const pivots = [...this.layers.dimensions.querySelectorAll('.dimension.pivot')];
+    const links = [...this.layers.dimensions.querySelectorAll('.dimension:not(.pivot)')];
+    const all = [...misses, ...pivots, ...links];
+    if (!all.length) return;
+    // Measured where they are drawn (all writes first, then all reads: one layout).
+    for (const e of all) {
+      e.removeAttribute('transform');
+      e.removeAttribute('display');
+    }
+    const box = (e) => {
+      const r = e.getBoundingClientRect();
+      return { x: r.left, y: r.top, w: r.width, h: r.height };
+    };
+    const marks = [...this.layers.overlay.querySelectorAll('.pose-tag circle')].map(box);
+    // The canvas within its rulers.
+    const r = this.root.getBoundingClientRect();
+    const area = { x: r.left + RULER_PX, y: r.top + RULER_PX, w: r.width - RULER_PX, h: r.height - RULER_PX };
+    const labels = all.map((element) => {
+      const b = box(element);
+      const shifts = element.classList.contains('pose-miss') ? tagShifts(b, TAG_REACH) : besideShifts(b);
+      return { element, key: element.dataset.label, box: b, shifts };
+    });
+    this.labelPlaces = placeLabels(labels, area, marks, this.labelPlaces);
   }
 
   /** Outline, vertex handles and (for a moving body) the rotate handle of the selection. */
