@@ -7,8 +7,8 @@
 //! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
 //! selecting, a part's file is saved under the scene's name, undo and redo of a joint edit bring back
 //! that edit's designs, an outline that cannot be a shape is refused with the reason, the labels on
-//! the drawing do not cover each other, the motion video has every frame, Live redesign stays ticked
-//! after a reload.
+//! the drawing do not cover each other, the motion video has every frame, the mass fields show their
+//! numbers whole, Live redesign stays ticked after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -374,6 +374,7 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     outlines_refused(page).await?;
 
     labels_apart(page).await?;
+    masses_fit(page).await?;
 
     // An example replaces a drawing with unsaved changes only after asking: kept, then replaced.
     let renamed = "(() => { const s = window.linkwright.store; s.edit('rename', (x) => { x.name = 'my table'; }); return true; })()";
@@ -598,4 +599,32 @@ fn webm_frame_times(bytes: &[u8]) -> Option<Vec<u64>> {
     let mut out = Vec::new();
     walk(bytes, 0, bytes.len(), &mut 0, &mut out)?;
     Some(out)
+}
+
+/// At full size a body's mass field shows what it weighs in its material when left empty: that
+/// number is shown whole, beside the field's arrows (the two-body wall bed, whose bodies have no
+/// mass of their own).
+async fn masses_fit(page: &Page) -> Result<()> {
+    open_example(page, "k2_wall_bed").await?;
+    click(page, "[data-tab=settings]").await?;
+    click(page, "[data-key=build-full]").await?;
+    design_quickly(page).await?;
+    click(page, "[data-tab=result]").await?;
+    until(page, "document.querySelectorAll('#tab-result table.masses input').length === 2", Duration::from_secs(20))
+        .await?;
+    // The text's width and the field's inner width less its arrows (about 15 pixels).
+    let fits = "[...document.querySelectorAll('#tab-result table.masses input')].map((i) => { \
+                const g = document.createElement('canvas').getContext('2d'), s = getComputedStyle(i); g.font = s.font; \
+                const room = i.clientWidth - parseFloat(s.paddingLeft) - parseFloat(s.paddingRight) - 16; \
+                return {placeholder: i.placeholder, text: Math.ceil(g.measureText(i.placeholder).width), room, \
+                        scrolls: i.scrollWidth > i.clientWidth}; })";
+    let fields = eval(page, fits).await?;
+    for field in fields.as_array().ok_or("mass fields")? {
+        assert!(field["placeholder"].as_str().is_some_and(|p| !p.is_empty()), "{field}");
+        assert!(
+            field["text"].as_f64() <= field["room"].as_f64() && field["scrolls"] == false,
+            "the mass is cut: {field}"
+        );
+    }
+    Ok(())
 }

@@ -549,9 +549,12 @@ export class Results {
       };
       return html('tr', {}, [
         html('th', { text: body.name }),
+        // Empty, the field shows what the body weighs in its material: the number alone, so that it
+        // fits (the note below names the material).
         html('td', {}, [html('input', {
           type: 'number', min: '0', step: 'any', 'data-mass': i, 'aria-label': `mass of ${body.name}, kg`,
-          value: body.mass_kg ?? '', placeholder: mass === undefined ? 'from its material' : `${kilograms(mass)} (${build.material})`,
+          value: body.mass_kg ?? '', placeholder: mass === undefined ? '' : kilograms(mass),
+          title: `Empty: ${body.name} weighs ${mass === undefined ? 'what it does' : `${kilograms(mass)} kg`} in ${build.material}`,
           onchange: change,
         }), ' kg']),
       ]);
@@ -559,7 +562,7 @@ export class Results {
     // The scale the model is weighed at: the one the design was checked at (an auto scale decided).
     const checked = parseBuild(r.design.build?.checked)?.scale ?? build?.scale;
     const note = full
-      ? 'The real masses: type a body’s, or leave it empty to weigh it in its material.'
+      ? `The real masses: type a body’s, or leave it empty to weigh it in ${build.material} (the grey number).`
       : `As printed${checked && checked !== 'auto' ? ` at ${checked}` : ''}: a printed model weighs what its parts do. A body’s real mass counts when it is built full size (Settings › Build).`;
     return html('div', {}, [
       html('table', { class: 'masses' }, [html('tr', {}, [html('th', { text: 'Body' }), html('th', { text: 'Mass' })]), ...rows]),
