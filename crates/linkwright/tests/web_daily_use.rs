@@ -7,8 +7,9 @@
 //! poses (all of them reachable in the pose bar), the kind of shape to draw is not shown chosen while
 //! selecting, a part's file is saved under the scene's name, undo and redo of a joint edit bring back
 //! that edit's designs, an outline that cannot be a shape is refused with the reason, the labels on
-//! the drawing do not cover each other, the motion video has every frame, the mass fields show their
-//! numbers whole, Live redesign stays ticked after a reload.
+//! the drawing do not cover each other, springs and their brackets are named as the person named the
+//! parts, the motion video has every frame, the mass fields show their numbers whole, Live redesign
+//! stays ticked after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -374,6 +375,7 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
     outlines_refused(page).await?;
 
     labels_apart(page).await?;
+    springs_named(page).await?;
     masses_fit(page).await?;
 
     // An example replaces a drawing with unsaved changes only after asking: kept, then replaced.
@@ -535,6 +537,58 @@ async fn labels_apart(page: &Page) -> Result<()> {
         let (all, shown) = (labels["all"].as_u64().unwrap_or(0), labels["shown"].as_u64().unwrap_or(0));
         assert!(all > 0 && 2 * shown > all && labels["misses"].as_u64() > Some(0), "{place}: {labels}");
     }
+    Ok(())
+}
+
+/// The wall bed (its bed and wall named so), designed as a printed model: the springs suggested hook
+/// on the bed and the wall by those names, not the engine's; the parts made with hooks say on which
+/// part each spring bracket is mounted, in the parts list, the springs and the steps.
+async fn springs_named(page: &Page) -> Result<()> {
+    open_example(page, "k1_wall_bed_full_size").await?;
+    design_quickly(page).await?;
+    click(page, "[data-tab=result]").await?;
+    click(page, "[data-action=springs]").await?;
+    until(page, "window.linkwright.store.result.balance != null", Duration::from_secs(60)).await?;
+    settle(page).await?;
+    let words = eval(page, "document.querySelector('#tab-result ul.springs')?.textContent ?? ''").await?;
+    let words = words.as_str().unwrap_or_default();
+    assert!(words.contains("the moving body “bed”") && !words.contains("body1"), "{words}");
+
+    let hooks = "document.getElementById('fab-springs')";
+    if eval(page, &format!("{hooks}.checked")).await? != Value::Bool(true) {
+        click(page, "#fab-springs").await?;
+    }
+    click(page, "#btn-fabricate").await?;
+    until(
+        page,
+        "window.linkwright.results.fab.job === null && window.linkwright.results.fab.made !== null",
+        Duration::from_secs(120),
+    )
+    .await?;
+    settle(page).await?;
+    let told = eval(
+        page,
+        "(() => { const a = window.linkwright.results.fab.made.answer; \
+         const brackets = a.report.parts.filter((p) => p.role === 'spring_bracket').map((p) => p.name); \
+         const listed = brackets.map((b) => document.querySelector(`#tab-result a[data-file=\"parts/${b}.stl\"]`)?.closest('li')?.textContent ?? ''); \
+         const hooks = [...document.querySelectorAll('#tab-result [data-hooks]')].map((e) => e.textContent).join(' '); \
+         const steps = [...document.querySelectorAll('#tab-result ol.steps li')].map((e) => e.textContent); \
+         return {brackets, listed, hooks, steps: brackets.map((b) => steps.filter((s) => s.includes(`: ${b}`)))}; })()",
+    )
+    .await?;
+    let brackets: Vec<&str> = told["brackets"].as_array().ok_or("brackets")?.iter().filter_map(Value::as_str).collect();
+    assert!(!brackets.is_empty(), "the wall bed's springs stand on brackets: {told}");
+    let hooks = told["hooks"].as_str().unwrap_or_default();
+    for (k, bracket) in brackets.iter().enumerate() {
+        let listed = told["listed"][k].as_str().unwrap_or_default();
+        let mounts = ["the moving body “bed”", "the fixed body “wall”", "the fixed body “floor”"];
+        assert!(mounts.iter().any(|m| listed.contains(&format!("mounted on {m}"))), "{listed}");
+        assert!(hooks.contains(&format!("{bracket} (a bracket mounted on the ")), "{bracket}: {hooks}");
+        for step in told["steps"][k].as_array().ok_or("steps")? {
+            assert!(step.as_str().is_some_and(|s| s.contains(&format!("{bracket}, mounted on the "))), "{step}");
+        }
+    }
+    assert!(!hooks.contains("body1"), "{hooks}");
     Ok(())
 }
 

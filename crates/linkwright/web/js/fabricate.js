@@ -6,7 +6,7 @@
 import * as api from './api.js';
 import { buildWord, DEFAULT_BUILD, describe, parseBuild } from './build.js';
 import { partColour, partKind, Preview3D, ROLE_COLOURS } from './preview3d.js';
-import { springCut, springList } from './plots.js';
+import { bracketMounts, springCut, springList, withMounts } from './springs.js';
 import { html } from './svg.js';
 
 const SAVED = 'linkwright.print.v1';
@@ -413,8 +413,10 @@ export class Fabricator {
     if (answer.balance) out.push(...this.springs(answer));
     out.push(...this.downloads(answer));
     if (report.assembly?.length) {
+      // The engine's steps name a bracket put in place, not what it goes on: the app adds it.
+      const brackets = bracketMounts(answer, this.naming());
       out.push(html('h3', { text: 'Putting it together' }));
-      out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: step }))));
+      out.push(html('ol', { class: 'steps' }, report.assembly.map((step) => html('li', { text: withMounts(step, brackets) }))));
     }
     return out;
   }
@@ -444,7 +446,7 @@ export class Fabricator {
     if (answer.balance) {
       out.push(html('h3', { text: 'Counterbalance springs' }),
         html('p', { class: 'note', text: 'Stock springs, on the bill of materials; the assembly sheet says where each hangs.' }),
-        springList(answer.balance, (this.results.result?.scene || this.store.scene)?.units || 'mm'));
+        springList(answer.balance, (this.results.result?.scene || this.store.scene)?.units || 'mm', this.naming()));
     }
     out.push(...this.downloads(answer));
     if (report.steps?.length) {
@@ -462,8 +464,14 @@ export class Fabricator {
       out.push(html('p', { class: 'note', text: `They lower the crank's peak torque by ${springCut(balance)}%. `
         + 'Each hangs beyond the links, on hooks printed on the parts (see Putting it together).' }));
     }
-    out.push(springList(balance, units));
+    out.push(springList(balance, units, this.naming(), answer.report?.springs, bracketMounts(answer, this.naming())));
     return out;
+  }
+
+  /** What the springs' words name the parts by: the person's names in the scene, and the mechanism
+   * shown (whose part names the engine's answer uses). */
+  naming() {
+    return { scene: this.store.scene, mechanism: this.results.result?.mechanism ?? null };
   }
 
   /** The zip of everything, then every file by what it is for (the files this app does not group
@@ -475,12 +483,14 @@ export class Fabricator {
     }
     const parts = new Map((answer.report?.parts || []).filter((p) => p.file).map((p) => [p.file, p]));
     const meshes = new Map((answer.preview?.parts || []).map((p) => [p.name, p]));
+    const brackets = bracketMounts(answer, this.naming());
     const describe = (file) => {
       const p = parts.get(file.name);
       if (!p) return html('small', { text: purpose(file.name) });
       const size = p.size_mm.map((v) => v.toFixed(0)).join(' × ');
+      const mount = brackets.has(p.name) ? `, mounted on ${brackets.get(p.name)}` : '';
       return html('small', {}, [html('i', { class: 'swatch', style: `background:${partColour(meshes.get(p.name) || p)}` }),
-        ` ${p.role.replace('_', ' ')}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
+        ` ${p.role.replace('_', ' ')}${mount}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
     };
     const files = answer.files || [];
     const groups = [...FILE_GROUPS, ['Other files', (name) => !FILE_GROUPS.some(([, test]) => test(name))]];

@@ -159,3 +159,18 @@ export function outlineProblem(points, minWidth = 0) {
   return null;
 }
 
+/** True when `p` is inside `poly` (even-odd; a point on the boundary may answer either way). */
+export function contains(poly, p) {
+  let inside = false;
+  for (let i = 0, j = poly.length - 1; i < poly.length; j = i++) {
+    const [a, b] = [poly[i], poly[j]];
+    if ((a[1] > p[1]) !== (b[1] > p[1]) && p[0] < ((b[0] - a[0]) * (p[1] - a[1])) / (b[1] - a[1]) + a[0]) inside = !inside;
+  }
+  return inside;
+}
+
+/** The distance from `p` to the area of `poly`: 0 inside. */
+export function distanceTo(poly, p) {
+  if (contains(poly, p)) return 0;
+  return Math.min(...poly.map((a, i) => segmentDistance(p, a, poly[(i + 1) % poly.length]).d));
+}

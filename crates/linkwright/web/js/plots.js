@@ -2,6 +2,7 @@
 // pose, and each loop's Grashof type.
 
 import { bodyColour, PATH_COLOURS } from './canvas.js';
+import { springCut } from './springs.js';
 import { html, points, svg } from './svg.js';
 
 const W = 300, H = 150, PAD = { l: 40, r: 8, t: 14, b: 30 };
@@ -151,29 +152,6 @@ export function torquePlot(analysis, balance = null) {
       cursor.setAttribute('x2', x);
     },
   };
-}
-
-/** What the app says when no spring helps: the search hooks springs on the fixed bodies, in the
- * linkage region and on the moving parts. */
-export const NO_SPRING = 'No spring hooked on the fixed bodies, in the linkage region or on the moving parts lowers the peak torque of this design.';
-
-/** How much lower the springs of `balance` make the peak torque, in whole percent. */
-export const springCut = (balance) =>
-  Math.round(100 * (1 - balance.peak_with_springs_nm / Math.max(balance.peak_nm, 1e-300)));
-
-/** Each counterbalance spring in words a person can buy and fit it from. */
-export function springList(balance, units) {
-  if (!balance.springs.length) return html('p', { class: 'note', text: NO_SPRING });
-  const at = (p) => `(${p[0].toFixed(1)}, ${p[1].toFixed(1)})`;
-  return html('ul', { class: 'springs' }, balance.springs.map((s) => html('li', {}, s.kind === 'extension'
-    ? [html('b', { text: 'Extension spring' }),
-      html('div', { text: `Rate ${(s.stiffness_n_per_m / 1000).toPrecision(3)} N/mm, free length ${s.free_length.toFixed(1)} ${units} hook to hook.` }),
-      html('div', { text: `Hook one end on the ${s.anchors[0].part} at ${at(s.anchors[0].point)} and the other on the ${s.anchors[1].part} at ${at(s.anchors[1].point)}, at the first pose.` }),
-      html('small', { text: `It stretches to ${s.length_range[0].toFixed(1)}–${s.length_range[1].toFixed(1)} ${units}, pulling ${s.force_range_n[0].toPrecision(3)}–${s.force_range_n[1].toPrecision(3)} N.` })]
-    : [html('b', { text: 'Torsion spring' }),
-      html('div', { text: `Rate ${(s.stiffness_nm_per_rad * 1000 * Math.PI / 180).toPrecision(3)} N·mm per degree, on the ${s.part}'s ground pivot at ${at(s.pivot)}.` }),
-      html('div', { text: `Unwound when the ${s.part} is turned ${s.free_angle_deg.toFixed(0)}° from the first pose.` }),
-      html('small', { text: `Wound ${s.twist_range_deg[0].toFixed(0)}–${s.twist_range_deg[1].toFixed(0)}° along the motion, ${(s.torque_range_nm[0] * 1000).toPrecision(3)}–${(s.torque_range_nm[1] * 1000).toPrecision(3)} N·mm.` })])));
 }
 
 /** Each loop with its Grashof type and link lengths. */

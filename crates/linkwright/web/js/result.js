@@ -8,7 +8,8 @@ import * as api from './api.js';
 import { bodyColour } from './canvas.js';
 import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
-import { errorPlot, loopList, NO_SPRING, springCut, springList, torquePlot, transmissionPlot } from './plots.js';
+import { errorPlot, loopList, torquePlot, transmissionPlot } from './plots.js';
+import { NO_SPRING, springCut, springList } from './springs.js';
 import { toFile } from './scene.js';
 import { screenField, screenWords } from './fields.js';
 import { newResult } from './store.js';
@@ -551,6 +552,8 @@ export class Results {
         html('th', { text: body.name }),
         // Empty, the field shows what the body weighs in its material: the number alone, so that it
         // fits (the note below names the material).
+        // Empty, the field shows what the body weighs in its material: the number alone, so that it
+        // fits (the note below names the material).
         html('td', {}, [html('input', {
           type: 'number', min: '0', step: 'any', 'data-mass': i, 'aria-label': `mass of ${body.name}, kg`,
           value: body.mass_kg ?? '', placeholder: mass === undefined ? '' : kilograms(mass),
@@ -755,7 +758,7 @@ export class Results {
       if (this.torque) {
         host.append(html('h3', { text: 'Torque to drive the crank' }), this.torque.element, this.massTable(r));
         host.append(html('h3', { text: 'Counterbalance springs' }));
-        if (r.balance) host.append(springList(r.balance, this.store.scene.units || 'mm'));
+        if (r.balance) host.append(springList(r.balance, this.store.scene.units || 'mm', { scene: this.store.scene, mechanism: r.mechanism }));
         else {
           host.append(html('button', {
             text: 'Suggest springs', 'data-action': 'springs', disabled: this.balancing ? '' : null,
