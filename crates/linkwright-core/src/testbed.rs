@@ -60,8 +60,12 @@ pub enum Family {
     Chain(usize),
     /// The RRRP slider-crank of paper §4.3 (one moving body).
     SliderCrank,
-    /// The Watt-II six-bar (one moving body, [`Topology::watt_two`]).
+    /// The Watt-II six-bar (one moving body, [`Topology::watt_two`]), its crank stopping short of
+    /// where the body's four-bar turns back.
     WattTwo,
+    /// The Watt-II six-bar driven on past where the body's four-bar turns back: the body goes out and
+    /// comes back along the way it went, while the crank turns on.
+    WattTwoOutAndBack,
     /// The Stephenson-III six-bar (one moving body, [`Topology::stephenson_three`]).
     StephensonThree,
 }
@@ -71,7 +75,7 @@ impl Family {
     pub fn body_count(self) -> usize {
         match self {
             Family::Chain(k) => k,
-            Family::SliderCrank | Family::WattTwo | Family::StephensonThree => 1,
+            Family::SliderCrank | Family::WattTwo | Family::WattTwoOutAndBack | Family::StephensonThree => 1,
         }
     }
     /// The scene's `mechanism` for this family.
@@ -79,7 +83,7 @@ impl Family {
         match self {
             Family::Chain(_) => MechanismChoice::Only(MechanismType::Chain),
             Family::SliderCrank => MechanismChoice::Only(MechanismType::SliderCrank),
-            Family::WattTwo => MechanismChoice::Only(MechanismType::WattTwo),
+            Family::WattTwo | Family::WattTwoOutAndBack => MechanismChoice::Only(MechanismType::WattTwo),
             Family::StephensonThree => MechanismChoice::Only(MechanismType::StephensonThree),
         }
     }
@@ -88,7 +92,7 @@ impl Family {
         match self {
             Family::Chain(_) => MechanismType::Chain.id(),
             Family::SliderCrank => MechanismType::SliderCrank.id(),
-            Family::WattTwo => MechanismType::WattTwo.id(),
+            Family::WattTwo | Family::WattTwoOutAndBack => MechanismType::WattTwo.id(),
             Family::StephensonThree => MechanismType::StephensonThree.id(),
         }
     }
@@ -98,6 +102,7 @@ impl Family {
             Family::SliderCrank => 1 << 32,
             Family::WattTwo => 2 << 32,
             Family::StephensonThree => 3 << 32,
+            Family::WattTwoOutAndBack => 4 << 32,
         }
     }
 }
@@ -108,6 +113,7 @@ impl std::fmt::Display for Family {
             Family::Chain(k) => write!(f, "chain K={k}"),
             Family::SliderCrank => write!(f, "slider-crank"),
             Family::WattTwo => write!(f, "Watt-II six-bar"),
+            Family::WattTwoOutAndBack => write!(f, "Watt-II six-bar, out and back"),
             Family::StephensonThree => write!(f, "Stephenson-III six-bar"),
         }
     }
@@ -258,7 +264,7 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     let mechanism = match family {
         Family::Chain(k) => draw_chain(k, rng),
         Family::SliderCrank => draw_slider_crank(rng),
-        Family::WattTwo => draw_watt_two(rng),
+        Family::WattTwo | Family::WattTwoOutAndBack => draw_watt_two(rng),
         Family::StephensonThree => draw_stephenson_three(rng),
     };
     let joints = &mechanism.joints;
@@ -272,7 +278,9 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
 
     // How far the crank can turn each way with every transmission angle at least the bound, and
     // the joints only links carry where the bodies' places put them (a Watt-II six-bar's crank
-    // stops short of where the body's four-bar turns back: there the body retraces its motion).
+    // stops short of where the body's four-bar turns back: there the body retraces its motion),
+    // unless the body is to go out and back.
+    let out_and_back = family == Family::WattTwoOutAndBack;
     let bound = MIN_TRANSMISSION_DEG.to_radians().sin();
     let completion = completion_order(&mechanism.topology);
     let completes = |row: &[Point]| {
@@ -287,7 +295,9 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
         // A sweep that stops early keeps the rows before the failure, which are all we need.
         let _ = trace.sweep(&plan, start, start + dir * MAX_TRAVEL_DEG.to_radians(), step);
         let good = (0..trace.len())
-            .take_while(|&r| plan.min_transmission_sine(trace.row(r)) >= bound && completes(trace.row(r)))
+            .take_while(|&r| {
+                plan.min_transmission_sine(trace.row(r)) >= bound && (out_and_back || completes(trace.row(r)))
+            })
             .count();
         reach[side] = if good == 0 { 0.0 } else { (trace.thetas[good - 1] - start).abs() };
     }
@@ -308,6 +318,14 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     let travel = rng.random_range(min_travel.max(0.5 * available)..=available);
     let end = start + dir * travel;
     trace.sweep(&plan, start, end, step).ok()?;
+    // Out and back: the body's four-bar turns back once, between a third and two thirds of the way.
+    if out_and_back {
+        let turned = (0..trace.len()).position(|r| !completes(trace.row(r)))?;
+        let back = (turned..trace.len()).all(|r| !completes(trace.row(r)));
+        if !(back && (trace.len() / 3..2 * trace.len() / 3).contains(&turned)) {
+            return None;
+        }
+    }
 
     // Outlines around each body's joints, framed at the body's centroid along its first two joints.
     let topo = mechanism.topology.clone();
@@ -333,13 +351,21 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     let placed_at = |r: usize| -> Vec<Polygon> {
         bodies.iter().enumerate().map(|(b, (o, _))| o.transformed(&frames.pose(b, trace.row(r)))).collect()
     };
-    let (first_placed, last_placed) = (placed_at(0), placed_at(trace.len() - 1));
+    // Out and back, the body's farthest place counts, not its last.
+    let first_placed = placed_at(0);
+    let farthest = if out_and_back { (1..trace.len()).collect() } else { vec![trace.len() - 1] };
     for (b, (outline, _)) in bodies.iter().enumerate() {
-        let moved = first_placed[b]
-            .vertices()
+        let moved = farthest
             .iter()
-            .zip(last_placed[b].vertices())
-            .map(|(a, z)| a.distance(*z))
+            .flat_map(|&r| {
+                let placed = &placed_at(r)[b];
+                first_placed[b]
+                    .vertices()
+                    .iter()
+                    .zip(placed.vertices())
+                    .map(|(a, z)| a.distance(*z))
+                    .collect::<Vec<_>>()
+            })
             .fold(0.0, f64::max);
         if moved < MIN_MOVE_FRACTION * size(outline) {
             return None;

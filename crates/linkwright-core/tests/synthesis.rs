@@ -307,7 +307,10 @@ fn a_pose_drawn_on_an_earlier_one_is_named() {
     let warning = problem.warnings.iter().find(|w| w.field == field).expect("a warning on the repeated pose");
     assert!(warning.message.contains(&format!("pose {} of ", last + 1)), "{}", warning.message);
     assert!(warning.message.contains("is the same as pose 1"), "{}", warning.message);
-    // The table cannot come back to its first pose (its crank would turn a whole turn on the way).
+    // A four-bar cannot bring the table back to its first pose (its crank would turn a whole turn on
+    // the way); a six-bar whose body goes out and back can.
+    scene.mechanism = linkwright_core::MechanismChoice::Only(linkwright_core::MechanismType::Chain);
+    let problem = Problem::new(&scene).unwrap();
     let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
     assert_eq!(file.status, Status::NoSolution);
     let reason = file.reason.unwrap_or_default();

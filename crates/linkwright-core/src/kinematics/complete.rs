@@ -36,6 +36,17 @@ pub enum Completion {
 /// first-pose side of them. `Err` when two circles do not meet there: the linkage cannot assemble in
 /// that configuration.
 pub fn complete(completion: &[Completion], first: &[Point], row: &mut [Point]) -> Result<(), DyadError> {
+    complete_turning(completion, first, row, None)
+}
+
+/// [`complete`], with the joint `turned` (when placed where two parts meet) on the other side of the
+/// joints it is placed from: where a crank's tip is, once the link it drives has turned back.
+pub fn complete_turning(
+    completion: &[Completion],
+    first: &[Point],
+    row: &mut [Point],
+    turned: Option<usize>,
+) -> Result<(), DyadError> {
     for &step in completion {
         match step {
             Completion::Attach { joint, a, b } => {
@@ -49,7 +60,10 @@ pub fn complete(completion: &[Completion], first: &[Point], row: &mut [Point]) -
                 row[joint] = row[a] + Vec2::new(cos * v.x - sin * v.y, sin * v.x + cos * v.y);
             }
             Completion::Dyad { joint, a, b } => {
-                let branch = circle_circle_branch(first[a], first[b], first[joint]);
+                let mut branch = circle_circle_branch(first[a], first[b], first[joint]);
+                if turned == Some(joint) {
+                    branch = branch.other();
+                }
                 let (ra, rb) = (first[joint].distance(first[a]), first[joint].distance(first[b]));
                 row[joint] = circle_circle(row[a], ra, row[b], rb, branch)?;
             }

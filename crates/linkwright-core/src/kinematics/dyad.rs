@@ -13,6 +13,13 @@ pub enum Branch {
 }
 
 impl Branch {
+    /// The other assembly.
+    pub fn other(self) -> Branch {
+        match self {
+            Branch::Positive => Branch::Negative,
+            Branch::Negative => Branch::Positive,
+        }
+    }
     fn sign(self) -> f64 {
         match self {
             Branch::Positive => 1.0,

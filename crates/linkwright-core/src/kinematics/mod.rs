@@ -8,7 +8,7 @@ mod dyad;
 mod plan;
 mod trace;
 
-pub use complete::{complete, completion_order, Completion};
-pub use dyad::{circle_circle, Branch, DyadError};
+pub use complete::{complete, complete_turning, completion_order, Completion};
+pub use dyad::{circle_circle, circle_circle_branch, Branch, DyadError};
 pub use plan::{carried_velocity, CompileError, Plan, Step};
 pub use trace::{BodyFrames, SweepError, Trace};

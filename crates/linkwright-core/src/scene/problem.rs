@@ -59,9 +59,10 @@ impl MovingBodyProblem {
 /// What is wrong with pose `i` of `body` repeating its pose `j`, and what to do.
 pub(crate) fn repeated_pose_words(body: &MovingBodyProblem, i: usize, j: usize) -> String {
     format!(
-        "pose {} of {} is the same as pose {}: a linkage reaches one pose twice only after its crank has turned \
-         a whole turn; move pose {} to where the body should be then, or leave it out (to come back, end the \
-         motion just short of pose {})",
+        "pose {} of {} is the same as pose {}: a four-bar reaches one pose twice only after its crank has turned \
+         a whole turn, and only a six-bar whose body goes out and comes back the way it went returns sooner; \
+         move pose {} to where the body should be then, or leave it out (to come back, end the motion just \
+         short of pose {})",
         i + 1,
         body.name,
         j + 1,

@@ -3,7 +3,9 @@
 use super::rigidity::RigidityModel;
 use super::terms::CostWeights;
 use crate::geom::{Isometry, Obstacle, Point, Polygon, Rigid, Vec2};
-use crate::kinematics::{complete, completion_order, Completion, DyadError};
+use crate::kinematics::{
+    circle_circle_branch, complete, complete_turning, completion_order, Branch, Completion, DyadError,
+};
 use crate::mechanism::{MechanismType, PartKind, Topology};
 use crate::scene::Problem;
 use std::sync::Arc;
@@ -98,6 +100,10 @@ pub struct Context<'a> {
     /// How the joints carried by links only are placed at a pose, in order (empty for a topology
     /// without such joints).
     pub completion: Vec<Completion>,
+    /// The driver's tip when it is placed where two parts meet (a Watt-II six-bar's crank tip): its
+    /// side of the two joints it is placed from changes where the link it drives turns back, and the
+    /// body then retraces its way ([`Context::tip_side`]). With the two joints.
+    pub turning_tip: Option<(usize, usize, usize)>,
     /// The scene's pinned joints of this topology, by index, each where it must be at the first pose:
     /// every sample, proposal and refinement keeps them there.
     pub pins: Vec<(usize, Point)>,
@@ -162,6 +168,7 @@ impl<'a> Context<'a> {
         // A pin of a joint this topology lacks is left out; `pipeline::families` tries no such family.
         let pins: Vec<(usize, Point)> =
             problem.pinned.iter().filter_map(|(name, p)| Some((topology.joint(name)?, *p))).collect();
+        let completion = completion_order(&topology);
         Context {
             problem,
             carriers,
@@ -193,7 +200,11 @@ impl<'a> Context<'a> {
             exact: unperturbed && !overdetermined,
             overdetermined,
             noise_scale,
-            completion: completion_order(&topology),
+            turning_tip: completion.iter().find_map(|step| match *step {
+                Completion::Dyad { joint, a, b } if joint == topology.driver_tip => Some((joint, a, b)),
+                _ => None,
+            }),
+            completion,
             topology,
         }
     }
@@ -209,6 +220,22 @@ impl<'a> Context<'a> {
     /// the first pose.
     pub fn complete(&self, first: &[Point], row: &mut [Point]) -> Result<(), DyadError> {
         complete(&self.completion, first, row)
+    }
+
+    /// [`Context::complete`] with the turning tip on its other side: where it is once the link it
+    /// drives has turned back. `Ok(false)` (and `row` untouched) when the topology has no turning tip.
+    pub fn complete_turned(&self, first: &[Point], row: &mut [Point]) -> Result<bool, DyadError> {
+        let Some((tip, ..)) = self.turning_tip else { return Ok(false) };
+        complete_turning(&self.completion, first, row, Some(tip)).map(|()| true)
+    }
+
+    /// Whether the turning tip is in `row` on the other side than in `first` (the joints at the first
+    /// pose): the link it drives has turned back. False without a turning tip.
+    pub fn tip_turned(&self, first: &[Point], row: &[Point]) -> bool {
+        self.turning_tip.is_some_and(|(tip, a, b)| {
+            let side = |r: &[Point]| -> Branch { circle_circle_branch(r[a], r[b], r[tip]) };
+            side(first) != side(row)
+        })
     }
 
     /// This context for a run whose joints of one part must also be at least `spacing` apart (a

@@ -101,10 +101,14 @@ pub struct Scratch {
     template: Option<(Arc<Topology>, Plan)>,
     /// The plan of the mechanism being screened.
     plan: Option<Plan>,
-    /// The crank's direction at each pose.
+    /// The crank's direction at each pose (NaN where only the turned tip assembles), and with the
+    /// turning tip turned ([`Context::turning_tip`]; NaN where it does not assemble).
     nominal: Vec<f64>,
-    /// The screened travels (see [`Screening`]), reused from mechanism to mechanism.
+    nominal_turned: Vec<f64>,
+    /// The screened travels (see [`Screening`]), reused from mechanism to mechanism, and for each of
+    /// their angles whether the turning tip is turned there.
     travels: Vec<f64>,
+    turned: Vec<bool>,
 }
 
 /// The kinematic checks and the soft costs of one mechanism; [`Reject::Outclassed`] when its cost is
@@ -184,53 +188,98 @@ fn screen(
         return Err(Reject::JointsTooClose);
     }
     dimension_plan(mechanism, scratch)?;
-    let Scratch { plan, targets, fitted_targets, branches, nominal, travels, .. } = scratch;
+    let Scratch { plan, targets, fitted_targets, branches, nominal, nominal_turned, travels, turned, row, .. } =
+        scratch;
     let plan = plan.as_ref().expect("just dimensioned");
 
     // Where every joint is at every pose in the sample's own fit, pose after pose, and branch and
     // circuit (§5.2–5.3): every dyad must be on its first-pose branch at every pose. Most samples fail
-    // this at some pose; the input poses' targets wait until every check below passes.
+    // this at some pose; the input poses' targets wait until every check below passes. The crank's
+    // direction at each pose comes from there: for a turning tip, on either side (the tip passes from
+    // one to the other where the link it drives turns back, while the crank turns on).
+    let (pivot, tip) = (ctx.topology.driver_pivot, ctx.topology.driver_tip);
+    let crank = |row: &[Point]| (row[tip] - row[pivot]).angle();
     fitted_targets.clear();
+    nominal.clear();
+    nominal_turned.clear();
     for i in 0..poses {
         fitted_targets.extend((0..n).map(|j| match (fitted, ctx.carriers[j]) {
             (Some(motions), Some(b)) => motions[b][i].apply(joints[j]),
             _ => ctx.target(j, joints[j], i),
         }));
-        if i > 0 {
-            ctx.complete(joints, &mut fitted_targets[i * n..]).map_err(|_| Reject::Assembly)?;
-            plan.branches_of(&fitted_targets[i * n..], branches);
-            if !branches.iter().copied().eq(plan.own_branches()) {
-                return Err(Reject::Branch);
+        let at = &mut fitted_targets[i * n..];
+        if i == 0 {
+            nominal.push(crank(at));
+            nominal_turned.push(f64::NAN);
+            continue;
+        }
+        let mut on_own_branches = |row: &mut [Point], turn: bool| -> Result<Option<f64>, Reject> {
+            let placed = if turn { ctx.complete_turned(joints, row) } else { ctx.complete(joints, row).map(|()| true) };
+            if !placed.map_err(|_| Reject::Assembly)? {
+                return Ok(None);
+            }
+            plan.branches_of(row, branches);
+            if branches.iter().copied().eq(plan.own_branches()) {
+                Ok(Some(crank(row)))
+            } else {
+                Err(Reject::Branch)
+            }
+        };
+        row.clear();
+        if ctx.turning_tip.is_some() {
+            row.extend_from_slice(&at[..n]);
+        }
+        let own = on_own_branches(at, false);
+        let turned_tip = on_own_branches(row, true);
+        match (own, turned_tip) {
+            (Err(reject), Err(_) | Ok(None)) => return Err(reject),
+            (own, turned_tip) => {
+                nominal.push(own.ok().flatten().unwrap_or(f64::NAN));
+                nominal_turned.push(turned_tip.ok().flatten().unwrap_or(f64::NAN));
             }
         }
     }
-    let target_row = |i: usize| &fitted_targets[i * n..(i + 1) * n];
 
-    // Order (§5.1), nominally: the crank's direction at each pose must advance one way by less than a turn.
-    let (pivot, tip) = (ctx.topology.driver_pivot, ctx.topology.driver_tip);
-    nominal.clear();
-    nominal.extend((0..poses).map(|i| (target_row(i)[tip] - target_row(i)[pivot]).angle()));
-    // For each direction the crank may turn, its angle at each pose, one direction after the other.
-    travels.clear();
-    let mut totals = [0.0; 2];
-    let mut count = 0;
-    for dir in [1.0, -1.0] {
-        let start = travels.len();
-        travels.push(nominal[0]);
-        for w in nominal.windows(2) {
-            let step = (dir * (w[1] - w[0])).rem_euclid(TAU);
-            if step <= 0.0 {
-                break;
+    // Order (§5.1), nominally: the crank's direction at each pose must advance one way by less than a
+    // turn. For each direction the crank may turn, its angle at each pose, one direction after the
+    // other: with the tip on its own side throughout, or else, for a turning tip, on the side the
+    // crank reaches first (the body goes out and back).
+    let mut order = |may_turn: bool| -> ([f64; 2], usize) {
+        travels.clear();
+        turned.clear();
+        let mut totals = [0.0; 2];
+        let mut count = 0;
+        for dir in [1.0, -1.0] {
+            let start = travels.len();
+            travels.push(nominal[0]);
+            turned.push(false);
+            let mut from = nominal[0];
+            for i in 1..poses {
+                let step = |to: f64| (dir * (to - from)).rem_euclid(TAU);
+                let turning = if may_turn { nominal_turned[i] } else { f64::NAN };
+                let nearest = [(nominal[i], false), (turning, true)]
+                    .into_iter()
+                    .filter(|&(to, _)| to.is_finite() && step(to) > 0.0)
+                    .min_by(|a, b| step(a.0).total_cmp(&step(b.0)));
+                let Some((to, side)) = nearest else { break };
+                travels.push(travels[travels.len() - 1] + dir * step(to));
+                turned.push(side);
+                from = to;
             }
-            travels.push(travels[travels.len() - 1] + dir * step);
+            let total = (travels[travels.len() - 1] - travels[start]).abs();
+            if travels.len() - start == poses && total < TAU {
+                totals[count] = total;
+                count += 1;
+            } else {
+                travels.truncate(start);
+                turned.truncate(start);
+            }
         }
-        let total = (travels[travels.len() - 1] - travels[start]).abs();
-        if travels.len() - start == poses && total < TAU {
-            totals[count] = total;
-            count += 1;
-        } else {
-            travels.truncate(start);
-        }
+        (totals, count)
+    };
+    let (mut totals, mut count) = order(false);
+    if count == 0 && ctx.turning_tip.is_some() {
+        (totals, count) = order(true);
     }
     if count == 0 {
         return Err(Reject::Order);
@@ -238,6 +287,7 @@ fn screen(
     // The shorter travel first (on a tie, turning positively).
     if count == 2 && totals[1] < totals[0] {
         travels.rotate_left(poses);
+        turned.rotate_left(poses);
     }
 
     // A four-bar or slider-crank is judged on assembly and transmission in closed form, so travels
@@ -254,7 +304,8 @@ fn screen(
                 first_failure.get_or_insert(Reject::Transmission);
             }
             _ => {
-                travels.copy_within(angles, kept * poses);
+                travels.copy_within(angles.clone(), kept * poses);
+                turned.copy_within(angles, kept * poses);
                 kept += 1;
             }
         }
@@ -263,6 +314,7 @@ fn screen(
         return Err(first_failure.unwrap_or(Reject::Assembly));
     }
     travels.truncate(kept * poses);
+    turned.truncate(kept * poses);
 
     // Where every joint should be at every pose, at the input poses.
     targets.clear();
@@ -288,10 +340,10 @@ fn simulate(
     let Screening { mut first_failure, exact, .. } = screening;
     let poses = ctx.problem.pose_count;
     // A copy: the simulation uses the scratch (one allocation against a whole simulation).
-    let travels = scratch.travels.clone();
+    let (travels, turned) = (scratch.travels.clone(), scratch.turned.clone());
     let frames = BodyFrames::new(&mechanism, &ctx.first_poses);
-    for angles in travels.chunks_exact(poses) {
-        match travel(ctx, &plan, angles, scratch) {
+    for (angles, turned) in travels.chunks_exact(poses).zip(turned.chunks_exact(poses)) {
+        match travel(ctx, &plan, (angles, turned), scratch) {
             Ok((trace, pose_rows)) if misses_must_hit_pose(ctx, &frames, &trace, &pose_rows) => {
                 first_failure.get_or_insert(Reject::MissedPose);
             }
@@ -358,8 +410,15 @@ fn first_least(mut errors: impl Iterator<Item = f64>) -> usize {
 }
 
 /// Simulates the travel through nominal crank `angles`, finds the configuration closest to each pose,
-/// and returns the travel's trace with the row of each pose.
-fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> Result<(Trace, Vec<usize>), Reject> {
+/// and returns the travel's trace with the row of each pose. With a turning tip, a pose's
+/// configuration is looked for on the side of the turn the screening found (`turned`): the body
+/// passes its places on the way out again on the way back.
+fn travel(
+    ctx: &Context,
+    plan: &Plan,
+    (angles, turned): (&[f64], &[bool]),
+    scratch: &mut Scratch,
+) -> Result<(Trace, Vec<usize>), Reject> {
     let n = plan.joint_count();
     let poses = angles.len();
     let (start, end) = (angles[0], angles[poses - 1]);
@@ -387,7 +446,16 @@ fn travel(ctx: &Context, plan: &Plan, angles: &[f64], scratch: &mut Scratch) -> 
     row.resize(n, Point::ORIGIN);
     let mut thetas = vec![start];
     for i in 1..poses {
-        let best = nearest_row(&coarse.positions, n, moving, &targets[i * n..(i + 1) * n]);
+        let target = &targets[i * n..(i + 1) * n];
+        let best = if ctx.turning_tip.is_some() {
+            let first = &coarse.positions[..n];
+            let on_side = |row: &[Point]| ctx.tip_turned(first, row) == turned[i];
+            let miss = |row: &[Point]| moving.iter().map(|&j| (row[j] - target[j]).norm_sq()).sum::<f64>();
+            let rows = coarse.positions.chunks_exact(n);
+            first_least(rows.map(|row| if on_side(row) { miss(row) } else { f64::INFINITY }))
+        } else {
+            nearest_row(&coarse.positions, n, moving, target)
+        };
         let lo = coarse.thetas[best.saturating_sub(1)];
         let hi = coarse.thetas[(best + 1).min(coarse.len() - 1)];
         let theta = minimise(lo, hi, |theta| match plan.solve(theta, row) {

@@ -33,6 +33,7 @@ fn grid(quick: bool) -> (Vec<(Family, Vec<usize>)>, Vec<u64>) {
             (Family::Chain(6), vec![2]),
             (Family::SliderCrank, vec![2, 4]),
             (Family::WattTwo, vec![3, 7]),
+            (Family::WattTwoOutAndBack, vec![4, 7]),
             (Family::StephensonThree, vec![3, 7]),
         ];
         return (grid, vec![0]);
@@ -46,6 +47,7 @@ fn grid(quick: bool) -> (Vec<(Family, Vec<usize>)>, Vec<u64>) {
         (Family::Chain(6), (2..=3).collect()),
         (Family::SliderCrank, (2..=5).collect()),
         (Family::WattTwo, (2..=10).collect()),
+        (Family::WattTwoOutAndBack, (3..=10).collect()),
         (Family::StephensonThree, (2..=10).collect()),
     ];
     (grid, vec![0, 1, 2])
@@ -167,7 +169,11 @@ pub fn bench_known(
                 problem.settings.seed = seed;
                 let (design, violations) = run(&problem, pool);
                 if let Some(dir) = save {
-                    let stem = format!("{}_k{}_n{poses}_seed{scene_seed}", family.name(), family.body_count());
+                    let name = match family {
+                        Family::WattTwoOutAndBack => "watt_two_out_and_back",
+                        _ => family.name(),
+                    };
+                    let stem = format!("{name}_k{}_n{poses}_seed{scene_seed}", family.body_count());
                     write_atomically(&dir.join(format!("{stem}.json")), known.scene.to_json().as_bytes())?;
                     write_atomically(&dir.join(format!("{stem}.design.json")), design.to_json().as_bytes())?;
                 }
