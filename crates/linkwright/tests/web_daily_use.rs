@@ -8,8 +8,8 @@
 //! selecting, a part's file is saved under the scene's name, undo and redo of a joint edit bring back
 //! that edit's designs, an outline that cannot be a shape is refused with the reason, the labels on
 //! the drawing do not cover each other, springs and their brackets are named as the person named the
-//! parts, the motion video has every frame, the mass fields show their numbers whole, Live redesign
-//! stays ticked after a reload.
+//! parts, the motion video has every frame, a pose the engine refuses is told in the screen's words,
+//! the mass fields show their numbers whole, Live redesign stays ticked after a reload.
 //! How the browser is driven, and when the test is skipped: `browser/mod.rs`.
 
 mod browser;
@@ -376,6 +376,7 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
 
     labels_apart(page).await?;
     springs_named(page).await?;
+    pose_in_screen_words(page).await?;
     masses_fit(page).await?;
 
     // An example replaces a drawing with unsaved changes only after asking: kept, then replaced.
@@ -653,6 +654,27 @@ fn webm_frame_times(bytes: &[u8]) -> Option<Vec<u64>> {
     let mut out = Vec::new();
     walk(bytes, 0, bytes.len(), &mut 0, &mut out)?;
     Some(out)
+}
+
+/// A pose typed far beyond what the engine takes (x 5,000,000): the reason the design is refused is
+/// told in the screen's words, not the file's (no `[x_mm, y_mm, angle_deg]`, no `1e6`).
+async fn pose_in_screen_words(page: &Page) -> Result<()> {
+    click(page, "[data-tab=object]").await?;
+    click(page, "li.row:has([data-key=moving-name-0])").await?;
+    type_into(page, "[data-key=pose-0-1-x]", "5000000").await?;
+    assert_eq!(eval(page, "window.linkwright.store.scene.moving_bodies[0].poses[1][0]").await?.as_f64(), Some(5e6));
+    eval(page, "document.activeElement.blur() || true").await?;
+    click(page, "#btn-design").await?;
+    until(page, &format!("!({DESIGNING}) && window.linkwright.results.error !== null"), Duration::from_secs(20))
+        .await?;
+    settle(page).await?;
+    let told = eval(page, "document.querySelector('#tab-result .callout.error')?.textContent ?? ''").await?;
+    let told = told.as_str().unwrap_or_default();
+    assert!(told.contains("pose 2 is at x 5000000, y "), "{told}");
+    for file_word in ["x_mm", "angle_deg", "1e6", "["] {
+        assert!(!told.contains(file_word), "{file_word} in {told}");
+    }
+    undo(page).await
 }
 
 /// At full size a body's mass field shows what it weighs in its material when left empty: that

@@ -15,12 +15,32 @@ const SETTINGS = {
 };
 const WEIGHTS = { accuracy: 'Accuracy', smoothness: 'Smoothness', location: 'Location', size: 'Size' };
 
+/** A number as the engine writes it (Rust: `5000000.0`, `1e6`, `NaN`, `inf`) in the screen's words. */
+function plainNumber(text) {
+  const v = Number(text.replace(/^(-?)inf$/, '$1Infinity'));
+  if (Number.isNaN(v)) return 'not a number';
+  if (!Number.isFinite(v)) return v > 0 ? 'infinite' : 'minus infinite';
+  return String(v);
+}
+
 /**
- * `message` (the engine's words) with the scene file's names of places (`settings.pose_tolerance`,
- * `linkage_region`, `moving_bodies[0].poses[2]`) in the screen's words.
+ * `message` (the engine's words) in the screen's words: the scene file's names of places
+ * (`settings.pose_tolerance`, `linkage_region`, `moving_bodies[0].poses[2]`) as the screen names
+ * them, a pose written as the file does (`[x_mm, y_mm, angle_deg]`) as its x, y and angle, an
+ * outline's vertices and edges (counted from 0) as its corners and sides (counted from 1), numbers
+ * such as `1e6` written out, and the mechanism families (`"slider_crank"`) as Settings › Type
+ * names them (`families`, the engine's list, when loaded).
  */
-export function screenWords(message, scene) {
-  return message
+export function screenWords(message, scene, families = []) {
+  let out = message
+    .replace(/\bis \[([^\],]+), ([^\],]+), ([^\],]+)\]; write three finite numbers \[x_mm, y_mm, angle_deg\] within ±(\S+)/g,
+      (_, x, y, a, most) => `is at x ${plainNumber(x)}, y ${plainNumber(y)}, angle ${plainNumber(a)}°; x, y and the angle must be numbers between −${plainNumber(most)} and ${plainNumber(most)}`)
+    .replace(/\[x_mm, y_mm, angle_deg\]/g, 'x, y and angle')
+    .replace(/\bvertex (\d+)/g, (_, i) => `corner ${Number(i) + 1}`)
+    .replace(/\bedge (\d+) crosses edge (\d+)/g, (_, i, j) => `side ${Number(i) + 1} crosses side ${Number(j) + 1}`)
+    .replace(/\bvertices\b/g, 'corners')
+    .replace(/\ba polygon\b/g, 'an outline')
+    .replace(/(^|[^\w.])(\d+(?:\.\d+)?e[+-]?\d+)\b/g, (_, before, n) => `${before}${plainNumber(n)}`)
     .replace(/\b(?:moving_bodies|fixed_bodies)\[\d+\](?:\.poses\[\d+\])?/g, (f) => screenField(f, scene).text)
     .replace(/\b(?:settings|weights)\.\w+/g, (f) => `“${screenField(f, scene).text}”`)
     .replace(/\blinkage_region\b/g, 'the linkage region')
@@ -28,6 +48,10 @@ export function screenWords(message, scene) {
     .replace(/\bmust_hit_poses\b/g, 'the poses marked must-hit')
     .replace(/\bpinned_joints\b/g, 'the pinned joints')
     .replace(/\bthe the\b/g, 'the');
+  for (const f of [{ id: 'auto', label: 'automatic' }, ...families]) {
+    out = out.replaceAll(`"${f.id}"`, `“${f.label}”`).replace(new RegExp(`^${f.id}\\b`), `The ${f.label}`);
+  }
+  return out;
 }
 
 /**

@@ -552,8 +552,6 @@ export class Results {
         html('th', { text: body.name }),
         // Empty, the field shows what the body weighs in its material: the number alone, so that it
         // fits (the note below names the material).
-        // Empty, the field shows what the body weighs in its material: the number alone, so that it
-        // fits (the note below names the material).
         html('td', {}, [html('input', {
           type: 'number', min: '0', step: 'any', 'data-mass': i, 'aria-label': `mass of ${body.name}, kg`,
           value: body.mass_kg ?? '', placeholder: mass === undefined ? '' : kilograms(mass),
@@ -682,7 +680,7 @@ export class Results {
         const select = at.selection ? () => this.store.setUi({ selection: at.selection, pose: at.pose ?? this.store.ui.pose, tab: 'object' }) : null;
         return html('li', { class: i.severity }, [
           select ? html('a', { href: '#', text: at.text, onclick: (e) => { e.preventDefault(); select(); } }) : html('b', { text: at.text }),
-          `: ${screenWords(i.message, this.store.scene)}`,
+          `: ${screenWords(i.message, this.store.scene, this.store.families)}`,
         ]);
       };
       host.append(html('div', { class: 'callout error' }, [
@@ -703,7 +701,7 @@ export class Results {
     if (d.status !== 'ok') {
       host.append(html('div', { class: 'callout warn' }, [
         html('b', { text: 'No linkage found' }),
-        html('p', { class: 'reason', text: screenWords(d.reason || '', this.store.scene) }),
+        html('p', { class: 'reason', text: screenWords(d.reason || '', this.store.scene, this.store.families) }),
         // When the drawing's size does not suit the build, the reason says so first.
         /does not suit the build/.test(d.reason || '') ? this.buildActions(d.build, d.reason) : null,
       ]));
