@@ -181,6 +181,10 @@ pub struct Metrics {
     /// The largest of each field of `pose_errors`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst_pose_error: Option<PoseMiss>,
+    /// When the design is far from a pose drawn (by more than a quarter of its body's size or 5°):
+    /// the pose it misses most, and by how much. The search found no design closer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub far_from_pose: Option<crate::verify::FarFromPose>,
 }
 
 /// Another valid design.
@@ -604,6 +608,7 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
         cost: c.cost,
         min_transmission_deg: c.trace.min_transmission(&c.plan).to_degrees(),
         worst_pose_error: Some(PoseMiss::worst(pose_errors.iter().flatten())),
+        far_from_pose: crate::verify::far_from_pose(problem, &pose_errors),
         pose_errors,
     };
     (mechanism, motion, metrics)

@@ -102,7 +102,7 @@ pub use design::{
 };
 
 // Checking a design against its scene.
-pub use verify::{pose_misses, Violation};
+pub use verify::{far_from_pose, pose_misses, FarFromPose, Violation, FAR_ANGLE_DEG, FAR_POSITION_REL_D};
 
 // Pictures of a design.
 pub use render::{animation_svg, design_svg, RenderInput};

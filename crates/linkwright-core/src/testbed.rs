@@ -721,6 +721,7 @@ fn known_metrics(
         min_transmission_deg,
         pose_errors: Vec::new(),
         worst_pose_error: None,
+        far_from_pose: None,
     }
 }
 

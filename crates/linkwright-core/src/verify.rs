@@ -206,6 +206,35 @@ pub fn pose_misses(problem: &Problem, mechanism: &Mechanism, trace: &Trace, pose
         .collect()
 }
 
+/// A design that misses some pose by more than this fraction of its body's size d, or by more than
+/// [`FAR_ANGLE_DEG`], is far from the poses drawn: it is not what was asked for, however valid
+/// ([`far_from_pose`]). A quarter of d is where a person sees at a glance that the body is elsewhere.
+pub const FAR_POSITION_REL_D: f64 = 0.25;
+/// See [`FAR_POSITION_REL_D`].
+pub const FAR_ANGLE_DEG: f64 = 5.0;
+
+/// The pose a design is farthest from, when it is far from it ([`FAR_POSITION_REL_D`],
+/// [`FAR_ANGLE_DEG`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FarFromPose {
+    /// The pose, counted from 1.
+    pub pose: usize,
+    /// The moving body's name.
+    pub body: String,
+    /// By how much it misses.
+    #[serde(flatten)]
+    pub miss: PoseMiss,
+}
+
+/// Of `misses` (`[pose][body]`, [`pose_misses`]), the one furthest past either bound of a far pose,
+/// when some pose is past one.
+pub fn far_from_pose(problem: &Problem, misses: &[Vec<PoseMiss>]) -> Option<FarFromPose> {
+    let past = |m: &PoseMiss| (m.position_rel_d / FAR_POSITION_REL_D).max(m.angle_deg / FAR_ANGLE_DEG);
+    let indexed = misses.iter().enumerate().flat_map(|(i, m)| m.iter().enumerate().map(move |(b, m)| (i, b, *m)));
+    let (i, b, miss) = indexed.max_by(|a, b| past(&a.2).total_cmp(&past(&b.2)))?;
+    (past(&miss) > 1.0).then(|| FarFromPose { pose: i + 1, body: problem.bodies[b].name.clone(), miss })
+}
+
 /// How to read each moving body's pose off a configuration of `mechanism` in `problem`.
 fn body_frames(problem: &Problem, mechanism: &Mechanism) -> BodyFrames {
     let first_poses: Vec<_> = problem.bodies.iter().map(|b| b.poses[0]).collect();

@@ -200,3 +200,32 @@ fn a_warm_start_from_a_known_out_and_back_six_bar_is_kept() {
         assert!(worst <= 0.05, "{label}: a pose missed by {worst}·d");
     }
 }
+
+/// A design far from a pose drawn is never presented as reaching it: the out-and-back six-bar through
+/// four poses, searched with few samples, gets a Watt-II missing its second pose by 30% of d. The
+/// search goes on once from other samples, and the design file names the pose it is far from, with
+/// the miss its own pose errors show.
+#[test]
+fn a_design_far_from_a_pose_says_so() {
+    use linkwright_core::{FAR_ANGLE_DEG, FAR_POSITION_REL_D};
+    let known = known_scene(Family::WattTwoOutAndBack, 4, 0, 100.0).unwrap();
+    let mut scene = known.scene.clone();
+    scene.settings.samples = 20_000;
+    let problem = Problem::new(&scene).unwrap();
+    let outcome = synthesize(&problem, &Silent).unwrap();
+    assert_eq!(outcome.stats.samples, 2 * 20_000, "a second search from other samples");
+    let file = DesignFile::from_outcome(&problem, &outcome);
+    let metrics = file.metrics.as_ref().expect("a design");
+    let far = metrics.far_from_pose.as_ref().expect("marked far");
+    let miss = metrics.pose_errors[far.pose - 1][0];
+    assert_eq!((far.body.as_str(), far.miss), ("body1", miss));
+    assert!(miss.position_rel_d > FAR_POSITION_REL_D || miss.angle_deg > FAR_ANGLE_DEG, "{miss:?}");
+    // Every other pose is nearer than the one named.
+    let past = |m: &linkwright_core::PoseMiss| (m.position_rel_d / FAR_POSITION_REL_D).max(m.angle_deg / FAR_ANGLE_DEG);
+    assert!(metrics.pose_errors.iter().flatten().all(|m| past(m) <= past(&miss)));
+    // The same scene with the default samples finds a design near every pose, unmarked.
+    let problem = Problem::new(&known.scene).unwrap();
+    let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
+    let metrics = file.metrics.as_ref().expect("a design");
+    assert_eq!(metrics.far_from_pose, None, "{:?}", metrics.worst_pose_error);
+}

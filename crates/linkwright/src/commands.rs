@@ -145,6 +145,13 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         println!("{}", summary(&file, &problem, &scene.units, &out_dir));
     }
     // The library says what would help; the remedy only this command has is its own.
+    if let Some(far) = file.metrics.as_ref().and_then(|m| m.far_from_pose.as_ref()) {
+        eprintln!(
+            "hint: pose {} of {} is far from where the linkage takes the body: draw a pose between it and its \
+             neighbours, move it closer to the way the others go, or try another --seed or mechanism",
+            far.pose, far.body
+        );
+    }
     if outcome.unbuildable {
         eprintln!(
             "hint: --build model:1:N prints the model at another scale, --build full:plywood builds it full size"
@@ -247,7 +254,18 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
             file.scene,
             kind_name(m),
             m.joints.len(),
-            pose_reach(problem, &x.pose_errors, units),
+            match &x.far_from_pose {
+                Some(far) => format!(
+                    ", FAR FROM POSE {} of {}: misses it by {:.3} {units} ({:.0}% of its size) and {:.1}°, and no \
+                     linkage closer was found",
+                    far.pose,
+                    far.body,
+                    far.miss.position,
+                    100.0 * far.miss.position_rel_d,
+                    far.miss.angle_deg
+                ),
+                None => pose_reach(problem, &x.pose_errors, units),
+            },
             file.build.as_ref().map_or(String::new(), build_words),
             x.cost,
             x.accuracy,

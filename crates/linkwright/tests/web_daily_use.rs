@@ -289,6 +289,28 @@ async fn small_things(page: &Page, downloads: &Path) -> Result<()> {
                 const cut = [...chart.querySelectorAll('.axes text')].filter((t) => t.getBBox().x < 0).map((t) => t.textContent); \
                 chart.remove(); return cut; })";
     assert_eq!(eval(page, tiny).await?, serde_json::json!([]), "tiny errors' tick labels are cut");
+
+    // A design the engine marks far from a pose (`far_from_pose`) is not shown as an approximation: its
+    // badge says it is far from the drawing, and that nothing closer was found.
+    let badge = |far: &str| {
+        format!(
+            "import('/js/accuracy.js').then((m) => {{ const scene = {{units: 'mm', moving_bodies: [{{name: 'lid', \
+             polygon: [[0, 0], [10, 0], [10, 5]], poses: [[0, 0, 0], [5, 0, 0]]}}]}}; \
+             const miss = (p, r, a) => ({{position: p, position_rel_d: r, angle_deg: a}}); \
+             const metrics = {{pose_errors: [[miss(0, 0, 0)], [miss(2, 0.4, 7)]], far_from_pose: {far}}}; \
+             const b = m.reachBadge(m.poseErrors(metrics, null, scene), scene); return [b.className, b.textContent]; }})"
+        )
+    };
+    let far = eval(page, &badge("{pose: 2, body: 'lid', position: 2, position_rel_d: 0.4, angle_deg: 7}")).await?;
+    assert_eq!(
+        far,
+        serde_json::json!([
+            "badge far verified",
+            "Far from the drawing: Pose 2 (lid) is missed by 2.0 mm (40% of its width) and 7.0°, and no linkage closer was found"
+        ])
+    );
+    let near = eval(page, &badge("undefined")).await?;
+    assert_eq!(near[0], "badge warn verified", "{near}");
     motion_video_frames(page, downloads).await?;
 
     // The engine's reasons are shown in the screen's words, not the file's.

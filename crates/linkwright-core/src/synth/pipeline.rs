@@ -6,13 +6,14 @@ use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
 use super::pfo::{refine, FilterOptions};
+use super::random::splitmix;
 use super::refine::{refine_design, Leash, RefineOptions};
 use super::sample::{x_from_mechanism, Near, SampleScratch, Sampler, WARM_JITTER};
 use super::workspace::Workspace;
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, MechanismType, Topology};
 use crate::scene::{MechanismChoice, Problem};
-use crate::verify::{verify_travel, Travel};
+use crate::verify::{far_from_pose, pose_misses, verify_travel, Travel};
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Instant;
@@ -22,6 +23,8 @@ use std::time::Instant;
 /// hitting something, where linkages fitted closer to the drawn poses pass (reference scenes: the
 /// three-pose power shovel and the peg in its hole get a design this way).
 const RETRY_NOISE: f64 = 0.1;
+/// Mixed into the seed of the search that follows a design far from the poses.
+const FAR_RETRY_STREAM: u64 = 0x6661_7200;
 /// Samples drawn between two progress reports (and cancellation checks).
 const CHUNK: usize = 2048;
 /// Samples simulated between two updates of the bar a sample's cost floor must pass.
@@ -313,6 +316,20 @@ fn on_topology(mechanism: &Mechanism, topology: &Arc<Topology>) -> Option<Mechan
     Some(Mechanism { topology: topology.clone(), joints, slider: mechanism.slider })
 }
 
+/// One context per family of the run, spaced for the print check when there is one.
+fn family_contexts<'p>(problem: &'p Problem, families: &[MechanismType], options: &Options) -> Vec<Context<'p>> {
+    families
+        .iter()
+        .map(|&family| {
+            let ctx = Context::new(problem, family);
+            match options.printable {
+                Some(check) => ctx.spaced_at_least(check.min_joint_spacing()),
+                None => ctx,
+            }
+        })
+        .collect()
+}
+
 /// Runs the synthesis with `options` on the current rayon pool.
 pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();
@@ -324,22 +341,32 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         rejected: [0; Reject::ALL.len()],
         refused: None,
     };
-    let contexts: Vec<Context> = families
-        .iter()
-        .map(|&family| {
-            let ctx = Context::new(problem, family);
-            match options.printable {
-                Some(check) => ctx.spaced_at_least(check.min_joint_spacing()),
-                None => ctx,
-            }
-        })
-        .collect();
+    let contexts = family_contexts(problem, &families, options);
     // One per family: a sample's buffers hold a mechanism of its family's topology.
     let workspaces: Vec<Workspace> = families.iter().map(|_| Workspace::default()).collect();
     let mut picked = design_round(problem, options, &contexts, &workspaces, &mut run)?;
     if picked.is_empty() && contexts.iter().any(|ctx| !ctx.unperturbed) {
         let closer: Vec<Context> = contexts.into_iter().map(|ctx| ctx.perturbed_less(RETRY_NOISE)).collect();
         picked = design_round(problem, options, &closer, &workspaces, &mut run)?;
+    }
+    // A design far from the poses is not what was asked for: a cold run searches once more, from
+    // other samples, and keeps what is closest.
+    let far = |c: &Candidate| far_from_pose(problem, &pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows));
+    if matches!(options.start, Start::Cold) && picked.first().is_some_and(|c| far(c).is_some()) {
+        let mut reseeded = problem.clone();
+        reseeded.settings.seed = splitmix(problem.settings.seed ^ FAR_RETRY_STREAM);
+        let again = family_contexts(&reseeded, &families, options);
+        picked.extend(design_round(&reseeded, options, &again, &workspaces, &mut run)?);
+        // Designs near every pose first, then by cost; each distinct from those before it.
+        picked.sort_by(|a, b| far(a).is_some().cmp(&far(b).is_some()).then(a.cost.total_cmp(&b.cost)));
+        let min_shift = min_shift(problem);
+        let mut kept: Vec<Candidate> = Vec::new();
+        for c in picked {
+            if kept.len() <= MAX_ALTERNATIVES && kept.iter().all(|p| distinct(p, &c, min_shift)) {
+                kept.push(c);
+            }
+        }
+        picked = kept;
     }
     let Run { mut stats, rejected, .. } = run;
     if let Some(best) = picked.first() {

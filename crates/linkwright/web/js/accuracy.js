@@ -68,7 +68,10 @@ export function poseErrors(metrics, analysis, scene) {
   if (fileTable && file && finite(file.position) && finite(file.position_rel_d) && finite(file.angle_deg)) {
     Object.assign(max, { position: file.position, rel: file.position_rel_d, angle: Math.abs(file.angle_deg) });
   }
-  return { rows, worst, max, reached: max.rel <= REACHED.positionRelD && max.angle <= REACHED.angleDeg };
+  // The engine marks a design far from a pose (a quarter of the body's size, or 5°) when its search
+  // found none closer.
+  const far = fileTable && metrics?.far_from_pose ? metrics.far_from_pose : null;
+  return { rows, worst, max, reached: max.rel <= REACHED.positionRelD && max.angle <= REACHED.angleDeg, far };
 }
 
 /** Decimals that show a length or an angle legibly: two below 1, one above. */
@@ -102,15 +105,18 @@ export function reachText(e, scene) {
     return `✓ Re-simulated independently: reaches every pose within ${fmtUp(e.max.position)} ${units} and ${fmtUp(e.max.angle)}°`;
   }
   const w = e.worst;
-  return `Pose ${w.pose + 1} (${bodyName(scene, w.body)}) is missed by ${fmt(w.position)} ${units} (${pct(w.rel)} of its width) and ${fmt(w.angle)}°`;
+  const missed = `Pose ${w.pose + 1} (${bodyName(scene, w.body)}) is missed by ${fmt(w.position)} ${units} (${pct(w.rel)} of its width) and ${fmt(w.angle)}°`;
+  return e.far ? `Far from the drawing: ${missed}, and no linkage closer was found` : missed;
 }
 
 /** The badge for errors `e` once the design has passed the independent check. */
 export function reachBadge(e, scene) {
   return html('p', {
-    class: e.reached ? 'badge ok verified' : 'badge warn verified',
+    class: e.reached ? 'badge ok verified' : e.far ? 'badge far verified' : 'badge warn verified',
     text: reachText(e, scene),
-    title: e.reached
+    title: e.far
+      ? 'Every hard constraint holds, but the body ends up far from where it was drawn at this pose. Draw a pose between it and its neighbours, move it toward the way the others go, or pick another type of linkage in Settings.'
+      : e.reached
       ? `Every hard constraint holds, and every pose is reached within ${REACHED.positionRelD * 100}% of the body's width (the shorter side of its outline's box) and ${REACHED.angleDeg}°.`
       : `Every hard constraint holds, but the design only approximates the poses: a pose counts as reached within ${REACHED.positionRelD * 100}% of the body's width (the shorter side of its outline's box) and ${REACHED.angleDeg}°.`,
   });
