@@ -21,7 +21,7 @@ pub use context::Context;
 pub use evaluate::{evaluate, Candidate, Reject, Scratch};
 pub use pipeline::{
     assess, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent,
-    Stage, Start, FOLLOW_COST_SLACK, WARM_SAMPLES,
+    Stage, Start, FOLLOW_COST_SLACK, SCREENING_DIVISOR, SWITCH_COST_FACTOR, WARM_SAMPLES,
 };
 pub use terms::{CostWeights, SoftTerms, Term};
 

@@ -181,15 +181,17 @@ pub enum Start<'a> {
     Cold,
     /// From earlier designs of a similar scene (a previous design and its alternatives, after the
     /// person moved a pose, say): [`WARM_SAMPLES`] samples are fitted from those designs' joints to the
-    /// new poses, and the particle filter runs a quarter of its iterations. Only the family of the
-    /// first (the design refined) is searched, from those of its family: the person refines the
-    /// linkage they have, and a live redesign must keep up (the garbage truck's live steps took a
-    /// median 137 ms when each of its three families was searched, `CI=true cargo test --release -p
-    /// linkwright --test web_e2e -- --nocapture | grep latency`). If it finds nothing valid, that
-    /// family falls back to a cold start.
+    /// new poses, and the particle filter runs a quarter of its iterations. The family of the first
+    /// (the design refined) is searched from those of its family: the person refines the linkage
+    /// they have. If it finds nothing valid, that family falls back to a cold start. Every other
+    /// family is screened cold on a [`SCREENING_DIVISOR`]th of the samples, and takes over only with
+    /// a design costing less than [`SWITCH_COST_FACTOR`] of the warm family's best.
     Warm(&'a [Mechanism]),
     /// A live redesign after a small edit (a pose dragged a little): searched as [`Start::Warm`] from
-    /// the design shown (the first) and its alternatives, and the answer is the design whose joints
+    /// the design shown (the first) and its alternatives, its family only (a live redesign must keep
+    /// up: the garbage truck's live steps took a median 137 ms when each of its three families was
+    /// searched, `CI=true cargo test --release -p linkwright --test web_e2e -- --nocapture | grep
+    /// latency`), and the answer is the design whose joints
     /// moved least from the design shown, of those costing at most [`FOLLOW_COST_SLACK`] more than
     /// the cheapest: a small edit moves the linkage a little (same family, same branch, joints near
     /// where they were) rather than jumping to another linkage that is a little cheaper.
@@ -207,6 +209,16 @@ pub const FOLLOW_COST_SLACK: f64 = 0.25;
 /// optimum itself can move several times as far as the pose dragged, and a design refined freely
 /// drifts from the one shown until it jumps (`linkwright bench --live examples/*.json`).
 const FOLLOW_REACH: f64 = 0.03;
+
+/// A warm start screens each family it does not start from with this share of the samples, and a
+/// quarter of the filter's iterations: a one-body example's `design --from` took 0.02 s warm alone,
+/// 0.1–0.25 s so (a cold run takes 1–3 s).
+pub const SCREENING_DIVISOR: usize = 8;
+/// A family screened in a warm start takes over when its design costs less than this share of the
+/// warm family's best: clearly better, not the noise between two searches (on known four-bar and
+/// slider-crank motions a Stephenson-III asked for cost 1.15 times the cold best, and must stay; one
+/// cost 2.25 times, and is left).
+pub const SWITCH_COST_FACTOR: f64 = 0.75;
 
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
@@ -316,18 +328,18 @@ fn on_topology(mechanism: &Mechanism, topology: &Arc<Topology>) -> Option<Mechan
     Some(Mechanism { topology: topology.clone(), joints, slider: mechanism.slider })
 }
 
-/// One context per family of the run, spaced for the print check when there is one.
+/// One context per family of the run ([`family_context`]).
 fn family_contexts<'p>(problem: &'p Problem, families: &[MechanismType], options: &Options) -> Vec<Context<'p>> {
-    families
-        .iter()
-        .map(|&family| {
-            let ctx = Context::new(problem, family);
-            match options.printable {
-                Some(check) => ctx.spaced_at_least(check.min_joint_spacing()),
-                None => ctx,
-            }
-        })
-        .collect()
+    families.iter().map(|&family| family_context(problem, family, options)).collect()
+}
+
+/// A family's context, spaced for the print check when there is one.
+fn family_context<'p>(problem: &'p Problem, family: MechanismType, options: &Options) -> Context<'p> {
+    let ctx = Context::new(problem, family);
+    match options.printable {
+        Some(check) => ctx.spaced_at_least(check.min_joint_spacing()),
+        None => ctx,
+    }
 }
 
 /// Runs the synthesis with `options` on the current rayon pool.
@@ -452,13 +464,28 @@ fn design_round(
         .collect();
     let warm = seeds.iter().any(|s| !s.is_empty());
     let following = matches!(options.start, Start::Follow(_));
+    // A warm start (not a live one) screens the other families too, cold, on a share of the budget:
+    // one that finds a clearly cheaper design takes over ([`SWITCH_COST_FACTOR`]).
+    let screening = warm && matches!(options.start, Start::Warm(_));
+    let mut quick = problem.clone();
+    quick.settings.samples = (problem.settings.samples / SCREENING_DIVISOR).max(1);
+    quick.settings.iterations = (problem.settings.iterations / 4).max(1);
+    let mut others: Vec<Candidate> = Vec::new();
     for (f, ((ctx, workspace), seeds)) in contexts.iter().zip(workspaces).zip(&seeds).enumerate() {
+        let family = ctx.topology.mechanism_type;
+        let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
         if warm && seeds.is_empty() {
+            if screening {
+                let ctx = family_context(&quick, family, options);
+                let stage = FamilyStage { ctx: &ctx, workspace };
+                let report = |stage, x, best| {
+                    observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
+                };
+                others.extend(run_family(run, stage, family, &[], false, &report)?);
+            }
             continue;
         }
-        let family = ctx.topology.mechanism_type;
         let stage = FamilyStage { ctx, workspace };
-        let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
         let report = |stage, x, best: Option<f64>| {
             observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
         };
@@ -474,6 +501,10 @@ fn design_round(
             best_cost = min_opt(best_cost, Some(c.cost));
         }
         valid.extend(found);
+    }
+    let cheapest = |designs: &[Candidate]| designs.iter().map(|c| c.cost).reduce(f64::min);
+    if cheapest(&others).is_some_and(|other| cheapest(&valid).is_none_or(|warm| other < SWITCH_COST_FACTOR * warm)) {
+        valid.extend(others);
     }
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
