@@ -348,24 +348,16 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     let gap = GAP_FRACTION * smallest;
 
     // Every body moves, and no two bodies come close, anywhere along the travel.
-    let placed_at = |r: usize| -> Vec<Polygon> {
-        bodies.iter().enumerate().map(|(b, (o, _))| o.transformed(&frames.pose(b, trace.row(r)))).collect()
-    };
+    let placed_rows: Vec<Vec<Polygon>> = (0..trace.len())
+        .map(|r| bodies.iter().enumerate().map(|(b, (o, _))| o.transformed(&frames.pose(b, trace.row(r)))).collect())
+        .collect();
     // Out and back, the body's farthest place counts, not its last.
-    let first_placed = placed_at(0);
-    let farthest = if out_and_back { (1..trace.len()).collect() } else { vec![trace.len() - 1] };
+    let farthest = if out_and_back { &placed_rows[1..] } else { &placed_rows[placed_rows.len() - 1..] };
     for (b, (outline, _)) in bodies.iter().enumerate() {
+        let first = placed_rows[0][b].vertices();
         let moved = farthest
             .iter()
-            .flat_map(|&r| {
-                let placed = &placed_at(r)[b];
-                first_placed[b]
-                    .vertices()
-                    .iter()
-                    .zip(placed.vertices())
-                    .map(|(a, z)| a.distance(*z))
-                    .collect::<Vec<_>>()
-            })
+            .flat_map(|row| first.iter().zip(row[b].vertices()).map(|(a, z)| a.distance(*z)))
             .fold(0.0, f64::max);
         if moved < MIN_MOVE_FRACTION * size(outline) {
             return None;
@@ -373,9 +365,7 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     }
     let apart = |a: &Polygon, b: &Polygon| !a.penetrates(b, 0.0) && outline_distance(a.vertices(), b.vertices()) >= gap;
     let mut swept: Option<Aabb> = None;
-    let mut placed_rows = Vec::with_capacity(trace.len());
-    for r in 0..trace.len() {
-        let placed = placed_at(r);
+    for placed in &placed_rows {
         for (i, a) in placed.iter().enumerate() {
             if placed[i + 1..].iter().any(|b| !apart(a, b)) {
                 return None;
@@ -383,7 +373,6 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
             let bb = a.aabb();
             swept = Some(swept.map_or(bb, |s| s.union(&bb)));
         }
-        placed_rows.push(placed);
     }
     let swept = swept?;
 

@@ -7,6 +7,11 @@ mod known;
 mod live;
 mod sizes;
 
+/// A scene file's name without its directory and `.json`: how the benchmarks' rows name it.
+fn scene_label(path: &std::path::Path) -> String {
+    path.file_stem().map_or(String::new(), |s| s.to_string_lossy().into_owned())
+}
+
 use crate::files::read_problem;
 use crate::Failure;
 use clap::Args;

@@ -396,10 +396,11 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
 /// Puts first, of `designs` (cheapest first) costing at most [`FOLLOW_COST_SLACK`] more than the
 /// cheapest, the one whose joints moved least from `shown` ([`Mechanism::farthest_move_from`]) and
 /// that the independent re-simulation accepts ([`verifies`]: a linkage at the edge of a check may pass
-/// the search's and fail it); linkages of another family never follow it. Run on the valid linkages
-/// before the designs are picked (so that it is picked, and the others distinct from it), and again
-/// on the finished designs ([`finish_designs`]).
-fn follow(problem: &Problem, shown: &Mechanism, designs: &mut [Candidate]) {
+/// the search's and fail it; `verified` when every one of `designs` has passed it already); linkages
+/// of another family never follow it. Run on the valid linkages before the designs are picked (so
+/// that it is picked, and the others distinct from it), and again on the finished designs
+/// ([`finish_designs`]).
+fn follow(problem: &Problem, shown: &Mechanism, designs: &mut [Candidate], verified: bool) {
     let Some(cheapest) = designs.first().map(|c| c.cost) else { return };
     let limit = cheapest + FOLLOW_COST_SLACK * cheapest.abs();
     let mut near: Vec<(usize, f64)> = designs
@@ -409,7 +410,7 @@ fn follow(problem: &Problem, shown: &Mechanism, designs: &mut [Candidate]) {
         .filter_map(|(i, c)| c.mechanism.farthest_move_from(shown).map(|d| (i, d)))
         .collect();
     near.sort_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some(&(i, _)) = near.iter().find(|&&(i, _)| verifies(problem, &designs[i])) {
+    if let Some(&(i, _)) = near.iter().find(|&&(i, _)| verified || verifies(problem, &designs[i])) {
         designs[..=i].rotate_right(1);
     }
 }
@@ -460,17 +461,19 @@ fn design_round(
     let following = matches!(options.start, Start::Follow(_));
     // A warm start (not a live one) screens the other families too, cold, on a share of the budget:
     // one that finds a clearly cheaper design takes over ([`SWITCH_COST_FACTOR`]).
-    let screening = warm && matches!(options.start, Start::Warm(_));
-    let mut quick = problem.clone();
-    quick.settings.samples = (problem.settings.samples / SCREENING_DIVISOR).max(1);
-    quick.settings.iterations = (problem.settings.iterations / 4).max(1);
+    let quick = (warm && matches!(options.start, Start::Warm(_))).then(|| {
+        let mut quick = problem.clone();
+        quick.settings.samples = (problem.settings.samples / SCREENING_DIVISOR).max(1);
+        quick.settings.iterations = (problem.settings.iterations / 4).max(1);
+        quick
+    });
     let mut others: Vec<Candidate> = Vec::new();
     for (f, ((ctx, workspace), seeds)) in contexts.iter().zip(workspaces).zip(&seeds).enumerate() {
         let family = ctx.topology.mechanism_type;
         let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
         if warm && seeds.is_empty() {
-            if screening {
-                let ctx = family_context(&quick, family, options);
+            if let Some(quick) = &quick {
+                let ctx = family_context(quick, family, options);
                 let stage = FamilyStage { ctx: &ctx, workspace };
                 let report = |stage, x, best| {
                     observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
@@ -503,7 +506,7 @@ fn design_round(
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     if let Start::Follow([shown, ..]) = options.start {
-        follow(problem, shown, &mut valid);
+        follow(problem, shown, &mut valid, false);
     }
     let t = Instant::now();
     let mut picked = pick_designs(problem, valid, run)?;
@@ -606,7 +609,7 @@ fn finish_designs(
     let mut finished: Vec<Candidate> = finished.into_iter().flatten().flatten().collect();
     finished.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     if let Some(shown) = shown {
-        follow(problem, shown, &mut finished);
+        follow(problem, shown, &mut finished, true);
     }
     Ok(distinct_designs(problem, finished))
 }

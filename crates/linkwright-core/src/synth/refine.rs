@@ -101,11 +101,12 @@ pub fn refine_design(
     buffers: &mut Buffers,
 ) -> Candidate {
     let Buffers { evaluation: scratch, sweep } = buffers;
+    // The leash's reach, no shorter than the start's own distance from the design shown.
+    let leash = leash.map(|Leash { shown, reach }| {
+        (shown, start.mechanism.farthest_move_from(shown).map_or(reach, |d| d.max(reach)))
+    });
     let leashed = |c: &Candidate| {
-        leash.is_none_or(|Leash { shown, reach }| {
-            let reach = start.mechanism.farthest_move_from(shown).map_or(reach, |d| d.max(reach));
-            c.mechanism.farthest_move_from(shown).is_some_and(|d| d <= reach)
-        })
+        leash.is_none_or(|(shown, reach)| c.mechanism.farthest_move_from(shown).is_some_and(|d| d <= reach))
     };
     let mut x = Vec::new();
     x_from_mechanism(&start.mechanism, &mut x);

@@ -41,7 +41,7 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
     let mut rows = Vec::new();
     for path in scenes {
         let (scene, problem) = read_problem(path)?;
-        let label = path.file_stem().map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let label = super::scene_label(path);
         let design = |problem: &Problem, start: Start| -> Result<DesignFile, Failure> {
             let plan = BuildPlan::new(problem, &settings)
                 .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;

@@ -45,7 +45,7 @@ pub fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> 
         let (scene, _) = read_problem(path)?;
         for factor in FACTORS {
             let scaled = scaled_scene(&scene, factor);
-            let label = path.file_stem().map_or(String::new(), |s| s.to_string_lossy().into_owned());
+            let label = super::scene_label(path);
             let Ok(problem) = Problem::new(&scaled) else {
                 eprintln!("{label} ×{factor}: not a valid scene at this size");
                 continue;
