@@ -1,8 +1,10 @@
 //! `linkwright bench`: the paper's Table 1, measured side by side on this machine; with `--known`,
 //! the quality of the designs on scenes whose exact answer is known (see [`known`]); with `--sizes`,
 //! how the scenes given design and print at a hundredth and a hundred times their size ([`sizes`]);
-//! with `--live`, how a live redesign follows a dragged pose ([`live`]).
+//! with `--live`, how a live redesign follows a dragged pose ([`live`]); with `--auto`, what the
+//! automatic choice of family costs against the family it returns ([`auto`]).
 
+mod auto;
 mod known;
 mod live;
 mod sizes;
@@ -55,6 +57,10 @@ pub struct BenchArgs {
     /// jump per step, and the seconds per step.
     #[arg(long, conflicts_with_all = ["known", "repeat", "sizes"])]
     live: bool,
+    /// Design each scene given with `mechanism: auto`, then with the family it returned alone, back
+    /// to back (`--repeat` pairs): the seconds of each, their ratio and both designs' quality.
+    #[arg(long, conflicts_with_all = ["known", "sizes", "live"])]
+    auto: bool,
 }
 
 /// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
@@ -149,6 +155,9 @@ pub fn bench(args: BenchArgs) -> Result<(), Failure> {
     }
     if args.live {
         return live::bench_live(&args.scenes, &pool, args.json);
+    }
+    if args.auto {
+        return auto::bench_auto(&args.scenes, args.repeat, &pool, args.json);
     }
     if args.sizes {
         return sizes::bench_sizes(&args.scenes, &pool, args.json);

@@ -176,7 +176,11 @@ fn pinned_joints_missing(problem: &Problem, family: MechanismType) -> Vec<&str> 
 /// Where the search starts.
 #[derive(Clone, Copy, Debug, Default)]
 pub enum Start<'a> {
-    /// From scratch: `settings.samples` samples drawn uniformly in the linkage region.
+    /// From scratch: `settings.samples` samples drawn uniformly in the linkage region. With several
+    /// families to choose from, each is screened first on a [`SCREENING_DIVISOR`]th of its samples;
+    /// the family of the cheapest screened design then draws the rest of its samples and is searched
+    /// in full, from all of them (every family is, when that design misses a pose by more than 2% of
+    /// d or 1°). The screened designs of every family stay among the answers.
     #[default]
     Cold,
     /// From earlier designs of a similar scene (a previous design and its alternatives, after the
@@ -210,10 +214,21 @@ pub const FOLLOW_COST_SLACK: f64 = 0.25;
 /// drifts from the one shown until it jumps (`linkwright bench --live examples/*.json`).
 const FOLLOW_REACH: f64 = 0.03;
 
-/// A warm start screens each family it does not start from with this share of the samples, and a
-/// quarter of the filter's iterations: a one-body example's `design --from` took 0.02 s warm alone,
-/// 0.1–0.25 s so (a cold run takes 1–3 s).
+/// A family is screened ([`Start`]) on this share of the samples, and a quarter of the filter's
+/// iterations: a one-body example's `design --from` took 0.02 s warm alone, 0.1–0.25 s screening
+/// the other families; the bundled one-body examples' cold runs with `mechanism: auto` cost a
+/// median 5.0 times the family they return when each family was searched in full, 1.6 times so
+/// (`linkwright bench --auto --repeat 3 examples/k1_*.json`).
 pub const SCREENING_DIVISOR: usize = 8;
+/// The share of a cold run's progress bar its screening of every family takes.
+const SCREENING_PROGRESS: f64 = 0.25;
+/// The cheapest screened design misses some pose by more than this fraction of d, or by more than
+/// [`SCREENED_CLOSE_ANGLE_DEG`]: the motion is hard for a screening, and every family is searched in
+/// full. (Of the reference scenes, example 5's cheapest screened design, a four-bar, missed a pose
+/// by 0.12 d; a Stephenson-III's whole search there costs 5.6, its screening 93.)
+const SCREENED_CLOSE_REL_D: f64 = 0.02;
+/// See [`SCREENED_CLOSE_REL_D`].
+const SCREENED_CLOSE_ANGLE_DEG: f64 = 1.0;
 /// A family screened in a warm start takes over when its design costs less than this share of the
 /// warm family's best: clearly better, not the noise between two searches (on known four-bar and
 /// slider-crank motions a Stephenson-III asked for cost 1.15 times the cold best, and must stay; one
@@ -415,6 +430,28 @@ fn follow(problem: &Problem, shown: &Mechanism, designs: &mut [Candidate], verif
     }
 }
 
+/// The families (indices into `screened`, each family's designs from its screening) a cold run
+/// searches in full: the family of the cheapest design, or every one when that design is not close
+/// to every pose ([`SCREENED_CLOSE_REL_D`]) or no family found a design.
+fn promising(problem: &Problem, screened: &[Vec<Candidate>]) -> Vec<usize> {
+    let best = screened
+        .iter()
+        .enumerate()
+        .flat_map(|(f, designs)| designs.iter().map(move |c| (f, c)))
+        .min_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
+    match best {
+        Some((f, c))
+            if pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows)
+                .iter()
+                .flatten()
+                .all(|m| m.position_rel_d <= SCREENED_CLOSE_REL_D && m.angle_deg <= SCREENED_CLOSE_ANGLE_DEG) =>
+        {
+            vec![f]
+        }
+        _ => (0..screened.len()).collect(),
+    }
+}
+
 /// Whether the independent re-simulation ([`verify_travel`], what a design file's check runs) finds
 /// `c` sound along its travel.
 fn verifies(problem: &Problem, c: &Candidate) -> bool {
@@ -433,7 +470,6 @@ fn design_round(
     run: &mut Run,
 ) -> Result<Vec<Candidate>, Cancelled> {
     let mut valid: Vec<Candidate> = Vec::new();
-    let mut best_cost: Option<f64> = None;
     let observer = run.observer;
     // Each family's warm-start seeds: the earlier designs of its topology, as parameter vectors, for
     // the family of the design refined only.
@@ -459,48 +495,65 @@ fn design_round(
         .collect();
     let warm = seeds.iter().any(|s| !s.is_empty());
     let following = matches!(options.start, Start::Follow(_));
-    // A warm start (not a live one) screens the other families too, cold, on a share of the budget:
-    // one that finds a clearly cheaper design takes over ([`SWITCH_COST_FACTOR`]).
-    let quick = (warm && matches!(options.start, Start::Warm(_))).then(|| {
-        let mut quick = problem.clone();
-        quick.settings.samples = (problem.settings.samples / SCREENING_DIVISOR).max(1);
-        quick.settings.iterations = (problem.settings.iterations / 4).max(1);
-        quick
-    });
-    let mut others: Vec<Candidate> = Vec::new();
-    for (f, ((ctx, workspace), seeds)) in contexts.iter().zip(workspaces).zip(&seeds).enumerate() {
-        let family = ctx.topology.mechanism_type;
-        let share = |x: f64| (f as f64 + x) / contexts.len() as f64;
-        if warm && seeds.is_empty() {
-            if let Some(quick) = &quick {
-                let ctx = family_context(quick, family, options);
-                let stage = FamilyStage { ctx: &ctx, workspace };
-                let report = |stage, x, best| {
-                    observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
-                };
-                others.extend(run_family(run, stage, family, &[], false, &report)?);
-            }
-            continue;
-        }
-        let stage = FamilyStage { ctx, workspace };
-        let report = |stage, x, best: Option<f64>| {
-            observer.progress(&Progress { stage, mechanism: family, fraction: share(x), best_cost: best })
+    // A cold run of several families screens each of them first, then searches the promising ones in
+    // full ([`promising`]); a warm start (not a live one) screens the families it does not start
+    // from, and one of them takes over with a clearly cheaper design ([`SWITCH_COST_FACTOR`]).
+    let screens = if warm { !following } else { contexts.len() > 1 };
+    let screen: Vec<usize> = (0..contexts.len()).filter(|&f| screens && seeds[f].is_empty()).collect();
+    let mut drawn: Vec<Drawn> = contexts.iter().map(|_| Drawn::default()).collect();
+    let mut screened: Vec<Vec<Candidate>> = contexts.iter().map(|_| Vec::new()).collect();
+    let family_stage = |f: usize| FamilyStage { ctx: &contexts[f], workspace: &workspaces[f] };
+    // The progress bar: the screening's share first, then each family searched in full.
+    let screen_share = if screen.is_empty() { 0.0 } else { SCREENING_PROGRESS };
+    let mut best_cost: Option<f64> = None;
+    for (k, &f) in screen.iter().enumerate() {
+        let family = contexts[f].topology.mechanism_type;
+        let report = |stage, x, b| {
+            let fraction = screen_share * (k as f64 + x) / screen.len() as f64;
+            observer.progress(&Progress { stage, mechanism: family, fraction, best_cost: min_opt(best_cost, b) })
         };
-        let report = |stage, x, b| report(stage, x, min_opt(best_cost, b));
+        let found =
+            run_family(run, family_stage(f), family, &[], false, Budget::screening(problem), &mut drawn[f], &report)?;
+        if !warm {
+            best_cost = min_opt(best_cost, found.iter().map(|c| c.cost).reduce(f64::min));
+        }
+        screened[f] = found;
+    }
+    let searched: Vec<usize> = match (warm, screen.is_empty()) {
+        (true, _) => (0..contexts.len()).filter(|&f| !seeds[f].is_empty()).collect(),
+        (false, true) => (0..contexts.len()).collect(),
+        (false, false) => promising(problem, &screened),
+    };
+    for (k, &f) in searched.iter().enumerate() {
+        let family = contexts[f].topology.mechanism_type;
+        let report = |stage, x, b| {
+            let fraction = screen_share + (1.0 - screen_share) * (k as f64 + x) / searched.len() as f64;
+            observer.progress(&Progress { stage, mechanism: family, fraction, best_cost: min_opt(best_cost, b) })
+        };
         let mut found = Vec::new();
-        if !seeds.is_empty() {
-            found = run_family(run, stage, family, seeds, following, &report)?;
+        if !seeds[f].is_empty() {
+            let budget = Budget::warm(problem);
+            found =
+                run_family(run, family_stage(f), family, &seeds[f], following, budget, &mut Drawn::default(), &report)?;
         }
         if found.is_empty() {
-            found = run_family(run, stage, family, &[], false, &report)?;
+            let budget = Budget::cold(problem, run.printable.is_some());
+            found = run_family(run, family_stage(f), family, &[], false, budget, &mut drawn[f], &report)?;
         }
-        for c in &found {
-            best_cost = min_opt(best_cost, Some(c.cost));
-        }
+        best_cost = min_opt(best_cost, found.iter().map(|c| c.cost).reduce(f64::min));
         valid.extend(found);
     }
-    let cheapest = |designs: &[Candidate]| designs.iter().map(|c| c.cost).reduce(f64::min);
-    if cheapest(&others).is_some_and(|other| cheapest(&valid).is_none_or(|warm| other < SWITCH_COST_FACTOR * warm)) {
+    let others = screened.into_iter().flatten();
+    if warm {
+        let others: Vec<Candidate> = others.collect();
+        let cheapest = |designs: &[Candidate]| designs.iter().map(|c| c.cost).reduce(f64::min);
+        if cheapest(&others).is_some_and(|other| cheapest(&valid).is_none_or(|warm| other < SWITCH_COST_FACTOR * warm))
+        {
+            valid.extend(others);
+        }
+    } else {
+        // The screened designs stay in the pool: the whole search of a family starts from the same
+        // samples, and the filter's screening designs may be good ones.
         valid.extend(others);
     }
     // Stable sort: equal costs keep their deterministic production order.
@@ -690,13 +743,87 @@ struct FamilyStage<'r, 'p> {
     workspace: &'r Workspace,
 }
 
-/// Sampling, checks and the particle filter for one family; returns every valid candidate.
+/// How much of one family's search a run spends.
+#[derive(Clone, Copy, Debug)]
+struct Budget {
+    /// Samples drawn, counted from the first (those a screening drew already are not drawn again).
+    samples: usize,
+    /// Iterations of the particle filter, and its particles.
+    iterations: usize,
+    particles: usize,
+    /// Defect-free candidates kept for the collision check ([`CANDIDATE_CAP`]).
+    cap: usize,
+    /// Valid designs the collision check looks for before it stops.
+    enough: usize,
+}
+
+impl Budget {
+    /// A cold search's whole budget. It needs one particle set of printable designs (that check
+    /// costs milliseconds, and the particle filter stays near them), or several sets of valid ones.
+    fn cold(problem: &Problem, printable: bool) -> Budget {
+        let settings = &problem.settings;
+        let particles = settings.particles.max(1);
+        Budget {
+            samples: settings.samples,
+            iterations: settings.iterations,
+            particles: settings.particles,
+            cap: CANDIDATE_CAP,
+            enough: if printable { particles } else { VALID_PER_PARTICLE * particles },
+        }
+    }
+
+    /// A warm start's: [`WARM_SAMPLES`] and a quarter of the filter's iterations, from near good
+    /// designs, where a quarter of a particle set of valid ones is enough (with the print check, a
+    /// slider-crank's live step took a median 173 ms checking a whole set, `CI=true cargo test
+    /// --release -p linkwright --test web_e2e -- --nocapture | grep latency`).
+    fn warm(problem: &Problem) -> Budget {
+        let settings = &problem.settings;
+        Budget {
+            samples: WARM_SAMPLES.min(settings.samples),
+            iterations: (settings.iterations / 4).max(1).min(settings.iterations),
+            particles: settings.particles,
+            cap: CANDIDATE_CAP,
+            enough: (settings.particles / 4).max(1),
+        }
+    }
+
+    /// A screening's: a [`SCREENING_DIVISOR`]th of the samples and of the candidates, a quarter of
+    /// the filter's iterations from a tenth of a particle set of valid designs: enough to tell a
+    /// family that meets the poses at a low cost from one that does not. (Fewer particles left the
+    /// excavator's slider-crank at 6.4 where a whole set reached 1.7, and chose another family.)
+    fn screening(problem: &Problem) -> Budget {
+        let settings = &problem.settings;
+        Budget {
+            samples: (settings.samples / SCREENING_DIVISOR).max(1),
+            iterations: (settings.iterations / 4).max(1).min(settings.iterations),
+            particles: settings.particles,
+            cap: CANDIDATE_CAP / SCREENING_DIVISOR,
+            enough: (settings.particles / 10).max(1),
+        }
+    }
+}
+
+/// The samples of one family a run has drawn so far, and the cost floors of those that passed the
+/// screening (in no particular order): a family screened first and then searched in full draws
+/// only the samples after them, and picks its candidates from all of them, one pool.
+#[derive(Default)]
+struct Drawn {
+    count: usize,
+    floors: Vec<(f64, usize)>,
+}
+
+/// Sampling, checks and the particle filter for one family, on `budget`, drawing the samples after
+/// those `drawn` already (and noting them there); returns every valid candidate. With `seeds` (a
+/// warm start), the samples are fitted from those earlier designs.
+#[allow(clippy::too_many_arguments)]
 fn run_family(
     run: &mut Run,
     stage: FamilyStage,
     family: MechanismType,
     seeds: &[Vec<f64>],
     following: bool,
+    budget: Budget,
+    drawn: &mut Drawn,
     report: &dyn Fn(Stage, f64, Option<f64>),
 ) -> Result<Vec<Candidate>, Cancelled> {
     let FamilyStage { ctx, workspace } = stage;
@@ -704,8 +831,7 @@ fn run_family(
     let seed = settings.seed;
     let family = family.family().stream();
     let warm = !seeds.is_empty();
-    let total = if warm { WARM_SAMPLES.min(settings.samples) } else { settings.samples };
-    let iterations = if warm { (settings.iterations / 4).max(1).min(settings.iterations) } else { settings.iterations };
+    let Budget { samples: total, iterations, particles, cap, enough } = budget;
     let sampler = Sampler::new(ctx, family);
     // Weights of the stages in the progress fraction.
     let (w_sample, w_collide) = (0.6, 0.1);
@@ -736,31 +862,23 @@ fn run_family(
         let exact = |i: usize, scratch: &mut SampleScratch| {
             sampler.draw(seed, i as u64, Some(Near::exact(seeds[i].as_slice())), scratch)
         };
-        let mut floors = screen_samples(run, stage, seeds.len(), &exact, &|_| {})?;
+        let mut floors = screen_samples(run, stage, 0..seeds.len(), &exact, &|_| {})?;
         let candidates = simulate_cheapest(run, stage, &mut floors, seeds.len(), &exact, &|_| {})?;
         kept = check_in_order(run, stage, candidates, seeds.len(), COLLISION_BATCH_CHUNKS)?;
     }
-    let mut floors =
-        screen_samples(run, stage, total, &draw, &|x| report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None))?;
-    let candidates = simulate_cheapest(run, stage, &mut floors, CANDIDATE_CAP, &draw, &|x| {
+    let first = drawn.count.min(total);
+    let mut floors = std::mem::take(&mut drawn.floors);
+    floors.extend(screen_samples(run, stage, first..total, &draw, &|x| {
+        report(Stage::Sampling, w_sample * SCREENING_SHARE * x, None)
+    })?);
+    let candidates = simulate_cheapest(run, stage, &mut floors, cap, &draw, &|x| {
         report(Stage::Sampling, w_sample * (SCREENING_SHARE + (1.0 - SCREENING_SHARE) * x), None)
     })?;
-    run.stats.samples += total;
+    *drawn = Drawn { count: total.max(drawn.count), floors };
+    run.stats.samples += total - first;
     run.stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    // A warm start begins near good designs: a quarter of a particle set of valid ones is enough for
-    // its quarter of the filter's iterations (with the print check, a slider-crank's live step took a
-    // median 173 ms checking a whole set, `CI=true cargo test --release -p linkwright --test web_e2e
-    // -- --nocapture | grep latency`). A cold start needs one set of printable designs (that check
-    // costs milliseconds, and the particle filter stays near them), or several sets of valid ones.
-    let enough = if warm {
-        (settings.particles / 4).max(1)
-    } else if run.printable.is_some() {
-        settings.particles.max(1)
-    } else {
-        VALID_PER_PARTICLE * settings.particles.max(1)
-    };
     let mut valid = check_in_order(run, stage, candidates, enough, COLLISION_BATCH_CHUNKS)?;
     valid.splice(0..0, kept);
     run.stats.valid += valid.len();
@@ -769,8 +887,8 @@ fn run_family(
     report(Stage::Collision, w_sample + w_collide, best);
 
     let t = Instant::now();
-    if !valid.is_empty() && iterations > 0 && settings.particles > 0 {
-        let options = FilterOptions { particles: settings.particles, iterations, ..FilterOptions::default() };
+    if !valid.is_empty() && iterations > 0 && particles > 0 {
+        let options = FilterOptions { particles, iterations, ..FilterOptions::default() };
         let mut cancelled = false;
         let produced = refine(ctx, workspace, &valid, &options, seed, family, |done, best| {
             let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;
@@ -787,19 +905,20 @@ fn run_family(
     Ok(valid)
 }
 
-/// Draws samples `0..total` and runs the checks that need no simulation: returns each passing
+/// Draws the samples of `range` and runs the checks that need no simulation: returns each passing
 /// sample's floor under its cost with its index, in no particular order (a NaN floor bounds nothing
 /// and is returned as −∞). Counts fitted samples and rejects.
 fn screen_samples(
     run: &mut Run,
     stage: FamilyStage,
-    total: usize,
+    range: std::ops::Range<usize>,
     draw: &Draw,
     report: &dyn Fn(f64),
 ) -> Result<Vec<(f64, usize)>, Cancelled> {
     let FamilyStage { ctx, workspace } = stage;
     let mut floors = Vec::new();
-    for start in (0..total).step_by(CHUNK) {
+    let (first, total) = (range.start, range.end);
+    for start in range.step_by(CHUNK) {
         run.go_on()?;
         let end = (start + CHUNK).min(total);
         let results: Vec<Option<Result<f64, Reject>>> = (start..end)
@@ -827,7 +946,7 @@ fn screen_samples(
                 Err(reject) => run.reject(reject),
             }
         }
-        report(end as f64 / total as f64);
+        report((end - first) as f64 / (total - first) as f64);
     }
     Ok(floors)
 }
@@ -1198,7 +1317,7 @@ mod tests {
         let mut run = Run::quiet();
         let workspace = Workspace::default();
         let stage = FamilyStage { ctx: &ctx, workspace: &workspace };
-        let mut floors = screen_samples(&mut run, stage, problem.settings.samples, &draw, &|_| {}).unwrap();
+        let mut floors = screen_samples(&mut run, stage, 0..problem.settings.samples, &draw, &|_| {}).unwrap();
         let kept = simulate_cheapest(&mut run, stage, &mut floors, cap, &draw, &|_| {}).unwrap();
         let rejected = run.rejected;
         assert_eq!(kept.len(), cap);
