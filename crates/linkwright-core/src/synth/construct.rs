@@ -42,10 +42,10 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 /// link leaves a defect ([`Constructor::construct`]).
 const TRIES: usize = 4;
 /// The same for a ternary link through three poses in a long chain ([`crate::mechanism::Family::long_chain`]). Such
-/// a link has finitely many exact solutions (six equations in six unknowns), which fits from random
-/// starts find one at a time, and most of them are turned over or change a loop's branch; with
-/// three or more such links in a row, four tries each leave too few whole samples. Each try's fit
-/// is a quick one ([`Polish`]). Measured with `linkwright bench --known`: chains of five and six bodies
+/// a link has finitely many exact solutions (six equations in six unknowns), which Newton's method
+/// from random starts finds one at a time ([`ternary_through_three`]), and most of them are turned
+/// over or change a loop's branch; with three or more such links in a row, four tries each leave
+/// too few whole samples. Measured with `linkwright bench --known`: chains of five and six bodies
 /// through three poses found a design on 4 of 6 scenes with 4 tries, on 5 with 16; two- and
 /// three-body chains through three poses took 1.3–3.7 times as long with 16 tries and came no closer
 /// to their poses.
@@ -526,8 +526,90 @@ impl Constructor {
         bisectors(motions, poses, draws[0], c[0], c[2], lines);
         bisectors_onto(motions, poses, second, c[1], c[2], lines);
         let third = nearest_on(lines, draws[2]).unwrap_or(draws[2]);
+        if poses == 3 && self.long_chain {
+            return match ternary_through_three(motions, c, [draws[0], second, third], region.bounds.diagonal()) {
+                Some(points) => Built::joints(&points, false),
+                None => Built { deviation: f64::INFINITY, ..Built::joints(&draws, false) },
+            };
+        }
         Built::joints(&[draws[0], second, third], true)
     }
+}
+
+/// Newton iterations of [`ternary_through_three`].
+const TERNARY_NEWTON_ITERATIONS: usize = 15;
+/// [`ternary_through_three`] stops once each residual, a difference of squared lengths, is under this
+/// share of the squared scale: exact to rounding.
+const TERNARY_RESIDUAL: f64 = 1e-13;
+
+/// A ternary link through three poses whose joints ride on `carriers`, solved exactly from `start`;
+/// `None` when Newton's method does not converge from there.
+///
+/// Each pair of its joints keeps its distance at poses 2 and 3: six equations, each quadratic in the
+/// six coordinates, with a Jacobian in closed form. Newton's method on them (each step halved while
+/// it does not lower the largest residual) does what the general fit does from the same start, for
+/// a fraction of its work: that fit took 90% of the sampling of chains of five and six bodies
+/// through three poses (`perf record linkwright design` on `linkwright bench --known --save DIR`
+/// scenes).
+fn ternary_through_three(
+    motions: &[Vec<Rigid>],
+    carriers: [Option<usize>; 3],
+    start: [Point; 3],
+    scale: f64,
+) -> Option<[Point; 3]> {
+    use nalgebra::{SMatrix, SVector};
+    const PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
+    let residuals = |x: &[Point; 3], jacobian: Option<&mut SMatrix<f64, 6, 6>>| {
+        let mut r = SVector::<f64, 6>::zeros();
+        let mut rows = [[0.0; 6]; 6];
+        for (k, &(a, b)) in PAIRS.iter().enumerate() {
+            let w = x[a] - x[b];
+            for i in 1..3 {
+                let u = carried(motions, carriers[a], i, x[a]) - carried(motions, carriers[b], i, x[b]);
+                let row = 2 * k + i - 1;
+                r[row] = u.norm_sq() - w.norm_sq();
+                // d|u|²/dx = 2·Rᵀu for the joint's carrier's rotation R; d|w|²/dx = ±2w.
+                let back = |c: Option<usize>| c.map_or(u, |c| motions[c][i].unrotate(u));
+                let (da, db) = (back(carriers[a]) * 2.0 - w * 2.0, w * 2.0 - back(carriers[b]) * 2.0);
+                rows[row][2 * a..2 * a + 2].copy_from_slice(&[da.x, da.y]);
+                rows[row][2 * b..2 * b + 2].copy_from_slice(&[db.x, db.y]);
+            }
+        }
+        if let Some(j) = jacobian {
+            *j = SMatrix::from_fn(|row, col| rows[row][col]);
+        }
+        r
+    };
+    // The largest residual; infinite when one is not finite.
+    let size = |r: &SVector<f64, 6>| if r.iter().all(|v| v.is_finite()) { r.amax() } else { f64::INFINITY };
+    let tolerance = TERNARY_RESIDUAL * scale * scale;
+    let mut x = start;
+    let mut jacobian = SMatrix::<f64, 6, 6>::zeros();
+    let mut r = residuals(&x, Some(&mut jacobian));
+    for _ in 0..TERNARY_NEWTON_ITERATIONS {
+        if size(&r) <= tolerance {
+            return Some(x);
+        }
+        if size(&r).is_infinite() {
+            return None;
+        }
+        let step = jacobian.lu().solve(&(-r))?;
+        // A step longer than the region is heading off to a solution nobody would build.
+        if step.norm().is_nan() || step.norm() > scale {
+            return None;
+        }
+        let mut scaled = 1.0;
+        let moved = |t: f64| std::array::from_fn(|j| x[j] + Vec2::new(step[2 * j], step[2 * j + 1]) * t);
+        for _ in 0..4 {
+            if size(&residuals(&moved(scaled), None)) < size(&r) {
+                break;
+            }
+            scaled *= 0.5;
+        }
+        x = moved(scaled);
+        r = residuals(&x, Some(&mut jacobian));
+    }
+    (size(&r) <= tolerance).then_some(x)
 }
 
 /// A constructed block: its joints (in the piece's order), the slider angle if it has one, and

@@ -18,8 +18,8 @@ pub const WARM_JITTER: f64 = 0.05;
 /// their lengths to this fraction of the deviation a sample may have. Projecting further, to rounding,
 /// took one more step in six (the folding table: 2.6% of its instructions).
 const UNPOLISHED_DEVIATION: f64 = 1e-4;
-/// Iterations of a quick fit ([`super::construct::Polish`]): a ternary link's fit through three poses
-/// that converges takes fewer; one that has not by then rarely ends exact, and drawing it again is
+/// Iterations of a quick fit ([`super::construct::Polish`]), which a long chain's ternary link through
+/// three poses takes when a joint of it is pinned: a fit that converges takes fewer; one that has not by then rarely ends exact, and drawing it again is
 /// cheaper (`linkwright design` on four scenes of `linkwright bench --known --save DIR` through three
 /// poses: 100 iterations took 1.3–2.9 times as long and found no more valid designs).
 const QUICK_FIT_ITERATIONS: usize = 15;
@@ -344,6 +344,7 @@ pub fn x_from_mechanism(m: &Mechanism, out: &mut Vec<f64>) {
 mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
+    use crate::scene::Problem;
     use crate::synth::testing::example;
     use crate::synth::{check_collisions, evaluate, Scratch, SweepBuffers};
 
@@ -393,39 +394,57 @@ mod tests {
                 &[MechanismType::Chain]
             };
             for &family in families {
-                let ctx = Context::new(&problem, family);
-                let sampler = Sampler::new(&ctx, 0);
-                let mut scratch = SampleScratch::default();
-                // Constructions with a defect end early and are not counted.
-                for i in 0..3000 {
-                    let mut rng = rng(2, Stream::Sample { family: 0 }, i);
-                    sampler.perturbed_motions(&mut rng, &mut scratch);
-                    let SampleScratch { motions, x, construct, .. } = &mut scratch;
-                    x.clear();
-                    x.resize(ctx.rigidity.dim(), 0.0);
-                    let mut draw = |rng: &mut Xoshiro256PlusPlus| sampler.point_in_region(rng);
-                    let mut region = Region { draw: &mut draw, bounds: sampler.region_box };
-                    let mut polished = false;
-                    let mut polish = |_: &mut [f64], _: usize, _: bool| {
-                        polished = true;
-                        f64::INFINITY
-                    };
-                    let built =
-                        sampler.constructor.construct(x, motions, &mut rng, &mut region, &mut polish, construct);
-                    if polished || built.is_infinite() {
-                        continue;
-                    }
-                    if let Some(direction) = construct.slider_direction() {
-                        x[2 * ctx.topology.joint_count()] = direction.angle();
-                    }
-                    let deviation = ctx.rigidity.relative_deviation(x, motions, ctx.body_size);
-                    let bound = UNPOLISHED_DEVIATION * ctx.accepted_deviation();
-                    assert!(deviation <= bound, "{name}: deviation {deviation} of an unpolished construction");
-                    unpolished += 1;
-                }
+                unpolished += rigid_unpolished_constructions(&name, &problem, family, 3000);
             }
         }
         assert!(unpolished > 20_000, "only {unpolished} unpolished constructions");
+    }
+
+    /// A long chain's ternary links through three poses are solved by Newton's method rather than
+    /// fitted: every linkage so built is rigid through the (perturbed) poses it was built for.
+    #[test]
+    fn long_chains_through_three_poses_are_built_rigid() {
+        use crate::testbed::{known_scene, Family};
+        let scene = known_scene(Family::Chain(5), 3, 0, 100.0).unwrap().scene;
+        let problem = Problem::new(&scene).unwrap();
+        let unpolished = rigid_unpolished_constructions("chain of five", &problem, MechanismType::Chain, 3000);
+        assert!(unpolished >= 10, "only {unpolished} unpolished constructions");
+    }
+
+    /// Constructs samples `0..samples` of `family`'s linkage for `problem` and asserts that each one
+    /// built without a fit is rigid through its poses; returns how many there were.
+    fn rigid_unpolished_constructions(name: &str, problem: &Problem, family: MechanismType, samples: u64) -> usize {
+        let ctx = Context::new(problem, family);
+        let sampler = Sampler::new(&ctx, 0);
+        let mut scratch = SampleScratch::default();
+        let mut unpolished = 0;
+        // Constructions with a defect end early and are not counted.
+        for i in 0..samples {
+            let mut rng = rng(2, Stream::Sample { family: 0 }, i);
+            sampler.perturbed_motions(&mut rng, &mut scratch);
+            let SampleScratch { motions, x, construct, .. } = &mut scratch;
+            x.clear();
+            x.resize(ctx.rigidity.dim(), 0.0);
+            let mut draw = |rng: &mut Xoshiro256PlusPlus| sampler.point_in_region(rng);
+            let mut region = Region { draw: &mut draw, bounds: sampler.region_box };
+            let mut polished = false;
+            let mut polish = |_: &mut [f64], _: usize, _: bool| {
+                polished = true;
+                f64::INFINITY
+            };
+            let built = sampler.constructor.construct(x, motions, &mut rng, &mut region, &mut polish, construct);
+            if polished || built.is_infinite() {
+                continue;
+            }
+            if let Some(direction) = construct.slider_direction() {
+                x[2 * ctx.topology.joint_count()] = direction.angle();
+            }
+            let deviation = ctx.rigidity.relative_deviation(x, motions, ctx.body_size);
+            let bound = UNPOLISHED_DEVIATION * ctx.accepted_deviation();
+            assert!(deviation <= bound, "{name}: deviation {deviation} of an unpolished construction");
+            unpolished += 1;
+        }
+        unpolished
     }
 
     /// Constructive sampling against the fit from uniform starts: fitted, kinematically valid and
