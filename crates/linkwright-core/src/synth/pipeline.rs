@@ -217,7 +217,7 @@ const FOLLOW_REACH: f64 = 0.03;
 /// A family is screened ([`Start`]) on this share of the samples, and a quarter of the filter's
 /// iterations: a one-body example's `design --from` took 0.02 s warm alone, 0.1–0.25 s screening
 /// the other families; the bundled one-body examples' cold runs with `mechanism: auto` cost a
-/// median 5.0 times the family they return when each family was searched in full, 1.6 times so
+/// median 5.0 times the family they return when each family was searched in full, 1.8 times so
 /// (`linkwright bench --auto --repeat 3 examples/k1_*.json`).
 pub const SCREENING_DIVISOR: usize = 8;
 /// The share of a cold run's progress bar its screening of every family takes.

@@ -18,7 +18,7 @@ use std::time::Instant;
 struct Row {
     scene: String,
     /// The family auto returned (of the first run).
-    family: Option<String>,
+    family: &'static str,
     /// Seconds of the auto run and of the family's own.
     seconds_auto: f64,
     seconds_family: f64,
@@ -79,7 +79,7 @@ pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, j
         };
         let row = Row {
             scene: label,
-            family: Some(family.id().to_string()),
+            family: family.id(),
             seconds_auto: median(auto_seconds),
             seconds_family: median(family_seconds),
             ratio: median(ratios),
@@ -104,7 +104,7 @@ pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, j
         println!(
             "{:<28} {:<15} {:>8.2} {:>8.2} {:>6.2} {:>9} {:>9} {:>9} {:>9}",
             r.scene,
-            r.family.as_deref().unwrap_or("-"),
+            r.family,
             r.seconds_auto,
             r.seconds_family,
             r.ratio,
