@@ -748,9 +748,8 @@ struct FamilyStage<'r, 'p> {
 struct Budget {
     /// Samples drawn, counted from the first (those a screening drew already are not drawn again).
     samples: usize,
-    /// Iterations of the particle filter, and its particles.
+    /// Iterations of the particle filter.
     iterations: usize,
-    particles: usize,
     /// Defect-free candidates kept for the collision check ([`CANDIDATE_CAP`]).
     cap: usize,
     /// Valid designs the collision check looks for before it stops.
@@ -766,7 +765,6 @@ impl Budget {
         Budget {
             samples: settings.samples,
             iterations: settings.iterations,
-            particles: settings.particles,
             cap: CANDIDATE_CAP,
             enough: if printable { particles } else { VALID_PER_PARTICLE * particles },
         }
@@ -781,7 +779,6 @@ impl Budget {
         Budget {
             samples: WARM_SAMPLES.min(settings.samples),
             iterations: (settings.iterations / 4).max(1).min(settings.iterations),
-            particles: settings.particles,
             cap: CANDIDATE_CAP,
             enough: (settings.particles / 4).max(1),
         }
@@ -789,14 +786,14 @@ impl Budget {
 
     /// A screening's: a [`SCREENING_DIVISOR`]th of the samples and of the candidates, a quarter of
     /// the filter's iterations from a tenth of a particle set of valid designs: enough to tell a
-    /// family that meets the poses at a low cost from one that does not. (Fewer particles left the
-    /// excavator's slider-crank at 6.4 where a whole set reached 1.7, and chose another family.)
+    /// family that meets the poses at a low cost from one that does not. (The filter keeps its whole
+    /// particle set: a quarter of it left the excavator's slider-crank at 6.4 where a whole set
+    /// reached 1.7, and another family was chosen.)
     fn screening(problem: &Problem) -> Budget {
         let settings = &problem.settings;
         Budget {
             samples: (settings.samples / SCREENING_DIVISOR).max(1),
             iterations: (settings.iterations / 4).max(1).min(settings.iterations),
-            particles: settings.particles,
             cap: CANDIDATE_CAP / SCREENING_DIVISOR,
             enough: (settings.particles / 10).max(1),
         }
@@ -831,7 +828,7 @@ fn run_family(
     let seed = settings.seed;
     let family = family.family().stream();
     let warm = !seeds.is_empty();
-    let Budget { samples: total, iterations, particles, cap, enough } = budget;
+    let Budget { samples: total, iterations, cap, enough } = budget;
     let sampler = Sampler::new(ctx, family);
     // Weights of the stages in the progress fraction.
     let (w_sample, w_collide) = (0.6, 0.1);
@@ -874,7 +871,7 @@ fn run_family(
     let candidates = simulate_cheapest(run, stage, &mut floors, cap, &draw, &|x| {
         report(Stage::Sampling, w_sample * (SCREENING_SHARE + (1.0 - SCREENING_SHARE) * x), None)
     })?;
-    *drawn = Drawn { count: total.max(drawn.count), floors };
+    *drawn = Drawn { count: total.max(first), floors };
     run.stats.samples += total - first;
     run.stats.seconds_sampling += t.elapsed().as_secs_f64();
 
@@ -887,8 +884,8 @@ fn run_family(
     report(Stage::Collision, w_sample + w_collide, best);
 
     let t = Instant::now();
-    if !valid.is_empty() && iterations > 0 && particles > 0 {
-        let options = FilterOptions { particles, iterations, ..FilterOptions::default() };
+    if !valid.is_empty() && iterations > 0 && settings.particles > 0 {
+        let options = FilterOptions { particles: settings.particles, iterations, ..FilterOptions::default() };
         let mut cancelled = false;
         let produced = refine(ctx, workspace, &valid, &options, seed, family, |done, best| {
             let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;
