@@ -41,15 +41,15 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 /// How often a block is drawn when a solved joint lands far outside the region's box, or a ternary
 /// link leaves a defect ([`Constructor::construct`]).
 const TRIES: usize = 4;
-/// The same for a ternary link through three poses in a long chain ([`crate::mechanism::Family::long_chain`]). Such
-/// a link has finitely many exact solutions (six equations in six unknowns), which Newton's method
-/// from random starts finds one at a time ([`ternary_through_three`]), and most of them are turned
-/// over or change a loop's branch; with three or more such links in a row, four tries each leave
-/// too few whole samples. Measured with `linkwright bench --known`: chains of five and six bodies
-/// through three poses found a design on 4 of 6 scenes with 4 tries, on 5 with 16; two- and
-/// three-body chains through three poses took 1.3–3.7 times as long with 16 tries and came no closer
-/// to their poses.
-const LONG_CHAIN_TRIES: usize = 16;
+/// The same for a ternary link through three poses. Such a link has finitely many exact solutions
+/// (six equations in six unknowns), which Newton's method from random starts finds one at a time
+/// ([`ternary_through_three`]), and most of them are turned over or change a loop's branch; with
+/// three or more such links in a row, four tries each leave too few whole samples (chains of five
+/// and six bodies found a design on 4 of 6 `linkwright bench --known` scenes with 4 tries, on 5 with
+/// 16). Newton's method made a try cheap enough for two- and three-body chains to take as many:
+/// over six such scenes and six reference scenes through three poses, the median worst pose error
+/// 0.043·d with the general fit and 4 tries, 0.033·d so, in half the time.
+const THREE_POSE_TERNARY_TRIES: usize = 16;
 /// How far outside the region's box a solved joint may land, in box diagonals, before the block is
 /// drawn again.
 const BOX_MARGIN: f64 = 0.5;
@@ -105,8 +105,6 @@ pub struct Constructor {
     pins: Vec<Option<Point>>,
     /// How the joints carried by links only are placed at a pose ([`completion_order`]).
     completion: Vec<Completion>,
-    /// A long chain ([`crate::mechanism::Family::long_chain`]).
-    long_chain: bool,
 }
 
 /// What a constructed block must meet.
@@ -242,7 +240,6 @@ impl Constructor {
             link_only,
             pins: vec![None; topology.joint_count()],
             completion,
-            long_chain: topology.mechanism_type.family().long_chain(topology.body_count),
         }
     }
 
@@ -294,7 +291,7 @@ impl Constructor {
             // The first sound try that lands near the region, else the first sound one.
             let mut best: Option<Built> = None;
             let (tries, quick) = match piece {
-                Piece::Ternary(_) if poses == 3 && self.long_chain => (LONG_CHAIN_TRIES, true),
+                Piece::Ternary(_) if poses == 3 => (THREE_POSE_TERNARY_TRIES, true),
                 _ => (TRIES, false),
             };
             for _ in 0..tries {
@@ -526,7 +523,7 @@ impl Constructor {
         bisectors(motions, poses, draws[0], c[0], c[2], lines);
         bisectors_onto(motions, poses, second, c[1], c[2], lines);
         let third = nearest_on(lines, draws[2]).unwrap_or(draws[2]);
-        if poses == 3 && self.long_chain {
+        if poses == 3 {
             return match ternary_through_three(motions, c, [draws[0], second, third], region.bounds.diagonal()) {
                 Some(points) => Built::joints(&points, false),
                 None => Built { deviation: f64::INFINITY, ..Built::joints(&draws, false) },

@@ -18,8 +18,8 @@ pub const WARM_JITTER: f64 = 0.05;
 /// their lengths to this fraction of the deviation a sample may have. Projecting further, to rounding,
 /// took one more step in six (the folding table: 2.6% of its instructions).
 const UNPOLISHED_DEVIATION: f64 = 1e-4;
-/// Iterations of a quick fit ([`super::construct::Polish`]), which a long chain's ternary link through
-/// three poses takes when a joint of it is pinned: a fit that converges takes fewer; one that has not by then rarely ends exact, and drawing it again is
+/// Iterations of a quick fit ([`super::construct::Polish`]), which a ternary link through three poses
+/// takes when a joint of it is pinned: a fit that converges takes fewer; one that has not by then rarely ends exact, and drawing it again is
 /// cheaper (`linkwright design` on four scenes of `linkwright bench --known --save DIR` through three
 /// poses: 100 iterations took 1.3–2.9 times as long and found no more valid designs).
 const QUICK_FIT_ITERATIONS: usize = 15;
@@ -400,8 +400,8 @@ mod tests {
         assert!(unpolished > 20_000, "only {unpolished} unpolished constructions");
     }
 
-    /// A long chain's ternary links through three poses are solved by Newton's method rather than
-    /// fitted: every linkage so built is rigid through the (perturbed) poses it was built for.
+    /// A chain's ternary links through three poses are solved by Newton's method rather than fitted:
+    /// every linkage so built is rigid through the (perturbed) poses it was built for.
     #[test]
     fn long_chains_through_three_poses_are_built_rigid() {
         use crate::testbed::{known_scene, Family};
