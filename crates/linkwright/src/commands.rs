@@ -58,8 +58,12 @@ pub struct DesignArgs {
     build: Option<Build>,
 }
 
-/// Shows progress as a bar on stderr (hidden when stderr is not a terminal).
-struct Bar(ProgressBar);
+/// Shows progress as a bar on stderr (hidden when stderr is not a terminal), naming the linkage
+/// searched for the scene's number of moving bodies.
+struct Bar {
+    bar: ProgressBar,
+    bodies: usize,
+}
 
 impl Observer for Bar {
     fn progress(&self, p: &Progress) {
@@ -69,8 +73,8 @@ impl Observer for Bar {
             Stage::Refining => "refining",
         };
         let best = p.best_cost.map_or(String::new(), |c| format!(", best cost {c:.3}"));
-        self.0.set_position((p.fraction * 1000.0) as u64);
-        self.0.set_message(format!("{}: {stage}{best}", p.mechanism.label()));
+        self.bar.set_position((p.fraction * 1000.0) as u64);
+        self.bar.set_message(format!("{}: {stage}{best}", p.mechanism.linkage_label(self.bodies)));
     }
 }
 
@@ -120,7 +124,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {percent:>3}% {msg}")
             .expect("a valid template"),
     );
-    let observer = Bar(bar);
+    let observer = Bar { bar, bodies: problem.body_count() };
     let previous = match &args.from {
         Some(path) => previous_mechanisms(path)?,
         None => Vec::new(),
@@ -133,7 +137,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
             None => synthesize_with(&problem, &options, &observer).map(|o| (None, o)),
         })
         .expect("the CLI never cancels");
-    observer.0.finish_and_clear();
+    observer.bar.finish_and_clear();
 
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
