@@ -14,6 +14,29 @@ fn scene_label(path: &std::path::Path) -> String {
     path.file_stem().map_or(String::new(), |s| s.to_string_lossy().into_owned())
 }
 
+/// `problem` designed as `linkwright design` designs it by default: an auto printed model with the
+/// default print settings (`path` names the scene in an error).
+fn design_printed(
+    path: &std::path::Path,
+    problem: &Problem,
+    start: linkwright_core::Start,
+    pool: &rayon::ThreadPool,
+) -> Result<DesignFile, Failure> {
+    let settings = linkwright_core::fab::PrintSettings::default();
+    let plan = linkwright_core::fab::BuildPlan::new(problem, &settings)
+        .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;
+    let options = linkwright_core::Options { start, printable: None };
+    let (plan, outcome) =
+        pool.install(|| plan.synthesize(problem, &settings, &options, &Silent)).expect("never cancelled");
+    Ok(plan.design_file(problem, &outcome))
+}
+
+/// The `q` quantile of `values` (sorted in place), NaN when there are none.
+fn quantile(values: &mut [f64], q: f64) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(((values.len() as f64 - 1.0) * q).round() as usize).copied().unwrap_or(f64::NAN)
+}
+
 use crate::files::read_problem;
 use crate::Failure;
 use clap::Args;

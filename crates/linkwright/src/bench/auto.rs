@@ -7,8 +7,7 @@
 
 use crate::files::read_problem;
 use crate::Failure;
-use linkwright_core::fab::{BuildPlan, PrintSettings};
-use linkwright_core::{DesignFile, MechanismChoice, Options, Problem, Silent};
+use linkwright_core::{DesignFile, MechanismChoice, Problem, Start};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -32,27 +31,17 @@ struct Row {
     worst_family_rel_d: Option<f64>,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
-
 pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
     if scenes.is_empty() {
         return Err(Failure::Input("error: --auto: name the scene files to time (examples/*.json)".into()));
     }
-    let settings = PrintSettings::default();
     let mut rows = Vec::new();
     for path in scenes {
         let (scene, problem) = read_problem(path)?;
         let design = |problem: &Problem| -> Result<(f64, DesignFile), Failure> {
             let t = Instant::now();
-            let plan = BuildPlan::new(problem, &settings)
-                .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;
-            let options = Options::default();
-            let (plan, outcome) =
-                pool.install(|| plan.synthesize(problem, &settings, &options, &Silent)).expect("never cancelled");
-            Ok((t.elapsed().as_secs_f64(), plan.design_file(problem, &outcome)))
+            let file = super::design_printed(path, problem, Start::Cold, pool)?;
+            Ok((t.elapsed().as_secs_f64(), file))
         };
         let quality = |file: &DesignFile| {
             let metrics = file.metrics.as_ref();
@@ -80,9 +69,9 @@ pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, j
         let row = Row {
             scene: label,
             family: family.id(),
-            seconds_auto: median(auto_seconds),
-            seconds_family: median(family_seconds),
-            ratio: median(ratios),
+            seconds_auto: super::quantile(&mut auto_seconds, 0.5),
+            seconds_family: super::quantile(&mut family_seconds, 0.5),
+            ratio: super::quantile(&mut ratios, 0.5),
             cost_auto,
             cost_family,
             worst_auto_rel_d,
@@ -114,6 +103,7 @@ pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, j
             opt(r.worst_family_rel_d)
         );
     }
-    println!("median ratio {:.2}", median(rows.iter().map(|r| r.ratio).collect()));
+    let mut ratios: Vec<f64> = rows.iter().map(|r| r.ratio).collect();
+    println!("median ratio {:.2}", super::quantile(&mut ratios, 0.5));
     Ok(())
 }

@@ -6,8 +6,7 @@
 
 use crate::files::read_problem;
 use crate::Failure;
-use linkwright_core::fab::{BuildPlan, PrintSettings};
-use linkwright_core::{DesignFile, Options, Problem, Silent, Start, Status};
+use linkwright_core::{Problem, Start, Status};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -37,19 +36,11 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
     if scenes.is_empty() {
         return Err(Failure::Input("error: --live: name the scene files to drag a pose of (examples/*.json)".into()));
     }
-    let settings = PrintSettings::default();
     let mut rows = Vec::new();
     for path in scenes {
         let (scene, problem) = read_problem(path)?;
         let label = super::scene_label(path);
-        let design = |problem: &Problem, start: Start| -> Result<DesignFile, Failure> {
-            let plan = BuildPlan::new(problem, &settings)
-                .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;
-            let options = Options { start, printable: None };
-            let (plan, outcome) =
-                pool.install(|| plan.synthesize(problem, &settings, &options, &Silent)).expect("never cancelled");
-            Ok(plan.design_file(problem, &outcome))
-        };
+        let design = |problem: &Problem, start: Start| super::design_printed(path, problem, start, pool);
         let mut shown = design(&problem, Start::Cold)?;
         if shown.status != Status::Ok {
             eprintln!("{label}: no design to start from");
@@ -82,18 +73,14 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
             }
             shown = next;
         }
-        let quantile = |v: &mut Vec<f64>, q: f64| {
-            v.sort_by(f64::total_cmp);
-            v.get(((v.len() as f64 - 1.0) * q).round() as usize).copied().unwrap_or(f64::NAN)
-        };
         let row = Row {
             scene: label,
             designed,
             family_changes,
             worst_joint_move_rel_d: moves.iter().copied().fold(0.0, f64::max),
-            median_joint_move_rel_d: quantile(&mut moves, 0.5),
-            seconds_median: quantile(&mut seconds, 0.5),
-            seconds_p90: quantile(&mut seconds, 0.9),
+            median_joint_move_rel_d: super::quantile(&mut moves, 0.5),
+            seconds_median: super::quantile(&mut seconds, 0.5),
+            seconds_p90: super::quantile(&mut seconds, 0.9),
         };
         eprintln!("{row:?}");
         rows.push(row);
