@@ -556,24 +556,22 @@ fn ternary_through_three(
 ) -> Option<[Point; 3]> {
     use nalgebra::{SMatrix, SVector};
     const PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
-    let residuals = |x: &[Point; 3], jacobian: Option<&mut SMatrix<f64, 6, 6>>| {
+    let residuals = |x: &[Point; 3], mut jacobian: Option<&mut SMatrix<f64, 6, 6>>| {
         let mut r = SVector::<f64, 6>::zeros();
-        let mut rows = [[0.0; 6]; 6];
         for (k, &(a, b)) in PAIRS.iter().enumerate() {
             let w = x[a] - x[b];
             for i in 1..3 {
                 let u = carried(motions, carriers[a], i, x[a]) - carried(motions, carriers[b], i, x[b]);
                 let row = 2 * k + i - 1;
                 r[row] = u.norm_sq() - w.norm_sq();
-                // d|u|²/dx = 2·Rᵀu for the joint's carrier's rotation R; d|w|²/dx = ±2w.
-                let back = |c: Option<usize>| c.map_or(u, |c| motions[c][i].unrotate(u));
-                let (da, db) = (back(carriers[a]) * 2.0 - w * 2.0, w * 2.0 - back(carriers[b]) * 2.0);
-                rows[row][2 * a..2 * a + 2].copy_from_slice(&[da.x, da.y]);
-                rows[row][2 * b..2 * b + 2].copy_from_slice(&[db.x, db.y]);
+                if let Some(j) = jacobian.as_deref_mut() {
+                    // d|u|²/dx = 2·Rᵀu for the joint's carrier's rotation R; d|w|²/dx = ±2w.
+                    let back = |c: Option<usize>| c.map_or(u, |c| motions[c][i].unrotate(u));
+                    let (da, db) = (back(carriers[a]) * 2.0 - w * 2.0, w * 2.0 - back(carriers[b]) * 2.0);
+                    (j[(row, 2 * a)], j[(row, 2 * a + 1)]) = (da.x, da.y);
+                    (j[(row, 2 * b)], j[(row, 2 * b + 1)]) = (db.x, db.y);
+                }
             }
-        }
-        if let Some(j) = jacobian {
-            *j = SMatrix::from_fn(|row, col| rows[row][col]);
         }
         r
     };
