@@ -34,9 +34,11 @@
 
 use super::rigidity::turns_over;
 use crate::geom::{Aabb, Point, Rigid, Vec2};
-use crate::kinematics::{complete, completion_order, Completion, Plan};
+use crate::kinematics::{circle_circle, complete, completion_order, Branch, Completion, Plan};
 use crate::mechanism::{PartKind, Topology};
+use rand::RngExt;
 use rand_xoshiro::Xoshiro256PlusPlus;
+use std::f64::consts::PI;
 
 /// How often a block is drawn when a solved joint lands far outside the region's box, or a ternary
 /// link leaves a defect ([`Constructor::construct`]).
@@ -56,6 +58,12 @@ const BOX_MARGIN: f64 = 0.5;
 /// Below this `|det|` relative to the squared trace, a least-squares point of lines is taken as
 /// undetermined (the lines are parallel).
 const SINGULAR: f64 = 1e-14;
+/// Points along the rocking link's travel at which a turning tip's distances are measured
+/// ([`Constructor::turning`]).
+const TURN_SAMPLES: usize = 32;
+/// The most a turning tip's crank and link may differ, relative to their sum, when they stretch out
+/// at the turn: a crank much shorter than its link barely moves the rocking link.
+const TURN_SPREAD: f64 = 0.8;
 
 /// One independent block of the rigidity energy, as a construction.
 #[derive(Clone, Copy, Debug)]
@@ -73,6 +81,30 @@ enum Piece {
     /// without that link ([`Constructor::new`]): the pivot goes to the centre of that joint's places
     /// through the poses, so the link keeps its length (exactly through three poses).
     Centre([usize; 2]),
+    /// The crank's tip, where the crank meets a link to a joint that turns about a ground pivot
+    /// ([`TurningTip`]): placed so that the joint turns back where the poses do.
+    Turning(TurningTip),
+}
+
+/// A crank's tip placed where the crank (about the ground joint `pivot`) meets a link to
+/// `follower`, a joint carried by links only on a link that turns about the ground joint `hub` and
+/// holds `arm`, a joint a body carries: a Watt-II six-bar's drive, whose body's four-bar has
+/// `hub`–`arm` as its input.
+///
+/// Such a link rocks back exactly where the crank and the link to it line up, at the distance
+/// between `pivot` and `follower` equal to the sum (or the difference) of the two links' lengths.
+/// When the poses take the rocking link out and back, a tip drawn at random rarely puts that
+/// turn between the right poses (`linkwright bench --known` scenes of out-and-back Watt-II
+/// motions through five or more poses: no design in 200,000 samples on two scenes of three). So
+/// the links' lengths are chosen to put the turn just beyond the pose where the link is farthest
+/// out, and the tip is placed with them.
+#[derive(Clone, Copy, Debug)]
+struct TurningTip {
+    tip: usize,
+    pivot: usize,
+    follower: usize,
+    hub: usize,
+    arm: usize,
 }
 
 impl Piece {
@@ -83,6 +115,7 @@ impl Piece {
             Piece::Ternary(j) => j,
             Piece::Slider(q) | Piece::Free(q) => std::slice::from_ref(q),
             Piece::Centre(pivot_and_joint) => &pivot_and_joint[..1],
+            Piece::Turning(turning) => std::slice::from_ref(&turning.tip),
         }
     }
 }
@@ -230,6 +263,10 @@ impl Constructor {
             .map(Piece::Free)
             .collect();
         pieces.extend(free);
+        // A crank tip that can turn a rocking link back is drawn as a free joint (so one-way motions
+        // are drawn as before), then moved where the poses take that link out and back, once the
+        // joints it is placed from are placed.
+        pieces.extend(turning_tip(topology, &completion, &link_only).map(Piece::Turning));
         pieces.extend(centres);
         Constructor {
             pieces,
@@ -300,6 +337,11 @@ impl Constructor {
                     Piece::Ternary(joints) => self.ternary(joints, motions, poses, rng, region, scratch),
                     Piece::Slider(q) => slider(self.carriers[q], motions, poses, rng, region),
                     Piece::Free(_) => Built::joints(&[(region.draw)(rng)], false),
+                    Piece::Turning(turning) => {
+                        let drawn = Point::new(x[2 * turning.tip], x[2 * turning.tip + 1]);
+                        let tip = self.turning(turning, x, motions, poses, rng).unwrap_or(drawn);
+                        Built::joints(&[tip], false)
+                    }
                     Piece::Centre([_, joint]) => match self.centre_of(joint, x, motions, poses) {
                         Some(centre) => Built::joints(&[centre], false),
                         None => return f64::INFINITY,
@@ -331,7 +373,7 @@ impl Constructor {
                     && self.free_of_defects(piece, &built, x, motions, &scratch.placed);
                 match (sound, piece) {
                     (true, _) => {}
-                    (false, Piece::Ternary(_) | Piece::Free(_)) => continue,
+                    (false, Piece::Ternary(_) | Piece::Free(_) | Piece::Turning(_)) => continue,
                     (false, Piece::Centre(_)) => return f64::INFINITY,
                     // A binary link's defect is as likely with any draw: the sample ends here,
                     // before the work of the blocks after it and of its checks.
@@ -412,6 +454,73 @@ impl Constructor {
             _ => false,
         };
         apart && closed && !turned_over
+    }
+
+    /// Where `turning.tip` goes so that its rocking link turns back between the right poses
+    /// ([`TurningTip`]), the joints it is placed from already in `x`; `None` when the poses take
+    /// that link one way (or back and forth more than once), or no lengths put the turn there.
+    fn turning(
+        &self,
+        turning: TurningTip,
+        x: &[f64],
+        motions: &[Vec<Rigid>],
+        poses: usize,
+        rng: &mut Xoshiro256PlusPlus,
+    ) -> Option<Point> {
+        if poses < 3 {
+            return None;
+        }
+        let at = |j: usize| Point::new(x[2 * j], x[2 * j + 1]);
+        let (pivot, follower, hub, arm) = (at(turning.pivot), at(turning.follower), at(turning.hub), at(turning.arm));
+        // The rocking link's angle at each pose from the first, unwrapped.
+        let start = arm - hub;
+        let mut angles = Vec::with_capacity(poses);
+        let mut previous = 0.0;
+        for i in 0..poses {
+            let now = carried(motions, self.carriers[turning.arm], i, arm) - hub;
+            let mut angle = start.cross(now).atan2(start.dot(now));
+            angle += (previous - angle + PI).div_euclid(2.0 * PI) * 2.0 * PI;
+            angles.push(angle);
+            previous = angle;
+        }
+        // Out to pose `k`, then back: one reversal.
+        let out = (angles[1] - angles[0]).signum();
+        let k = (1..poses - 1).find(|&i| (angles[i + 1] - angles[i]) * out < 0.0)?;
+        if (k..poses - 1).any(|i| (angles[i + 1] - angles[i]) * out > 0.0) {
+            return None;
+        }
+        let step = (angles[k] - angles[k - 1]).abs().max((angles[k] - angles[k + 1]).abs());
+        let turn = angles[k] + out * step * rng.random::<f64>();
+        let reach = |angle: f64| pivot.distance(hub + Rigid::new(angle, Vec2::ZERO).rotate(follower - hub));
+        // The distances the rocking link passes through on its way out, against the one at its turn.
+        let nearest = angles.iter().map(|a| a * out).fold(f64::INFINITY, f64::min) * out;
+        let at_turn = reach(turn);
+        let (mut least, mut most) = (f64::INFINITY, 0.0f64);
+        for s in 0..TURN_SAMPLES {
+            let d = reach(nearest + (turn - nearest) * s as f64 / TURN_SAMPLES as f64);
+            (least, most) = (least.min(d), most.max(d));
+        }
+        let (crank, link) = if most < at_turn {
+            // The turn where the two links stretch out: their lengths add up to the distance there,
+            // and differ by less than the nearest the rocking link comes.
+            let spread = (least / at_turn).min(TURN_SPREAD);
+            let share = 0.5 + spread * (rng.random::<f64>() - 0.5);
+            (share * at_turn, (1.0 - share) * at_turn)
+        } else if least > at_turn {
+            // The turn where they fold: their lengths differ by the distance there, and add up to
+            // more than the farthest the rocking link goes.
+            let sum = most * (1.0 + rng.random::<f64>());
+            let (long, short) = (0.5 * (sum + at_turn), 0.5 * (sum - at_turn));
+            if rng.random::<bool>() {
+                (long, short)
+            } else {
+                (short, long)
+            }
+        } else {
+            return None;
+        };
+        let branch = if rng.random::<bool>() { Branch::Positive } else { Branch::Negative };
+        circle_circle(pivot, crank, follower, link, branch).ok()
     }
 
     /// The centre of the places `joint` (carried by links only) takes through the poses, the other
@@ -605,6 +714,24 @@ fn ternary_through_three(
         r = residuals(&x, Some(&mut jacobian));
     }
     (size(&r) <= tolerance).then_some(x)
+}
+
+/// The topology's crank tip as a [`TurningTip`], when it has one: placed where the crank meets a
+/// link to a joint carried by links only on a link turning about a ground joint.
+fn turning_tip(topology: &Topology, completion: &[Completion], link_only: &[bool]) -> Option<TurningTip> {
+    let (tip, pivot) = (topology.driver_tip, topology.driver_pivot);
+    let fixed = topology.fixed_joints();
+    let follower = completion.iter().find_map(|step| match *step {
+        Completion::Dyad { joint, a, b } if joint == tip && a == pivot => Some(b),
+        Completion::Dyad { joint, a, b } if joint == tip && b == pivot => Some(a),
+        _ => None,
+    })?;
+    let (hub, arm) = completion.iter().find_map(|step| match *step {
+        Completion::Attach { joint, a, b } if joint == follower && fixed.contains(&a) => Some((a, b)),
+        Completion::Attach { joint, a, b } if joint == follower && fixed.contains(&b) => Some((b, a)),
+        _ => None,
+    })?;
+    (link_only[follower] && !link_only[arm]).then_some(TurningTip { tip, pivot, follower, hub, arm })
 }
 
 /// A constructed block: its joints (in the piece's order), the slider angle if it has one, and
