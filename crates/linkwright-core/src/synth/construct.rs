@@ -64,6 +64,11 @@ const TURN_SAMPLES: usize = 32;
 /// The most a turning tip's crank and link may differ, relative to their sum, when they stretch out
 /// at the turn: a crank much shorter than its link barely moves the rocking link.
 const TURN_SPREAD: f64 = 0.8;
+/// Gauss–Newton steps of [`Constructor::round_places`], the finite-difference step of its Jacobian
+/// (relative to the link's length) and its damping (relative to the normal matrix's mean diagonal).
+const ROUNDING_ITERATIONS: usize = 10;
+const ROUNDING_STEP: f64 = 1e-7;
+const ROUNDING_DAMPING: f64 = 1e-9;
 
 /// One independent block of the rigidity energy, as a construction.
 #[derive(Clone, Copy, Debug)]
@@ -343,6 +348,9 @@ impl Constructor {
                         Built::joints(&[tip], false)
                     }
                     Piece::Centre([_, joint]) => match self.centre_of(joint, x, motions, poses) {
+                        Some(centre) if poses > 3 => {
+                            Built::joints(&[self.round_places(joint, centre, x, motions)], false)
+                        }
                         Some(centre) => Built::joints(&[centre], false),
                         None => return f64::INFINITY,
                     },
@@ -561,6 +569,102 @@ impl Constructor {
                 Some(Point::ORIGIN + m + Vec2::new(c[0], c[1]))
             }
         }
+    }
+
+    /// The centre `joint`'s places turn about once the joints of [`Piece::Free`] pieces are moved
+    /// (in `x`) so that those places lie on a circle, from `centre`, their least-squares centre:
+    /// through four or more poses the places of joints drawn at random lie on no circle, so the link
+    /// from the centre would stretch between poses (a Stephenson-III's rocker, whose coupler carries
+    /// the body). The free joints have no rigidity equation of their own, so moving them breaks no
+    /// other block. Damped Gauss–Newton steps on `|placeᵢ − centre| − radius`, with the centre and
+    /// radius free too, from the draws: the least change that rounds the places, which is exact
+    /// through as many poses as there are free coordinates and the best fit through more. When the
+    /// steps do not bring the places nearer a circle, `x` and `centre` are kept.
+    fn round_places(&self, joint: usize, centre: Point, x: &mut [f64], motions: &[Vec<Rigid>]) -> Point {
+        use nalgebra::{DMatrix, DVector};
+        let poses = motions.first().map_or(1, Vec::len);
+        let n = self.carriers.len();
+        let movable: Vec<usize> = self
+            .pieces
+            .iter()
+            .filter_map(|piece| match *piece {
+                Piece::Free(j) if self.pins[j].is_none() => Some(j),
+                _ => None,
+            })
+            .collect();
+        let dim = 2 * movable.len() + 3;
+        // The unknowns: the movable joints' coordinates, then the centre and the radius.
+        let mut first: Vec<Point> = (0..n).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
+        let mut row = first.clone();
+        let mut residuals = |v: &DVector<f64>, out: &mut DVector<f64>| -> bool {
+            for (m, &j) in movable.iter().enumerate() {
+                first[j] = Point::new(v[2 * m], v[2 * m + 1]);
+            }
+            let c = Point::new(v[dim - 3], v[dim - 2]);
+            for i in 0..poses {
+                for k in (0..n).filter(|&k| !self.link_only[k]) {
+                    row[k] = carried(motions, self.carriers[k], i, first[k]);
+                }
+                if complete(&self.completion, &first, &mut row).is_err() {
+                    return false;
+                }
+                out[i] = row[joint].distance(c) - v[dim - 1];
+            }
+            true
+        };
+        let mut v = DVector::zeros(dim);
+        for (m, &j) in movable.iter().enumerate() {
+            (v[2 * m], v[2 * m + 1]) = (x[2 * j], x[2 * j + 1]);
+        }
+        (v[dim - 3], v[dim - 2]) = (centre.x, centre.y);
+        let mut r = DVector::zeros(poses);
+        // The radius that fits the places best from this centre: their mean distance.
+        v[dim - 1] = 0.0;
+        if !residuals(&v, &mut r) {
+            return centre;
+        }
+        v[dim - 1] = r.mean();
+        residuals(&v, &mut r);
+        let start = r.amax();
+        let scale = centre.distance(Point::new(x[2 * joint], x[2 * joint + 1])).max(f64::MIN_POSITIVE);
+        let (mut jacobian, mut trial) = (DMatrix::zeros(poses, dim), DVector::zeros(poses));
+        // False for NaN.
+        let nearer = |now: f64, before: f64| now < before;
+        for _ in 0..ROUNDING_ITERATIONS {
+            if r.amax() <= self.tolerances.projection {
+                break;
+            }
+            // Forward differences: the places come out of the completion's dyads.
+            let h = ROUNDING_STEP * scale;
+            for c in 0..dim {
+                let mut moved = v.clone();
+                moved[c] += h;
+                if !residuals(&moved, &mut trial) {
+                    return centre;
+                }
+                jacobian.set_column(c, &((&trial - &r) / h));
+            }
+            let jt = jacobian.transpose();
+            let mut normal = &jt * &jacobian;
+            let damping = ROUNDING_DAMPING * normal.trace() / dim as f64;
+            for d in 0..dim {
+                normal[(d, d)] += damping;
+            }
+            let Some(step) = normal.cholesky().map(|c| c.solve(&(-(&jt * &r)))) else { break };
+            let next = &v + step;
+            if !residuals(&next, &mut trial) || !nearer(trial.amax(), r.amax()) {
+                break;
+            }
+            v = next;
+            std::mem::swap(&mut r, &mut trial);
+        }
+        if !nearer(r.amax(), start) {
+            return centre;
+        }
+        for (m, &j) in movable.iter().enumerate() {
+            (x[2 * j], x[2 * j + 1]) = (v[2 * m], v[2 * m + 1]);
+        }
+        Point::new(v[dim - 3], v[dim - 2])
     }
 
     /// A binary link `[a, b]`: projected from two draws for N ≤ 3, else the better of the two
