@@ -67,6 +67,11 @@ const TURN_SPREAD: f64 = 0.8;
 /// Gauss–Newton steps of [`Constructor::round_places`], the finite-difference step of its Jacobian
 /// (relative to the link's length) and its damping (relative to the normal matrix's mean diagonal).
 const ROUNDING_ITERATIONS: usize = 10;
+/// The fewest poses through which [`Constructor::round_places`] moves the free joints. Through four,
+/// the least-squares centre leaves the rocker stretching little, and the joints' moves cost more
+/// than they buy: `k1_garbage_truck2` (four poses, a Stephenson-III) costs 2.38 unrounded and 2.82
+/// rounded (`linkwright design` with `mechanism: stephenson_iii`).
+const ROUNDED_POSES: usize = 5;
 const ROUNDING_STEP: f64 = 1e-7;
 const ROUNDING_DAMPING: f64 = 1e-9;
 
@@ -348,7 +353,7 @@ impl Constructor {
                         Built::joints(&[tip], false)
                     }
                     Piece::Centre([_, joint]) => match self.centre_of(joint, x, motions, poses) {
-                        Some(centre) if poses > 3 => {
+                        Some(centre) if poses >= ROUNDED_POSES => {
                             Built::joints(&[self.round_places(joint, centre, x, motions)], false)
                         }
                         Some(centre) => Built::joints(&[centre], false),
@@ -573,7 +578,7 @@ impl Constructor {
 
     /// The centre `joint`'s places turn about once the joints of [`Piece::Free`] pieces are moved
     /// (in `x`) so that those places lie on a circle, from `centre`, their least-squares centre:
-    /// through four or more poses the places of joints drawn at random lie on no circle, so the link
+    /// through more than three poses the places of joints drawn at random lie on no circle, so the link
     /// from the centre would stretch between poses (a Stephenson-III's rocker, whose coupler carries
     /// the body). The free joints have no rigidity equation of their own, so moving them breaks no
     /// other block. Damped Gauss–Newton steps on `|placeᵢ − centre| − radius`, with the centre and
