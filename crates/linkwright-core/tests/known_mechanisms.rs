@@ -193,12 +193,17 @@ fn a_warm_start_from_a_known_out_and_back_six_bar_is_kept() {
         let previous = [known.mechanism.clone()];
         let outcome =
             synthesize_with(&problem, &Options { start: Start::Warm(&previous), printable: None }, &Silent).unwrap();
-        let file = DesignFile::from_outcome(&problem, &outcome);
-        assert_eq!(file.status, Status::Ok, "{label}: {:?}", file.reason);
-        assert_eq!(file.violations(&problem), vec![], "{label}");
-        let worst = file.metrics.as_ref().unwrap().worst_pose_error.unwrap().position_rel_d;
-        assert!(worst <= 0.05, "{label}: a pose missed by {worst}·d");
+        assert_valid_within(&problem, &DesignFile::from_outcome(&problem, &outcome), 0.05, &label);
     }
+}
+
+/// `file` is a design of `problem` that the independent check accepts and that misses no pose by
+/// more than `bound`·d.
+fn assert_valid_within(problem: &Problem, file: &DesignFile, bound: f64, label: &str) {
+    assert_eq!(file.status, Status::Ok, "{label}: {:?}", file.reason);
+    assert_eq!(file.violations(problem), vec![], "{label}");
+    let worst = file.metrics.as_ref().unwrap().worst_pose_error.unwrap().position_rel_d;
+    assert!(worst <= bound, "{label}: a pose missed by {worst}·d");
 }
 
 /// A design far from a pose drawn is never presented as reaching it: the out-and-back six-bar through
@@ -239,10 +244,7 @@ fn a_cold_search_finds_an_out_and_back_six_bar() {
         let known = known_scene(Family::WattTwoOutAndBack, poses, 0, 100.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
         let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
-        assert_eq!(file.status, Status::Ok, "{poses} poses: {:?}", file.reason);
-        assert_eq!(file.violations(&problem), vec![], "{poses} poses");
-        let worst = file.metrics.as_ref().unwrap().worst_pose_error.unwrap().position_rel_d;
-        assert!(worst <= 0.05, "{poses} poses: a pose missed by {worst}·d");
+        assert_valid_within(&problem, &file, 0.05, &format!("{poses} poses"));
     }
 }
 
@@ -256,9 +258,6 @@ fn a_stephenson_three_through_many_poses_keeps_its_rocker_rigid() {
         let known = known_scene(Family::StephensonThree, poses, seed, 1.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
         let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
-        assert_eq!(file.status, Status::Ok, "{poses} poses, seed {seed}: {:?}", file.reason);
-        assert_eq!(file.violations(&problem), vec![], "{poses} poses, seed {seed}");
-        let worst = file.metrics.as_ref().unwrap().worst_pose_error.unwrap().position_rel_d;
-        assert!(worst <= 0.05, "{poses} poses, seed {seed}: a pose missed by {worst}·d");
+        assert_valid_within(&problem, &file, 0.05, &format!("{poses} poses, seed {seed}"));
     }
 }

@@ -148,6 +148,9 @@ pub struct Constructor {
     pins: Vec<Option<Point>>,
     /// How the joints carried by links only are placed at a pose ([`completion_order`]).
     completion: Vec<Completion>,
+    /// The joints of [`Piece::Free`] pieces not pinned: no rigidity equation holds them, so
+    /// [`Constructor::round_places`] may move them.
+    movable: Vec<usize>,
 }
 
 /// What a constructed block must meet.
@@ -278,6 +281,13 @@ impl Constructor {
         // joints it is placed from are placed.
         pieces.extend(turning_tip(topology, &completion, &link_only).map(Piece::Turning));
         pieces.extend(centres);
+        let movable = pieces
+            .iter()
+            .filter_map(|piece| match *piece {
+                Piece::Free(j) => Some(j),
+                _ => None,
+            })
+            .collect();
         Constructor {
             pieces,
             carriers,
@@ -287,6 +297,7 @@ impl Constructor {
             link_only,
             pins: vec![None; topology.joint_count()],
             completion,
+            movable,
         }
     }
 
@@ -297,6 +308,7 @@ impl Constructor {
         for &(j, p) in pins {
             self.pins[j] = Some(p);
         }
+        self.movable.retain(|&j| self.pins[j].is_none());
         self
     }
 
@@ -536,22 +548,42 @@ impl Constructor {
         circle_circle(pivot, crank, follower, link, branch).ok()
     }
 
+    /// The places `joint` (carried by links only) takes at each pose, into `places`, from `first`,
+    /// every joint at the first pose (`row` a buffer). False when the linkage does not assemble at
+    /// some pose.
+    fn places_of(
+        &self,
+        joint: usize,
+        first: &[Point],
+        motions: &[Vec<Rigid>],
+        row: &mut Vec<Point>,
+        places: &mut Vec<Point>,
+    ) -> bool {
+        row.clear();
+        row.extend_from_slice(first);
+        places.clear();
+        for i in 0..motions.first().map_or(1, Vec::len) {
+            for k in (0..first.len()).filter(|&k| !self.link_only[k]) {
+                row[k] = carried(motions, self.carriers[k], i, first[k]);
+            }
+            if complete(&self.completion, first, row).is_err() {
+                return false;
+            }
+            places.push(row[joint]);
+        }
+        true
+    }
+
     /// The centre of the places `joint` (carried by links only) takes through the poses, the other
     /// joints placed in `x`: the circumcentre through three poses, the least-squares centre through
     /// more (the algebraic fit: linear in the centre and in r² − |c|²), the midpoint of the two
     /// places through two. `None` when the linkage does not assemble at a pose or the places are
     /// collinear.
     fn centre_of(&self, joint: usize, x: &[f64], motions: &[Vec<Rigid>], poses: usize) -> Option<Point> {
-        let n = self.carriers.len();
-        let first: Vec<Point> = (0..n).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
-        let mut row = first.clone();
-        let mut places = Vec::with_capacity(poses);
-        for i in 0..poses {
-            for k in (0..n).filter(|&k| !self.link_only[k]) {
-                row[k] = carried(motions, self.carriers[k], i, first[k]);
-            }
-            complete(&self.completion, &first, &mut row).ok()?;
-            places.push(row[joint]);
+        let first: Vec<Point> = (0..self.carriers.len()).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
+        let (mut row, mut places) = (Vec::new(), Vec::with_capacity(poses));
+        if !self.places_of(joint, &first, motions, &mut row, &mut places) {
+            return None;
         }
         match places[..] {
             [] | [_] => None,
@@ -588,32 +620,21 @@ impl Constructor {
     fn round_places(&self, joint: usize, centre: Point, x: &mut [f64], motions: &[Vec<Rigid>]) -> Point {
         use nalgebra::{DMatrix, DVector};
         let poses = motions.first().map_or(1, Vec::len);
-        let n = self.carriers.len();
-        let movable: Vec<usize> = self
-            .pieces
-            .iter()
-            .filter_map(|piece| match *piece {
-                Piece::Free(j) if self.pins[j].is_none() => Some(j),
-                _ => None,
-            })
-            .collect();
+        let movable = &self.movable;
         let dim = 2 * movable.len() + 3;
         // The unknowns: the movable joints' coordinates, then the centre and the radius.
-        let mut first: Vec<Point> = (0..n).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
-        let mut row = first.clone();
+        let mut first: Vec<Point> = (0..self.carriers.len()).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
+        let (mut row, mut places) = (Vec::new(), Vec::with_capacity(poses));
         let mut residuals = |v: &DVector<f64>, out: &mut DVector<f64>| -> bool {
             for (m, &j) in movable.iter().enumerate() {
                 first[j] = Point::new(v[2 * m], v[2 * m + 1]);
             }
             let c = Point::new(v[dim - 3], v[dim - 2]);
-            for i in 0..poses {
-                for k in (0..n).filter(|&k| !self.link_only[k]) {
-                    row[k] = carried(motions, self.carriers[k], i, first[k]);
-                }
-                if complete(&self.completion, &first, &mut row).is_err() {
-                    return false;
-                }
-                out[i] = row[joint].distance(c) - v[dim - 1];
+            if !self.places_of(joint, &first, motions, &mut row, &mut places) {
+                return false;
+            }
+            for (i, p) in places.iter().enumerate() {
+                out[i] = p.distance(c) - v[dim - 1];
             }
             true
         };
@@ -631,7 +652,9 @@ impl Constructor {
         v[dim - 1] = r.mean();
         residuals(&v, &mut r);
         let start = r.amax();
-        let scale = centre.distance(Point::new(x[2 * joint], x[2 * joint + 1])).max(f64::MIN_POSITIVE);
+        // Forward differences (the places come out of the completion's dyads), a step relative to the
+        // link's length.
+        let h = ROUNDING_STEP * centre.distance(Point::new(x[2 * joint], x[2 * joint + 1])).max(f64::MIN_POSITIVE);
         let (mut jacobian, mut trial) = (DMatrix::zeros(poses, dim), DVector::zeros(poses));
         // False for NaN.
         let nearer = |now: f64, before: f64| now < before;
@@ -639,8 +662,6 @@ impl Constructor {
             if r.amax() <= self.tolerances.projection {
                 break;
             }
-            // Forward differences: the places come out of the completion's dyads.
-            let h = ROUNDING_STEP * scale;
             for c in 0..dim {
                 let mut moved = v.clone();
                 moved[c] += h;
