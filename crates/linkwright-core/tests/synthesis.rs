@@ -264,10 +264,10 @@ fn a_live_redesign_follows_the_design_shown_to_the_edge_of_its_checks() {
 /// With every family allowed (`auto`), a warm start searches only the family of the design it
 /// starts from: a live redesign refines the linkage shown and must not wait for a search of another
 /// family. It starts from a design file, as the app and `design --from` do: the design and its
-/// alternatives (of several families), read back with their joints in name order.
+/// alternatives, read back with their joints in name order, and a design of another family.
 #[test]
 fn a_warm_start_keeps_to_the_family_it_starts_from() {
-    use linkwright_core::{synthesize_with, Options, Start, WARM_SAMPLES};
+    use linkwright_core::{synthesize_with, MechanismType, Options, Start, WARM_SAMPLES};
     let mut problem = example("k1_garbage_truck");
     assert_eq!(problem.mechanism, linkwright_core::MechanismChoice::Auto);
     problem.settings.samples = 20000;
@@ -276,9 +276,13 @@ fn a_warm_start_keeps_to_the_family_it_starts_from() {
     let best = first.best.as_ref().expect("a design");
     let family = best.mechanism.topology.mechanism_type;
     let file = DesignFile::from_outcome(&problem, &first);
-    let previous = file.usable_mechanisms();
+    let mut previous = file.usable_mechanisms();
+    let other = MechanismType::ALL.into_iter().find(|&f| f != family).unwrap();
+    let mut alone = problem.clone();
+    alone.mechanism = linkwright_core::MechanismChoice::Only(other);
+    previous.push(synthesize(&alone, &Silent).unwrap().best.expect("a design of another family").mechanism);
     let families: std::collections::HashSet<_> = previous.iter().map(|m| m.topology.mechanism_type).collect();
-    assert!(families.len() > 1, "the alternatives are of one family: {families:?}");
+    assert!(families.len() > 1, "the designs are of one family: {families:?}");
     let d = problem.bodies[0].size;
     let moved = problem.bodies[0].poses[1];
     problem.bodies[0].poses[1] = linkwright_core::geom::Rigid::new(
