@@ -336,6 +336,8 @@ pub struct MotionAnalysis {
     pub min_transmission_deg: f64,
     /// The scene's bound on it (`settings.min_transmission_deg`).
     pub min_transmission_bound_deg: f64,
+    /// The angle the synthesis pushes it above (`settings.comfortable_transmission_deg`).
+    pub comfortable_transmission_deg: f64,
     /// The torque the crank needs at each frame to hold the parts against gravity, their masses as
     /// printed with the default print settings (or the scene's `mass_kg`); `None` when the scene's
     /// units are not a length or the travel passes a dead point.
@@ -410,6 +412,7 @@ pub fn describe(problem: &Problem, design: Option<&DesignFile>, replay: &Replay)
         loops: loops(&replay.mechanism),
         min_transmission_deg: min_margin,
         min_transmission_bound_deg: problem.settings.min_transmission_deg,
+        comfortable_transmission_deg: problem.settings.comfortable_transmission_deg,
         torque: Masses::for_design(problem, design, &PrintSettings::default())
             .ok()
             .and_then(|masses| replay.torque(problem, &masses).ok()),

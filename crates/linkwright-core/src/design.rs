@@ -155,7 +155,8 @@ pub struct Motion {
     pub pose_crank_deg: Vec<f64>,
 }
 
-/// The soft terms of paper eq. 10–13, their weighted sum (eq. 14) and the worst transmission angle.
+/// The soft terms of paper eq. 10–13 and E_trans, their weighted sum (eq. 14) and the worst
+/// transmission angle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// E_acc (eq. 10) against the unperturbed poses: the mean squared miss of the body-carried joints
@@ -169,11 +170,19 @@ pub struct Metrics {
     pub location: f64,
     /// E_size (eq. 13): the mean link length, a length.
     pub size: f64,
-    /// The weighted sum of the four (eq. 14) under the scene's weights.
+    /// E_trans: how far the smallest transmission angle falls short of the scene's comfortable one,
+    /// (1 − sin μ / sin μ_c)² below it and 0 above, unitless (0 in files written before it was added).
+    #[serde(default)]
+    pub transmission: f64,
+    /// The weighted sum of the soft terms (eq. 14) under the scene's weights.
     pub cost: f64,
     /// The smallest transmission angle along the whole travel, as its distance from 0° and 180°,
     /// degrees.
     pub min_transmission_deg: f64,
+    /// The crank angle (as `motion`'s, degrees) where the transmission is smallest (absent in files
+    /// written before it was added).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_transmission_crank_deg: Option<f64>,
     /// `pose_errors[i][b]`: how far body b is from its input pose i in the configuration the design
     /// offers for it (absent in files written before it was added).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -595,6 +604,7 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
     }
     let pose_errors = pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows);
     let thetas = &c.trace.thetas;
+    let (least_row, least_sine) = c.trace.least_transmission(&c.plan);
     let motion = Motion {
         crank_start_deg: thetas[0].to_degrees(),
         crank_end_deg: thetas[thetas.len() - 1].to_degrees(),
@@ -605,8 +615,10 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
         smoothness: c.soft[crate::synth::Term::Smoothness],
         location: c.soft[crate::synth::Term::Location],
         size: c.soft[crate::synth::Term::Size],
+        transmission: c.soft[crate::synth::Term::Transmission],
         cost: c.cost,
-        min_transmission_deg: c.trace.min_transmission(&c.plan).to_degrees(),
+        min_transmission_deg: least_sine.asin().to_degrees(),
+        min_transmission_crank_deg: Some(thetas[least_row].to_degrees()),
         worst_pose_error: Some(PoseMiss::worst(pose_errors.iter().flatten())),
         far_from_pose: crate::verify::far_from_pose(problem, &pose_errors),
         pose_errors,

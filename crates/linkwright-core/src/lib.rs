@@ -91,9 +91,9 @@ pub use mechanism::{Family, Loop, Mechanism, MechanismType, Part, PartKind, Slid
 
 // The synthesis: its entry points, what steers and observes a run, and what a run finds.
 pub use synth::{
-    assess, synthesize, synthesize_with, Acceptance, Cancelled, Candidate, Observer, Options, Outcome, Progress,
-    Reject, RunStats, Silent, SoftTerms, Stage, Start, Term, FOLLOW_COST_SLACK, SCREENING_DIVISOR, SWITCH_COST_FACTOR,
-    WARM_SAMPLES,
+    assess, synthesize, synthesize_with, transmission_shortfall, Acceptance, Cancelled, Candidate, Observer, Options,
+    Outcome, Progress, Reject, RunStats, Silent, SoftTerms, Stage, Start, Term, FOLLOW_COST_SLACK, SCREENING_DIVISOR,
+    SWITCH_COST_FACTOR, WARM_SAMPLES,
 };
 
 // The `design/1` format: the engine's answer, read back, validated and checked.

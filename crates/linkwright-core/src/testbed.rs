@@ -15,7 +15,7 @@ use crate::kinematics::{complete, completion_order, BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::synth::random::splitmix;
-use crate::synth::{CostWeights, SoftTerms, Term};
+use crate::synth::{transmission_shortfall, CostWeights, SoftTerms, Term};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::{PI, TAU};
@@ -692,12 +692,19 @@ fn known_metrics(
     let size = links.iter().map(|&(a, b)| joints[a].distance(joints[b])).sum::<f64>() / links.len().max(1) as f64;
 
     let _ = trace.sweep(plan, start, end, step);
-    let min_transmission_deg = trace.min_transmission(plan).to_degrees();
+    let (least_row, least_sine) = trace.least_transmission(plan);
+    let min_transmission_deg = least_sine.asin().to_degrees();
     let (accuracy, location, size) = (accuracy * scale * scale, location * scale, size * scale);
+    let comfortable_sine = Settings::default().comfortable_transmission_deg.to_radians().sin();
+    let transmission = transmission_shortfall(least_sine, comfortable_sine);
     let mut soft = SoftTerms::default();
-    for (term, value) in
-        [(Term::Accuracy, accuracy), (Term::Smoothness, smoothness), (Term::Location, location), (Term::Size, size)]
-    {
+    for (term, value) in [
+        (Term::Accuracy, accuracy),
+        (Term::Smoothness, smoothness),
+        (Term::Location, location),
+        (Term::Size, size),
+        (Term::Transmission, transmission),
+    ] {
         soft[term] = value;
     }
     let cost = CostWeights::new(weights, d * scale).cost(&soft);
@@ -706,8 +713,10 @@ fn known_metrics(
         smoothness,
         location,
         size,
+        transmission,
         cost,
         min_transmission_deg,
+        min_transmission_crank_deg: Some(trace.thetas[least_row].to_degrees()),
         pose_errors: Vec::new(),
         worst_pose_error: None,
         far_from_pose: None,

@@ -299,13 +299,13 @@ fn a_warm_start_keeps_to_the_family_it_starts_from() {
 
 /// A warm start leaves its family when a quick cold screening of the others finds a design clearly
 /// cheaper (less than three quarters of the cost): a four-bar's motion through five poses, started from
-/// the Stephenson-III six-bar the same scene gets when that family is asked for (cost 5.8), ends
-/// with the slider-crank a cold run finds (2.6). Started from that, it stays.
+/// the Stephenson-III six-bar the same scene gets when that family is asked for (cost 21), ends
+/// with the four-bar a cold run finds (2.1). Started from that, it stays.
 #[test]
 fn a_warm_start_switches_family_when_another_is_clearly_better() {
     use linkwright_core::testbed::{known_scene, Family};
     use linkwright_core::{synthesize_with, MechanismChoice, MechanismType, Options, Start};
-    let mut scene = known_scene(Family::Chain(1), 5, 2, 100.0).unwrap().scene;
+    let mut scene = known_scene(Family::Chain(1), 5, 0, 100.0).unwrap().scene;
     scene.mechanism = MechanismChoice::Only(MechanismType::StephensonThree);
     let six_bar = synthesize(&Problem::new(&scene).unwrap(), &Silent).unwrap().best.expect("a six-bar");
     scene.mechanism = MechanismChoice::Auto;
@@ -380,4 +380,40 @@ fn the_default_choice_of_family_searches_only_the_promising_one_in_full() {
     assert!(auto <= 1.1 * best_alone, "auto {auto} against the best family's {best_alone}");
     let hard = run(Family::WattTwoOutAndBack, 4, MechanismChoice::Auto);
     assert!(hard.stats.samples >= families * SAMPLES, "{} samples", hard.stats.samples);
+}
+
+/// The transmission term keeps a design away from its dead points: the garbage truck designed with
+/// it ends with a larger smallest transmission angle than without it (weight 0, the hard limit of
+/// 10° alone), and still reaches every pose. The design file's smallest transmission, and where it
+/// is, agree with a re-simulation of the linkage there, and its E_trans with the closed form.
+#[test]
+fn the_transmission_term_keeps_the_design_from_its_dead_points() {
+    use linkwright_core::{transmission_shortfall, MechanismJson};
+    let path = format!("{}/../../examples/k1_garbage_truck.json", env!("CARGO_MANIFEST_DIR"));
+    let mut scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    scene.settings.samples = 20_000;
+    let comfortable = scene.settings.comfortable_transmission_deg;
+    let design = |weight: f64| {
+        let mut scene = scene.clone();
+        scene.weights.transmission = weight;
+        let problem = Problem::new(&scene).unwrap();
+        DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap())
+    };
+    let (without, with) = (design(0.0), design(scene.weights.transmission));
+    let (m0, m1) = (without.metrics.unwrap(), with.metrics.as_ref().unwrap().clone());
+    assert!(m0.min_transmission_deg < 25.0, "without the term: {}°", m0.min_transmission_deg);
+    assert!(m1.min_transmission_deg >= comfortable - 1.0, "with it: {}°", m1.min_transmission_deg);
+    assert!(m1.worst_pose_error.unwrap().position_rel_d < 0.01);
+    let sine = m1.min_transmission_deg.to_radians().sin();
+    let expected = transmission_shortfall(sine, comfortable.to_radians().sin());
+    // E_trans is of the travel's exact smallest angle (in closed form for a four-bar), the file's angle
+    // of the smallest on its rows: the two agree to the rows' resolution.
+    assert!((m1.transmission - expected).abs() < 1e-3, "{} against {expected}", m1.transmission);
+    // Re-simulated where the file says the transmission is smallest.
+    let mechanism = MechanismJson::to_mechanism(with.mechanism.as_ref().unwrap()).unwrap();
+    let plan = Plan::compile(&mechanism).unwrap();
+    let mut trace = Trace::new(plan.joint_count());
+    trace.push(&plan, m1.min_transmission_crank_deg.unwrap().to_radians()).unwrap();
+    let there = plan.min_transmission(trace.row(0)).to_degrees();
+    assert!((there - m1.min_transmission_deg).abs() < 1e-6, "{there}° against {}°", m1.min_transmission_deg);
 }

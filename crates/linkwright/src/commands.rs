@@ -253,8 +253,8 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
     let counts = format!("{} valid of {} samples, {:.2} s, seed {}", s.valid, s.samples, s.seconds.total, s.seed);
     match (&file.status, &file.mechanism, &file.metrics) {
         (Status::Ok, Some(m), Some(x)) => format!(
-            "{}: {} with {} joints{}{}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}), \
-             min transmission {:.1}°; {counts} -> {}",
+            "{}: {} with {} joints{}{}; cost {:.3} (accuracy {:.4}, smoothness {:.3}, location {:.3}, size {:.2}, \
+             transmission {:.3}), {}; {counts} -> {}",
             file.scene,
             kind_name(m),
             m.joints.len(),
@@ -276,7 +276,8 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
             x.smoothness,
             x.location,
             x.size,
-            x.min_transmission_deg,
+            x.transmission,
+            transmission_words(x.min_transmission_deg, travel_share(file, x.min_transmission_crank_deg), problem),
             out_dir.display()
         ),
         _ => format!(
@@ -303,6 +304,25 @@ fn build_words(record: &linkwright_core::BuildRecord) -> String {
     }
 }
 
+/// The smallest transmission angle in words: where along the travel (a share of it, 0 at the first
+/// pose), and whether it is under the scene's comfortable angle.
+fn transmission_words(min_deg: f64, at: Option<f64>, problem: &Problem) -> String {
+    let comfortable = problem.settings.comfortable_transmission_deg;
+    let at = at.map_or(String::new(), |share| format!(" at {:.0}% of the travel", 100.0 * share));
+    if min_deg < comfortable {
+        format!("min transmission {min_deg:.1}°{at}, under the comfortable {comfortable}°")
+    } else {
+        format!("min transmission {min_deg:.1}°{at}")
+    }
+}
+
+/// How far along the design's travel (0 at its first pose, 1 at its last) the crank angle `crank_deg` is.
+fn travel_share(file: &DesignFile, crank_deg: Option<f64>) -> Option<f64> {
+    let (motion, crank) = (file.motion.as_ref()?, crank_deg?);
+    let span = motion.crank_end_deg - motion.crank_start_deg;
+    (span.abs() > 0.0).then(|| ((crank - motion.crank_start_deg) / span).clamp(0.0, 1.0))
+}
+
 fn kind_name(m: &linkwright_core::MechanismJson) -> String {
     let bodies = m.parts.iter().filter(|p| p.body.is_some()).count();
     m.mechanism_type.linkage_label(bodies)
@@ -316,7 +336,13 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
         println!("{}", serde_json::to_string_pretty(&violations).expect("violations serialize"));
     } else if violations.is_empty() {
         let reach = match Replay::new(&problem, &file, Which::Best, AnalysisOptions::default().steps) {
-            Ok(r) => pose_reach(&problem, &pose_misses(&problem, &r.mechanism, &r.trace, &r.pose_rows), &scene.units),
+            Ok(r) => {
+                let misses = pose_misses(&problem, &r.mechanism, &r.trace, &r.pose_rows);
+                let (row, sine) = r.trace.least_transmission(&r.plan);
+                let at = travel_share(&file, Some(r.trace.thetas[row].to_degrees()));
+                let words = transmission_words(sine.asin().to_degrees(), at, &problem);
+                format!("{}; {words}", pose_reach(&problem, &misses, &scene.units))
+            }
             Err(_) => String::new(),
         };
         println!("{}: every hard constraint holds{reach}", design.display());

@@ -31,6 +31,22 @@ fn design_writes_the_design_its_pictures_and_passes_check() {
 
     let check = linkwright(&["check", &example("k1_garbage_truck"), design.to_str().unwrap()]);
     assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
+    // It says how small the transmission gets and where along the motion, as the design file does
+    // (re-simulated in its own steps: to a few tenths of a degree and a per cent of the travel).
+    let said = text(&check.stdout);
+    let number_after = |words: &str| -> f64 {
+        let rest = &said[said.find(words).unwrap_or_else(|| panic!("{said} lacks {words}")) + words.len()..];
+        rest.chars().take_while(|c| c.is_ascii_digit() || *c == '.').collect::<String>().parse().unwrap()
+    };
+    let metrics = &parsed["metrics"];
+    let motion = &parsed["motion"];
+    let (start, end) = (motion["crank_start_deg"].as_f64().unwrap(), motion["crank_end_deg"].as_f64().unwrap());
+    let share = (metrics["min_transmission_crank_deg"].as_f64().unwrap() - start) / (end - start);
+    assert!(
+        (number_after("min transmission ") - metrics["min_transmission_deg"].as_f64().unwrap()).abs() < 0.5,
+        "{said}"
+    );
+    assert!((number_after("° at ") - 100.0 * share).abs() <= 2.0, "{said}");
 
     // A project the app saved (the scene with its design) reads as its scene; a fault in it is named
     // under `scene`.

@@ -400,8 +400,10 @@ fn check_metrics(out: &mut Issues, at: &str, m: &Metrics) {
         ("smoothness", m.smoothness),
         ("location", m.location),
         ("size", m.size),
+        ("transmission", m.transmission),
         ("cost", m.cost),
         ("min_transmission_deg", m.min_transmission_deg),
+        ("min_transmission_crank_deg", m.min_transmission_crank_deg.unwrap_or(0.0)),
     ];
     for (name, v) in named {
         if !v.is_finite() {

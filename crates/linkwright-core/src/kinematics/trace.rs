@@ -148,7 +148,18 @@ impl Trace {
     }
     /// The sine of [`Trace::min_transmission`] (cheaper, and ordered alike).
     pub fn min_transmission_sine(&self, plan: &Plan) -> f64 {
-        (0..self.len()).map(|r| plan.min_transmission_sine(self.row(r))).fold(1.0, f64::min)
+        self.least_transmission(plan).1
+    }
+    /// The row where the transmission margin of `plan` is smallest (the first of equals; 0 for an
+    /// empty trace), with the sine of that margin.
+    pub fn least_transmission(&self, plan: &Plan) -> (usize, f64) {
+        (0..self.len()).map(|r| (r, plan.min_transmission_sine(self.row(r)))).fold((0, 1.0), |least, (r, sine)| {
+            if sine < least.1 {
+                (r, sine)
+            } else {
+                least
+            }
+        })
     }
 }
 

@@ -254,6 +254,9 @@ pub struct Weights {
     pub location: f64,
     /// Weight of E_size / d, the mean link length. Default 1.
     pub size: f64,
+    /// Weight of E_trans, how far the smallest transmission angle along the travel falls short of
+    /// `settings.comfortable_transmission_deg` (0 when it does not; 1 at a dead point). Default 1.
+    pub transmission: f64,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
@@ -261,7 +264,7 @@ pub struct Weights {
 
 impl Default for Weights {
     fn default() -> Self {
-        Weights { accuracy: 1000.0, smoothness: 1.0, location: 10.0, size: 1.0, extra: Map::new() }
+        Weights { accuracy: 1000.0, smoothness: 1.0, location: 10.0, size: 1.0, transmission: 1.0, extra: Map::new() }
     }
 }
 
@@ -283,6 +286,10 @@ pub struct Settings {
     pub angle_tolerance_deg: f64,
     /// Lower bound on every transmission angle's distance from 0° and 180°, degrees. Default 10.
     pub min_transmission_deg: f64,
+    /// The transmission angle (distance from 0° and 180°, degrees) a design is pushed to keep along
+    /// its whole travel, a soft goal weighted by `weights.transmission`: textbooks ask for 40° where
+    /// the motion allows. Default 30.
+    pub comfortable_transmission_deg: f64,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
@@ -298,6 +305,7 @@ impl Default for Settings {
             pose_tolerance: 0.5,
             angle_tolerance_deg: 3.0,
             min_transmission_deg: 10.0,
+            comfortable_transmission_deg: 30.0,
             extra: Map::new(),
         }
     }

@@ -475,7 +475,13 @@ const MAX_JOINT_NAME: usize = 8;
 
 /// The soft-cost weights must be usable factors of a sum, and not all zero (then every design ties).
 fn check_weights(w: &Weights, out: &mut Issues) {
-    let all = [("accuracy", w.accuracy), ("smoothness", w.smoothness), ("location", w.location), ("size", w.size)];
+    let all = [
+        ("accuracy", w.accuracy),
+        ("smoothness", w.smoothness),
+        ("location", w.location),
+        ("size", w.size),
+        ("transmission", w.transmission),
+    ];
     for (name, v) in all {
         if !v.is_finite() || v < 0.0 {
             out.error(
@@ -485,7 +491,7 @@ fn check_weights(w: &Weights, out: &mut Issues) {
         }
     }
     if all.iter().all(|&(_, v)| v == 0.0) {
-        out.error("weights", "all four weights are 0, so every design would cost the same; make at least one positive");
+        out.error("weights", "all the weights are 0, so every design would cost the same; make at least one positive");
     }
     out.unknown_fields("weights.", &w.extra);
 }
@@ -520,6 +526,13 @@ fn check_settings(s: &Settings, out: &mut Issues) {
         ),
         ("angle_tolerance_deg", s.angle_tolerance_deg, 0.0, MAX_ANGLE_TOLERANCE_DEG, "degrees; the paper uses 3"),
         ("min_transmission_deg", s.min_transmission_deg, 0.0, MAX_MIN_TRANSMISSION_DEG, "degrees; the paper uses 10"),
+        (
+            "comfortable_transmission_deg",
+            s.comfortable_transmission_deg,
+            0.0,
+            MAX_MIN_TRANSMISSION_DEG,
+            "degrees; the default is 30",
+        ),
     ];
     for (name, v, lo, hi, hint) in ranges {
         if !(v.is_finite() && (lo..=hi).contains(&v)) {
@@ -926,7 +939,7 @@ mod tests {
     #[test]
     fn settings_out_of_range_are_errors() {
         type Change = fn(&mut Settings);
-        let cases: [(&str, Change); 10] = [
+        let cases: [(&str, Change); 12] = [
             ("samples", |s| s.samples = 0),
             ("samples", |s| s.samples = 10_000_001),
             ("particles", |s| s.particles = 0),
@@ -937,6 +950,8 @@ mod tests {
             ("min_transmission_deg", |s| s.min_transmission_deg = 80.5),
             ("min_transmission_deg", |s| s.min_transmission_deg = -1.0),
             ("min_transmission_deg", |s| s.min_transmission_deg = f64::INFINITY),
+            ("comfortable_transmission_deg", |s| s.comfortable_transmission_deg = 90.0),
+            ("comfortable_transmission_deg", |s| s.comfortable_transmission_deg = f64::NAN),
         ];
         for (name, change) in cases {
             let mut s = scene();
@@ -957,8 +972,11 @@ mod tests {
         assert_error(&s, "weights.accuracy", "must be a finite number ≥ 0");
         assert_error(&s, "weights.size", "must be a finite number ≥ 0");
         let mut s = scene();
-        (s.weights.accuracy, s.weights.smoothness, s.weights.location, s.weights.size) = (0.0, 0.0, 0.0, 0.0);
-        assert_error(&s, "weights", "all four weights are 0");
+        let w = &mut s.weights;
+        (w.accuracy, w.smoothness, w.location, w.size, w.transmission) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        assert_error(&s, "weights", "all the weights are 0");
+        s.weights.transmission = -0.5;
+        assert_error(&s, "weights.transmission", "must be a finite number ≥ 0");
     }
 
     /// The lid (d = 20) standing on the ground at its second pose, `offset` mm above it (negative: sunk in).

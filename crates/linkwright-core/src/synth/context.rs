@@ -76,6 +76,8 @@ pub struct Context<'a> {
     pub min_spacing: f64,
     /// The sine of the least transmission angle allowed (margins are compared as sines).
     pub min_transmission_sine: f64,
+    /// The sine of the comfortable transmission angle, E_trans's reference ([`super::terms::Term`]).
+    pub comfortable_transmission_sine: f64,
     /// Penetration below this depth is contact, not collision (a length).
     pub contact_tolerance: f64,
     /// The fixed bodies and the avoid regions, prepared for the tests of moving outlines against them.
@@ -183,6 +185,7 @@ impl<'a> Context<'a> {
             weights: CostWeights::new(&problem.weights, body_size),
             min_spacing: MIN_JOINT_SPACING * body_size,
             min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
+            comfortable_transmission_sine: problem.settings.comfortable_transmission_deg.to_radians().sin(),
             contact_tolerance,
             fixed_obstacles: problem.fixed.iter().map(obstacle).collect(),
             avoid_obstacles: problem.avoid.iter().map(obstacle).collect(),

@@ -7,7 +7,7 @@
 //! failures to assemble are all judged on that travel.
 
 use super::context::{Context, CRANK_STEP, END_SEARCH, MUST_HIT_ANGLE_DEG, MUST_HIT_POSITION};
-use super::terms::{Floor, SoftTerms, Term};
+use super::terms::{transmission_shortfall, Floor, SoftTerms, Term};
 use crate::geom::Point;
 use crate::kinematics::{BodyFrames, Branch, Plan, Trace};
 use crate::mechanism::{Mechanism, Topology};
@@ -344,12 +344,13 @@ fn simulate(
     let frames = BodyFrames::new(&mechanism, &ctx.first_poses);
     for (angles, turned) in travels.chunks_exact(poses).zip(turned.chunks_exact(poses)) {
         match travel(ctx, &plan, (angles, turned), scratch) {
-            Ok((trace, pose_rows)) if misses_must_hit_pose(ctx, &frames, &trace, &pose_rows) => {
+            Ok((trace, pose_rows, _)) if misses_must_hit_pose(ctx, &frames, &trace, &pose_rows) => {
                 first_failure.get_or_insert(Reject::MissedPose);
             }
-            Ok((trace, pose_rows)) => {
+            Ok((trace, pose_rows, least_sine)) => {
                 let mut soft = exact;
                 simulated_terms(ctx, &frames, &trace, &pose_rows, &scratch.targets, &mut soft);
+                soft[Term::Transmission] = transmission_shortfall(least_sine, ctx.comfortable_transmission_sine);
                 let cost = ctx.weights.cost(&soft);
                 return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
             }
@@ -418,7 +419,7 @@ fn travel(
     plan: &Plan,
     (angles, turned): (&[f64], &[bool]),
     scratch: &mut Scratch,
-) -> Result<(Trace, Vec<usize>), Reject> {
+) -> Result<(Trace, Vec<usize>, f64), Reject> {
     let n = plan.joint_count();
     let poses = angles.len();
     let (start, end) = (angles[0], angles[poses - 1]);
@@ -502,7 +503,7 @@ fn travel(
     for range in between_poses.iter() {
         pose_rows.push(pose_rows[pose_rows.len() - 1] + range.len() + 1);
     }
-    Ok((std::mem::replace(coarse, Trace::new(n)), pose_rows))
+    Ok((std::mem::replace(coarse, Trace::new(n)), pose_rows, least_sine))
 }
 
 /// The minimiser of a function on `[a, b]` (either order) by Brent's method: parabolic steps through
@@ -599,7 +600,7 @@ fn exact_terms(ctx: &Context, mechanism: &Mechanism) -> SoftTerms {
                     / ctx.link_pairs.len() as f64
             }
             // Measured on the travel (`simulated_terms`), bounded by `simulated_floor`.
-            Term::Accuracy | Term::Smoothness => continue,
+            Term::Accuracy | Term::Smoothness | Term::Transmission => continue,
         };
         debug_assert_eq!(term.floor(), Floor::Exact);
     }

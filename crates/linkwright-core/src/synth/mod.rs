@@ -23,7 +23,7 @@ pub use pipeline::{
     assess, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent,
     Stage, Start, FOLLOW_COST_SLACK, SCREENING_DIVISOR, SWITCH_COST_FACTOR, WARM_SAMPLES,
 };
-pub use terms::{CostWeights, SoftTerms, Term};
+pub use terms::{transmission_shortfall, CostWeights, SoftTerms, Term};
 
 /// Fixtures shared by the synthesis unit tests.
 #[cfg(test)]

@@ -5,7 +5,7 @@
 //! Levenberg–Marquardt over the joint coordinates (and the slider's angle). The cost is a sum of
 //! squares of residuals: one per pose, moving joint and axis for E_acc (the joint's miss, scaled) and three per
 //! pose and body for its outline's miss ([`Context::outline_miss`]), and
-//! the square roots of the other three terms, which are never negative. Their Jacobian is taken by
+//! the square roots of the other terms, which are never negative. Their Jacobian is taken by
 //! forward differences: each residual comes from a simulation (the pose configurations are searched
 //! along the travel), so no closed form exists. Every point the optimiser looks at is first projected
 //! back onto linkages that reach the end poses ([`Context::project`]), and a step is taken only when
@@ -53,7 +53,7 @@ const TRIALS: usize = 6;
 const GAIN: f64 = 1e-5;
 
 /// The residuals whose squares sum to the candidate's cost: E_acc's misses, scaled, then the square
-/// roots of the weighted smoothness, location and size.
+/// roots of the weighted smoothness, location, size and transmission.
 fn residuals(ctx: &Context, c: &Candidate, out: &mut Vec<f64>) {
     out.clear();
     let w = &ctx.weights;
@@ -76,7 +76,9 @@ fn residuals(ctx: &Context, c: &Candidate, out: &mut Vec<f64>) {
         match term {
             // Its misses, above.
             Term::Accuracy => {}
-            Term::Smoothness | Term::Location | Term::Size => out.push((w[term] * c.soft[term]).max(0.0).sqrt()),
+            Term::Smoothness | Term::Location | Term::Size | Term::Transmission => {
+                out.push((w[term] * c.soft[term]).max(0.0).sqrt())
+            }
         }
     }
 }

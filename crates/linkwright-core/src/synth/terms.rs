@@ -25,6 +25,11 @@ pub enum Term {
     Location,
     /// E_size (eq. 13): the mean link length. Length.
     Size,
+    /// E_trans (ours, not the paper's): how far the smallest transmission angle along the travel
+    /// falls short of the comfortable one ([`transmission_shortfall`]). Unitless. The hard limit
+    /// (`min_transmission_deg`) alone left the best design riding on it: a linkage near a dead point
+    /// needs large forces, wears its pins and jams when printed with clearance.
+    Transmission,
 }
 
 /// What bounds a term from below before the linkage is simulated.
@@ -39,7 +44,7 @@ pub(crate) enum Floor {
 
 impl Term {
     /// Every term, in the order the cost sums them.
-    pub const ALL: [Term; 4] = [Term::Accuracy, Term::Smoothness, Term::Location, Term::Size];
+    pub const ALL: [Term; 5] = [Term::Accuracy, Term::Smoothness, Term::Location, Term::Size, Term::Transmission];
 
     /// The scene's weight of the term.
     pub fn scene_weight(self, weights: &Weights) -> f64 {
@@ -48,6 +53,7 @@ impl Term {
             Term::Smoothness => weights.smoothness,
             Term::Location => weights.location,
             Term::Size => weights.size,
+            Term::Transmission => weights.transmission,
         }
     }
 
@@ -56,7 +62,7 @@ impl Term {
     pub fn length_power(self) -> i32 {
         match self {
             Term::Accuracy => 2,
-            Term::Smoothness => 0,
+            Term::Smoothness | Term::Transmission => 0,
             Term::Location | Term::Size => 1,
         }
     }
@@ -64,10 +70,22 @@ impl Term {
     /// What bounds the term before any simulation.
     pub(crate) fn floor(self) -> Floor {
         match self {
-            Term::Accuracy | Term::Smoothness => Floor::Simulated,
+            // Its floor is 0: [`transmission_shortfall`] is never negative.
+            Term::Accuracy | Term::Smoothness | Term::Transmission => Floor::Simulated,
             Term::Location | Term::Size => Floor::Exact,
         }
     }
+}
+
+/// E_trans of a travel whose smallest transmission sine (of the angle's distance from 0° and 180°) is
+/// `least_sine`, against the comfortable angle's sine: the squared shortfall relative to the
+/// comfortable sine, (1 − s / s_c)² under it and 0 at or above it. Smooth where it starts, 1 at a
+/// dead point, and 0.43 at the hard limit's default 10° against 30°.
+pub fn transmission_shortfall(least_sine: f64, comfortable_sine: f64) -> f64 {
+    if comfortable_sine <= 0.0 || least_sine >= comfortable_sine {
+        return 0.0;
+    }
+    (1.0 - least_sine.max(0.0) / comfortable_sine).powi(2)
 }
 
 /// Indexing by [`Term`] for a type holding one value per term.
@@ -123,13 +141,20 @@ mod tests {
 
     #[test]
     fn weights_mean_the_same_at_any_drawing_scale() {
-        let weights = Weights { accuracy: 3.0, smoothness: 2.0, location: 5.0, size: 7.0, ..Weights::default() };
+        let weights = Weights {
+            accuracy: 3.0,
+            smoothness: 2.0,
+            location: 5.0,
+            size: 7.0,
+            transmission: 11.0,
+            ..Weights::default()
+        };
         let mut soft = SoftTerms::default();
-        for (t, value) in Term::ALL.into_iter().zip([0.5, 1.5, 2.0, 4.0]) {
+        for (t, value) in Term::ALL.into_iter().zip([0.5, 1.5, 2.0, 4.0, 0.25]) {
             soft[t] = value;
         }
         let unit = CostWeights::new(&weights, 1.0).cost(&soft);
-        assert_eq!(unit, 3.0 * 0.5 + 2.0 * 1.5 + 5.0 * 2.0 + 7.0 * 4.0);
+        assert_eq!(unit, 3.0 * 0.5 + 2.0 * 1.5 + 5.0 * 2.0 + 7.0 * 4.0 + 11.0 * 0.25);
         // The same linkage drawn ten times larger: lengths ×10, areas ×100, ratios unchanged.
         let mut scaled = soft;
         for t in Term::ALL {
@@ -137,5 +162,18 @@ mod tests {
         }
         let cost = CostWeights::new(&weights, 10.0).cost(&scaled);
         assert!((cost - unit).abs() <= 1e-12 * unit, "{cost} against {unit}");
+    }
+
+    /// The shortfall against closed forms: none at or above the comfortable angle, 1 at a dead point,
+    /// (1 − sin 10° / sin 30°)² at the default hard limit.
+    #[test]
+    fn transmission_shortfall_is_the_squared_relative_shortfall_of_the_sine() {
+        let sin = |deg: f64| deg.to_radians().sin();
+        assert_eq!(transmission_shortfall(sin(30.0), sin(30.0)), 0.0);
+        assert_eq!(transmission_shortfall(sin(60.0), sin(30.0)), 0.0);
+        assert_eq!(transmission_shortfall(0.0, sin(30.0)), 1.0);
+        let at_limit = transmission_shortfall(sin(10.0), 0.5);
+        assert!((at_limit - (1.0 - 2.0 * sin(10.0)).powi(2)).abs() < 1e-15, "{at_limit}");
+        assert_eq!(transmission_shortfall(0.1, 0.0), 0.0, "no comfortable angle asked");
     }
 }

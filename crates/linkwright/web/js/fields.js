@@ -12,8 +12,9 @@ const SETTINGS = {
   pose_tolerance: 'Pose tolerance',
   angle_tolerance_deg: 'Angle tolerance',
   min_transmission_deg: 'Min. transmission',
+  comfortable_transmission_deg: 'Comfortable transmission',
 };
-const WEIGHTS = { accuracy: 'Accuracy', smoothness: 'Smoothness', location: 'Location', size: 'Size' };
+const WEIGHTS = { accuracy: 'Accuracy', smoothness: 'Smoothness', location: 'Location', size: 'Size', transmission: 'Transmission' };
 
 /** A number as the engine writes it (Rust: `5000000.0`, `1e6`, `NaN`, `inf`) in the screen's words. */
 function plainNumber(text) {

@@ -108,6 +108,7 @@ const WEIGHTS = [
   ['smoothness', 'Smoothness', 'how direct the motion between poses is'],
   ['location', 'Location', 'how strongly joints keep to the linkage region'],
   ['size', 'Size', 'how short the links are'],
+  ['transmission', 'Transmission', 'how strongly the links keep a comfortable angle, away from dead points'],
 ];
 
 /** A log-scale slider (0.01 to 10,000) with a number field beside it. */
@@ -222,6 +223,8 @@ export function renderSettingsTab(host, store) {
     row('Angle tolerance °', number(st.angle_tolerance_deg, 'angle_tolerance_deg', (v) => setSetting('angle_tolerance_deg', Math.max(0, v)), { min: 0, step: 1 })),
     row('Min. transmission °', number(st.min_transmission_deg, 'min_transmission_deg', (v) => setSetting('min_transmission_deg', Math.max(0, v)), { min: 0, max: 80, step: 1 }),
       'how far every joint angle must stay from a dead point (0° or 180°)'),
+    row('Comfortable transmission °', number(st.comfortable_transmission_deg, 'comfortable_transmission_deg', (v) => setSetting('comfortable_transmission_deg', Math.min(80, Math.max(0, v))), { min: 0, max: 80, step: 1 }),
+      'the angle the search prefers every joint to keep from a dead point (textbooks ask for 40°); the Transmission weight says how much'),
     html('h3', { text: 'Search' }),
     row('Samples', samples, 'more samples: better designs, longer runs'),
     row('Seed', seed, 'the same seed gives the same design'),

@@ -24,7 +24,8 @@ function axes(xLabel, unit, yTicks, scaleY, format = String) {
 
 /**
  * Transmission angle (0–180°) of every dyad against the crank angle, with the forbidden bands near 0°
- * and 180° shaded, the poses marked, and a cursor at the current frame (returned for updates).
+ * and 180° shaded, the comfortable band between them marked, the poses marked, and a cursor at the
+ * current frame (returned for updates).
  */
 export function transmissionPlot(analysis) {
   const frames = analysis.frames;
@@ -33,7 +34,10 @@ export function transmissionPlot(analysis) {
   const sx = (x) => PAD.l + ((x - x0) / (x1 - x0)) * (W - PAD.l - PAD.r);
   const sy = (y) => H - PAD.b - (y / 180) * (H - PAD.t - PAD.b);
   const bound = analysis.min_transmission_bound_deg;
+  // Files analysed before the comfortable angle existed: no band.
+  const comfortable = Math.max(bound, analysis.comfortable_transmission_deg ?? bound);
   const root = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', role: 'img', 'aria-label': 'transmission angles' });
+  root.append(svg('rect', { class: 'comfort', x: PAD.l, y: sy(180 - comfortable), width: W - PAD.l - PAD.r, height: sy(comfortable) - sy(180 - comfortable) }));
   root.append(svg('rect', { class: 'band', x: PAD.l, y: sy(bound), width: W - PAD.l - PAD.r, height: sy(0) - sy(bound) }));
   root.append(svg('rect', { class: 'band', x: PAD.l, y: sy(180), width: W - PAD.l - PAD.r, height: sy(180 - bound) - sy(180) }));
   root.append(axes(`crank angle, ${x0.toFixed(0)}° to ${x1.toFixed(0)}°`, '°', [0, 45, 90, 135, 180], sy));
@@ -50,7 +54,11 @@ export function transmissionPlot(analysis) {
   root.append(cursor);
   const legend = html('div', { class: 'legend' }, analysis.dyads.map((d, i) =>
     html('span', {}, [html('i', { style: `background:${PATH_COLOURS[i % PATH_COLOURS.length]}` }), `at ${d.joint} (${d.from.join('–')})`])));
-  const note = html('small', { text: `Shaded: closer than ${bound}° to a dead point. Worst along the motion: ${analysis.min_transmission_deg.toFixed(1)}°.` });
+  const worst = analysis.min_transmission_deg;
+  const comfortNote = comfortable > bound
+    ? ` Green: the comfortable band, at least ${comfortable}° from a dead point${worst < comfortable ? ' (this design leaves it)' : ''}.`
+    : '';
+  const note = html('small', { text: `Red: closer than ${bound}° to a dead point.${comfortNote} Worst along the motion: ${worst.toFixed(1)}°.` });
   return {
     element: html('div', { class: 'chart' }, [root, legend, note]),
     moveCursor: (crankDeg) => {

@@ -10,7 +10,7 @@ import { savedPrintSettings } from './fabricate.js';
 import { bounds, placed } from './geom.js';
 import { errorPlot, loopList, torquePlot, transmissionPlot } from './plots.js';
 import { NO_SPRING, springCut, springList } from './springs.js';
-import { toFile } from './scene.js';
+import { ENGINE_SETTINGS, toFile } from './scene.js';
 import { screenField, screenWords } from './fields.js';
 import { newResult } from './store.js';
 import { clear, html, points, svg } from './svg.js';
@@ -330,7 +330,7 @@ export class Results {
         const answer = await api.edit(base.scene, base.design, base.which, { [drag.name]: w });
         if (answer.design) {
           const r = newResult({ design: answer.design, scene: base.scene, key: base.key, warnings: base.warnings });
-          Object.assign(r, { mechanism: answer.design.mechanism, metrics: answer.design.metrics, analysis: answer.analysis });
+          Object.assign(r, { mechanism: answer.design.mechanism, motion: answer.design.motion, metrics: answer.design.metrics, analysis: answer.analysis });
           r.verified = { ok: answer.violations.length === 0, violations: answer.violations };
           this.store.result = r;
           this.canvas.rejectedJoint = null;
@@ -478,6 +478,7 @@ export class Results {
     const d = r.design;
     r.mechanism = which === null ? d.mechanism : d.alternatives[which]?.mechanism;
     r.metrics = which === null ? d.metrics : d.alternatives[which]?.metrics;
+    r.motion = which === null ? d.motion : d.alternatives[which]?.motion;
     r.analysis = null;
     r.balance = null; // the springs were for the mechanism shown before
     this.plot = null;
@@ -728,7 +729,7 @@ export class Results {
       ['Smoothness (path/chord)', m.smoothness.toFixed(3)],
       ['Distance from region', m.location.toFixed(2)],
       ['Mean link length', m.size.toFixed(1)],
-      ['Worst transmission angle', `${m.min_transmission_deg.toFixed(1)}°`],
+      ['Worst transmission angle', transmissionWords(m, r.motion || d.motion, r.scene)],
     ].map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
     host.append(statsLine(d));
     for (const w of r.warnings || []) host.append(html('p', { class: 'note', text: `Note: ${w.field}: ${w.message}` }));
@@ -925,6 +926,20 @@ function worstMiss(metrics, scene) {
   const w = metrics.worst_pose_error;
   if (!w || !Number.isFinite(w.position) || !Number.isFinite(w.angle_deg)) return '';
   return `, poses missed by at most ${fmt(w.position)} ${scene.units || 'mm'} and ${fmt(Math.abs(w.angle_deg))}°`;
+}
+
+/** The worst transmission angle, where along the motion it is, and whether it leaves the comfortable band. */
+function transmissionWords(m, motion, scene) {
+  let text = `${m.min_transmission_deg.toFixed(1)}°`;
+  const at = m.min_transmission_crank_deg;
+  const span = motion ? motion.crank_end_deg - motion.crank_start_deg : 0;
+  if (Number.isFinite(at) && span !== 0) {
+    const share = Math.min(1, Math.max(0, (at - motion.crank_start_deg) / span));
+    text += ` at ${Math.round(100 * share)}% of the motion`;
+  }
+  const comfortable = scene.settings?.comfortable_transmission_deg ?? ENGINE_SETTINGS.comfortable_transmission_deg;
+  if (m.min_transmission_deg < comfortable) text += `, under the comfortable ${comfortable}°`;
+  return text;
 }
 
 function statsLine(d) {
