@@ -175,7 +175,7 @@ fn settings_out_of_range() {
 #[test]
 fn bad_weights() {
     let mut s = scene();
-    s["weights"] = json!({"accuracy": -1, "smoothness": 0, "location": 0, "size": 0});
+    s["weights"] = json!({"accuracy": -1, "smoothness": 0, "location": 0, "size": 0, "transmission": 0});
     assert_rejected("weights_negative", &s, &["error: weights.accuracy: "]);
     s["weights"]["accuracy"] = json!(0);
     assert_rejected("weights_zero", &s, &["error: weights: "]);
