@@ -403,9 +403,9 @@ fn check_metrics(out: &mut Issues, at: &str, m: &Metrics) {
         ("transmission", m.transmission),
         ("cost", m.cost),
         ("min_transmission_deg", m.min_transmission_deg),
-        ("min_transmission_crank_deg", m.min_transmission_crank_deg.unwrap_or(0.0)),
     ];
-    for (name, v) in named {
+    let optional = m.min_transmission_crank_deg.map(|v| ("min_transmission_crank_deg", v));
+    for (name, v) in named.into_iter().chain(optional) {
         if !v.is_finite() {
             out.add(format!("{at}.{name}"), format!("is {v}; write a finite number"));
         }

@@ -153,13 +153,10 @@ impl Trace {
     /// The row where the transmission margin of `plan` is smallest (the first of equals; 0 for an
     /// empty trace), with the sine of that margin.
     pub fn least_transmission(&self, plan: &Plan) -> (usize, f64) {
-        (0..self.len()).map(|r| (r, plan.min_transmission_sine(self.row(r)))).fold((0, 1.0), |least, (r, sine)| {
-            if sine < least.1 {
-                (r, sine)
-            } else {
-                least
-            }
-        })
+        (0..self.len())
+            .map(|r| (r, plan.min_transmission_sine(self.row(r))))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((0, 1.0))
     }
 }
 

@@ -349,8 +349,7 @@ fn simulate(
             }
             Ok((trace, pose_rows, least_sine)) => {
                 let mut soft = exact;
-                simulated_terms(ctx, &frames, &trace, &pose_rows, &scratch.targets, &mut soft);
-                soft[Term::Transmission] = transmission_shortfall(least_sine, ctx.comfortable_transmission_sine);
+                simulated_terms(ctx, &frames, (&trace, &pose_rows, least_sine), &scratch.targets, &mut soft);
                 let cost = ctx.weights.cost(&soft);
                 return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
             }
@@ -672,15 +671,16 @@ fn simulated_floor(ctx: &Context, mechanism: &Mechanism, targets: &[Point]) -> f
     (floor * (1.0 - 1e-9)).max(0.0)
 }
 
-/// Paper eq. 10–11: accuracy and smoothness, on a simulated travel. E_acc is the paper's mean squared
-/// miss of the body-carried joints plus the mean squared miss of the bodies' outline vertices
-/// ([`Context::outline_miss`]): joints close together on a large body can all be near their targets
-/// while the body is turned well away from its pose, and the outline is what the person drew.
+/// Paper eq. 10–11 and E_trans: accuracy, smoothness and transmission, on a simulated travel (its
+/// trace, the row of each pose, and the sine of its smallest transmission angle, in closed form where
+/// the linkage has one). E_acc is the paper's mean squared miss of the body-carried joints plus the
+/// mean squared miss of the bodies' outline vertices ([`Context::outline_miss`]): joints close
+/// together on a large body can all be near their targets while the body is turned well away from
+/// its pose, and the outline is what the person drew.
 fn simulated_terms(
     ctx: &Context,
     frames: &BodyFrames,
-    trace: &Trace,
-    pose_rows: &[usize],
+    (trace, pose_rows, least_sine): (&Trace, &[usize], f64),
     targets: &[Point],
     soft: &mut SoftTerms,
 ) {
@@ -717,6 +717,7 @@ fn simulated_terms(
 
     soft[Term::Accuracy] = accuracy;
     soft[Term::Smoothness] = smoothness;
+    soft[Term::Transmission] = transmission_shortfall(least_sine, ctx.comfortable_transmission_sine);
 }
 
 #[cfg(test)]
