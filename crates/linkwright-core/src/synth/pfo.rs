@@ -47,18 +47,26 @@ impl Default for FilterOptions {
 /// under one in a million against the best particle).
 const NEGLIGIBLE_WEIGHT: f64 = 1e-6;
 
-/// Runs the filter from the valid candidates `initial` (non-empty). Returns every valid candidate it
-/// produced (for alternatives) and calls `on_iteration(done, best_cost)` after each iteration; stops
-/// early when it returns false.
+/// Runs the filter from the valid candidates `initial` (non-empty). Returns the `keep` cheapest valid
+/// candidates it produced (for alternatives), cheapest first, and calls `on_iteration(done, best_cost)`
+/// after each iteration; stops early when it returns false.
+///
+/// Only the cheapest are kept because each candidate carries its whole simulated travel: keeping every
+/// one, 1,000 particles through 200 iterations held up to 200,000 of them.
 pub(crate) fn refine(
     ctx: &Context,
     workspace: &Workspace,
     initial: &[Candidate],
     options: &FilterOptions,
-    seed: u64,
-    family: u64,
+    (seed, family): (u64, u64),
+    keep: usize,
     mut on_iteration: impl FnMut(usize, f64) -> bool,
 ) -> Vec<Candidate> {
+    let cheapest = |produced: &mut Vec<Candidate>| {
+        // Stable: candidates of equal cost stay in the order they were produced.
+        produced.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        produced.truncate(keep);
+    };
     let max_cost = initial.iter().map(|c| c.cost).fold(f64::MIN_POSITIVE, f64::max);
     let weight = |c: &Candidate| (-options.lambda * c.cost / max_cost).exp();
     let mut resample_rng = rng(seed, Stream::Resample { family }, 0);
@@ -105,11 +113,15 @@ pub(crate) fn refine(
         let mut pool = Pool::new(ctx, workspace, &candidates, kept);
         particles = pool.resample(options.particles, &weight, &mut resample_rng);
         produced.extend(pool.valid_proposals());
+        if produced.len() > keep.saturating_add(options.particles) {
+            cheapest(&mut produced);
+        }
         let best = particles[0].cost;
         if !on_iteration(iteration + 1, best) {
             break;
         }
     }
+    cheapest(&mut produced);
     produced
 }
 
@@ -433,5 +445,25 @@ mod tests {
         assert!(pool.valid.iter().any(Option::is_none), "every proposal was swept");
         let swept_valid: Vec<Candidate> = pool.valid_proposals().collect();
         assert!(swept_valid.iter().all(is_valid));
+    }
+
+    /// However many particles and iterations, the filter hands back at most `keep` candidates (each
+    /// carries its travel), and they are the cheapest it produced: the same run keeping more returns
+    /// them first, in the same order.
+    #[test]
+    fn the_filter_keeps_only_its_cheapest_candidates() {
+        let problem = example("k1_sofa_bed");
+        let ctx = Context::new(&problem, MechanismType::SliderCrank);
+        let (candidates, valid) = sofa_candidates(&ctx);
+        let workspace = Workspace::default();
+        let options = FilterOptions { particles: 40, iterations: 6, ..FilterOptions::default() };
+        let run = |keep| refine(&ctx, &workspace, &candidates[..valid], &options, (5, 0), keep, |_, _| true);
+        let all = run(usize::MAX);
+        let kept = run(10);
+        assert!(all.len() > 10 + options.particles, "{} produced", all.len());
+        assert_eq!(kept.len(), 10);
+        let costs = |cs: &[Candidate]| cs.iter().map(|c| c.cost).collect::<Vec<f64>>();
+        assert_eq!(costs(&kept), costs(&all[..10]));
+        assert!(costs(&all).is_sorted(), "cheapest first");
     }
 }

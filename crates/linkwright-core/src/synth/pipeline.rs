@@ -897,7 +897,10 @@ fn run_family(
     if !valid.is_empty() && iterations > 0 && settings.particles > 0 {
         let options = FilterOptions { particles: settings.particles, iterations, ..FilterOptions::default() };
         let mut cancelled = false;
-        let produced = refine(ctx, workspace, &valid, &options, seed, family, |done, best| {
+        // No more than the collision check passes on: the candidates found valid are what the designs
+        // are picked from, and each carries its travel (memory grows with particles × iterations).
+        let keep = (VALID_PER_PARTICLE * settings.particles).min(CANDIDATE_CAP);
+        let produced = refine(ctx, workspace, &valid, &options, (seed, family), keep, |done, best| {
             let x = w_sample + w_collide + (1.0 - w_sample - w_collide) * done as f64 / options.iterations as f64;
             report(Stage::Refining, x, Some(best));
             cancelled = run.observer.cancelled();
