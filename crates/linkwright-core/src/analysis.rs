@@ -31,12 +31,23 @@ pub enum Which {
 #[derive(Clone, Debug, PartialEq)]
 pub struct AnalysisOptions {
     /// Equal crank steps from the first pose to the last; the exact crank angle of every input pose is
-    /// added to them. Default 180; clamped to 1..=[`MAX_STEPS`].
+    /// added to them. Default 180; at least 1, and at most [`max_steps`] of the linkage's joints.
     pub steps: usize,
 }
 
 /// The most crank steps one analysis samples.
 pub const MAX_STEPS: usize = 5000;
+
+/// The most joint positions (crank steps × joints) one analysis samples. Its answer carries each
+/// one with what is measured there, about 100 bytes as JSON, so this bounds an answer at about 5 MB
+/// whatever the design: at 256 joints and [`MAX_STEPS`] steps it would have been over 100 MB. The app
+/// asks for 240 steps, which this allows up to 208 joints.
+pub const MAX_JOINT_STEPS: usize = 50_000;
+
+/// The most crank steps an analysis of a linkage with `joints` joints may ask for.
+pub fn max_steps(joints: usize) -> usize {
+    (MAX_JOINT_STEPS / joints.max(1)).clamp(1, MAX_STEPS)
+}
 
 impl Default for AnalysisOptions {
     fn default() -> Self {
@@ -84,6 +95,19 @@ pub enum AnalysisError {
         design: usize,
         /// Poses of the scene.
         scene: usize,
+    },
+    /// More crank steps asked for than a linkage of this many joints may have ([`max_steps`]).
+    #[error(
+        "{steps} crank steps of a linkage with {joints} joints would sample more than {MAX_JOINT_STEPS} joint \
+         positions; at most {most} steps"
+    )]
+    TooManySteps {
+        /// The steps asked for.
+        steps: usize,
+        /// Joints of the linkage.
+        joints: usize,
+        /// The most steps it may have.
+        most: usize,
     },
     /// A crank angle is not finite, or the travel is a full turn or more.
     #[error("motion: crank angles must be finite and the travel shorter than a full turn")]
@@ -146,11 +170,15 @@ impl Replay {
             return Err(AnalysisError::Travel);
         }
         let plan = Plan::compile(&mechanism)?;
+        let joints = plan.joint_count();
+        if steps > max_steps(joints) {
+            return Err(AnalysisError::TooManySteps { steps, joints, most: max_steps(joints) });
+        }
         let first_poses: Vec<Rigid> = problem.bodies.iter().map(|b| b.poses[0]).collect();
         let frames = BodyFrames::new(&mechanism, &first_poses);
 
         // Equal steps along the travel, with each pose's angle merged in at its place.
-        let steps = steps.clamp(1, MAX_STEPS);
+        let steps = steps.max(1);
         let dir = if end >= start { 1.0 } else { -1.0 };
         let grid = (0..=steps).map(|s| start + (end - start) * s as f64 / steps as f64);
         let mut pose_order: Vec<(usize, f64)> = pose_degs.iter().copied().enumerate().collect();

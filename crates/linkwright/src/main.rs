@@ -5,6 +5,7 @@ mod bench;
 mod commands;
 mod fabricate;
 mod files;
+mod memory;
 mod serve;
 mod springs;
 mod workshop;
@@ -96,14 +97,6 @@ pub enum Failure {
     /// `check` found violations (already printed).
     Violations,
 }
-
-/// mimalloc rather than the system allocator. A design run keeps a few thousand candidate travels (tens
-/// of megabytes) alive at once; glibc's per-thread heaps grow in small steps, each page faulted and
-/// zeroed on its own, while mimalloc commits its arena in large pages. The folding table's whole run
-/// (`hyperfine -N --warmup 3 --runs 30 'linkwright design SCENE -o /tmp/out --no-print-check --threads
-/// 2'`) went from 149 to 113 ms, 8,900 page faults to 270; designs are unchanged.
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();

@@ -14,7 +14,7 @@ use axum::http::{header, StatusCode};
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use linkwright_core::analysis::{analyze, AnalysisOptions, Replay, Which, MAX_STEPS};
+use linkwright_core::analysis::{analyze, AnalysisError, AnalysisOptions, Replay, Which, MAX_STEPS};
 use linkwright_core::balance::{Balance, Balanced, SpringSearch};
 use linkwright_core::fab::{millimetres_per_unit, model_scale, BuildPlan, PrintSettings};
 use linkwright_core::geom::Point;
@@ -113,6 +113,7 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
         "queued": jobs.waiting(),
         "reading": jobs.reading(),
         "threads": jobs.pool.current_num_threads(),
+        "memory_bytes": crate::memory::live_bytes(),
         "limits": {
             "running": limits.running,
             "queued": limits.queued,
@@ -121,6 +122,9 @@ pub async fn status(State(state): State<AppState>) -> Json<Value> {
             "printed_body_mm": MAX_PRINTED_BODY_MM,
             "body_seconds": super::connections::BODY_READ_TIMEOUT.as_secs_f64(),
             "header_seconds": super::connections::HEADER_READ_TIMEOUT.as_secs_f64(),
+            "write_seconds": super::connections::WRITE_TIMEOUT.as_secs_f64(),
+            "memory_bytes": limits.memory,
+            "joint_steps": linkwright_core::analysis::MAX_JOINT_STEPS,
             "connections": super::connections::MAX_CONNECTIONS,
             "poses_per_body": linkwright_core::limits::MAX_POSES,
             "moving_bodies": linkwright_core::limits::MAX_MOVING_BODIES,
@@ -358,10 +362,16 @@ impl Compound {
 
     /// The mechanism asked for, simulated in `steps` crank steps.
     fn replay(&self, steps: usize) -> Result<Replay, ApiError> {
-        Replay::new(&self.problem, &self.design, self.which()?, steps).map_err(|e| {
-            ApiError::unprocessable(format!("the design cannot be shown: {e}")).with_issue("design", e.to_string())
-        })
+        Replay::new(&self.problem, &self.design, self.which()?, steps)
+            .map_err(|e| unreplayable("the design cannot be shown", &e))
     }
+}
+
+/// A 422 for a design that cannot be replayed, under the field at fault: `steps` when more were asked
+/// for than its joints allow, `design` otherwise.
+fn unreplayable(what: &str, e: &AnalysisError) -> ApiError {
+    let field = if matches!(e, AnalysisError::TooManySteps { .. }) { "steps" } else { "design" };
+    ApiError::unprocessable(format!("{what}: {e}")).with_issue(field, e.to_string())
 }
 
 /// `POST /api/design`: scene/1 (or `{scene, from}`) in, design/1 out (a `no_solution` design is a 200
@@ -507,10 +517,7 @@ pub async fn simulate(
     let simulation = move |_: &Arc<StopFlag>| {
         analyze(&request.problem, &request.design, which, &AnalysisOptions::default().with_steps(steps))
             .map(|a| serde_json::to_value(a).unwrap_or(Value::Null))
-            .map_err(|e| {
-                ApiError::unprocessable(format!("the design cannot be simulated: {e}"))
-                    .with_issue("design", e.to_string())
-            })
+            .map_err(|e| unreplayable("the design cannot be simulated", &e))
     };
     let analysis = state.jobs.run(Kind::Analysis, &client, Work::SIMULATION, simulation).await?;
     Ok(Json(analysis))

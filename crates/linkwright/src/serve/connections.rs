@@ -2,8 +2,9 @@
 //! a request, or announce a body they never send cannot hold the server's sockets and memory: the
 //! accept loop serves at most [`MAX_CONNECTIONS`] at once; a request's head must arrive within
 //! [`HEADER_READ_TIMEOUT`] (which also closes idle keep-alive connections); its body must arrive whole
-//! within [`BODY_READ_TIMEOUT`]; and a body announced larger than [`MAX_BODY`] is refused before any
-//! of it is read. `axum::serve` has none of these knobs, hence the loop here over hyper's own builder.
+//! within [`BODY_READ_TIMEOUT`]; a body announced larger than [`MAX_BODY`] is refused before any
+//! of it is read; and an answer the client stops reading is dropped with its connection after
+//! [`WRITE_TIMEOUT`], not kept in memory for as long as the client stays connected. `axum::serve` has none of these knobs, hence the loop here over hyper's own builder.
 
 use super::error::ApiError;
 use axum::body::Body;
@@ -18,6 +19,7 @@ use std::sync::Arc;
 use std::time::Duration;
 use tokio::net::TcpListener;
 use tokio::sync::Semaphore;
+use tokio_io_timeout::TimeoutStream;
 use tower::ServiceExt;
 
 /// Largest request body accepted, bytes (the largest bundled scene is about 20 kB).
@@ -39,6 +41,11 @@ pub const HEADER_READ_TIMEOUT: Duration = Duration::from_secs(10);
 /// (2 MiB) arrives in this time even at 100 kB/s; a client that stops halfway gets a 408 and its
 /// connection is closed.
 pub const BODY_READ_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// How long a write to a client may wait for the client to read. The answer stays in memory until
+/// it is written, and the largest (a simulation, about 5 MB) leaves in well under a second on any
+/// local link; a client that reads nothing for 30 s is not reading, and its connection is closed.
+pub const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// Pause after a failed `accept` (out of file descriptors, say), so the loop waits for a connection to
 /// close instead of spinning.
@@ -64,12 +71,14 @@ pub async fn serve(listener: TcpListener, app: Router) {
             request.extensions_mut().insert(ConnectInfo(peer));
             app.clone().oneshot(request.map(Body::new))
         });
+        let mut stream = TimeoutStream::new(stream);
+        stream.set_write_timeout(Some(WRITE_TIMEOUT));
         tokio::spawn(async move {
             let _permit = permit;
             let connection = hyper::server::conn::http1::Builder::new()
                 .timer(TokioTimer::new())
                 .header_read_timeout(HEADER_READ_TIMEOUT)
-                .serve_connection(TokioIo::new(stream), service);
+                .serve_connection(TokioIo::new(Box::pin(stream)), service);
             // A connection that ends in an error (the peer reset it, a head that timed out) only
             // concerns that client.
             let _ = connection.await;

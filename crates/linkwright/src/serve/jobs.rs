@@ -23,21 +23,46 @@ pub enum StopReason {
     Superseded,
     /// The job ran longer than [`Limits::deadline`].
     Deadline,
+    /// The server's heap grew past [`Limits::memory`] while the job ran.
+    Memory,
 }
 
-/// A job's stop flag, shared by the request, the worker and the job table. The worker polls it; a job
-/// still waiting in line is woken by it.
-#[derive(Debug, Default)]
+/// A job's stop flag, shared by the request, the worker and the job table. The worker polls it
+/// ([`StopFlag::should_stop`]); a job still waiting in line is woken by it.
+#[derive(Debug)]
 pub struct StopFlag {
     code: AtomicU8,
     stopped: Notify,
+    /// The heap bytes past which the job is stopped ([`Limits::memory`]).
+    memory: usize,
+}
+
+impl Default for StopFlag {
+    fn default() -> Self {
+        StopFlag::with_memory_limit(usize::MAX)
+    }
 }
 
 impl StopFlag {
+    /// A flag whose job stops when the heap passes `memory` bytes.
+    pub fn with_memory_limit(memory: usize) -> StopFlag {
+        StopFlag { code: AtomicU8::new(Self::GO), stopped: Notify::new(), memory }
+    }
+
+    /// True when the job should stop: it was asked to, or the server's heap is past its limit (which
+    /// then stops it).
+    pub fn should_stop(&self) -> bool {
+        if self.reason().is_none() && crate::memory::live_bytes() > self.memory {
+            self.stop(StopReason::Memory);
+        }
+        self.reason().is_some()
+    }
+
     const GO: u8 = 0;
     const GONE: u8 = 1;
     const SUPERSEDED: u8 = 2;
     const DEADLINE: u8 = 3;
+    const MEMORY: u8 = 4;
 
     /// Asks the job to stop; the first reason given is kept.
     pub fn stop(&self, reason: StopReason) {
@@ -45,6 +70,7 @@ impl StopFlag {
             StopReason::ClientGone => Self::GONE,
             StopReason::Superseded => Self::SUPERSEDED,
             StopReason::Deadline => Self::DEADLINE,
+            StopReason::Memory => Self::MEMORY,
         };
         if self.code.compare_exchange(Self::GO, code, Ordering::SeqCst, Ordering::SeqCst).is_ok() {
             self.stopped.notify_waiters();
@@ -55,6 +81,7 @@ impl StopFlag {
             Self::GONE => Some(StopReason::ClientGone),
             Self::SUPERSEDED => Some(StopReason::Superseded),
             Self::DEADLINE => Some(StopReason::Deadline),
+            Self::MEMORY => Some(StopReason::Memory),
             _ => None,
         }
     }
@@ -103,11 +130,16 @@ pub struct Limits {
     /// minutes at worst (a minute in line, a minute running). Work that needs longer belongs to the
     /// command line, which has no deadline.
     pub deadline: Duration,
+    /// Heap bytes the server may hold ([`crate::memory::live_bytes`]): past it, new jobs are refused
+    /// and running ones stopped at their next check, so the process never reaches an allocation
+    /// that fails (which would abort it). Default 1 GiB: a design at the scene limits peaks near
+    /// 400 MB, so two run side by side with room for the answers being sent.
+    pub memory: usize,
 }
 
 impl Default for Limits {
     fn default() -> Self {
-        Limits { running: 2, queued: 4, deadline: Duration::from_secs(60) }
+        Limits { running: 2, queued: 4, deadline: Duration::from_secs(60), memory: 1 << 30 }
     }
 }
 
@@ -183,6 +215,15 @@ impl Work {
                 format!("cancelled: a newer {} request from the same client replaced it", self.noun),
             ),
             JobEnd::Stopped(StopReason::ClientGone) => ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
+            JobEnd::Stopped(StopReason::Memory) => ApiError::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                format!(
+                    "the {} was stopped: the server ran short of memory while it ran; try again in a moment, \
+                     or {}",
+                    self.noun, self.advice
+                ),
+            )
+            .retry_after(5),
             JobEnd::Stopped(StopReason::Deadline) => ApiError::new(
                 StatusCode::SERVICE_UNAVAILABLE,
                 format!(
@@ -252,6 +293,10 @@ impl Jobs {
     pub fn waiting(&self) -> usize {
         self.waiting.load(Ordering::SeqCst)
     }
+    /// True when the heap is past [`Limits::memory`].
+    pub fn short_of_memory(&self) -> bool {
+        crate::memory::live_bytes() > self.limits.memory
+    }
 
     /// Admits a `kind` job of `client`: stops the client's earlier job of that kind (it is superseded)
     /// and refuses with 503 when the queue is full.
@@ -267,12 +312,21 @@ impl Jobs {
             )
             .retry_after(2)
         };
+        if self.short_of_memory() {
+            let message = format!(
+                "the server is short of memory ({} MB in use, its limit is {} MB): answers not yet read by \
+                 their clients and running jobs hold it; try again in a moment",
+                crate::memory::live_bytes() >> 20,
+                self.limits.memory >> 20
+            );
+            return Err(ApiError::new(StatusCode::SERVICE_UNAVAILABLE, message).retry_after(5));
+        }
         let queued = self.waiting.fetch_add(1, Ordering::SeqCst);
         let waiting = WaitingGuard(self.waiting.clone());
         if queued >= self.limits.queued {
             return Err(busy());
         }
-        let flag = Arc::new(StopFlag::default());
+        let flag = Arc::new(StopFlag::with_memory_limit(self.limits.memory));
         let mut clients = self.clients.lock().map_err(|_| busy())?;
         // Forget clients whose jobs are all over (nobody else holds their lock).
         clients.retain(|_, slot| Arc::strong_count(&slot.lock) > 1);
@@ -352,7 +406,7 @@ impl Jobs {
         let (tx, rx) = oneshot::channel();
         let job_flag = flag.clone();
         self.pool.spawn(move || {
-            if job_flag.reason().is_some() {
+            if job_flag.should_stop() {
                 return;
             }
             // A panic in a rayon task would abort the whole process; here it is this job's failure.
@@ -469,7 +523,7 @@ impl<F: Fn(&Progress) + Sync> Observer for JobObserver<F> {
         (self.on_progress)(progress);
     }
     fn cancelled(&self) -> bool {
-        self.flag.reason().is_some()
+        self.flag.should_stop()
     }
 }
 
@@ -483,7 +537,7 @@ mod tests {
 
     fn jobs_with_deadline(running: usize, queued: usize, deadline: Duration) -> Jobs {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-        Jobs::new(Limits { running, queued, deadline }, pool)
+        Jobs::new(Limits { running, queued, deadline, ..Limits::default() }, pool)
     }
 
     /// Work that spins until its flag is set, as a synthesis does between its checks.
@@ -599,6 +653,26 @@ mod tests {
         assert!(waited.await.unwrap().is_none());
         assert_eq!(jobs.waiting(), 0);
         drop(running);
+    }
+
+    /// Past its memory limit the server admits no job and stops the running ones at their next check,
+    /// each answered with a 503 that says why.
+    #[tokio::test]
+    async fn past_the_memory_limit_jobs_are_refused_and_stopped() {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        // Any program holds some heap: a limit of one byte is always passed.
+        let jobs = Jobs::new(Limits { memory: 1, ..Limits::default() }, pool);
+        let refused = jobs.admit(Kind::Design, "a").err().expect("refused");
+        assert_eq!(refused.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert!(refused.error.contains("short of memory"), "{}", refused.error);
+
+        let flag = StopFlag::with_memory_limit(1);
+        assert!(flag.should_stop());
+        assert_eq!(flag.reason(), Some(StopReason::Memory));
+        let answer = Work::DESIGN.error(JobEnd::Stopped(StopReason::Memory), Duration::from_secs(60));
+        assert_eq!(answer.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert!(answer.error.contains("ran short of memory") && answer.error.contains("settings.samples"));
+        assert!(!StopFlag::default().should_stop(), "no limit by default");
     }
 
     #[test]

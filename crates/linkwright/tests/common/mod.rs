@@ -39,13 +39,18 @@ pub struct Server {
 
 impl Server {
     pub fn start(extra: &[&str]) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_linkwright"))
+        let child = Command::new(env!("CARGO_BIN_EXE_linkwright"))
             .args(["serve", "--port", "0", "--threads", "2"])
             .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
             .expect("the binary starts");
+        Server::from_child(child)
+    }
+
+    /// The server `child` runs, its standard output piped.
+    pub fn from_child(mut child: Child) -> Server {
         let stdout = child.stdout.take().expect("piped stdout");
         let mut lines = BufReader::new(stdout).lines();
         let first = lines.next().and_then(Result::ok).unwrap_or_default();

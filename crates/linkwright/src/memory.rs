@@ -1,0 +1,39 @@
+//! The program's allocator, and the heap it holds: counted so the server can refuse and stop work
+//! before its memory runs out, rather than abort when an allocation fails (which a Rust program on
+//! stable cannot turn into an error).
+
+use cap::Cap;
+
+/// mimalloc rather than the system allocator. A design run keeps a few thousand candidate travels (tens
+/// of megabytes) alive at once; glibc's per-thread heaps grow in small steps, each page faulted and
+/// zeroed on its own, while mimalloc commits its arena in large pages. The folding table's whole run
+/// (`hyperfine -N --warmup 3 --runs 30 'linkwright design SCENE -o /tmp/out --no-print-check --threads
+/// 2'`) went from 149 to 113 ms, 8,900 page faults to 270; designs are unchanged. No limit is set on
+/// the count: past one, an allocation would fail and abort the process.
+#[global_allocator]
+static ALLOCATOR: Cap<mimalloc::MiMalloc> = Cap::new(mimalloc::MiMalloc, usize::MAX);
+
+/// The heap bytes the process holds now (as asked of the allocator, without its own overhead).
+pub fn live_bytes() -> usize {
+    ALLOCATOR.allocated()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::live_bytes;
+
+    /// Unit tests run on the program's allocator.
+    #[test]
+    fn the_count_follows_allocations_and_frees() {
+        // Other tests allocate at the same time: a block far larger than their noise is looked for.
+        const SIZE: usize = 256 << 20;
+        const NOISE: usize = 32 << 20;
+        let before = live_bytes();
+        let block = std::hint::black_box(vec![7u8; SIZE]);
+        let during = live_bytes();
+        drop(block);
+        let after = live_bytes();
+        assert!(during + NOISE >= before + SIZE, "{before} -> {during}");
+        assert!(after + SIZE <= during + NOISE, "{during} -> {after}");
+    }
+}
