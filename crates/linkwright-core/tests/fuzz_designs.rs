@@ -10,7 +10,7 @@
 
 mod fuzz;
 
-use fuzz::{bounded, budget, keep_failure, mutate, Rng, CASE_BOUND};
+use fuzz::{bounded, budget, keep_failure, mutate, non_finite, Rng, CASE_BOUND};
 use linkwright_core::analysis::{analyze, AnalysisOptions, Which};
 use linkwright_core::fab::{fabricate_design, PrintSettings};
 use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent};
@@ -53,7 +53,10 @@ fn run_case(problem: &Problem, units: &str, text: &str, fabricate: bool) -> bool
     }
     let _ = design.violations(problem);
     for which in [Which::Best, Which::Alternative(0)] {
-        let _ = analyze(problem, &design, which, &AnalysisOptions::default());
+        if let Ok(analysis) = analyze(problem, &design, which, &AnalysisOptions::default()) {
+            let answer = serde_json::to_value(&analysis).expect("an analysis serialises");
+            assert_eq!(non_finite(&answer), None, "the analysis of a valid design has a number that is not finite");
+        }
     }
     if fabricate {
         let _ = fabricate_design(problem, units, &design, &PrintSettings::default());

@@ -1,7 +1,8 @@
 //! Fuzzing of the HTTP API: mutated request bodies for every route that takes one (scenes for designs,
-//! `{scene, design}` for the check, the analysis, the picture and fabrication), built from a real
-//! design of the garbage truck, sent to a running server. Every request must be answered with a
-//! 200, a 4xx that names the problem, or a 503, within its bound, and the server must stay up.
+//! `{scene, design}` for the check, the analysis, the torque and springs, the picture and fabrication
+//! with its print settings), built from a real design of the garbage truck, sent to a running server.
+//! Every request must be answered with a 200 whose numbers are all finite, a 4xx that names the
+//! problem, or a 503, within its bound, and the server must stay up.
 //!
 //! CI runs it for a short budget; by hand, run it long:
 //! `LINKWRIGHT_FUZZ_SECONDS=3600 LINKWRIGHT_FUZZ_SEED=7 cargo test --release -p linkwright --test fuzz_api`.
@@ -12,7 +13,7 @@ mod common;
 mod fuzz;
 
 use common::{quick_garbage_truck, Server};
-use fuzz::{budget, keep_failure, mutate, Rng};
+use fuzz::{budget, keep_failure, mutate, non_finite, Rng};
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};
 use ureq::Agent;
@@ -21,7 +22,8 @@ use ureq::Agent;
 /// slot and the reading of the body, on a slow shared machine.
 const ANSWER_BOUND: Duration = Duration::from_secs(60);
 
-const ROUTES: [&str; 5] = ["/api/design", "/api/check", "/api/simulate", "/api/render", "/api/fabricate"];
+const ROUTES: [&str; 6] =
+    ["/api/design", "/api/check", "/api/simulate", "/api/balance", "/api/render", "/api/fabricate"];
 
 fn agent() -> Agent {
     Agent::config_builder().http_status_as_error(false).timeout_global(Some(ANSWER_BOUND)).build().into()
@@ -43,7 +45,12 @@ fn send(server: &Server, route: &str, body: &str) -> Result<u16, String> {
         return Err(format!("answered after {:?}", started.elapsed()));
     }
     match status {
-        200 | 503 => Ok(status),
+        // A picture is SVG; every other answer is JSON.
+        200 => match serde_json::from_str::<Value>(&text).ok().and_then(|answer| non_finite(&answer)) {
+            Some(path) => Err(format!("a number that is not finite at {path}: {text:.2000}")),
+            None => Ok(status),
+        },
+        503 => Ok(status),
         400..=499 => {
             let answer: Value =
                 serde_json::from_str(&text).map_err(|_| format!("{status} without a JSON error: {text}"))?;
@@ -61,20 +68,30 @@ fn send(server: &Server, route: &str, body: &str) -> Result<u16, String> {
 fn mutated_requests_are_answered_and_the_server_lives_on() {
     let (duration, seed) = budget();
     let server = Server::start(&["--job-seconds", "10"]);
-    let scene = quick_garbage_truck(2000, 3);
+    let mut scene = quick_garbage_truck(2000, 3);
+    scene["gravity"] = json!([0.0, -1.0]);
     let design: Value = {
         let mut response = agent().post(server.at("/api/design")).send(scene.to_string()).unwrap();
         serde_json::from_str(&response.body_mut().read_to_string().unwrap()).unwrap()
     };
     assert_eq!(design["status"], "ok", "{design}");
     let compound = json!({"scene": scene, "design": design}).to_string();
+    let settings =
+        agent().get(server.at("/api/fabricate/settings")).call().unwrap().body_mut().read_to_string().unwrap();
+    let settings: Value = serde_json::from_str(&settings).unwrap();
+    // The print settings and the gravity the torques and springs are computed with, to be mutated too.
+    let made = json!({"scene": scene, "design": design, "settings": settings, "springs": true}).to_string();
     let mut rng = Rng::new(seed);
     let started = Instant::now();
     let mut statuses = std::collections::BTreeMap::new();
     let mut cases = 0usize;
     while cases < 20 || started.elapsed() < duration {
         let route = *rng.pick(&ROUTES);
-        let original = if route == "/api/design" { scene.to_string() } else { compound.clone() };
+        let original = match route {
+            "/api/design" => scene.to_string(),
+            "/api/fabricate" => made.clone(),
+            _ => compound.clone(),
+        };
         let body = mutate(&original, &mut rng);
         match send(&server, route, &body) {
             Ok(status) => *statuses.entry(status).or_insert(0usize) += 1,

@@ -221,3 +221,35 @@ pub fn mutate(text: &str, rng: &mut Rng) -> String {
     }
     doc.to_string()
 }
+
+/// Where `answer` holds a number that was not finite: serde writes NaN and infinities as `null`, so
+/// an array that mixes numbers with nulls, or a null where an object's sibling fields are numbers
+/// under the same name elsewhere, is one. The path of the first such value, if any.
+pub fn non_finite(answer: &Value) -> Option<String> {
+    fn walk(v: &Value, path: &mut String) -> Option<String> {
+        match v {
+            Value::Array(items) => {
+                let numbers = items.iter().any(Value::is_number);
+                if let Some(i) = items.iter().position(Value::is_null).filter(|_| numbers) {
+                    return Some(format!("{path}[{i}]"));
+                }
+                items.iter().enumerate().find_map(|(i, item)| {
+                    let len = path.len();
+                    path.push_str(&format!("[{i}]"));
+                    let found = walk(item, path);
+                    path.truncate(len);
+                    found
+                })
+            }
+            Value::Object(fields) => fields.iter().find_map(|(k, item)| {
+                let len = path.len();
+                path.push_str(&format!(".{k}"));
+                let found = walk(item, path);
+                path.truncate(len);
+                found
+            }),
+            _ => None,
+        }
+    }
+    walk(answer, &mut String::new())
+}
