@@ -271,7 +271,7 @@ pub fn fabricate(
     settings: &PrintSettings,
     springs: &[SpringEnds],
 ) -> Result<Fabrication, FabError> {
-    let issues = settings.validate();
+    let issues = settings.validate_any_build();
     if !issues.is_empty() {
         return Err(FabError::Settings(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; ")));
     }
