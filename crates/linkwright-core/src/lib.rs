@@ -61,6 +61,7 @@
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 mod design;
+mod issues;
 mod mechanism;
 mod render;
 mod scene;
@@ -85,6 +86,9 @@ pub use scene::{
     ModelScale, MovingBody, MovingBodyProblem, ParseError, PoseMiss, Problem, Ratio, Scene, Settings, Severity,
     Weights, MAX_RATIO_TERM, SCENE_FORMAT,
 };
+
+// Every validation's answer: the first problems in full and how many more.
+pub use issues::{IssueList, MAX_LISTED_ISSUES};
 
 // Linkages: their families, structure (topology) and dimensions (joints at the first pose).
 pub use mechanism::{Family, Loop, Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};

@@ -31,12 +31,19 @@ pub fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(
             for w in &problem.warnings {
                 eprintln!("{w}");
             }
+            if problem.warnings.more() > 0 {
+                eprintln!("warning: ... and {} more warnings", problem.warnings.more());
+            }
             Ok((scene, problem))
         }
         Err(issues) => {
             let mut lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
             let errors = issues.iter().filter(|i| i.severity == Severity::Error).count();
-            lines.push(format!("{}: {errors} error(s); fix them and run again", path.display()));
+            let summary = match issues.more() {
+                0 => format!("{errors} error(s)"),
+                more => format!("{errors} error(s) listed and {more} more problems"),
+            };
+            lines.push(format!("{}: {summary}; fix them and run again", path.display()));
             Err(Failure::Input(lines.join("\n")))
         }
     }
@@ -76,7 +83,10 @@ pub fn read_valid_design(path: &Path, problem: &Problem) -> Result<DesignFile, F
         return Ok(design);
     }
     let mut lines: Vec<String> = issues.iter().map(|i| format!("error: {}: {i}", path.display())).collect();
-    lines.push(format!("{}: {} error(s); fix them (or design again) and run again", path.display(), issues.len()));
+    if issues.more() > 0 {
+        lines.push(format!("error: {}: ... and {} more", path.display(), issues.more()));
+    }
+    lines.push(format!("{}: {} error(s); fix them (or design again) and run again", path.display(), issues.total()));
     Err(Failure::Input(lines.join("\n")))
 }
 

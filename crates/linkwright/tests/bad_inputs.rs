@@ -200,3 +200,15 @@ fn unknown_fields_warn_alongside_errors() {
         &["warning: colour: unknown field 'colour'", "warning: settings.threads: ", "error: settings.samples: "],
     );
 }
+
+#[test]
+fn a_mistake_repeated_340000_times_gets_a_short_answer() {
+    let mut s = scene();
+    s["must_hit_poses"] = json!(vec![3; 340_000]);
+    let run = design("repeated_mistake", Some(&s.to_string()));
+    assert_eq!(run.code, Some(2), "{}", &run.stderr[..run.stderr.len().min(2000)]);
+    assert!(run.stderr.len() < 10_000, "{} bytes of stderr", run.stderr.len());
+    let listed = run.stderr.lines().filter(|l| l.contains("there is no pose 3")).count();
+    assert_eq!(listed, linkwright_core::MAX_LISTED_ISSUES, "{}", run.stderr);
+    assert!(run.stderr.contains("50 error(s) listed and 339950 more problems"), "{}", run.stderr);
+}

@@ -65,10 +65,16 @@ fn fabricate_with_settings(dir: &Path, design: &Path, json: &str) -> Output {
 fn fabricate_names_bad_print_settings_and_exits_2() {
     let dir = workdir("settings");
     let design = design_and_fabricate(&dir).join("design.json");
-    for (json, field) in [(r#"{"pin_radus": 2}"#, "pin_radus"), (r#"{"link_width": 4}"#, "link_width")] {
+    for (json, words) in [
+        (r#"{"pin_radus": 2}"#, "pin_radus"),
+        (r#"{"link_width": 4}"#, "link_width"),
+        (r#"{"body_thickness": 1e308}"#, "body_thickness: is 1e308 mm; use a number from 0.1 to 100 mm"),
+        (r#"{"body_thickness": 5e-324}"#, "body_thickness: is 5e-324 mm; use a number from 0.1 to 100 mm"),
+        (r#"{"density": 1e308}"#, "density: is 1e308 g/cm³; use a number from 0.05 to 25 g/cm³"),
+    ] {
         let run = fabricate_with_settings(&dir, &design, json);
         assert_eq!(run.status.code(), Some(2));
-        assert!(text(&run.stderr).contains(field), "{}", text(&run.stderr));
+        assert!(text(&run.stderr).contains(words), "{}", text(&run.stderr));
     }
     // Good settings (wider links) work and show in the report.
     let run = fabricate_with_settings(&dir, &design, r#"{"link_width": 12, "bed": {"width": 250, "depth": 210}}"#);

@@ -8,6 +8,7 @@
 
 use super::{DesignFile, MechanismJson, Metrics, Motion, PartKindJson, Status, DESIGN_FORMAT};
 use crate::geom::{Point, Vec2};
+use crate::issues::IssueList;
 use crate::kinematics::Plan;
 use crate::mechanism::{Mechanism, MechanismType, PartKind};
 use crate::scene::Problem;
@@ -53,7 +54,8 @@ pub const MAX_NAME_CHARS: usize = 100;
 const RIGIDITY_TOLERANCE: f64 = 1e-6;
 
 impl DesignFile {
-    /// Every problem that makes this design unusable with `problem` (empty when there is none): the
+    /// Every problem that makes this design unusable with `problem` (empty when there is none; the
+    /// first [`MAX_LISTED_ISSUES`](crate::MAX_LISTED_ISSUES) listed, the rest counted): the
     /// format version, the status and what it requires, then for the design and each alternative
     /// the mechanism (names, joint references, coordinates, one ground, one part per moving body of
     /// the scene, a driver on the ground, the slider of a slider-crank), a linkage with exactly one
@@ -62,7 +64,7 @@ impl DesignFile {
     ///
     /// This is what every reader of a design runs first; [`DesignFile::violations`] (the constraints
     /// against the scene) assumes it passed.
-    pub fn validate(&self, problem: &Problem) -> Vec<DesignIssue> {
+    pub fn validate(&self, problem: &Problem) -> IssueList<DesignIssue> {
         let mut out = Issues::default();
         if self.linkwright != DESIGN_FORMAT {
             // The rest of a file of another version may mean other things: nothing more is checked.
@@ -123,11 +125,11 @@ impl DesignFile {
 
 /// The problems found so far.
 #[derive(Default)]
-struct Issues(Vec<DesignIssue>);
+struct Issues(IssueList<DesignIssue>);
 
 impl Issues {
     fn add(&mut self, field: impl Into<String>, message: impl Into<String>) {
-        self.0.push(DesignIssue { field: field.into(), message: message.into() });
+        self.0.push_with(|| DesignIssue { field: field.into(), message: message.into() });
     }
 
     /// A name used as a label and in file names: short, and printable.
@@ -162,11 +164,11 @@ fn check_entry(
     motion: &Motion,
     metrics: &Metrics,
 ) {
-    let before = out.0.len();
+    let before = out.0.total();
     let mechanism = check_mechanism(out, &format!("{prefix}mechanism"), Some(problem), m);
     let travel = check_motion(out, &format!("{prefix}motion"), problem, motion);
     check_metrics(out, &format!("{prefix}metrics"), metrics);
-    if let (Some(mechanism), Some((start, end)), true) = (mechanism, travel, out.0.len() == before) {
+    if let (Some(mechanism), Some((start, end)), true) = (mechanism, travel, out.0.total() == before) {
         check_rigid_motion(out, &format!("{prefix}mechanism"), &mechanism, start, end);
     }
 }
@@ -174,7 +176,7 @@ fn check_entry(
 /// Checks a mechanism's parts and joints; returns it when it is sound enough to simulate.
 /// `problem` is the scene it must match (its number of moving bodies), when there is one.
 fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &MechanismJson) -> Option<Mechanism> {
-    let before = out.0.len();
+    let before = out.0.total();
     let field = |f: &str| format!("{at}.{f}");
     let joint_count = m.joints.len();
     if joint_count == 0 || joint_count > MAX_JOINTS {
@@ -323,7 +325,7 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
         }
         (None, false) => {}
     }
-    if out.0.len() > before {
+    if out.0.total() > before {
         return None;
     }
 
@@ -356,7 +358,7 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
 
 /// Checks the motion; returns the travel (degrees) when it is bounded.
 fn check_motion(out: &mut Issues, at: &str, problem: &Problem, motion: &Motion) -> Option<(f64, f64)> {
-    let before = out.0.len();
+    let before = out.0.total();
     let angle = |out: &mut Issues, f: String, v: f64| {
         if !(v.is_finite() && v.abs() <= MAX_CRANK_DEG) {
             out.add(f, format!("is {v}; crank angles are finite degrees within ±{MAX_CRANK_DEG}"));
@@ -365,7 +367,7 @@ fn check_motion(out: &mut Issues, at: &str, problem: &Problem, motion: &Motion) 
     let (start, end) = (motion.crank_start_deg, motion.crank_end_deg);
     angle(out, format!("{at}.crank_start_deg"), start);
     angle(out, format!("{at}.crank_end_deg"), end);
-    if out.0.len() == before && (end - start).abs() >= MAX_TRAVEL_DEG {
+    if out.0.total() == before && (end - start).abs() >= MAX_TRAVEL_DEG {
         out.add(
             format!("{at}.crank_end_deg"),
             format!(
@@ -390,7 +392,7 @@ fn check_motion(out: &mut Issues, at: &str, problem: &Problem, motion: &Motion) 
             angle(out, format!("{at}.pose_crank_deg[{i}]"), a);
         }
     }
-    (out.0.len() == before).then_some((start, end))
+    (out.0.total() == before).then_some((start, end))
 }
 
 /// Checks that every metric is a finite number.
@@ -491,7 +493,7 @@ mod tests {
         check_rigid_motion(&mut out, "mechanism", &four_bar(false), 60.0, 80.0);
         assert_eq!(out.0, vec![]);
         check_rigid_motion(&mut out, "mechanism", &four_bar(true), 60.0, 80.0);
-        assert_eq!(out.0.len(), 1, "{:?}", out.0);
+        assert_eq!(out.0.total(), 1, "{:?}", out.0);
         assert_eq!(out.0[0].field, "mechanism.parts[4]");
         assert!(out.0[0].message.contains("\"brace\"") && out.0[0].message.contains("locked"), "{}", out.0[0]);
     }

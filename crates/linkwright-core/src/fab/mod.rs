@@ -152,8 +152,8 @@ pub enum FabError {
     #[error("the design's motion cannot be simulated: {0}")]
     Motion(String),
     /// The design file is not valid against its scene ([`crate::DesignFile::validate`]).
-    #[error("the design file is not valid: {}", joined(.0))]
-    Invalid(Vec<crate::design::DesignIssue>),
+    #[error("the design file is not valid: {}", joined_list(.0))]
+    Invalid(crate::IssueList<crate::design::DesignIssue>),
     #[error(
         "the design fails its check against the scene ({}): fabricate a design that passes the check",
         joined(.0.iter().map(|v| format!("{}: {}", v.constraint, v.message)))
@@ -187,6 +187,14 @@ fn hook_words(why: HookRefusal) -> &'static str {
 /// Items of a message, one after the other.
 fn joined<T: std::fmt::Display>(items: impl IntoIterator<Item = T>) -> String {
     items.into_iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; ")
+}
+
+/// The listed problems joined, and how many more there are.
+fn joined_list<T: std::fmt::Display>(list: &crate::IssueList<T>) -> String {
+    match list.more() {
+        0 => joined(list.iter()),
+        more => format!("{}; and {more} more", joined(list.iter())),
+    }
 }
 
 /// Seconds spent in each stage.
@@ -271,7 +279,7 @@ pub fn fabricate(
     settings: &PrintSettings,
     springs: &[SpringEnds],
 ) -> Result<Fabrication, FabError> {
-    let issues = settings.validate();
+    let issues = settings.validate_any_build();
     if !issues.is_empty() {
         return Err(FabError::Settings(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; ")));
     }

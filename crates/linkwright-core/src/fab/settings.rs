@@ -113,6 +113,85 @@ impl Default for PrintSettings {
     }
 }
 
+/// Which settings a check is for.
+#[derive(Clone, Copy)]
+enum Scope {
+    /// A person's print settings: every value within what a printer makes.
+    Printer,
+    /// Settings a full-size build derives from its validated stock and bolts.
+    AnyBuild,
+}
+
+/// The values a setting may take, inclusive, and its unit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// The least value.
+    pub lo: f64,
+    /// The greatest value.
+    pub hi: f64,
+    /// The unit, as messages write it after a number (empty for a plain number).
+    pub unit: &'static str,
+}
+
+impl Range {
+    /// The range of the print setting `field` (a path such as `bed.width`), the one place the bounds
+    /// live. They are what a desktop or large-format FDM printer makes, far beyond every default:
+    /// - a part's own sizes (link width and thickness, pin, post, cap, wall) from 0.1 mm, the finest
+    ///   layer and line a printer lays, to 100 mm, a plank rather than a link;
+    /// - the body slab from 0.1 mm to 100 mm (thicker bodies are cut, not printed);
+    /// - plays (gaps, clearance, the snap lip) from 0.01 mm, below any printer's resolution, to 5 mm,
+    ///   beyond which nothing fits or snaps;
+    /// - the bed from 10 mm to 2,000 mm a side (the largest printers are about a metre), its margin
+    ///   and spacing up to 100 mm;
+    /// - density from 0.05 g/cm³ (foamed filaments weigh 0.3) to 25 g/cm³ (osmium, the densest
+    ///   element, is 22.6), and a fill from 1% (walls alone weigh more) to solid;
+    /// - 8 to 512 segments per circle.
+    ///
+    /// Together they keep every volume, mass, torque and spring rate derived from them finite and
+    /// every mesh non-degenerate: `body_thickness: 1e308` once gave NaN grams and infinite vertices.
+    pub fn of(field: &str) -> Range {
+        let mm = |lo, hi| Range { lo, hi, unit: "mm" };
+        match field {
+            "axial_gap" | "radial_clearance" | "snap_cap.lip" => mm(0.01, 5.0),
+            "snap_cap.tip_inset" => mm(0.0, 100.0),
+            "bed.width" | "bed.depth" => mm(10.0, 2000.0),
+            "bed.margin" => mm(0.0, 100.0),
+            "bed.spacing" => mm(0.1, 100.0),
+            "density" => Range { lo: 0.05, hi: 25.0, unit: "g/cm³" },
+            "fill_fraction" => Range { lo: 0.01, hi: 1.0, unit: "" },
+            "circle_segments" => Range { lo: 8.0, hi: 512.0, unit: "" },
+            _ => mm(0.1, 100.0),
+        }
+    }
+
+    /// The range of a length setting derived for a full-size build: its bodies are up to a metre
+    /// thick and it has no bed (a million millimetres stands for none); a thousandth of a millimetre
+    /// and a kilometre still keep every product finite. Other settings keep their range.
+    pub fn any_build(self) -> Range {
+        match self.unit {
+            "mm" => Range { lo: self.lo.min(1e-3), hi: 1e6, unit: self.unit },
+            _ => self,
+        }
+    }
+
+    /// What to say of a value `v` outside the range.
+    fn words(&self, v: f64) -> String {
+        let (lo, hi, unit) = (self.lo, self.hi, self.unit);
+        let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+        format!("is {}{unit}; use a number from {lo} to {hi}{unit}", number(v))
+    }
+}
+
+/// `v` as a person reads it: in scientific notation when far from the settings' scale, so `1e308` is
+/// not written out in 309 digits.
+fn number(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// A setting that cannot work, naming the field.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{field}: {message}")]
@@ -131,8 +210,44 @@ impl PrintSettings {
             .map_err(|e| SettingsIssue { field: e.path().to_string(), message: e.into_inner().to_string() })
     }
 
-    /// Every setting that cannot work, each naming its field (empty when all is well).
+    /// Every setting that cannot work, each naming its field (empty when all is well): each within
+    /// the range a printer makes ([`Range`]), then the sizes that must fit one another.
     pub fn validate(&self) -> Vec<SettingsIssue> {
+        self.check(Scope::Printer)
+    }
+
+    /// [`PrintSettings::validate`] for settings a full-size build derives from its own validated
+    /// stock and bolts (bodies up to a metre thick, a bed without bounds): each within
+    /// [`Range::any_build`], which keeps every volume, mass and coordinate finite.
+    pub(crate) fn validate_any_build(&self) -> Vec<SettingsIssue> {
+        self.check(Scope::AnyBuild)
+    }
+
+    /// Every value with its field, in the order of the format.
+    fn values(&self) -> [(&'static str, f64); 18] {
+        [
+            ("link_width", self.link_width),
+            ("link_thickness", self.link_thickness),
+            ("axial_gap", self.axial_gap),
+            ("radial_clearance", self.radial_clearance),
+            ("pin_radius", self.pin_radius),
+            ("snap_cap.height", self.snap_cap.height),
+            ("snap_cap.lip", self.snap_cap.lip),
+            ("snap_cap.tip_inset", self.snap_cap.tip_inset),
+            ("body_thickness", self.body_thickness),
+            ("connector_post", self.connector_post),
+            ("wall", self.wall),
+            ("bed.width", self.bed.width),
+            ("bed.depth", self.bed.depth),
+            ("bed.margin", self.bed.margin),
+            ("bed.spacing", self.bed.spacing),
+            ("density", self.density),
+            ("fill_fraction", self.fill_fraction),
+            ("circle_segments", self.circle_segments as f64),
+        ]
+    }
+
+    fn check(&self, scope: Scope) -> Vec<SettingsIssue> {
         let mut out: Vec<SettingsIssue> = Vec::new();
         fn push(out: &mut Vec<SettingsIssue>, field: &str, message: String) {
             out.push(SettingsIssue { field: field.into(), message });
@@ -142,39 +257,15 @@ impl PrintSettings {
                 push(&mut out, $f, $m)
             };
         }
-        let positive = [
-            ("link_width", self.link_width),
-            ("link_thickness", self.link_thickness),
-            ("axial_gap", self.axial_gap),
-            ("radial_clearance", self.radial_clearance),
-            ("pin_radius", self.pin_radius),
-            ("snap_cap.height", self.snap_cap.height),
-            ("snap_cap.lip", self.snap_cap.lip),
-            ("body_thickness", self.body_thickness),
-            ("connector_post", self.connector_post),
-            ("wall", self.wall),
-            ("bed.width", self.bed.width),
-            ("bed.depth", self.bed.depth),
-            ("density", self.density),
-        ];
-        for (field, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                issue!(field, format!("must be a positive number of millimetres (is {v})"));
+        for (field, v) in self.values() {
+            let range = Range::of(field);
+            let range = match scope {
+                Scope::Printer => range,
+                Scope::AnyBuild => range.any_build(),
+            };
+            if !(v.is_finite() && range.lo <= v && v <= range.hi) {
+                issue!(field, range.words(v));
             }
-        }
-        for (field, v) in [("snap_cap.tip_inset", self.snap_cap.tip_inset), ("bed.margin", self.bed.margin)] {
-            if !(v.is_finite() && v >= 0.0) {
-                issue!(field, format!("must be zero or more (is {v})"));
-            }
-        }
-        if !(self.bed.spacing.is_finite() && self.bed.spacing > 0.0) {
-            issue!("bed.spacing", format!("must be positive (is {})", self.bed.spacing));
-        }
-        if !(self.fill_fraction > 0.0 && self.fill_fraction <= 1.0) {
-            issue!("fill_fraction", format!("must be in (0, 1] (is {})", self.fill_fraction));
-        }
-        if !(8..=512).contains(&self.circle_segments) {
-            issue!("circle_segments", format!("must be between 8 and 512 (is {})", self.circle_segments));
         }
         if !out.is_empty() {
             return out;
@@ -369,6 +460,63 @@ mod tests {
         let s = PrintSettings::from_json(r#"{"link_width": 3, "bed": {"width": 100}}"#).unwrap();
         assert_eq!(s.bed.depth, 220.0);
         assert!(s.validate().iter().any(|i| i.field == "link_width"));
+    }
+
+    /// The issues of the default settings with `json` merged in.
+    fn issues_with(json: &str) -> Vec<SettingsIssue> {
+        PrintSettings::from_json(json).unwrap().validate()
+    }
+
+    #[test]
+    fn every_setting_is_bounded_and_its_refusal_names_it_with_its_unit_and_range() {
+        let fields: Vec<&str> = PrintSettings::default().values().iter().map(|v| v.0).collect();
+        for field in fields {
+            let json = |v: &str| match field.split_once('.') {
+                Some((outer, inner)) => format!(r#"{{"{outer}": {{"{inner}": {v}}}}}"#),
+                None => format!(r#"{{"{field}": {v}}}"#),
+            };
+            let range = Range::of(field);
+            for v in ["1e308", "-1", "5e-324"] {
+                if field == "circle_segments" && v != "1e308" {
+                    continue; // a count: negative and fractional numbers are refused as it is read
+                }
+                if v == "5e-324" && range.lo == 0.0 {
+                    continue;
+                }
+                let Ok(s) = PrintSettings::from_json(&json(v)) else {
+                    assert_eq!(field, "circle_segments", "{v}");
+                    continue;
+                };
+                let issues = s.validate();
+                let issue =
+                    issues.iter().find(|i| i.field == field).unwrap_or_else(|| panic!("{field} {v}: {issues:?}"));
+                let words = format!("use a number from {} to {}", range.lo, range.hi);
+                assert!(issue.message.contains(&words) && issue.message.contains(range.unit), "{issue}");
+            }
+        }
+    }
+
+    #[test]
+    fn huge_and_vanishing_sizes_are_refused_with_the_setting_named() {
+        let issues = issues_with(r#"{"body_thickness": 1e308}"#);
+        assert_eq!(issues.len(), 1, "{issues:?}");
+        assert_eq!(issues[0].to_string(), "body_thickness: is 1e308 mm; use a number from 0.1 to 100 mm");
+        let issues = issues_with(r#"{"body_thickness": 5e-324}"#);
+        assert_eq!(issues[0].to_string(), "body_thickness: is 5e-324 mm; use a number from 0.1 to 100 mm");
+        // Density is in grams per cubic centimetre, not millimetres.
+        let issues = issues_with(r#"{"density": 1e308}"#);
+        assert_eq!(issues[0].to_string(), "density: is 1e308 g/cm³; use a number from 0.05 to 25 g/cm³");
+        assert!(issues_with(r#"{"density": 22.6, "body_thickness": 100, "fill_fraction": 1}"#).is_empty());
+    }
+
+    #[test]
+    fn settings_a_full_size_build_derives_need_only_be_finite_sizes() {
+        let mut s = PrintSettings { body_thickness: 400.0, ..PrintSettings::default() };
+        s.bed = Bed { width: 1e6, depth: 1e6, margin: 0.0, spacing: 10.0 };
+        assert_eq!(s.validate().len(), 3, "{:?}", s.validate());
+        assert!(s.validate_any_build().is_empty(), "{:?}", s.validate_any_build());
+        s.body_thickness = 1e308;
+        assert_eq!(s.validate_any_build()[0].field, "body_thickness");
     }
 
     #[test]

@@ -86,6 +86,15 @@ pub enum PolygonError {
     /// These two edges (edge i runs from vertex i to the next) cross.
     #[error("crosses itself (edge {0} crosses edge {1})")]
     SelfIntersecting(usize, usize),
+    /// Less area than a billionth of the square of its size (its bounding box's diagonal): a sliver
+    /// no part can be made of, and whose edges no test can tell apart.
+    #[error("is too thin: about {:.1e} wide for {size:.1e} long (an area of {area:.1e})", .area / .size)]
+    TooThin {
+        /// Its area.
+        area: f64,
+        /// Its size, the diagonal of its bounding box.
+        size: f64,
+    },
 }
 
 /// A simple polygon given by its vertices in order (either winding). The last vertex connects back to
@@ -159,8 +168,17 @@ impl Polygon {
             return Err(PolygonError::NonFinite(i));
         }
         let size = self.aabb().diagonal();
-        if self.area() <= 1e-9 * size * size {
-            return Err(PolygonError::ZeroArea);
+        let area = self.area();
+        if area <= 1e-9 * size * size {
+            // Too little area for its size: an outline whose crossing lobes cancel (a bow-tie), the
+            // vertices of one line, or a sliver; each is told apart, so the message says what to fix.
+            if let Some((i, j)) = self.proper_crossing() {
+                return Err(PolygonError::SelfIntersecting(i, j));
+            }
+            if self.width_across() <= 1e-12 * size {
+                return Err(PolygonError::ZeroArea);
+            }
+            return Err(PolygonError::TooThin { area, size });
         }
         let tol = 1e-9 * size;
         let edges: Vec<_> = self.edges().collect();
@@ -188,6 +206,28 @@ impl Polygon {
             }
         }
         Ok(())
+    }
+
+    /// The first two edges that cross each other at a point inside both, if any.
+    fn proper_crossing(&self) -> Option<(usize, usize)> {
+        let edges: Vec<_> = self.edges().collect();
+        let n = edges.len();
+        (0..n).flat_map(|i| (i + 2..n).map(move |j| (i, j))).filter(|&(i, j)| !(i == 0 && j == n - 1)).find(
+            |&(i, j)| {
+                let ((a0, a1), (b0, b1)) = (edges[i], edges[j]);
+                super::segments_cross(a0, a1, b0, b1, 0.0)
+            },
+        )
+    }
+
+    /// How far the vertices stray from the line through the first vertex and the one farthest from
+    /// it (0 when they all lie on it).
+    fn width_across(&self) -> f64 {
+        let Some(&p0) = self.vertices.first() else { return 0.0 };
+        let far = self.vertices.iter().copied().max_by(|a, b| p0.distance(*a).total_cmp(&p0.distance(*b)));
+        let Some(far) = far.filter(|&f| f != p0) else { return 0.0 };
+        let along = (far - p0).normalized();
+        self.vertices.iter().map(|&v| (v - p0).cross(along).abs()).fold(0.0, f64::max)
     }
 
     /// Even-odd containment; points on the boundary may answer either way.
@@ -354,6 +394,22 @@ mod tests {
         let nan = Polygon::new(vec![p(0., 0.), p(f64::NAN, 1.), p(1., 0.)]);
         assert_eq!(nan.validate(), Err(PolygonError::NonFinite(1)));
         assert_eq!(square(0., 0., 1.).validate(), Ok(()));
+    }
+
+    #[test]
+    fn a_symmetric_bow_tie_crosses_itself_and_a_sliver_is_too_thin() {
+        let p = Point::new;
+        // Its two lobes cancel, so its signed area is 0, but its vertices are not on one line.
+        let bowtie = Polygon::new(vec![p(0., 0.), p(2., 2.), p(2., 0.), p(0., 2.)]);
+        assert_eq!(bowtie.validate(), Err(PolygonError::SelfIntersecting(0, 2)));
+        let sliver = Polygon::new(vec![p(0., 0.), p(1000., 0.), p(1000., 1e-6), p(0., 1e-6)]);
+        let Err(PolygonError::TooThin { area, size }) = sliver.validate() else { panic!("{:?}", sliver.validate()) };
+        assert_close(area, 1e-3, 1e-12);
+        assert_close(size, 1000.0, 1e-9);
+        let words = sliver.validate().unwrap_err().to_string();
+        assert_eq!(words, "is too thin: about 1.0e-6 wide for 1.0e3 long (an area of 1.0e-3)");
+        // A sliver a thousand times wider is a valid, if thin, outline.
+        assert_eq!(Polygon::new(vec![p(0., 0.), p(1000., 0.), p(1000., 1e-3), p(0., 1e-3)]).validate(), Ok(()));
     }
 
     #[test]

@@ -2,6 +2,7 @@
 
 use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Weights};
 use crate::geom::{Aabb, Point, Polygon, Rigid};
+use crate::issues::IssueList;
 
 /// Penetration depth, as a fraction of the smallest body size, below which bodies only touch.
 pub const CONTACT_FRACTION: f64 = 1e-3;
@@ -129,12 +130,19 @@ pub struct Problem {
     /// How the object is to be built.
     pub build: super::Build,
     /// Warnings found while validating (errors make [`Problem::new`] fail).
-    pub warnings: Vec<Issue>,
+    pub warnings: IssueList<Issue>,
+}
+
+/// The unit vector along `(x, y)`, scaled by its larger component first so that squaring neither
+/// underflows to 0 nor overflows to infinity, whatever the length validation let through.
+fn unit_direction(x: f64, y: f64) -> crate::geom::Vec2 {
+    let scale = x.abs().max(y.abs());
+    crate::geom::Vec2::new(x / scale, y / scale).normalized()
 }
 
 impl Problem {
     /// Validates `scene` and derives the problem, or returns every issue when any is an error.
-    pub fn new(scene: &Scene) -> Result<Problem, Vec<Issue>> {
+    pub fn new(scene: &Scene) -> Result<Problem, IssueList<Issue>> {
         let mut issues = validate(scene);
         if issues.iter().any(|i| i.severity == Severity::Error) {
             return Err(issues);
@@ -195,9 +203,7 @@ impl Problem {
         Ok(Problem {
             name: scene.name.clone(),
             units: scene.units.clone(),
-            gravity: scene
-                .gravity
-                .map_or(crate::geom::Vec2::new(0.0, -1.0), |[x, y]| crate::geom::Vec2::new(x, y).normalized()),
+            gravity: scene.gravity.map_or(crate::geom::Vec2::new(0.0, -1.0), |[x, y]| unit_direction(x, y)),
             fixed,
             pose_count: bodies[0].poses.len(),
             must_hit: (0..bodies[0].poses.len())

@@ -6,6 +6,7 @@
 
 use super::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::geom::{Aabb, Point, Polygon, PolygonError, Rigid};
+use crate::issues::IssueList;
 use serde_json::{Map, Value};
 
 /// How bad a finding is: errors stop the run, warnings are reported and the run goes on.
@@ -83,6 +84,16 @@ pub mod limits {
     /// samples took nine minutes on two). Ten million keeps the sampling within a minute, and lets
     /// every reference scene run at the paper's 100,000 samples.
     pub const MAX_SAMPLE_POSES: usize = 10_000_000;
+    /// Shortest `gravity` vector. Gravity is a direction (its strength is always standard gravity),
+    /// so `[0, -1]`, `[0, -9.81]` (m/s²) and `[0, -9810]` (mm/s²) all mean down; a length outside
+    /// 10⁻³ to 10⁴ is a typo or a hostile number, and bounding it keeps its normalisation exact
+    /// (`[1e-200, -1e-200]` once gave NaN torques, `[1e160, -1e160]` none at all).
+    pub const MIN_GRAVITY: f64 = 1e-3;
+    /// Longest `gravity` vector (see [`MIN_GRAVITY`]).
+    pub const MAX_GRAVITY: f64 = 1e4;
+    /// Most `pinned_joints`: a pin names a joint of the design, and a design file's linkage has at
+    /// most this many joints (the engine's largest, for eight moving bodies, has 25).
+    pub const MAX_PINNED_JOINTS: usize = crate::design::MAX_JOINTS;
 }
 use limits::*;
 /// Bodies closer than this fraction of the smaller body size d *touch* (a warning), bodies reaching into
@@ -95,7 +106,9 @@ const MAX_POSE_TOLERANCE: f64 = 10.0;
 const MAX_ANGLE_TOLERANCE_DEG: f64 = 90.0;
 const MAX_MIN_TRANSMISSION_DEG: f64 = 80.0;
 
-/// Every problem found in `scene`, errors and warnings, roughly in document order.
+/// Every problem found in `scene`, errors and warnings, roughly in document order: the first
+/// [`MAX_LISTED_ISSUES`](crate::MAX_LISTED_ISSUES) listed (errors before warnings when there are more)
+/// and the rest counted.
 ///
 /// ```
 /// use linkwright_core::{validate_scene, Scene, Severity};
@@ -112,7 +125,7 @@ const MAX_MIN_TRANSMISSION_DEG: f64 = 80.0;
 /// assert!(error.message.contains("at least 2"), "{error}");
 /// # Ok::<(), linkwright_core::ParseError>(())
 /// ```
-pub fn validate(scene: &Scene) -> Vec<Issue> {
+pub fn validate(scene: &Scene) -> IssueList<Issue> {
     let mut out = Issues::default();
     if scene.linkwright != SCENE_FORMAT {
         out.error(
@@ -139,8 +152,14 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
     check_pinned_joints(scene, &mut out);
     if let Some([x, y]) = scene.gravity {
         let length = x.hypot(y);
-        if !(length.is_finite() && length > 0.0) {
-            out.error("gravity", format!("is [{x}, {y}]; give the direction gravity pulls in, such as [0, -1] (down)"));
+        if !(length.is_finite() && (MIN_GRAVITY..=MAX_GRAVITY).contains(&length)) {
+            out.error(
+                "gravity",
+                format!(
+                    "is [{x}, {y}], of length {length:e}; give the direction gravity pulls in, such as [0, -1] \
+                     (down), of a length from {MIN_GRAVITY:e} to {MAX_GRAVITY:e}"
+                ),
+            );
         }
     }
     check_weights(&scene.weights, &mut out);
@@ -155,7 +174,7 @@ pub fn validate(scene: &Scene) -> Vec<Issue> {
 
 /// Checks the counts against [`limits`]; returns whether every one is within them.
 fn check_counts(scene: &Scene, out: &mut Issues) -> bool {
-    let before = out.0.len();
+    let before = out.0.total();
     let counts = [
         (
             "fixed_bodies",
@@ -166,6 +185,13 @@ fn check_counts(scene: &Scene, out: &mut Issues) -> bool {
         ),
         ("moving_bodies", scene.moving_bodies.len(), MAX_MOVING_BODIES, "moving bodies", "design the motion in parts"),
         ("avoid_regions", scene.avoid_regions.len(), MAX_AVOID_REGIONS, "avoid regions", "merge neighbouring regions"),
+        (
+            "pinned_joints",
+            scene.pinned_joints.len(),
+            MAX_PINNED_JOINTS,
+            "pinned joints",
+            "pin only the joints whose place matters (a linkage has at most that many joints)",
+        ),
     ];
     for (field, n, max, what, fix) in counts {
         if n > max {
@@ -207,7 +233,7 @@ fn check_counts(scene: &Scene, out: &mut Issues) -> bool {
             ),
         );
     }
-    out.0.len() == before
+    out.0.total() == before
 }
 
 /// The whole drawing must stay within [`MAX_EXTENT_RATIO`] times the smallest moving body (its outlines
@@ -227,7 +253,6 @@ fn check_extent(scene: &Scene, out: &mut Issues) {
     points.extend(scene.fixed_bodies.iter().flat_map(|b| b.polygon.iter().copied()));
     points.extend(scene.linkage_region.iter().flatten().copied());
     points.extend(scene.avoid_regions.iter().flatten().copied());
-    points.extend(scene.pinned_joints.values().copied());
     for body in &scene.moving_bodies {
         for pose in body.poses.iter().filter(|p| pose_is_usable(p)) {
             let placed = Rigid::from_pose(*pose);
@@ -248,19 +273,53 @@ fn check_extent(scene: &Scene, out: &mut Issues) {
                 extent / d
             ),
         );
+        return;
+    }
+    // A pin far from a drawing of the right size is the pin's mistake, so it is named.
+    for (name, &pin) in &scene.pinned_joints {
+        let Some(with_pin) = Aabb::around([bb.min, bb.max, pin]) else { continue };
+        let extent = with_pin.width().max(with_pin.height());
+        if extent > MAX_EXTENT_RATIO * d {
+            out.error(
+                format!("pinned_joints.{name}"),
+                format!(
+                    "is at [{}, {}], so far from the drawing that the two together span {extent:.0}, {:.0} times \
+                     the smallest moving body ({d:.3} across), and at most {MAX_EXTENT_RATIO} is supported; \
+                     place the joint near the bodies it moves",
+                    pin.x,
+                    pin.y,
+                    extent / d
+                ),
+            );
+        }
     }
 }
 
 /// The findings so far, with the helpers every check shares.
 #[derive(Default)]
-struct Issues(Vec<Issue>);
+struct Issues(IssueList<Issue>);
 
 impl Issues {
     fn error(&mut self, field: impl Into<String>, message: impl Into<String>) {
-        self.0.push(Issue { severity: Severity::Error, field: field.into(), message: message.into() });
+        self.error_with(|| (field.into(), message.into()));
+    }
+    /// An error whose field and message `make` words only when it is listed.
+    fn error_with(&mut self, make: impl FnOnce() -> (String, String)) {
+        let make = || {
+            let (field, message) = make();
+            Issue { severity: Severity::Error, field, message }
+        };
+        self.0.push_over_with(make, |i| i.severity == Severity::Warning);
     }
     fn warning(&mut self, field: impl Into<String>, message: impl Into<String>) {
-        self.0.push(Issue { severity: Severity::Warning, field: field.into(), message: message.into() });
+        self.warning_with(|| (field.into(), message.into()));
+    }
+    /// A warning whose field and message `make` words only when it is listed.
+    fn warning_with(&mut self, make: impl FnOnce() -> (String, String)) {
+        self.0.push_with(|| {
+            let (field, message) = make();
+            Issue { severity: Severity::Warning, field, message }
+        });
     }
 
     /// Warns about each field the format does not know: the format promises to ignore them, but a
@@ -305,6 +364,7 @@ impl Issues {
             PolygonError::SelfIntersecting(..) => {
                 "reorder or move the vertices so that the outline does not cross itself"
             }
+            PolygonError::TooThin { .. } => "widen it, or remove it if it is a stray stroke",
         };
         self.error(field, format!("{e}; {fix}"));
         false
@@ -437,20 +497,22 @@ fn check_mechanism(scene: &Scene, out: &mut Issues) {
 /// what this tool designs).
 const MAX_MASS_KG: f64 = 1e5;
 
-/// Each must-hit pose is one the bodies have.
+/// Each must-hit pose is one the bodies have. A list may be as long as the file: it is read once,
+/// and a problem past the listed ones is only counted.
 fn check_must_hit(scene: &Scene, out: &mut Issues) {
     let poses = scene.moving_bodies.first().map_or(0, |b| b.poses.len());
+    let mut listed = vec![false; poses];
     for (k, &i) in scene.must_hit_poses.iter().enumerate() {
         if i >= poses {
-            out.error(
-                format!("must_hit_poses[{k}]"),
-                format!(
+            out.error_with(|| {
+                let message = format!(
                     "there is no pose {i}: the moving bodies have {poses} poses, numbered from 0 to {}",
                     poses.max(1) - 1
-                ),
-            );
-        } else if scene.must_hit_poses[..k].contains(&i) {
-            out.warning(format!("must_hit_poses[{k}]"), format!("pose {i} is listed twice; once is enough"));
+                );
+                (format!("must_hit_poses[{k}]"), message)
+            });
+        } else if std::mem::replace(&mut listed[i], true) {
+            out.warning_with(|| (format!("must_hit_poses[{k}]"), format!("pose {i} is listed twice; once is enough")));
         }
     }
 }
@@ -925,6 +987,69 @@ mod tests {
         assert_eq!(errors(&s), vec![]);
         let problem = crate::scene::Problem::new(&s).unwrap();
         assert_eq!(problem.must_hit, (0..poses).map(|i| i == 0 || i == 1 || i == poses - 1).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn a_mistake_repeated_throughout_a_large_file_gets_a_short_answer() {
+        // A 1 MB scene naming a pose the bodies lack 340,000 times, with a warning at its start.
+        let mut s = scene();
+        s.must_hit_poses = vec![3; 340_000];
+        s.must_hit_poses[..2].copy_from_slice(&[1, 1]);
+        let issues = validate(&s);
+        assert_eq!(issues.len(), crate::MAX_LISTED_ISSUES);
+        assert_eq!((issues.total(), issues.more()), (340_000 - 1, 340_000 - 1 - crate::MAX_LISTED_ISSUES));
+        // Errors are not crowded out by the warning found first.
+        assert!(issues.iter().all(|i| i.severity == Severity::Error), "{:?}", &issues[..3]);
+        assert_eq!(issues[0].field, "must_hit_poses[2]");
+        let Err(refused) = crate::scene::Problem::new(&s) else { panic!("the scene is refused") };
+        assert_eq!(refused.total(), issues.total());
+    }
+
+    #[test]
+    fn a_bow_tie_is_refused_as_crossing_and_a_sliver_as_too_thin() {
+        let mut s = scene();
+        s.moving_bodies[0].polygon = [[0., 0.], [20., 80.], [20., 0.], [0., 80.]].map(Point::from).to_vec();
+        assert_error(&s, "moving_bodies[0].polygon", "crosses itself (edge 0 crosses edge 2)");
+        let mut s = scene();
+        s.fixed_bodies[0].polygon = rect(0.0, 0.0, 1000.0, 1e-6);
+        assert_error(&s, "fixed_bodies[0].polygon", "is too thin: about 1.0e-6 wide for 1.0e3 long");
+        assert!(!errors(&s).iter().any(|i| i.message.contains("one line")), "{:?}", errors(&s));
+    }
+
+    #[test]
+    fn a_pinned_joint_far_away_is_named_itself() {
+        let mut s = scene();
+        s.pinned_joints.insert("q0".into(), Point::new(1e6, 0.0));
+        assert_error(&s, "pinned_joints.q0", "is at [1000000, 0], so far from the drawing");
+        assert_eq!(errors(&s).len(), 1, "{:?}", errors(&s));
+    }
+
+    #[test]
+    fn pinned_joints_are_at_most_as_many_as_a_linkage_has_joints() {
+        let mut s = scene();
+        s.pinned_joints = (0..10_000).map(|i| (format!("q{i}"), Point::new(60.0, 30.0))).collect();
+        let issues = validate(&s);
+        assert_eq!(issues.total(), 1, "{issues:?}");
+        assert_eq!(issues[0].field, "pinned_joints");
+        assert!(issues[0].message.starts_with("has 10000 pinned joints; at most 256 are supported"), "{}", issues[0]);
+        assert!(issues[0].message.len() < 200);
+        s.pinned_joints = (0..256).map(|i| (format!("q{i}"), Point::new(60.0, 30.0))).collect();
+        assert_eq!(errors(&s), vec![]);
+    }
+
+    #[test]
+    fn gravity_of_an_absurd_length_is_refused_and_any_other_normalised_exactly() {
+        let mut s = scene();
+        for g in [[1e-200, -1e-200], [1e160, -1e160], [1e-4, 0.0], [0.0, -2e4]] {
+            s.gravity = Some(g);
+            assert_error(&s, "gravity", "of a length from 1e-3 to 1e4");
+        }
+        for (g, scale) in [([1e-3, -1e-3], 1e-3), ([7e3, -7e3], 7e3), ([0.6, -0.6], 0.6)] {
+            s.gravity = Some(g);
+            let problem = crate::scene::Problem::new(&s).unwrap();
+            let unit = crate::geom::Vec2::new(1.0, -1.0) / 2f64.sqrt();
+            assert!((problem.gravity - unit).norm() < 1e-15, "{scale}: {:?}", problem.gravity);
+        }
     }
 
     #[test]

@@ -1125,6 +1125,9 @@ fn distinct(a: &Candidate, b: &Candidate, min_shift: f64) -> bool {
         || ma.joints.iter().zip(&mb.joints).any(|(p, q)| p.distance(*q) > min_shift)
 }
 
+/// How many missing pinned joints a reason names.
+const MISSING_PINS_NAMED: usize = 10;
+
 /// What to tell the person when nothing valid was found: the checks that rejected most, each with
 /// what to change.
 fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
@@ -1134,7 +1137,14 @@ fn no_solution_reason(problem: &Problem, stats: &RunStats) -> String {
             format!("the {} has {}", family.linkage_label(problem.body_count()), topology.joint_names.join(", "))
         };
         let chosen = chosen_families(problem);
-        let missing = chosen.first().map(|&f| pinned_joints_missing(problem, f).join(", ")).unwrap_or_default();
+        let missing = chosen.first().map(|&f| pinned_joints_missing(problem, f)).unwrap_or_default();
+        // The first few names say what is wrong; every one of up to 256 would fill a screen.
+        let missing = match missing.len() {
+            n if n > MISSING_PINS_NAMED => {
+                format!("{} and {} more", missing[..MISSING_PINS_NAMED].join(", "), n - MISSING_PINS_NAMED)
+            }
+            _ => missing.join(", "),
+        };
         return format!(
             "No linkage type tried has every pinned joint ({missing} missing): pinned_joints names joints as a \
              design's mechanism.joints does; {}.",

@@ -71,6 +71,8 @@ impl Default for WorkshopSettings {
 const MAX_SAFETY_FACTOR: f64 = 20.0;
 /// The thickest body taken, mm.
 const MAX_BODY_THICKNESS_MM: f64 = 1000.0;
+/// The thinnest body taken, mm: the thinnest sheet a workshop cuts a body from.
+const MIN_BODY_THICKNESS_MM: f64 = 1.0;
 /// The most spring lines taken.
 const MAX_SPRINGS: usize = 16;
 
@@ -93,13 +95,12 @@ impl WorkshopSettings {
             );
         }
         if !(self.body_thickness_mm.is_finite()
-            && self.body_thickness_mm > 0.0
-            && self.body_thickness_mm <= MAX_BODY_THICKNESS_MM)
+            && (MIN_BODY_THICKNESS_MM..=MAX_BODY_THICKNESS_MM).contains(&self.body_thickness_mm))
         {
             issue(
                 "body_thickness_mm".into(),
                 format!(
-                    "must be a positive number of millimetres up to {MAX_BODY_THICKNESS_MM} (is {})",
+                    "is {} mm; use a number from {MIN_BODY_THICKNESS_MM} to {MAX_BODY_THICKNESS_MM} mm",
                     self.body_thickness_mm
                 ),
             );

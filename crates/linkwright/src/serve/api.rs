@@ -244,10 +244,11 @@ impl DesignInput {
             }
         };
         let flag = |name: &str| match value.get(name) {
-            None | Some(Value::Null) => Ok(false),
+            None => Ok(false),
             Some(Value::Bool(b)) => Ok(*b),
+            // `null` too: the field is a boolean, and a client sending null has a bug worth hearing of.
             Some(_) => Err(ApiError::bad_request(format!("{name} must be true or false"))
-                .with_issue(name, "must be true or false")),
+                .with_issue(name, "must be true or false (or left out, for false)")),
         };
         let (analysis, follow) = (flag("analysis")?, flag("follow")?);
         Ok(DesignInput { problem, previous, settings, analysis, follow })
@@ -323,7 +324,7 @@ impl Compound {
             let status =
                 if first.field == "linkwright" { StatusCode::BAD_REQUEST } else { StatusCode::UNPROCESSABLE_ENTITY };
             let answer = ApiError::new(status, error);
-            return Err(issues.iter().fold(answer, |e, i| e.with_issue(format!("design.{}", i.field), &i.message)));
+            return Err(answer.listed(&issues, |i| format!("design.{}", i.field), |i| &i.message));
         }
         Ok(Compound { problem, units: scene.units, design, fields })
     }
@@ -341,12 +342,7 @@ impl Compound {
 
     /// An optional yes-or-no option (absent or null: no).
     pub fn flag(&self, name: &str) -> Result<bool, ApiError> {
-        match self.fields.get(name) {
-            None | Some(Value::Null) => Ok(false),
-            Some(Value::Bool(b)) => Ok(*b),
-            Some(_) => Err(ApiError::bad_request(format!("{name} must be true or false"))
-                .with_issue(name, "must be true or false")),
-        }
+        flag(&self.fields, name)
     }
 
     /// An optional positive integer option, at most `max`.
@@ -703,4 +699,31 @@ pub(super) fn print_settings(value: Option<&Value>, name: &str) -> Result<PrintS
         n => format!("print settings have {n} problems; the first: {}: {}", field(&first.field), first.message),
     };
     Err(issues.iter().fold(ApiError::bad_request(error), |e, i| e.with_issue(field(&i.field), &i.message)))
+}
+
+/// The boolean option `name` of a request's `fields`: false when absent.
+fn flag(fields: &Map<String, Value>, name: &str) -> Result<bool, ApiError> {
+    match fields.get(name) {
+        None => Ok(false),
+        Some(Value::Bool(b)) => Ok(*b),
+        // `null` too: the field is a boolean, and a client sending null has a bug worth hearing of.
+        Some(_) => Err(ApiError::bad_request(format!("{name} must be true or false"))
+            .with_issue(name, "must be true or false (or left out, for false)")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flag_is_a_boolean_or_absent_and_null_is_refused() {
+        let fields = |v: Value| json!({ "springs": v }).as_object().cloned().unwrap();
+        assert!(!flag(&Map::new(), "springs").unwrap());
+        assert!(flag(&fields(json!(true)), "springs").unwrap());
+        for bad in [Value::Null, json!("true"), json!(1)] {
+            let refused = flag(&fields(bad), "springs").unwrap_err();
+            assert_eq!((refused.status, refused.issues[0].field.as_str()), (StatusCode::BAD_REQUEST, "springs"));
+        }
+    }
 }

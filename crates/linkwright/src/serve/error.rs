@@ -1,9 +1,10 @@
-//! The API's one error shape: a 4xx/5xx status with `{"error": "...", "issues": [{field, message}]}`.
+//! The API's one error shape: a 4xx/5xx status with `{"error": "...", "issues": [{field, message}]}`,
+//! and `more_issues`, how many problems were found beyond those listed, when there are any.
 
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use linkwright_core::{Issue, Severity};
+use linkwright_core::{Issue, IssueList, Severity};
 use serde::Serialize;
 
 /// One finding about a request, naming the field (a path such as `scene.moving_bodies[0].poses`).
@@ -22,6 +23,9 @@ pub struct ApiError {
     pub status: StatusCode,
     pub error: String,
     pub issues: Vec<IssueJson>,
+    /// Problems found beyond the listed `issues` (the library lists the first ones only).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub more_issues: usize,
     /// Seconds after which a refused job may be tried again (503/429 only).
     #[serde(skip)]
     pub retry_after: Option<u32>,
@@ -29,7 +33,7 @@ pub struct ApiError {
 
 impl ApiError {
     pub fn new(status: StatusCode, error: impl Into<String>) -> ApiError {
-        ApiError { status, error: error.into(), issues: Vec::new(), retry_after: None }
+        ApiError { status, error: error.into(), issues: Vec::new(), more_issues: 0, retry_after: None }
     }
     pub fn bad_request(error: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::BAD_REQUEST, error)
@@ -57,19 +61,48 @@ impl ApiError {
         ApiError::bad_request(format!("{what} cannot be read: {field}: {message}")).with_issue(field, message)
     }
 
-    /// A scene that fails validation: every issue, errors and warnings.
-    pub fn invalid_scene(prefix: &str, issues: &[Issue]) -> ApiError {
+    /// A scene that fails validation: every listed issue, errors and warnings, and how many more.
+    pub fn invalid_scene(prefix: &str, issues: &IssueList<Issue>) -> ApiError {
         let errors = issues.iter().filter(|i| i.severity == Severity::Error).count();
         let first = issues.iter().find(|i| i.severity == Severity::Error);
         let summary = match first {
-            Some(i) if errors == 1 => format!("the scene has a problem: {}: {}", i.field, i.message),
-            Some(i) => format!("the scene has {errors} problems; the first: {}: {}", i.field, i.message),
+            Some(i) if errors == 1 && issues.more() == 0 => {
+                format!("the scene has a problem: {}: {}", i.field, i.message)
+            }
+            Some(i) => format!("the scene has {} problems; the first: {}: {}", issues.total(), i.field, i.message),
             None => "the scene is not valid".to_string(),
         };
         let mut e = ApiError::unprocessable(summary);
         e.issues = issues.iter().map(|i| issue_json(prefix, i)).collect();
-        e
+        e.with_more(issues.more())
     }
+
+    /// The error text with how many problems were found beyond the listed ones, as a person reads it.
+    fn with_more(mut self, more: usize) -> ApiError {
+        if more > 0 {
+            self.error = format!("{} (... and {more} more)", self.error);
+            self.more_issues = more;
+        }
+        self
+    }
+
+    /// A list of problems at fields under `prefix` (a design's, print settings'), with `error` the
+    /// answer's text.
+    pub fn listed<T>(
+        mut self,
+        issues: &IssueList<T>,
+        field: impl Fn(&T) -> String,
+        message: impl Fn(&T) -> &str,
+    ) -> ApiError {
+        for i in issues {
+            self = self.with_issue(field(i), message(i));
+        }
+        self.with_more(issues.more())
+    }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// An issue of the library, its field placed under `prefix`.
