@@ -1,7 +1,8 @@
 //! The subcommands.
 
 use crate::files::{
-    read_design, read_problem, read_problem_with, read_valid_design, remove_if_present, write_atomically,
+    existing_subfolder, make_subfolder, read_design, read_problem, read_problem_with, read_valid_design, remove_below,
+    remove_folder_if_empty, write_below,
 };
 use crate::Failure;
 use clap::Args;
@@ -139,8 +140,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         .expect("the CLI never cancels");
     observer.bar.finish_and_clear();
 
-    std::fs::create_dir_all(&out_dir)
-        .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
+    make_subfolder(&out_dir, "")?;
     remove_earlier_outputs(&out_dir, outcome.best.is_none())?;
     let (file, json) = write_outputs(&problem, &outcome, plan.as_ref(), &out_dir)?;
     if args.json {
@@ -165,8 +165,8 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     }
     if args.fabricate {
         if outcome.best.is_some() {
-            let line =
-                crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &out_dir.join("fabrication"))?;
+            let fabrication = make_subfolder(&out_dir, "fabrication")?;
+            let line = crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &fabrication)?;
             // Keep stdout the design JSON alone with --json.
             if args.json {
                 eprintln!("{line}");
@@ -184,15 +184,13 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
 /// fabrication (rebuilt only if asked, after the new design is written), and its pictures when the
 /// new run has none to replace them with.
 fn remove_earlier_outputs(out_dir: &Path, no_design: bool) -> Result<(), Failure> {
-    let fabrication = out_dir.join("fabrication");
-    if fabrication.is_dir() {
+    if let Some(fabrication) = existing_subfolder(out_dir, "fabrication")? {
         crate::fabricate::remove_previous(&fabrication)?;
-        // Left in place when it holds anything else.
-        let _ = std::fs::remove_dir(&fabrication);
+        remove_folder_if_empty(out_dir, "fabrication")?;
     }
     if no_design {
         for picture in ["design.svg", "animation.svg"] {
-            remove_if_present(&out_dir.join(picture))?;
+            remove_below(out_dir, picture)?;
         }
     }
     Ok(())
@@ -212,9 +210,9 @@ fn write_outputs(
         let pictures = outcome.best.as_ref().map(|best| {
             let input =
                 RenderInput { problem, mechanism: &best.mechanism, trace: &best.trace, pose_steps: &best.pose_rows };
-            let animation = s
-                .spawn(move || write_atomically(&out_dir.join("animation.svg"), animation_svg(&input, 3.0).as_bytes()));
-            let design = s.spawn(move || write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes()));
+            let animation =
+                s.spawn(move || write_below(out_dir, "animation.svg", animation_svg(&input, 3.0).as_bytes()));
+            let design = s.spawn(move || write_below(out_dir, "design.svg", design_svg(&input).as_bytes()));
             (design, animation)
         });
         let file = match plan {
@@ -222,7 +220,7 @@ fn write_outputs(
             None => DesignFile::from_outcome(problem, outcome),
         };
         let json = file.to_json();
-        let written = write_atomically(&out_dir.join("design.json"), json.as_bytes());
+        let written = write_below(out_dir, "design.json", json.as_bytes());
         let pictures = pictures.map(|(design, animation)| (joined(design), joined(animation)));
         written?;
         if let Some((design, animation)) = pictures {

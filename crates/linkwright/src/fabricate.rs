@@ -2,7 +2,7 @@
 //! plates, profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`),
 //! with hooks for its counterbalance springs when asked.
 
-use crate::files::{read_problem, read_valid_design, remove_if_present, write_atomically};
+use crate::files::{read_problem, read_valid_design, remove_below, remove_folder_if_empty, write_below};
 use crate::Failure;
 use clap::Args;
 use linkwright_core::fab::{
@@ -124,12 +124,8 @@ pub fn run(
         return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
     }
     remove_previous(out_dir)?;
-    for dir in [out_dir.to_path_buf(), out_dir.join("parts")] {
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", dir.display())))?;
-    }
     for (path, bytes) in &bundle.files {
-        write_atomically(&out_dir.join(path), bytes)?;
+        write_below(out_dir, path, bytes)?;
     }
     let r = &bundle.report;
     let mut line = format!(
@@ -185,10 +181,8 @@ pub fn remove_previous(dir: &Path) -> Result<(), Failure> {
                 || (path.starts_with("plate_") && path.ends_with(".3mf") && !path.contains('/')))
     };
     for path in listed.filter(written_by_a_fabrication).chain(FIXED_FILES.iter().copied()) {
-        remove_if_present(&dir.join(path))?;
+        remove_below(dir, path)?;
     }
-    remove_if_present(&manifest)?;
-    // Left in place when it holds anything else.
-    let _ = std::fs::remove_dir(dir.join("parts"));
-    Ok(())
+    remove_below(dir, "fabrication.json")?;
+    remove_folder_if_empty(dir, "parts")
 }
