@@ -4,6 +4,7 @@ use crate::files::{
     existing_subfolder, make_subfolder, read_design, read_problem, read_problem_with, read_valid_design, remove_below,
     remove_folder_if_empty, write_below,
 };
+use crate::terminal::{escaped, say, warn};
 use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -13,7 +14,7 @@ use linkwright_core::fab::BuildPlan;
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Build, DesignFile, Observer, Options, Outcome, PoseMiss,
-    Problem, Progress, RenderInput, Stage, Start, Status,
+    Problem, Progress, RenderInput, Stage, Start, Status, DESIGN_FORMAT,
 };
 use std::path::{Path, PathBuf};
 
@@ -36,7 +37,7 @@ pub struct DesignArgs {
     /// Print the design JSON on stdout instead of the summary line.
     #[arg(long)]
     json: bool,
-    /// Warm start from a previous design of this scene (after small edits, e.g. a moved pose): its
+    /// Warm start from a previous design of this scene with a solution (after small edits, e.g. a moved pose): its
     /// design and alternatives seed the search, which then takes a fraction of the time.
     #[arg(long, value_name = "PREVIOUS.json")]
     from: Option<PathBuf>,
@@ -100,11 +101,11 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
             Failure::Input(format!(
                 "error: {}: units: \"{}\" is not a known unit; use mm, cm, m, in or ft (or --no-print-check)",
                 args.scene.display(),
-                scene.units
+                escaped(&scene.units)
             ))
         })?;
         for note in &plan.notes {
-            eprintln!("warning: {note} (--build {} now)", plan.asked);
+            warn(&format!("warning: {} (--build {} now)", escaped(&note.to_string()), plan.asked));
         }
         Some(plan)
     };
@@ -146,15 +147,15 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     if args.json {
         println!("{json}");
     } else {
-        println!("{}", summary(&file, &problem, &scene.units, &out_dir));
+        say(&summary(&file, &problem, &scene.units, &out_dir));
     }
     // The library says what would help; the remedy only this command has is its own.
     if let Some(far) = file.metrics.as_ref().and_then(|m| m.far_from_pose.as_ref()) {
-        eprintln!(
+        warn(&format!(
             "hint: pose {} of {} is far from where the linkage takes the body: draw a pose between it and its \
              neighbours, move it closer to the way the others go, or try another --seed or mechanism",
             far.pose, far.body
-        );
+        ));
     }
     if outcome.unbuildable {
         eprintln!(
@@ -169,9 +170,9 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
             let line = crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &fabrication)?;
             // Keep stdout the design JSON alone with --json.
             if args.json {
-                eprintln!("{line}");
+                warn(&line);
             } else {
-                println!("{line}");
+                say(&line);
             }
         } else {
             eprintln!("no design to fabricate");
@@ -239,9 +240,26 @@ fn joined(handle: std::thread::ScopedJoinHandle<'_, Result<(), Failure>>) -> Res
 /// The mechanisms of a previous design file (its design and alternatives), for a warm start.
 fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::Mechanism>, Failure> {
     let file = read_design(path)?;
+    let needs = format!(
+        "--from needs a design of this scene with a solution (format \"{DESIGN_FORMAT}\", status \"ok\"), such as \
+         the design.json of an earlier run; leave out --from to start from scratch"
+    );
+    if file.linkwright != DESIGN_FORMAT {
+        return Err(Failure::Input(format!(
+            "error: --from {}: is a \"{}\" file, which this version does not read; {needs}",
+            path.display(),
+            file.linkwright
+        )));
+    }
+    if file.status != Status::Ok {
+        return Err(Failure::Input(format!(
+            "error: --from {}: holds no design (status \"no_solution\"); {needs}",
+            path.display()
+        )));
+    }
     let mechanisms = file.usable_mechanisms();
     if mechanisms.is_empty() {
-        eprintln!("warning: --from {}: has no usable mechanism; starting from scratch", path.display());
+        warn(&format!("warning: --from {}: has no usable mechanism; starting from scratch", path.display()));
     }
     Ok(mechanisms)
 }
@@ -343,10 +361,10 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
             }
             Err(_) => String::new(),
         };
-        println!("{}: every hard constraint holds{reach}", design.display());
+        say(&format!("{}: every hard constraint holds{reach}", design.display()));
     } else {
         for v in &violations {
-            println!("{}: {}", v.constraint, v.message);
+            say(&escaped(&format!("{}: {}", v.constraint, v.message)));
         }
     }
     if violations.is_empty() {
@@ -389,7 +407,7 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
         }
         out.push('\n');
     }
-    print!("{out}");
+    print!("{}", crate::terminal::lines(&out));
     Ok(())
 }
 
@@ -463,7 +481,7 @@ pub fn analyze(
     } else {
         out.push_str("counterbalance: no spring hooked on the fixed bodies, in the linkage region or on the moving parts lowers the peak\n");
     }
-    print!("{out}");
+    print!("{}", crate::terminal::lines(&out));
     Ok(())
 }
 

@@ -2,7 +2,7 @@
 //! plates, profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`),
 //! with hooks for its counterbalance springs when asked.
 
-use crate::files::{read_problem, read_valid_design, remove_below, remove_folder_if_empty, write_below};
+use crate::files::{read_problem, read_text, read_valid_design, remove_below, remove_folder_if_empty, write_below};
 use crate::Failure;
 use clap::Args;
 use linkwright_core::fab::{
@@ -41,13 +41,15 @@ pub struct FabricateArgs {
 /// Reads print settings, or the defaults.
 pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
     let Some(path) = path else { return Ok(PrintSettings::default()) };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Failure::Input(format!("error: cannot read {}: {e}", path.display())))?;
-    let settings = PrintSettings::from_json(&text)
-        .map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.field, e.message)))?;
+    let text = read_text(path)?;
+    let settings =
+        PrintSettings::from_json(&text).map_err(|e| crate::files::parse_failure(path, &e.field, &e.message))?;
     let issues = settings.validate();
     if !issues.is_empty() {
-        let lines: Vec<String> = issues.iter().map(|i| format!("error: {}: {i}", path.display())).collect();
+        let lines: Vec<String> = issues
+            .iter()
+            .map(|i| format!("error: {}: {}", path.display(), crate::terminal::escaped(&i.to_string())))
+            .collect();
         return Err(Failure::Input(lines.join("\n")));
     }
     Ok(settings)
@@ -61,7 +63,7 @@ pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
     let design = read_valid_design(&args.design, &problem)?;
     let settings = read_settings(args.settings.as_deref())?;
     let summary = run(&scene, &problem, &design, &settings, args.springs, &args.output)?;
-    println!("{summary}");
+    crate::terminal::say(&summary);
     Ok(())
 }
 
@@ -168,7 +170,7 @@ pub fn run(
 /// Only paths of the shapes a fabrication writes are removed; nothing else in the folder is touched.
 pub fn remove_previous(dir: &Path) -> Result<(), Failure> {
     let manifest = dir.join("fabrication.json");
-    let Ok(text) = std::fs::read_to_string(&manifest) else { return Ok(()) };
+    let Ok(text) = read_text(&manifest) else { return Ok(()) };
     let report: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
     let listed = ["parts", "plates"]
         .iter()

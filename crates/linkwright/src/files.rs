@@ -1,19 +1,51 @@
 //! Reading inputs with messages a person can act on, and writing outputs without ever leaving a
 //! half-written file in place of one the person had.
 
+use crate::terminal::{escaped, warn};
 use crate::Failure;
 use linkwright_core::fab::is_safe_relative_path;
 use linkwright_core::{DesignFile, Problem, Scene, Severity};
 use std::collections::hash_map::RandomState;
 use std::fs::{File, OpenOptions};
 use std::hash::BuildHasher;
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{SystemTime, UNIX_EPOCH};
 
-fn read_text(path: &Path) -> Result<String, Failure> {
-    std::fs::read_to_string(path).map_err(|e| Failure::Input(format!("error: cannot read {}: {e}", path.display())))
+/// Largest input file read, bytes. The largest legitimate files are a few megabytes: a design at the
+/// limits (256 joints and parts, 100 alternatives) and a scene at its (2,000 vertices, 20 poses per
+/// body) written with generous indentation; the server takes 2 MiB. 64 MiB leaves room for files
+/// another program pads or annotates, and still parses in about a second.
+pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// The text of an input file (a scene, a design, print settings, a manifest), read through a cap of
+/// [`MAX_INPUT_BYTES`] whatever its size says: a device such as `/dev/zero` or a pipe has none.
+pub fn read_text(path: &Path) -> Result<String, Failure> {
+    let cannot = |e: std::io::Error| Failure::Input(format!("error: cannot read {}: {e}", path.display()));
+    let mut bytes = Vec::new();
+    File::open(path).and_then(|file| file.take(MAX_INPUT_BYTES + 1).read_to_end(&mut bytes)).map_err(cannot)?;
+    if bytes.len() as u64 > MAX_INPUT_BYTES {
+        return Err(Failure::Input(format!(
+            "error: {}: is larger than {} MiB, more than any scene, design or settings file holds; check that \
+             it is the file you meant",
+            path.display(),
+            MAX_INPUT_BYTES >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        Failure::Input(format!(
+            "error: {}: is not UTF-8 text (byte {}); save it as UTF-8",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        ))
+    })
+}
+
+/// A file that does not parse: where and why, the field path and message escaped (they quote the
+/// file's keys and values).
+pub fn parse_failure(path: &Path, field: &str, message: &str) -> Failure {
+    Failure::Input(format!("error: {}: {}: {}", path.display(), escaped(field), escaped(message)))
 }
 
 /// Reads and validates a scene; warnings go to stderr, errors become one message listing them all.
@@ -24,18 +56,17 @@ pub fn read_problem(path: &Path) -> Result<(Scene, Problem), Failure> {
 /// [`read_problem`] with `edit` applied to the scene before it is validated.
 pub fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(Scene, Problem), Failure> {
     let text = read_text(path)?;
-    let mut scene =
-        scene_of(&text).map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.path, e.message)))?;
+    let mut scene = scene_of(&text).map_err(|e| parse_failure(path, &e.path, &e.message))?;
     edit(&mut scene);
     match Problem::new(&scene) {
         Ok(problem) => {
             for w in &problem.warnings {
-                eprintln!("{w}");
+                warn(&escaped(&w.to_string()));
             }
             Ok((scene, problem))
         }
         Err(issues) => {
-            let mut lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
+            let mut lines: Vec<String> = issues.iter().map(|i| escaped(&i.to_string())).collect();
             let errors = issues.iter().filter(|i| i.severity == Severity::Error).count();
             lines.push(format!("{}: {errors} error(s); fix them and run again", path.display()));
             Err(Failure::Input(lines.join("\n")))
@@ -64,8 +95,7 @@ fn scene_of(text: &str) -> Result<Scene, linkwright_core::ParseError> {
 /// usable mechanisms).
 pub fn read_design(path: &Path) -> Result<DesignFile, Failure> {
     let text = read_text(path)?;
-    DesignFile::from_json(&text)
-        .map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.path, e.message)))
+    DesignFile::from_json(&text).map_err(|e| parse_failure(path, &e.path, &e.message))
 }
 
 /// Reads a design file and validates it against the scene's problem; every problem becomes one line
@@ -76,7 +106,8 @@ pub fn read_valid_design(path: &Path, problem: &Problem) -> Result<DesignFile, F
     if issues.is_empty() {
         return Ok(design);
     }
-    let mut lines: Vec<String> = issues.iter().map(|i| format!("error: {}: {i}", path.display())).collect();
+    let mut lines: Vec<String> =
+        issues.iter().map(|i| format!("error: {}: {}", path.display(), escaped(&i.to_string()))).collect();
     lines.push(format!("{}: {} error(s); fix them (or design again) and run again", path.display(), issues.len()));
     Err(Failure::Input(lines.join("\n")))
 }

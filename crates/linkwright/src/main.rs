@@ -7,6 +7,7 @@ mod fabricate;
 mod files;
 mod serve;
 mod springs;
+mod terminal;
 mod workshop;
 
 use clap::{Parser, Subcommand};
@@ -122,7 +123,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Violations) => ExitCode::from(1),
         Err(Failure::Input(message)) => {
-            eprintln!("{message}");
+            terminal::warn(&message);
             ExitCode::from(2)
         }
     }

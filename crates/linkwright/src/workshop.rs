@@ -2,7 +2,7 @@
 //! to cut, the cut list, the bill of materials, the assembly sheet and `workshop.json`, written into
 //! a folder.
 
-use crate::files::{remove_below, write_below};
+use crate::files::{read_text, remove_below, write_below};
 use crate::Failure;
 use linkwright_core::fab::is_safe_relative_path;
 use linkwright_core::workshop::{files, plan, SpringOrder, WorkshopSettings};
@@ -67,7 +67,7 @@ pub fn write(
 /// folder is touched, so a folder never holds the profiles of two plans.
 fn remove_previous(dir: &Path) -> Result<(), Failure> {
     let manifest = dir.join("workshop.json");
-    let Ok(text) = std::fs::read_to_string(&manifest) else { return Ok(()) };
+    let Ok(text) = read_text(&manifest) else { return Ok(()) };
     let report: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
     let listed = report.get("files").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str);
     let written_by_a_plan = |path: &&str| {
