@@ -229,13 +229,13 @@ pub fn bench(args: BenchArgs) -> Result<(), Failure> {
             cost: last.metrics.as_ref().map(|m| m.cost),
         });
         if !args.json {
-            eprintln!("{label}: {total:.3} s");
+            crate::terminal::warn(&format!("{label}: {total:.3} s"));
         }
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("rows serialize"));
     } else {
-        print!("{}", table(&rows, repeat, pool.current_num_threads()));
+        print!("{}", crate::terminal::lines(&table(&rows, repeat, pool.current_num_threads())));
     }
     Ok(())
 }

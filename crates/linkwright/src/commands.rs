@@ -1,8 +1,10 @@
 //! The subcommands.
 
 use crate::files::{
-    read_design, read_problem, read_problem_with, read_valid_design, remove_if_present, write_atomically,
+    existing_subfolder, make_subfolder, read_design, read_problem, read_problem_with, read_valid_design, remove_below,
+    remove_folder_if_empty, write_below,
 };
+use crate::terminal::{escaped, say, warn};
 use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -12,7 +14,7 @@ use linkwright_core::fab::BuildPlan;
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
     animation_svg, design_svg, pose_misses, synthesize_with, Build, DesignFile, Observer, Options, Outcome, PoseMiss,
-    Problem, Progress, RenderInput, Stage, Start, Status,
+    Problem, Progress, RenderInput, Stage, Start, Status, DESIGN_FORMAT,
 };
 use std::path::{Path, PathBuf};
 
@@ -35,7 +37,7 @@ pub struct DesignArgs {
     /// Print the design JSON on stdout instead of the summary line.
     #[arg(long)]
     json: bool,
-    /// Warm start from a previous design of this scene (after small edits, e.g. a moved pose): its
+    /// Warm start from a previous design of this scene with a solution (after small edits, e.g. a moved pose): its
     /// design and alternatives seed the search, which then takes a fraction of the time.
     #[arg(long, value_name = "PREVIOUS.json")]
     from: Option<PathBuf>,
@@ -99,11 +101,11 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
             Failure::Input(format!(
                 "error: {}: units: \"{}\" is not a known unit; use mm, cm, m, in or ft (or --no-print-check)",
                 args.scene.display(),
-                scene.units
+                escaped(&scene.units)
             ))
         })?;
         for note in &plan.notes {
-            eprintln!("warning: {note} (--build {} now)", plan.asked);
+            warn(&format!("warning: {} (--build {} now)", escaped(&note.to_string()), plan.asked));
         }
         Some(plan)
     };
@@ -139,22 +141,21 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
         .expect("the CLI never cancels");
     observer.bar.finish_and_clear();
 
-    std::fs::create_dir_all(&out_dir)
-        .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
+    make_subfolder(&out_dir, "")?;
     remove_earlier_outputs(&out_dir, outcome.best.is_none())?;
     let (file, json) = write_outputs(&problem, &outcome, plan.as_ref(), &out_dir)?;
     if args.json {
         println!("{json}");
     } else {
-        println!("{}", summary(&file, &problem, &scene.units, &out_dir));
+        say(&summary(&file, &problem, &scene.units, &out_dir));
     }
     // The library says what would help; the remedy only this command has is its own.
     if let Some(far) = file.metrics.as_ref().and_then(|m| m.far_from_pose.as_ref()) {
-        eprintln!(
+        warn(&format!(
             "hint: pose {} of {} is far from where the linkage takes the body: draw a pose between it and its \
              neighbours, move it closer to the way the others go, or try another --seed or mechanism",
             far.pose, far.body
-        );
+        ));
     }
     if outcome.unbuildable {
         eprintln!(
@@ -165,13 +166,13 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     }
     if args.fabricate {
         if outcome.best.is_some() {
-            let line =
-                crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &out_dir.join("fabrication"))?;
+            let fabrication = make_subfolder(&out_dir, "fabrication")?;
+            let line = crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &fabrication)?;
             // Keep stdout the design JSON alone with --json.
             if args.json {
-                eprintln!("{line}");
+                warn(&line);
             } else {
-                println!("{line}");
+                say(&line);
             }
         } else {
             eprintln!("no design to fabricate");
@@ -184,15 +185,13 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
 /// fabrication (rebuilt only if asked, after the new design is written), and its pictures when the
 /// new run has none to replace them with.
 fn remove_earlier_outputs(out_dir: &Path, no_design: bool) -> Result<(), Failure> {
-    let fabrication = out_dir.join("fabrication");
-    if fabrication.is_dir() {
+    if let Some(fabrication) = existing_subfolder(out_dir, "fabrication")? {
         crate::fabricate::remove_previous(&fabrication)?;
-        // Left in place when it holds anything else.
-        let _ = std::fs::remove_dir(&fabrication);
+        remove_folder_if_empty(out_dir, "fabrication")?;
     }
     if no_design {
         for picture in ["design.svg", "animation.svg"] {
-            remove_if_present(&out_dir.join(picture))?;
+            remove_below(out_dir, picture)?;
         }
     }
     Ok(())
@@ -212,9 +211,9 @@ fn write_outputs(
         let pictures = outcome.best.as_ref().map(|best| {
             let input =
                 RenderInput { problem, mechanism: &best.mechanism, trace: &best.trace, pose_steps: &best.pose_rows };
-            let animation = s
-                .spawn(move || write_atomically(&out_dir.join("animation.svg"), animation_svg(&input, 3.0).as_bytes()));
-            let design = s.spawn(move || write_atomically(&out_dir.join("design.svg"), design_svg(&input).as_bytes()));
+            let animation =
+                s.spawn(move || write_below(out_dir, "animation.svg", animation_svg(&input, 3.0).as_bytes()));
+            let design = s.spawn(move || write_below(out_dir, "design.svg", design_svg(&input).as_bytes()));
             (design, animation)
         });
         let file = match plan {
@@ -222,7 +221,7 @@ fn write_outputs(
             None => DesignFile::from_outcome(problem, outcome),
         };
         let json = file.to_json();
-        let written = write_atomically(&out_dir.join("design.json"), json.as_bytes());
+        let written = write_below(out_dir, "design.json", json.as_bytes());
         let pictures = pictures.map(|(design, animation)| (joined(design), joined(animation)));
         written?;
         if let Some((design, animation)) = pictures {
@@ -241,9 +240,26 @@ fn joined(handle: std::thread::ScopedJoinHandle<'_, Result<(), Failure>>) -> Res
 /// The mechanisms of a previous design file (its design and alternatives), for a warm start.
 fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::Mechanism>, Failure> {
     let file = read_design(path)?;
+    let needs = format!(
+        "--from needs a design of this scene with a solution (format \"{DESIGN_FORMAT}\", status \"ok\"), such as \
+         the design.json of an earlier run; leave out --from to start from scratch"
+    );
+    if file.linkwright != DESIGN_FORMAT {
+        return Err(Failure::Input(format!(
+            "error: --from {}: is a \"{}\" file, which this version does not read; {needs}",
+            path.display(),
+            file.linkwright
+        )));
+    }
+    if file.status != Status::Ok {
+        return Err(Failure::Input(format!(
+            "error: --from {}: holds no design (status \"no_solution\"); {needs}",
+            path.display()
+        )));
+    }
     let mechanisms = file.usable_mechanisms();
     if mechanisms.is_empty() {
-        eprintln!("warning: --from {}: has no usable mechanism; starting from scratch", path.display());
+        warn(&format!("warning: --from {}: has no usable mechanism; starting from scratch", path.display()));
     }
     Ok(mechanisms)
 }
@@ -345,10 +361,10 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
             }
             Err(_) => String::new(),
         };
-        println!("{}: every hard constraint holds{reach}", design.display());
+        say(&format!("{}: every hard constraint holds{reach}", design.display()));
     } else {
         for v in &violations {
-            println!("{}: {}", v.constraint, v.message);
+            say(&escaped(&format!("{}: {}", v.constraint, v.message)));
         }
     }
     if violations.is_empty() {
@@ -391,7 +407,7 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
         }
         out.push('\n');
     }
-    print!("{out}");
+    print!("{}", crate::terminal::lines(&out));
     Ok(())
 }
 
@@ -465,7 +481,7 @@ pub fn analyze(
     } else {
         out.push_str("counterbalance: no spring hooked on the fixed bodies, in the linkage region or on the moving parts lowers the peak\n");
     }
-    print!("{out}");
+    print!("{}", crate::terminal::lines(&out));
     Ok(())
 }
 

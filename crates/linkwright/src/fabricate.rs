@@ -2,7 +2,7 @@
 //! plates, profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`),
 //! with hooks for its counterbalance springs when asked.
 
-use crate::files::{read_problem, read_valid_design, remove_if_present, write_atomically};
+use crate::files::{read_problem, read_text, read_valid_design, remove_below, remove_folder_if_empty, write_below};
 use crate::Failure;
 use clap::Args;
 use linkwright_core::fab::{
@@ -41,13 +41,15 @@ pub struct FabricateArgs {
 /// Reads print settings, or the defaults.
 pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
     let Some(path) = path else { return Ok(PrintSettings::default()) };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Failure::Input(format!("error: cannot read {}: {e}", path.display())))?;
-    let settings = PrintSettings::from_json(&text)
-        .map_err(|e| Failure::Input(format!("error: {}: {}: {}", path.display(), e.field, e.message)))?;
+    let text = read_text(path)?;
+    let settings =
+        PrintSettings::from_json(&text).map_err(|e| crate::files::parse_failure(path, &e.field, &e.message))?;
     let issues = settings.validate();
     if !issues.is_empty() {
-        let lines: Vec<String> = issues.iter().map(|i| format!("error: {}: {i}", path.display())).collect();
+        let lines: Vec<String> = issues
+            .iter()
+            .map(|i| format!("error: {}: {}", path.display(), crate::terminal::escaped(&i.to_string())))
+            .collect();
         return Err(Failure::Input(lines.join("\n")));
     }
     Ok(settings)
@@ -61,7 +63,7 @@ pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
     let design = read_valid_design(&args.design, &problem)?;
     let settings = read_settings(args.settings.as_deref())?;
     let summary = run(&scene, &problem, &design, &settings, args.springs, &args.output)?;
-    println!("{summary}");
+    crate::terminal::say(&summary);
     Ok(())
 }
 
@@ -124,12 +126,8 @@ pub fn run(
         return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
     }
     remove_previous(out_dir)?;
-    for dir in [out_dir.to_path_buf(), out_dir.join("parts")] {
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", dir.display())))?;
-    }
     for (path, bytes) in &bundle.files {
-        write_atomically(&out_dir.join(path), bytes)?;
+        write_below(out_dir, path, bytes)?;
     }
     let r = &bundle.report;
     let mut line = format!(
@@ -172,7 +170,7 @@ pub fn run(
 /// Only paths of the shapes a fabrication writes are removed; nothing else in the folder is touched.
 pub fn remove_previous(dir: &Path) -> Result<(), Failure> {
     let manifest = dir.join("fabrication.json");
-    let Ok(text) = std::fs::read_to_string(&manifest) else { return Ok(()) };
+    let Ok(text) = read_text(&manifest) else { return Ok(()) };
     let report: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
     let listed = ["parts", "plates"]
         .iter()
@@ -185,10 +183,8 @@ pub fn remove_previous(dir: &Path) -> Result<(), Failure> {
                 || (path.starts_with("plate_") && path.ends_with(".3mf") && !path.contains('/')))
     };
     for path in listed.filter(written_by_a_fabrication).chain(FIXED_FILES.iter().copied()) {
-        remove_if_present(&dir.join(path))?;
+        remove_below(dir, path)?;
     }
-    remove_if_present(&manifest)?;
-    // Left in place when it holds anything else.
-    let _ = std::fs::remove_dir(dir.join("parts"));
-    Ok(())
+    remove_below(dir, "fabrication.json")?;
+    remove_folder_if_empty(dir, "parts")
 }

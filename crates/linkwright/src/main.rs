@@ -8,6 +8,7 @@ mod files;
 mod memory;
 mod serve;
 mod springs;
+mod terminal;
 mod workshop;
 
 use clap::{Parser, Subcommand};
@@ -115,7 +116,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Violations) => ExitCode::from(1),
         Err(Failure::Input(message)) => {
-            eprintln!("{message}");
+            terminal::warn(&message);
             ExitCode::from(2)
         }
     }

@@ -2,7 +2,7 @@
 //! to cut, the cut list, the bill of materials, the assembly sheet and `workshop.json`, written into
 //! a folder.
 
-use crate::files::{remove_if_present, write_atomically};
+use crate::files::{read_text, remove_below, write_below};
 use crate::Failure;
 use linkwright_core::fab::is_safe_relative_path;
 use linkwright_core::workshop::{files, plan, SpringOrder, WorkshopSettings};
@@ -33,10 +33,8 @@ pub fn write(
         return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
     }
     remove_previous(out_dir)?;
-    std::fs::create_dir_all(out_dir)
-        .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", out_dir.display())))?;
     for (path, bytes) in &written {
-        write_atomically(&out_dir.join(path), bytes)?;
+        write_below(out_dir, path, bytes)?;
     }
     let bolts: u32 = workshop.bolts.iter().map(|b| b.count).sum();
     let stocks: Vec<String> = {
@@ -69,7 +67,7 @@ pub fn write(
 /// folder is touched, so a folder never holds the profiles of two plans.
 fn remove_previous(dir: &Path) -> Result<(), Failure> {
     let manifest = dir.join("workshop.json");
-    let Ok(text) = std::fs::read_to_string(&manifest) else { return Ok(()) };
+    let Ok(text) = read_text(&manifest) else { return Ok(()) };
     let report: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
     let listed = report.get("files").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str);
     let written_by_a_plan = |path: &&str| {
@@ -79,7 +77,7 @@ fn remove_previous(dir: &Path) -> Result<(), Failure> {
                 || (path.starts_with("profiles_") && (path.ends_with("mm.dxf") || path.ends_with("mm.svg"))))
     };
     for path in listed.filter(written_by_a_plan) {
-        remove_if_present(&dir.join(path))?;
+        remove_below(dir, path)?;
     }
-    remove_if_present(&manifest)
+    remove_below(dir, "workshop.json")
 }

@@ -47,8 +47,6 @@ pub const MAX_PARTS: usize = 256;
 /// Most alternatives in one file (the engine writes at most 10); each
 /// is simulated when the file is validated.
 pub const MAX_ALTERNATIVES: usize = 100;
-/// Longest joint or part name, in characters.
-pub const MAX_NAME_CHARS: usize = 100;
 /// Part lengths may drift along the simulated motion by this fraction of the linkage's size before
 /// the part counts as deformed (the solver's rounding over 360 steps is some 10⁻¹² of it).
 const RIGIDITY_TOLERANCE: f64 = 1e-6;
@@ -132,16 +130,10 @@ impl Issues {
         self.0.push_with(|| DesignIssue { field: field.into(), message: message.into() });
     }
 
-    /// A name used as a label and in file names: short, and printable.
+    /// A name used as a label and in file names: the scenes' rule ([`crate::scene::name_problems`]).
     fn name(&mut self, field: &str, what: &str, name: &str) {
-        if name.chars().count() > MAX_NAME_CHARS {
-            self.add(field, format!("the {what} name is longer than {MAX_NAME_CHARS} characters; shorten it"));
-        }
-        if name.chars().any(char::is_control) {
-            self.add(
-                field,
-                format!("the {what} name {name:?} holds control characters; use printable characters only"),
-            );
+        for message in crate::scene::name_problems(what, name) {
+            self.add(field, message);
         }
     }
 

@@ -8,6 +8,7 @@ mod validate;
 pub use build::{Build, BuildParseError, Material, ModelScale, Ratio, MAX_RATIO_TERM};
 pub(crate) use problem::repeated_pose_words;
 pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
+pub(crate) use validate::name_problems;
 pub use validate::{limits, validate, Issue, Severity};
 
 use crate::geom::Point;

@@ -94,6 +94,8 @@ pub mod limits {
     /// Most `pinned_joints`: a pin names a joint of the design, and a design file's linkage has at
     /// most this many joints (the engine's largest, for eight moving bodies, has 25).
     pub const MAX_PINNED_JOINTS: usize = crate::design::MAX_JOINTS;
+    /// Longest name (of a scene, a body, a design's joint or part), in characters: a label, not prose.
+    pub const MAX_NAME_CHARS: usize = 100;
 }
 use limits::*;
 /// Bodies closer than this fraction of the smaller body size d *touch* (a warning), bodies reaching into
@@ -105,6 +107,21 @@ const TOUCH_FRACTION: f64 = 0.02;
 const MAX_POSE_TOLERANCE: f64 = 10.0;
 const MAX_ANGLE_TOLERANCE_DEG: f64 = 90.0;
 const MAX_MIN_TRANSMISSION_DEG: f64 = 80.0;
+
+/// What is wrong with a name a file gives (a scene's, a body's, a design's joint's or part's), each
+/// problem as what to change (empty when it is fine). Names become labels on screen and in files: at
+/// most [`MAX_NAME_CHARS`] characters, and no control characters, which a terminal would obey rather
+/// than show. Scenes and designs share this rule.
+pub(crate) fn name_problems(what: &str, name: &str) -> Vec<String> {
+    let mut problems = Vec::new();
+    if name.chars().count() > MAX_NAME_CHARS {
+        problems.push(format!("the {what} name is longer than {MAX_NAME_CHARS} characters; shorten it"));
+    }
+    if name.chars().any(char::is_control) {
+        problems.push(format!("the {what} name {name:?} holds control characters; use printable characters only"));
+    }
+    problems
+}
 
 /// Every problem found in `scene`, errors and warnings, roughly in document order: the first
 /// [`MAX_LISTED_ISSUES`](crate::MAX_LISTED_ISSUES) listed (errors before warnings when there are more)
@@ -134,6 +151,7 @@ pub fn validate(scene: &Scene) -> IssueList<Issue> {
         );
     }
     out.unknown_fields("", &scene.extra);
+    out.name("name", "scene", &scene.name);
     if !check_counts(scene, &mut out) {
         // Every later check costs in proportion to these counts: a file far beyond them is answered
         // at once with what to cut, not after minutes of checking what will not run anyway.
@@ -333,6 +351,13 @@ impl Issues {
         }
     }
 
+    /// A name of the scene ([`name_problems`]).
+    fn name(&mut self, field: &str, what: &str, name: &str) {
+        for message in name_problems(what, name) {
+            self.error(field, message);
+        }
+    }
+
     /// Checks that `points` form a usable simple polygon; returns whether they do.
     fn polygon(&mut self, field: &str, points: &[Point]) -> bool {
         if points.len() > MAX_OUTLINE_VERTICES {
@@ -385,6 +410,7 @@ fn check_fixed_bodies(bodies: &[FixedBody], out: &mut Issues) -> Vec<bool> {
     let ok = bodies.iter().enumerate().map(|(i, b)| out.polygon(&format!("fixed_bodies[{i}].polygon"), &b.polygon));
     let ok = ok.collect();
     for (i, b) in bodies.iter().enumerate() {
+        out.name(&format!("fixed_bodies[{i}].name"), "body", &b.name);
         out.unknown_fields(&format!("fixed_bodies[{i}]."), &b.extra);
     }
     ok
@@ -452,6 +478,7 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
                 );
             }
         }
+        out.name(&format!("moving_bodies[{k}].name"), "body", &body.name);
         out.unknown_fields(&format!("moving_bodies[{k}]."), &body.extra);
     }
     ok
@@ -882,6 +909,20 @@ mod tests {
         let mut s = scene();
         s.moving_bodies[0].poses[1] = [2e6, 60.0, 0.0];
         assert_error(&s, "moving_bodies[0].poses[1]", "within ±1e6");
+    }
+
+    #[test]
+    fn names_are_short_and_free_of_control_characters() {
+        let mut s = scene();
+        s.name = "\u{1b}[2J".into();
+        assert_error(&s, "name", "control characters");
+        s.name = "x".repeat(MAX_NAME_CHARS + 1);
+        assert_error(&s, "name", "longer than 100");
+        let mut s = scene();
+        s.moving_bodies[0].name = "lid\u{1b}]0;x\u{7}".into();
+        s.fixed_bodies[0].name = "ground\n".into();
+        assert_error(&s, "moving_bodies[0].name", "control characters");
+        assert_error(&s, "fixed_bodies[0].name", "control characters");
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! four-bar motion task of the literature. Errors come from replaying each design file against its
 //! scene ([`analyze`]), independently of the engine's own cost terms.
 
-use crate::files::write_atomically;
+use crate::files::{make_subfolder, write_below};
 use crate::Failure;
 use linkwright_core::analysis::{analyze, AnalysisOptions, MotionAnalysis, Which};
 use linkwright_core::testbed::{known_scene, Family};
@@ -153,8 +153,7 @@ pub fn bench_known(
     json: bool,
 ) -> Result<(), Failure> {
     if let Some(dir) = save {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::Input(format!("error: cannot create {}: {e}", dir.display())))?;
+        make_subfolder(dir, "")?;
     }
     let (grid, scene_seeds) = grid(quick);
     let mut rows = Vec::new();
@@ -174,8 +173,8 @@ pub fn bench_known(
                         _ => family.name(),
                     };
                     let stem = format!("{name}_k{}_n{poses}_seed{scene_seed}", family.body_count());
-                    write_atomically(&dir.join(format!("{stem}.json")), known.scene.to_json().as_bytes())?;
-                    write_atomically(&dir.join(format!("{stem}.design.json")), design.to_json().as_bytes())?;
+                    write_below(dir, &format!("{stem}.json"), known.scene.to_json().as_bytes())?;
+                    write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
                 }
                 let analysis = analyze(&problem, &design, Which::Best, &AnalysisOptions::default()).ok();
                 let n = problem.pose_count;
