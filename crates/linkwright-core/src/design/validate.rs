@@ -468,6 +468,12 @@ mod tests {
     use crate::mechanism::{Part, Topology};
     use std::sync::Arc;
 
+    /// A scene may pin every joint a design file's linkage may have, and no more.
+    #[test]
+    fn a_scene_pins_at_most_the_joints_a_design_may_have() {
+        assert_eq!(crate::scene::limits::MAX_PINNED_JOINTS, MAX_JOINTS);
+    }
+
     /// A four-bar (joints p1, q0, q1, r0) that moves, and the same with a brace from the ground pivot
     /// q0 to the body's joint q1, which the dyad plan never reads (both ends are placed without it).
     fn four_bar(braced: bool) -> Mechanism {

@@ -92,8 +92,9 @@ pub mod limits {
     /// Longest `gravity` vector (see [`MIN_GRAVITY`]).
     pub const MAX_GRAVITY: f64 = 1e4;
     /// Most `pinned_joints`: a pin names a joint of the design, and a design file's linkage has at
-    /// most this many joints (the engine's largest, for eight moving bodies, has 25).
-    pub const MAX_PINNED_JOINTS: usize = crate::design::MAX_JOINTS;
+    /// most this many joints (`design::MAX_JOINTS`, which holds to it; the engine's largest, for
+    /// eight moving bodies, has 25).
+    pub const MAX_PINNED_JOINTS: usize = 256;
     /// Longest name (of a scene, a body, a design's joint or part), in characters: a label, not prose.
     pub const MAX_NAME_CHARS: usize = 100;
 }
