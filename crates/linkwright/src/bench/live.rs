@@ -82,7 +82,11 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
             seconds_median: super::quantile(&mut seconds, 0.5),
             seconds_p90: super::quantile(&mut seconds, 0.9),
         };
-        eprintln!("{row:?}");
+        // Progress while the next scene runs; the table comes at the end.
+        crate::terminal::warn(&format!(
+            "{}: {} steps designed, median {:.2} s",
+            row.scene, row.designed, row.seconds_median
+        ));
         rows.push(row);
     }
     if json {
