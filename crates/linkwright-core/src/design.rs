@@ -10,7 +10,6 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 mod validate;
-pub(crate) use validate::MAX_JOINTS;
 pub use validate::{DesignIssue, MAX_TRAVEL_DEG};
 
 /// The version string of the design format this crate reads and writes.
