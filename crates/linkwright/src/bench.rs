@@ -11,7 +11,8 @@ mod sizes;
 
 /// A scene file's name without its directory and `.json`: how the benchmarks' rows name it.
 fn scene_label(path: &std::path::Path) -> String {
-    path.file_stem().map_or(String::new(), |s| s.to_string_lossy().into_owned())
+    // Printed to the terminal: a file name's control characters are shown, not obeyed.
+    path.file_stem().map_or(String::new(), |s| crate::terminal::escaped(&s.to_string_lossy()))
 }
 
 /// `problem` designed as `linkwright design` designs it by default: an auto printed model with the

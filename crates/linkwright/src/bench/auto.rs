@@ -77,11 +77,8 @@ pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, j
             worst_auto_rel_d,
             worst_family_rel_d,
         };
-        // Progress while the next scene runs; the table comes at the end.
-        crate::terminal::warn(&format!(
-            "{}: auto {:.2} s, {} alone {:.2} s",
-            row.scene, row.seconds_auto, row.family, row.seconds_family
-        ));
+        // Progress while the next scene runs; the table comes at the end (labels are escaped).
+        eprintln!("{}: auto {:.2} s, {} alone {:.2} s", row.scene, row.seconds_auto, row.family, row.seconds_family);
         rows.push(row);
     }
     if json {

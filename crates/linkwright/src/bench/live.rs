@@ -82,11 +82,8 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
             seconds_median: super::quantile(&mut seconds, 0.5),
             seconds_p90: super::quantile(&mut seconds, 0.9),
         };
-        // Progress while the next scene runs; the table comes at the end.
-        crate::terminal::warn(&format!(
-            "{}: {} steps designed, median {:.2} s",
-            row.scene, row.designed, row.seconds_median
-        ));
+        // Progress while the next scene runs; the table comes at the end (labels are escaped).
+        eprintln!("{}: {} steps designed, median {:.2} s", row.scene, row.designed, row.seconds_median);
         rows.push(row);
     }
     if json {
