@@ -1,8 +1,9 @@
 //! Every CPU-heavy request (a design with its print pre-check, a fabrication, a check, a simulation, a
 //! picture) runs as a job: a few run at once on one shared thread pool, off the async threads that
 //! answer every other request; a short queue waits, anything beyond is refused; each client has at most
-//! one job of a kind; a job waits in line and runs for a bounded time (its deadline); and a job stops at
-//! its next check when its client goes away.
+//! one job of a kind; a job waits in line and runs for a bounded time (its deadline); a job stops at
+//! its next check when its client goes away; and past the server's memory budget no job is admitted
+//! and running ones stop.
 
 use super::error::ApiError;
 use axum::http::StatusCode;
