@@ -174,6 +174,25 @@ fn check_refuses_an_endless_travel_at_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A design whose links fit the bed but whose other parts do not (the reference scene `k1_limitation`:
+/// a slider-crank's 414 mm guide and a 447 mm connector at 1:1) is said to be unbuildable for those
+/// parts and the scale they need, not for links that fit.
+#[test]
+fn an_unbuildable_model_names_the_parts_that_do_not_fit() {
+    let dir = workdir("limitation");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../linkwright-core/tests/fixtures/reference-scenes/k1_limitation.json");
+    let out = dir.join("out");
+    let run = linkwright(&["design", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--samples", "5000"]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    let reason = file["build"]["reason"].as_str().unwrap();
+    assert_eq!(file["build"]["buildable"], false);
+    assert!(reason.contains("slider_guide") && reason.contains("fit the print bed in no turn at 1:1"), "{reason}");
+    assert!(reason.contains("print at 1:2 or smaller") && !reason.contains("a link can span"), "{reason}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A real object drawn at its real size designs as a printed model at a scale that fits; printed at
 /// 1:1 it is still designed, marked as not buildable that way with the reason in numbers, and the
 /// command offers its own flags (the library names only the build).

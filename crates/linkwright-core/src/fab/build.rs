@@ -338,6 +338,18 @@ impl BuildPlan {
         let (shortest, longest) = link_extremes(mechanism);
         let series = Ratio::series();
         match error {
+            // A link too long for the bed is said in its length; otherwise some other part (a body's
+            // connector, the frame) is what fits in no turn, and the check's own numbers say so.
+            Some(FabError::OffBed { parts, square_bed_mm, max_scale, .. })
+                if self.sizes.link_fits(scale, longest * mm) =>
+            {
+                let fits = series.iter().find(|r| r.factor() <= f * max_scale);
+                format!(
+                    "{parts} fit the print bed in no turn at {scale} (they need a bed {square_bed_mm:.0} mm square): \
+                     {}build it full size",
+                    fits.map_or(String::new(), |r| format!("print at {r} or smaller, or "))
+                )
+            }
             Some(FabError::OffBed { .. }) => {
                 let fits = series.iter().find(|r| self.sizes.link_fits(**r, longest * mm));
                 format!(
