@@ -95,6 +95,13 @@ fn a_simulation_answer_is_bounded_whatever_the_design() {
     assert!(bytes.len() < 6 << 20, "{} bytes", bytes.len());
     let answer: Value = serde_json::from_slice(&bytes).unwrap();
     assert!(answer.as_object().is_some_and(|a| !a.is_empty()));
+
+    // A picture asks for no steps: it is drawn in as many as the design may have.
+    let request = json!({"scene": scene, "design": design, "kind": "animation"});
+    let mut response = agent().post(server.at("/api/render")).send(request.to_string()).unwrap();
+    assert_eq!(response.status().as_u16(), 200);
+    let svg = response.body_mut().with_config().limit(64 << 20).read_to_string().unwrap();
+    assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"), "{svg:.200}");
 }
 
 /// `linkwright serve` under an address-space limit (a shell's `ulimit -v`), printing its URL first.

@@ -361,6 +361,17 @@ impl Compound {
         Replay::new(&self.problem, &self.design, self.which()?, steps)
             .map_err(|e| unreplayable("the design cannot be shown", &e))
     }
+
+    /// The mechanism asked for, simulated in `steps` crank steps, or in as many as a linkage of its
+    /// joints may have when that is fewer (for a picture, whose fineness nobody asked for).
+    fn replay_up_to(&self, steps: usize) -> Result<Replay, ApiError> {
+        let which = self.which()?;
+        match Replay::new(&self.problem, &self.design, which, steps) {
+            Err(AnalysisError::TooManySteps { most, .. }) => Replay::new(&self.problem, &self.design, which, most),
+            replayed => replayed,
+        }
+        .map_err(|e| unreplayable("the design cannot be shown", &e))
+    }
 }
 
 /// A 422 for a design that cannot be replayed, under the field at fault: `steps` when more were asked
@@ -662,7 +673,7 @@ pub async fn render(
         })?,
     };
     let picture = move |_: &Arc<StopFlag>| {
-        let replay = request.replay(720)?;
+        let replay = request.replay_up_to(720)?;
         let input = RenderInput {
             problem: &request.problem,
             mechanism: &replay.mechanism,
