@@ -4,7 +4,8 @@
 //! [`HEADER_READ_TIMEOUT`] (which also closes idle keep-alive connections); its body must arrive whole
 //! within [`BODY_READ_TIMEOUT`]; a body announced larger than [`MAX_BODY`] is refused before any
 //! of it is read; and an answer the client stops reading is dropped with its connection after
-//! [`WRITE_TIMEOUT`], not kept in memory for as long as the client stays connected. `axum::serve` has none of these knobs, hence the loop here over hyper's own builder.
+//! [`WRITE_TIMEOUT`], not kept in memory for as long as the client stays connected. `axum::serve`
+//! has none of these knobs, hence the loop here over hyper's own builder.
 
 use super::error::ApiError;
 use axum::body::Body;
