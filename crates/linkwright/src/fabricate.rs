@@ -2,7 +2,9 @@
 //! plates, profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`),
 //! with hooks for its counterbalance springs when asked.
 
-use crate::files::{read_problem, read_text, read_valid_design, remove_below, remove_folder_if_empty, write_below};
+use crate::files::{
+    check_output_paths, read_problem, read_text, read_valid_design, remove_below, remove_folder_if_empty, write_below,
+};
 use crate::Failure;
 use clap::Args;
 use linkwright_core::fab::{
@@ -121,10 +123,7 @@ pub fn run(
         fabricate_design_or_alternative(problem, &scene.units, design, settings).map_err(|e| cannot(&e))?
     };
     let bundle = bundle(&chosen.fabrication).map_err(|e| cannot(&e))?;
-    // The library names parts safely; a path that would leave the folder anyway is a bug, refused.
-    if let Some((path, _)) = bundle.files.iter().find(|(path, _)| !is_safe_relative_path(path)) {
-        return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
-    }
+    check_output_paths(bundle.files.iter().map(|(path, _)| path.as_str()))?;
     remove_previous(out_dir)?;
     for (path, bytes) in &bundle.files {
         write_below(out_dir, path, bytes)?;

@@ -245,14 +245,20 @@ pub fn existing_subfolder(root: &Path, relative: &str) -> Result<Option<PathBuf>
     subfolder(root, relative, false)
 }
 
-/// The folder part and the file name of a path relative to the output folder; a path that would leave
-/// the folder is refused as the bug it would be (the library names its files safely).
-fn split(relative: &str) -> Result<(&str, &str), Failure> {
-    if !is_safe_relative_path(relative) {
-        return Err(Failure::Input(format!(
-            "error: internal error: unsafe output path {relative:?}; please report it"
-        )));
+/// Refuses, as the bug it would be, any of `paths` (relative to the output folder) that would leave
+/// it: the library names its files safely. Checked before a run removes or writes anything.
+pub fn check_output_paths<'a>(mut paths: impl Iterator<Item = &'a str>) -> Result<(), Failure> {
+    match paths.find(|path| !is_safe_relative_path(path)) {
+        Some(path) => {
+            Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")))
+        }
+        None => Ok(()),
     }
+}
+
+/// The folder part and the file name of a path relative to the output folder ([`check_output_paths`]).
+fn split(relative: &str) -> Result<(&str, &str), Failure> {
+    check_output_paths(std::iter::once(relative))?;
     Ok(relative.rsplit_once('/').unwrap_or(("", relative)))
 }
 

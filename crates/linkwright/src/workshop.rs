@@ -2,7 +2,7 @@
 //! to cut, the cut list, the bill of materials, the assembly sheet and `workshop.json`, written into
 //! a folder.
 
-use crate::files::{read_text, remove_below, write_below};
+use crate::files::{check_output_paths, read_text, remove_below, write_below};
 use crate::Failure;
 use linkwright_core::fab::is_safe_relative_path;
 use linkwright_core::workshop::{files, plan, SpringOrder, WorkshopSettings};
@@ -28,10 +28,7 @@ pub fn write(
     let workshop = plan(problem, design, material, &settings)
         .map_err(|e| Failure::Input(format!("error: cannot plan the full-size build: {e}")))?;
     let written = files(&workshop);
-    // The library names its files safely; a path that would leave the folder anyway is a bug, refused.
-    if let Some((path, _)) = written.iter().find(|(path, _)| !is_safe_relative_path(path)) {
-        return Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")));
-    }
+    check_output_paths(written.iter().map(|(path, _)| path.as_str()))?;
     remove_previous(out_dir)?;
     for (path, bytes) in &written {
         write_below(out_dir, path, bytes)?;

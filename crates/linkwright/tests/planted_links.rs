@@ -9,7 +9,7 @@ use common::{design_truck, example, linkwright, text, workdir};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::os::unix::fs::symlink;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Every file under `dir` (links not followed) with its size and start, by relative path.
 fn contents(dir: &Path) -> BTreeMap<String, String> {
@@ -61,16 +61,25 @@ fn truck_design() -> String {
     format!("{}/tests/fixtures/hostile/escaped_part_name.json", env!("CARGO_MANIFEST_DIR"))
 }
 
-#[test]
-fn fabricate_replaces_a_planted_parts_link() {
-    let dir = workdir("parts");
+/// A work folder `name` holding a [`victim`] folder and an output folder `out` in which `link` (a
+/// relative path, its parent folders made) is a symbolic link to the victim's `target` subfolder (""
+/// for the victim itself): the work folder, the victim, the victim's contents and the output folder.
+fn planted(name: &str, link: &str, target: &str) -> (PathBuf, PathBuf, BTreeMap<String, String>, PathBuf) {
+    let dir = workdir(name);
     let victim = victim(&dir);
     let before = contents(&victim);
     let out = dir.join("out");
-    std::fs::create_dir_all(&out).unwrap();
+    let link = out.join(link);
+    std::fs::create_dir_all(link.parent().unwrap()).unwrap();
+    symlink(victim.join(target), link).unwrap();
+    (dir, victim, before, out)
+}
+
+#[test]
+fn fabricate_replaces_a_planted_parts_link() {
+    let (dir, victim, before, out) = planted("parts", "parts", "parts");
     // A planted manifest lists `parts/crank.stl`, which the link would make the victim's.
     std::fs::write(out.join("fabrication.json"), listing().to_string()).unwrap();
-    symlink(victim.join("parts"), out.join("parts")).unwrap();
 
     let run = linkwright(&["fabricate", &example("k1_garbage_truck"), &truck_design(), "-o", out.to_str().unwrap()]);
     assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
@@ -95,12 +104,7 @@ fn fabricate_into_a_linked_output_folder_writes_there() {
 
 #[test]
 fn design_fabricate_replaces_a_planted_fabrication_link() {
-    let dir = workdir("fabrication");
-    let victim = victim(&dir);
-    let before = contents(&victim);
-    let out = dir.join("out");
-    std::fs::create_dir_all(&out).unwrap();
-    symlink(&victim, out.join("fabrication")).unwrap();
+    let (dir, victim, before, out) = planted("fabrication", "fabrication", "");
 
     let run = design_truck(&out, &["--seed", "5", "--fabricate"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
@@ -112,12 +116,7 @@ fn design_fabricate_replaces_a_planted_fabrication_link() {
 
 #[test]
 fn a_design_run_drops_a_planted_fabrication_link_without_following_it() {
-    let dir = workdir("stale");
-    let victim = victim(&dir);
-    let before = contents(&victim);
-    let out = dir.join("out");
-    std::fs::create_dir_all(&out).unwrap();
-    symlink(&victim, out.join("fabrication")).unwrap();
+    let (dir, victim, before, out) = planted("stale", "fabrication", "");
 
     let run = design_truck(&out, &["--seed", "5"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
@@ -128,13 +127,8 @@ fn a_design_run_drops_a_planted_fabrication_link_without_following_it() {
 
 #[test]
 fn design_fabricate_replaces_a_planted_parts_link_inside_fabrication() {
-    let dir = workdir("deeper");
-    let victim = victim(&dir);
-    let before = contents(&victim);
-    let out = dir.join("out");
-    std::fs::create_dir_all(out.join("fabrication")).unwrap();
+    let (dir, victim, before, out) = planted("deeper", "fabrication/parts", "parts");
     std::fs::write(out.join("fabrication/fabrication.json"), listing().to_string()).unwrap();
-    symlink(victim.join("parts"), out.join("fabrication/parts")).unwrap();
 
     let run = design_truck(&out, &["--seed", "5", "--fabricate"]);
     assert!(run.status.success(), "{}", text(&run.stderr));

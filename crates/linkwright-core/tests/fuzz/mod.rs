@@ -223,8 +223,8 @@ pub fn mutate(text: &str, rng: &mut Rng) -> String {
 }
 
 /// Where `answer` holds a number that was not finite: serde writes NaN and infinities as `null`, so
-/// an array that mixes numbers with nulls, or a null where an object's sibling fields are numbers
-/// under the same name elsewhere, is one. The path of the first such value, if any.
+/// a null in an array that also holds numbers (a point, a row of torques) is one. The path of the
+/// first such value, if any. A lone numeric field written as null is not caught here.
 pub fn non_finite(answer: &Value) -> Option<String> {
     fn walk(v: &Value, path: &mut String) -> Option<String> {
         match v {
