@@ -6,6 +6,19 @@ use super::{Point, Vec2};
 ///
 /// Named by frames: `body_to_world` maps body-frame points into the world. Composition reads left to
 /// right with [`Rigid::then`]: `a.then(b)` applies `a` first.
+///
+/// # Examples
+///
+/// A quarter turn counter-clockwise about the origin takes the x axis to the y axis.
+///
+/// ```
+/// use linkwright_core::geom::{Point, Rigid, Vec2};
+/// use std::f64::consts::FRAC_PI_2;
+///
+/// let quarter_turn = Rigid::new(FRAC_PI_2, Vec2::ZERO);
+/// let p = quarter_turn.apply(Point::new(1.0, 0.0));
+/// assert!(p.distance(Point::new(0.0, 1.0)) < 1e-15);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rigid {
     /// Unwrapped: composing adds angles.
@@ -34,6 +47,16 @@ impl Rigid {
         Rigid { angle, isometry: Isometry { cos, sin, translation } }
     }
     /// A pose as the scene writes it: `[x, y, angle_deg]`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Rigid, Vec2};
+    ///
+    /// let body_to_world = Rigid::from_pose([10.0, 5.0, 90.0]);
+    /// assert_eq!(body_to_world.translation(), Vec2::new(10.0, 5.0));
+    /// assert!((body_to_world.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    /// ```
     pub fn from_pose(pose: [f64; 3]) -> Self {
         Rigid::new(pose[2].to_radians(), Vec2::new(pose[0], pose[1]))
     }
@@ -67,14 +90,58 @@ impl Rigid {
         self.isometry.unrotate(v)
     }
     /// Where the motion takes `p`.
+    ///
+    /// # Examples
+    ///
+    /// A body posed at `(10, 5)` and turned 90°: the point one unit along its x axis is one unit above
+    /// its origin in the world.
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Rigid};
+    ///
+    /// let body_to_world = Rigid::from_pose([10.0, 5.0, 90.0]);
+    /// let p_world = body_to_world.apply(Point::new(1.0, 0.0));
+    /// assert!(p_world.distance(Point::new(10.0, 6.0)) < 1e-12);
+    /// ```
     pub fn apply(&self, p: Point) -> Point {
         self.isometry.apply(p)
     }
     /// The motion that undoes this one.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Rigid};
+    ///
+    /// let body_to_world = Rigid::from_pose([10.0, 5.0, 90.0]);
+    /// let world_to_body = body_to_world.inverse();
+    /// // The body's origin, and the world point one unit above it, seen from the body.
+    /// assert!(world_to_body.apply(Point::new(10.0, 5.0)).distance(Point::ORIGIN) < 1e-12);
+    /// assert!(world_to_body.apply(Point::new(10.0, 6.0)).distance(Point::new(1.0, 0.0)) < 1e-12);
+    /// ```
     pub fn inverse(&self) -> Rigid {
         Rigid { angle: -self.angle, isometry: self.isometry.inverse() }
     }
     /// `self` followed by `next`.
+    ///
+    /// # Examples
+    ///
+    /// Order matters: a quarter turn then a shift along x is not the shift then the turn.
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Rigid, Vec2};
+    /// use std::f64::consts::FRAC_PI_2;
+    ///
+    /// let turn = Rigid::new(FRAC_PI_2, Vec2::ZERO);
+    /// let shift = Rigid::new(0.0, Vec2::new(2.0, 0.0));
+    /// let p = Point::new(1.0, 0.0);
+    /// // Turned to (0, 1), then shifted to (2, 1).
+    /// assert!(turn.then(&shift).apply(p).distance(Point::new(2.0, 1.0)) < 1e-15);
+    /// // Shifted to (3, 0), then turned to (0, 3).
+    /// assert!(shift.then(&turn).apply(p).distance(Point::new(0.0, 3.0)) < 1e-15);
+    /// // Angles add.
+    /// assert_eq!(turn.then(&turn).angle(), std::f64::consts::PI);
+    /// ```
     pub fn then(&self, next: &Rigid) -> Rigid {
         Rigid { angle: self.angle + next.angle, isometry: self.isometry.then(&next.isometry) }
     }
