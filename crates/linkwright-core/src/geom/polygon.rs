@@ -13,6 +13,17 @@ pub struct Aabb {
 
 impl Aabb {
     /// The box around `points`; `None` when there are none.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Aabb, Point};
+    ///
+    /// let b = Aabb::around([Point::new(1.0, 2.0), Point::new(4.0, -2.0), Point::new(2.0, 0.0)]).unwrap();
+    /// assert_eq!((b.min, b.max), (Point::new(1.0, -2.0), Point::new(4.0, 2.0)));
+    /// assert_eq!((b.width(), b.height(), b.diagonal()), (3.0, 4.0, 5.0));
+    /// assert!(Aabb::around([]).is_none());
+    /// ```
     pub fn around(points: impl IntoIterator<Item = Point>) -> Option<Aabb> {
         let mut it = points.into_iter();
         let first = it.next()?;
@@ -60,6 +71,19 @@ impl Aabb {
         p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
     }
     /// The distance between the two boxes (0 when they overlap).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Aabb, Point};
+    ///
+    /// let unit = Aabb { min: Point::new(0.0, 0.0), max: Point::new(1.0, 1.0) };
+    /// // Apart by 3 along x and 4 along y: the corners (1, 1) and (4, 5) are nearest.
+    /// let far = Aabb { min: Point::new(4.0, 5.0), max: Point::new(6.0, 6.0) };
+    /// assert_eq!(unit.gap(&far), 5.0);
+    /// let overlapping = Aabb { min: Point::new(0.5, 0.5), max: Point::new(2.0, 2.0) };
+    /// assert_eq!(unit.gap(&overlapping), 0.0);
+    /// ```
     pub fn gap(&self, o: &Aabb) -> f64 {
         self.gap_sq(o).sqrt()
     }
@@ -119,6 +143,18 @@ impl Polygon {
         (0..n).map(move |i| (self.vertices[i], self.vertices[(i + 1) % n]))
     }
     /// Signed area: positive for counter-clockwise vertices.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Polygon};
+    ///
+    /// let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| Point::new(x, y));
+    /// let counter_clockwise = Polygon::new(corners.to_vec());
+    /// assert_eq!(counter_clockwise.signed_area(), 1.0);
+    /// let clockwise = Polygon::new(corners.into_iter().rev().collect());
+    /// assert_eq!(clockwise.signed_area(), -1.0);
+    /// ```
     pub fn signed_area(&self) -> f64 {
         let n = self.vertices.len();
         let mut twice = 0.0;
@@ -130,6 +166,16 @@ impl Polygon {
         twice / 2.0
     }
     /// The enclosed area, whatever the winding.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Polygon};
+    ///
+    /// // A right triangle with legs 3 and 4, clockwise: half of 3 × 4.
+    /// let triangle = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(0.0, 4.0), Point::new(3.0, 0.0)]);
+    /// assert_eq!(triangle.area(), 6.0);
+    /// ```
     pub fn area(&self) -> f64 {
         self.signed_area().abs()
     }
@@ -138,6 +184,23 @@ impl Polygon {
         Aabb::around(self.vertices.iter().copied()).unwrap_or(Aabb { min: Point::ORIGIN, max: Point::ORIGIN })
     }
     /// The area centroid (the vertex mean for a degenerate polygon).
+    ///
+    /// # Examples
+    ///
+    /// A triangle's centroid is the mean of its vertices; an L made of three unit squares has its
+    /// centroid at the mean of the squares' centres.
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Polygon};
+    ///
+    /// let triangle = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(3.0, 0.0), Point::new(0.0, 3.0)]);
+    /// assert!(triangle.centroid().distance(Point::new(1.0, 1.0)) < 1e-15);
+    ///
+    /// let l_shape = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+    /// let l_shape = Polygon::new(l_shape.iter().map(|&(x, y)| Point::new(x, y)).collect());
+    /// // The squares' centres: (0.5, 0.5), (1.5, 0.5), (0.5, 1.5).
+    /// assert!(l_shape.centroid().distance(Point::new(2.5 / 3.0, 2.5 / 3.0)) < 1e-15);
+    /// ```
     pub fn centroid(&self) -> Point {
         let a = self.signed_area();
         let n = self.vertices.len();
@@ -159,6 +222,19 @@ impl Polygon {
     }
 
     /// Checks that this is a simple polygon with a positive area.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Polygon, PolygonError};
+    ///
+    /// let p = Point::new;
+    /// let square = Polygon::new(vec![p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)]);
+    /// assert_eq!(square.validate(), Ok(()));
+    /// // The same corners in another order: a bow-tie, whose first and third edges cross at (1, 1).
+    /// let bow_tie = Polygon::new(vec![p(0.0, 0.0), p(2.0, 2.0), p(2.0, 0.0), p(0.0, 2.0)]);
+    /// assert_eq!(bow_tie.validate(), Err(PolygonError::SelfIntersecting(0, 2)));
+    /// ```
     pub fn validate(&self) -> Result<(), PolygonError> {
         let n = self.vertices.len();
         if n < 3 {
@@ -231,6 +307,17 @@ impl Polygon {
     }
 
     /// Even-odd containment; points on the boundary may answer either way.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Polygon};
+    ///
+    /// let p = Point::new;
+    /// let square = Polygon::new(vec![p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)]);
+    /// assert!(square.contains(p(0.5, 0.5)));
+    /// assert!(!square.contains(p(1.5, 0.5)));
+    /// ```
     pub fn contains(&self, p: Point) -> bool {
         contains_raw(&self.vertices, p)
     }
@@ -239,6 +326,22 @@ impl Polygon {
         boundary_distance_raw(&self.vertices, p)
     }
     /// Distance from `p` to the polygon's area: 0 inside.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use linkwright_core::geom::{Point, Polygon};
+    ///
+    /// let p = Point::new;
+    /// let square = Polygon::new(vec![p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)]);
+    /// assert_eq!(square.distance(p(1.0, 1.0)), 0.0);
+    /// // Nearest to the right edge, x = 2.
+    /// assert_eq!(square.distance(p(3.0, 1.0)), 1.0);
+    /// // Nearest to the corner (2, 2): the hypotenuse of a 3-4-5 triangle.
+    /// assert_eq!(square.distance(p(5.0, 6.0)), 5.0);
+    /// // The distance to the boundary is not 0 inside.
+    /// assert_eq!(square.boundary_distance(p(1.0, 1.5)), 0.5);
+    /// ```
     pub fn distance(&self, p: Point) -> f64 {
         if self.contains(p) {
             0.0
