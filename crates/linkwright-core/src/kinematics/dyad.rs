@@ -49,6 +49,25 @@ pub enum DyadError {
 /// offset across `k·(b − a)`, so one division and one square root give the point. This is the
 /// simulation's innermost step; computed with the distance `|b − a|` itself, it took three divisions
 /// and two square roots.
+///
+/// # Examples
+///
+/// Centres 5 apart and radii 3 and 4: the joint closes a 3-4-5 right triangle, at (1.8, ±2.4).
+///
+/// ```
+/// use linkwright_core::geom::Point;
+/// use linkwright_core::kinematics::{circle_circle, Branch, DyadError};
+///
+/// let (a, b) = (Point::new(0.0, 0.0), Point::new(5.0, 0.0));
+/// // Left of the line from `a` to `b`, then right of it.
+/// let left = circle_circle(a, 3.0, b, 4.0, Branch::Positive)?;
+/// assert!(left.distance(Point::new(1.8, 2.4)) < 1e-12);
+/// let right = circle_circle(a, 3.0, b, 4.0, Branch::Negative)?;
+/// assert!(right.distance(Point::new(1.8, -2.4)) < 1e-12);
+/// // Links of 2 and 2 cannot span the 5 between the centres.
+/// assert_eq!(circle_circle(a, 2.0, b, 2.0, Branch::Positive), Err(DyadError::CirclesApart));
+/// # Ok::<(), DyadError>(())
+/// ```
 pub fn circle_circle(a: Point, ra: f64, b: Point, rb: f64, branch: Branch) -> Result<Point, DyadError> {
     let ab = b - a;
     let d_sq = ab.norm_sq();
@@ -65,6 +84,19 @@ pub fn circle_circle(a: Point, ra: f64, b: Point, rb: f64, branch: Branch) -> Re
 }
 
 /// Which branch `p` is on, relative to the centres `a`, `b` of a circle-circle dyad.
+///
+/// # Examples
+///
+/// ```
+/// use linkwright_core::geom::Point;
+/// use linkwright_core::kinematics::{circle_circle_branch, Branch};
+///
+/// let (a, b) = (Point::new(0.0, 0.0), Point::new(5.0, 0.0));
+/// assert_eq!(circle_circle_branch(a, b, Point::new(1.8, 2.4)), Branch::Positive);
+/// assert_eq!(circle_circle_branch(a, b, Point::new(1.8, -2.4)), Branch::Negative);
+/// // Seen from `b` towards `a`, left and right swap.
+/// assert_eq!(circle_circle_branch(b, a, Point::new(1.8, 2.4)), Branch::Negative);
+/// ```
 pub fn circle_circle_branch(a: Point, b: Point, p: Point) -> Branch {
     if (b - a).cross(p - a) >= 0.0 {
         Branch::Positive
