@@ -107,6 +107,45 @@ pub enum CompileError {
 }
 
 /// A compiled mechanism: fixed joints, the crank, and the dyad steps in solving order.
+///
+/// # Examples
+///
+/// A four-bar ([`Topology::chain`]`(1)`) compiled at its first pose and solved at another crank angle,
+/// where its coupler joint is where the loop-closure equations put it.
+///
+/// ```
+/// use linkwright_core::geom::Point;
+/// use linkwright_core::kinematics::Plan;
+/// use linkwright_core::{Mechanism, Topology};
+/// use std::sync::Arc;
+///
+/// // A crank-rocker four-bar at its first pose: ground pivots q0 = (0, 0) and r0 = (d, 0), the crank
+/// // q0–p1 (length a) at 90°, the coupler p1–q1 (length b) and the rocker r0–q1 (length c).
+/// let (a, b, c, d) = (1.0, 20f64.sqrt(), 3.0, 4.0);
+/// let topology = Topology::chain(1);
+/// let [q0, r0, p1, q1] = ["q0", "r0", "p1", "q1"].map(|name| topology.joint(name).unwrap());
+/// let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+/// joints[q0] = Point::new(0.0, 0.0);
+/// joints[r0] = Point::new(d, 0.0);
+/// joints[p1] = Point::new(0.0, a);
+/// joints[q1] = Point::new(d, c);
+/// let mechanism = Mechanism { topology: Arc::new(topology), joints, slider: None };
+/// let plan = Plan::compile(&mechanism)?;
+///
+/// let theta = 2.0; // radians
+/// let mut row = vec![Point::ORIGIN; plan.joint_count()];
+/// plan.solve(theta, &mut row).expect("a crank-rocker assembles at every crank angle");
+/// assert!(row[p1].distance(Point::new(a * f64::cos(theta), a * f64::sin(theta))) < 1e-15);
+///
+/// // Loop closure a·e^(iθ) + b·e^(iβ) = d + c·e^(iφ). Eliminating the coupler's angle β leaves
+/// // A·cos φ + B·sin φ + C = 0 for the rocker's angle φ; the + root is the circuit of the first pose.
+/// let big_a = 2.0 * c * (d - a * theta.cos());
+/// let big_b = -2.0 * a * c * theta.sin();
+/// let big_c = a * a - b * b + c * c + d * d - 2.0 * a * d * theta.cos();
+/// let phi = big_b.atan2(big_a) + (-big_c / big_a.hypot(big_b)).acos();
+/// assert!(row[q1].distance(Point::new(d + c * phi.cos(), c * phi.sin())) < 1e-12);
+/// # Ok::<(), linkwright_core::kinematics::CompileError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
     joint_count: usize,
@@ -436,6 +475,34 @@ impl Plan {
 
     /// The smallest transmission-angle margin (radians from 0 and π) over every dyad of a solved
     /// configuration. For a slider dyad the angle is between the rod and the normal of the guide.
+    ///
+    /// # Examples
+    ///
+    /// The four-bar of [`Plan`]'s example at its first pose: the transmission angle μ between its
+    /// coupler and rocker follows from the law of cosines in the triangle p1 q1 r0, whose side p1–r0
+    /// is √17.
+    ///
+    /// ```
+    /// # use linkwright_core::geom::Point;
+    /// # use linkwright_core::kinematics::Plan;
+    /// # use linkwright_core::{Mechanism, Topology};
+    /// # use std::sync::Arc;
+    /// #
+    /// # let (a, b, c, d) = (1.0, 20f64.sqrt(), 3.0, 4.0);
+    /// # let topology = Topology::chain(1);
+    /// # let [q0, r0, p1, q1] = ["q0", "r0", "p1", "q1"].map(|name| topology.joint(name).unwrap());
+    /// # let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+    /// # joints[q0] = Point::new(0.0, 0.0);
+    /// # joints[r0] = Point::new(d, 0.0);
+    /// # joints[p1] = Point::new(0.0, a);
+    /// # joints[q1] = Point::new(d, c);
+    /// # let mechanism = Mechanism { topology: Arc::new(topology), joints, slider: None };
+    /// # let plan = Plan::compile(&mechanism)?;
+    /// let cos_mu = (b * b + c * c - 17.0) / (2.0 * b * c); // 1/√5: μ is about 63.4°, its own margin
+    /// assert!((plan.min_transmission(&mechanism.joints) - cos_mu.acos()).abs() < 1e-12);
+    /// assert!((plan.min_transmission_sine(&mechanism.joints) - 2.0 / 5f64.sqrt()).abs() < 1e-15);
+    /// # Ok::<(), linkwright_core::kinematics::CompileError>(())
+    /// ```
     pub fn min_transmission(&self, pos: &[Point]) -> f64 {
         self.min_transmission_sine(pos).asin()
     }

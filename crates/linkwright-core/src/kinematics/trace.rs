@@ -36,6 +36,51 @@ impl Trace {
 
     /// Sweeps the crank from `from` to `to` (radians) in equal steps of at most `max_step`, keeping the
     /// plan's branches. Reuses `self`'s buffers.
+    ///
+    /// # Examples
+    ///
+    /// A full turn of the crank-rocker four-bar of [`Plan`]'s example, in steps of at most 1°. Its
+    /// rocker r0–q1 swings between the two positions where crank and coupler lie on one line, with
+    /// q0–q1 as long as b + a and b − a; the law of cosines in the triangle q0 r0 q1 gives the rocker's
+    /// angle at each.
+    ///
+    /// ```
+    /// # use linkwright_core::geom::Point;
+    /// # use linkwright_core::kinematics::Plan;
+    /// # use linkwright_core::{Mechanism, Topology};
+    /// # use std::sync::Arc;
+    /// # let (a, b, c, d) = (1.0, 20f64.sqrt(), 3.0, 4.0);
+    /// # let topology = Topology::chain(1);
+    /// # let [q0, r0, p1, q1] = ["q0", "r0", "p1", "q1"].map(|name| topology.joint(name).unwrap());
+    /// # let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+    /// # joints[q0] = Point::new(0.0, 0.0);
+    /// # joints[r0] = Point::new(d, 0.0);
+    /// # joints[p1] = Point::new(0.0, a);
+    /// # joints[q1] = Point::new(d, c);
+    /// # let mechanism = Mechanism { topology: Arc::new(topology), joints, slider: None };
+    /// # let plan = Plan::compile(&mechanism)?;
+    /// use linkwright_core::kinematics::Trace;
+    /// use std::f64::consts::TAU;
+    ///
+    /// let start = mechanism.crank_start();
+    /// let mut trace = Trace::new(plan.joint_count());
+    /// trace.sweep(&plan, start, start + TAU, 1f64.to_radians())?;
+    /// // A full turn brings the linkage back to its first pose.
+    /// assert!(trace.row(0)[q1].distance(Point::new(d, c)) < 1e-12);
+    /// assert!(trace.row(trace.len() - 1)[q1].distance(Point::new(d, c)) < 1e-12);
+    ///
+    /// // The rocker's angle at r0, from r0→q0, with q0–q1 of length e.
+    /// let rocker_angle = |e: f64| ((c * c + d * d - e * e) / (2.0 * c * d)).acos();
+    /// let swing = rocker_angle(b + a) - rocker_angle(b - a);
+    /// let (mut lowest, mut highest) = (f64::MAX, f64::MIN);
+    /// for s in 0..trace.len() {
+    ///     let angle = (trace.row(s)[q1] - trace.row(s)[r0]).angle();
+    ///     (lowest, highest) = (lowest.min(angle), highest.max(angle));
+    /// }
+    /// // Rows 1° apart miss the extremes, where the rocker stops, only by a second-order amount.
+    /// assert!((highest - lowest - swing).abs() < 1e-4, "{} != {swing}", highest - lowest);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn sweep(&mut self, plan: &Plan, from: f64, to: f64, max_step: f64) -> Result<(), SweepError> {
         let n = plan.joint_count();
         self.clear(n);
