@@ -63,6 +63,26 @@ pub struct Topology {
 
 impl Topology {
     /// The multi-bar chain for `k ≥ 1` moving bodies (paper §4.2, fig. 3).
+    ///
+    /// # Examples
+    ///
+    /// One moving body: the four-bar, its ground pivots `q0`, `r0`, the crank `q0–p1`, the body as its
+    /// coupler `p1–q1` and the rocker `r0–q1`. Every further body adds three joints.
+    ///
+    /// ```
+    /// use linkwright_core::Topology;
+    ///
+    /// let four_bar = Topology::chain(1);
+    /// assert_eq!(four_bar.joint_names, ["p1", "q0", "q1", "r0"]);
+    /// let parts: Vec<&str> = four_bar.parts.iter().map(|p| p.name.as_str()).collect();
+    /// assert_eq!(parts, ["ground", "body1", "crank", "rocker"]);
+    /// let ground = four_bar.fixed_joints();
+    /// assert_eq!(ground, [four_bar.joint("q0").unwrap(), four_bar.joint("r0").unwrap()]);
+    /// assert_eq!((four_bar.driver_pivot, four_bar.driver_tip), (ground[0], four_bar.joint("p1").unwrap()));
+    ///
+    /// // The Watt-I six-bar.
+    /// assert_eq!(Topology::chain(2).joint_count(), 7);
+    /// ```
     pub fn chain(k: usize) -> Topology {
         assert!(k >= 1, "a chain needs at least one moving body");
         let mut names = Vec::new();
@@ -103,6 +123,18 @@ impl Topology {
 
     /// The most poses through which this topology generally has exact solutions (paper §4.2,
     /// [`Family::max_exact_poses`]). With more poses, a linkage can only approximate the motion.
+    ///
+    /// # Examples
+    ///
+    /// A four-bar's coupler can be guided exactly through five poses (Burmester's bound).
+    ///
+    /// ```
+    /// use linkwright_core::Topology;
+    ///
+    /// assert_eq!(Topology::chain(1).max_exact_poses(), 5);
+    /// assert_eq!(Topology::chain(2).max_exact_poses(), 3);
+    /// assert_eq!(Topology::slider_crank().max_exact_poses(), 4);
+    /// ```
     pub fn max_exact_poses(&self) -> usize {
         self.mechanism_type.family().max_exact_poses(self.body_count)
     }
