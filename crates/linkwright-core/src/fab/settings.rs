@@ -211,7 +211,7 @@ impl PrintSettings {
     }
 
     /// Every setting that cannot work, each naming its field (empty when all is well): each within
-    /// the range a printer makes ([`Range`]), then the sizes that must fit one another.
+    /// the range a printer makes, then the sizes that must fit one another.
     pub fn validate(&self) -> Vec<SettingsIssue> {
         self.check(Scope::Printer)
     }
