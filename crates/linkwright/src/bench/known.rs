@@ -78,6 +78,9 @@ struct Row {
     known_cost: f64,
     /// Mean link length over the smallest body size d.
     mean_link_over_d: Option<f64>,
+    /// The design's smallest transmission angle along its travel, and the known linkage's, degrees.
+    min_transmission_deg: Option<f64>,
+    known_min_transmission_deg: f64,
     seconds: f64,
 }
 
@@ -94,6 +97,8 @@ struct Summary {
     max_worst_angle_deg: Option<f64>,
     max_last_position: Option<f64>,
     max_last_angle_deg: Option<f64>,
+    /// The median of the designs' smallest transmission angles, degrees.
+    median_min_transmission_deg: Option<f64>,
     seconds: f64,
 }
 
@@ -197,6 +202,8 @@ pub fn bench_known(
                     cost: design.metrics.as_ref().map(|m| m.cost),
                     known_cost: known.metrics.cost,
                     mean_link_over_d: design.metrics.as_ref().map(|m| m.size / d),
+                    min_transmission_deg: design.metrics.as_ref().map(|m| m.min_transmission_deg),
+                    known_min_transmission_deg: known.metrics.min_transmission_deg,
                     seconds: design.stats.seconds.total,
                 };
                 if !json {
@@ -281,6 +288,7 @@ fn summarize<'a>(label: String, rows: impl Iterator<Item = &'a Row> + Clone) -> 
         max_worst_angle_deg: max(worst_angle.into_iter()),
         max_last_position: max(rows.clone().filter_map(|r| r.last_position)),
         max_last_angle_deg: max(rows.clone().filter_map(|r| r.last_angle_deg)),
+        median_min_transmission_deg: median(rows.clone().filter_map(|r| r.min_transmission_deg).collect()),
         seconds: rows.map(|r| r.seconds).sum(),
     }
 }
@@ -290,11 +298,11 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 }
 
 const ROW_HEADER: &str =
-    "family          K  N seed valid  worst/d worst°   last/d  last°      cost  known  link/d  seconds";
+    "family          K  N seed valid  worst/d worst°   last/d  last°      cost  known  link/d   μ°  known μ°  seconds";
 
 fn row_line(r: &Row) -> String {
     format!(
-        "{:<14} {:>2} {:>2} {:>4} {:>5} {:>8} {:>6} {:>8} {:>6} {:>9} {:>6.2} {:>7} {:>8.3}",
+        "{:<14} {:>2} {:>2} {:>4} {:>5} {:>8} {:>6} {:>8} {:>6} {:>9} {:>6.2} {:>7} {:>4} {:>9.0} {:>8.3}",
         r.family,
         r.bodies,
         r.poses,
@@ -307,6 +315,8 @@ fn row_line(r: &Row) -> String {
         opt(r.cost, 2),
         r.known_cost,
         opt(r.mean_link_over_d, 2),
+        opt(r.min_transmission_deg, 0),
+        r.known_min_transmission_deg,
         r.seconds
     )
 }
@@ -315,7 +325,7 @@ fn table(report: &Report) -> String {
     let mut out = format!(
         "known mechanisms, synthesis seed {}, {} thread(s). Errors per pose and body: position = largest \
          outline-vertex distance / the body's d, angle in degrees; worst = over all poses, last = the last pose; \
-         known = the exact linkage's cost\n{ROW_HEADER}\n",
+         known = the exact linkage's cost, μ° = the smallest transmission angle\n{ROW_HEADER}\n",
         report.synthesis_seed, report.threads
     );
     for r in &report.rows {
@@ -323,7 +333,7 @@ fn table(report: &Report) -> String {
         out.push('\n');
     }
     out.push_str(&format!(
-        "\n{:<14} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8}\n",
+        "\n{:<14} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8}\n",
         "family",
         "valid",
         "med worst/d",
@@ -332,11 +342,12 @@ fn table(report: &Report) -> String {
         "max worst°",
         "max last/d",
         "max last°",
+        "med μ°",
         "seconds"
     ));
     for s in report.families.iter().chain(std::iter::once(&report.overall)) {
         out.push_str(&format!(
-            "{:<14} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8.2}\n",
+            "{:<14} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>8.2}\n",
             s.label,
             format!("{}/{}", s.valid, s.scenes),
             opt(s.median_worst_position, 3),
@@ -345,6 +356,7 @@ fn table(report: &Report) -> String {
             opt(s.max_worst_angle_deg, 1),
             opt(s.max_last_position, 3),
             opt(s.max_last_angle_deg, 1),
+            opt(s.median_min_transmission_deg, 1),
             s.seconds
         ));
     }
