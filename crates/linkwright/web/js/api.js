@@ -32,7 +32,15 @@ async function failure(response) {
   return new ApiError(response.status, body?.error || `${response.status} ${response.statusText}`, body?.issues || []);
 }
 
-async function request(method, path, body, { as = 'json', signal } = {}) {
+const UNREACHABLE = 'the Linkwright server does not answer: is `linkwright serve` still running?';
+
+/**
+ * Sends a request and returns the server's response once it says it succeeded. Every request of the
+ * app goes through here, so its errors are handled in one place: a refusal becomes an ApiError with
+ * the server's message and issues, a server that cannot be reached one with status 0; an abort
+ * (`signal`) is thrown as the AbortError it is.
+ */
+async function send(method, path, body, signal) {
   let response;
   try {
     response = await fetch(path, {
@@ -43,9 +51,15 @@ async function request(method, path, body, { as = 'json', signal } = {}) {
     });
   } catch (e) {
     if (e.name === 'AbortError') throw e;
-    throw new ApiError(0, 'the Linkwright server does not answer: is `linkwright serve` still running?');
+    throw new ApiError(0, UNREACHABLE);
   }
   if (!response.ok) throw await failure(response);
+  return response;
+}
+
+/** The answer to a request, read as JSON (or a blob, or text). */
+async function request(method, path, body, { as = 'json', signal } = {}) {
+  const response = await send(method, path, body, signal);
   return as === 'json' ? response.json() : as === 'blob' ? response.blob() : response.text();
 }
 
@@ -73,46 +87,40 @@ export const fabricate = (scene, design, settings, alternative = null, signal = 
 export const printDefaults = () => request('GET', '/api/fabricate/settings');
 
 /**
- * Runs a design with live progress: `on(event, data)` is called for every server-sent event
- * (accepted, queued, started, progress, design, cancelled, error). Resolves with the design, or null
- * when cancelled. Aborting `signal` closes the connection, which cancels the job on the server.
+ * Runs a design with live progress: `body` is the request (`{scene, print_settings, ...}`, as
+ * docs/api.md has it), `on(event, data)` is called for every server-sent event (accepted, queued,
+ * started, progress, analysis, design, cancelled, error). Resolves with the design, or null when
+ * cancelled. Aborting `signal` closes the connection, which cancels the job on the server.
  */
-export async function designStream(scene, on, signal) {
-  let response;
+export async function designStream(body, on, signal) {
   try {
-    response = await fetch('/api/design/stream', {
-      method: 'POST',
-      headers: { 'content-type': 'application/json', 'x-linkwright-client': CLIENT },
-      body: JSON.stringify(scene),
-      signal,
-    });
-  } catch (e) {
-    if (e.name === 'AbortError') return null;
-    throw new ApiError(0, 'the Linkwright server does not answer: is `linkwright serve` still running?');
-  }
-  if (!response.ok) throw await failure(response);
-  const reader = response.body.pipeThrough(new TextDecoderStream()).getReader();
-  let buffer = '';
-  let design = null;
-  try {
-    for (;;) {
-      const { value, done } = await reader.read();
-      if (done) break;
-      buffer += value;
-      let cut;
-      while ((cut = buffer.search(/\r?\n\r?\n/)) >= 0) {
-        const block = buffer.slice(0, cut);
-        buffer = buffer.slice(cut).replace(/^\r?\n\r?\n/, '');
-        const event = parseEvent(block);
-        if (!event) continue;
-        on(event.name, event.data);
-        if (event.name === 'design') design = event.data;
-        if (event.name === 'error') throw new ApiError(500, event.data?.error || 'the design failed');
-      }
-    }
+    const response = await send('POST', '/api/design/stream', body, signal);
+    return await readEvents(response, on);
   } catch (e) {
     if (e.name === 'AbortError') return null;
     throw e;
+  }
+}
+
+/** Reads a design stream's events to its end, calling `on` for each: the design it ends with, or null. */
+async function readEvents(response, on) {
+  const reader = response.body.pipeThrough(new TextDecoderStream()).getReader();
+  let buffer = '';
+  let design = null;
+  for (;;) {
+    const { value, done } = await reader.read();
+    if (done) break;
+    buffer += value;
+    let cut;
+    while ((cut = buffer.search(/\r?\n\r?\n/)) >= 0) {
+      const block = buffer.slice(0, cut);
+      buffer = buffer.slice(cut).replace(/^\r?\n\r?\n/, '');
+      const event = parseEvent(block);
+      if (!event) continue;
+      on(event.name, event.data);
+      if (event.name === 'design') design = event.data;
+      if (event.name === 'error') throw new ApiError(500, event.data?.error || 'the design failed');
+    }
   }
   return design;
 }
