@@ -535,7 +535,7 @@ async fn joint_editing(page: &Page) -> Result<()> {
     let ways = [(5.0, -3.0), (-5.0, 3.0), (3.0, 5.0), (-3.0, -5.0), (3.0, -2.0), (-3.0, 2.0), (2.0, 3.0), (-2.0, -3.0)];
     for (dx, dy) in ways {
         let start = floats(&eval(page, q0).await?);
-        eval(page, "(window.linkwright.store.ui.hint = '') || true").await?;
+        eval(page, "(window.linkwright.store.hint(''), true)").await?;
         drag(page, p, (p.0 + dx, p.1 + dy)).await?;
         until(page, settled, Duration::from_secs(10)).await?;
         // Moved, and sound (a drag may take the linkage into a collision: that one is undone too).

@@ -213,7 +213,7 @@ async function openFile(file) {
         ? `Opened ${file.name} with its design, as it was saved. (Undo brings the previous scene back.)`
         : `Opened ${file.name}. (Undo brings the previous scene back.)`);
     } else {
-      store.result = newResult({ design: got.design, scene: S.toFile(store.scene), key: geometryKey(store.scene) });
+      store.setResult(newResult({ design: got.design, scene: S.toFile(store.scene), key: geometryKey(store.scene) }));
       await results.select(null);
       store.setUi({ tab: 'result' });
       store.hint(`Opened the design ${file.name} for this scene.`);
@@ -226,9 +226,10 @@ async function openFile(file) {
 /** Shows a project's design (as saved: no redesign), its springs and its print settings. */
 async function openProject({ design, which, balance, print }) {
   if (print) results.fab.usePrint(print);
-  store.result = newResult({ design, scene: S.toFile(store.scene), key: geometryKey(store.scene) });
+  const shown = newResult({ design, scene: S.toFile(store.scene), key: geometryKey(store.scene) });
+  store.setResult(shown);
   await results.select(which);
-  if (balance && store.result?.analysis) store.result.balance = balance;
+  if (balance && shown.analysis) store.answerResult(shown, which, { balance });
   store.setUi({ tab: 'result' });
   results.verify();
 }
@@ -378,13 +379,11 @@ new ResizeObserver(resize).observe(root);
 
 // The Type menu and the progress labels name the engine's families.
 api.families().then((families) => {
-  store.families = families;
-  store.changed('families');
+  store.setFamilies(families);
 }, (e) => store.hint(`Cannot reach the engine: ${e.message}`));
 // The engine's limits on a scene: Insert pose stops at its most poses.
 api.status().then((status) => {
-  store.limits = status.limits;
-  store.changed('ui');
+  store.setLimits(status.limits);
 }, () => {});
 
 let saveTimer = null;
@@ -424,7 +423,7 @@ window.addEventListener('pagehide', persist);
 
 resize();
 if (saved) {
-  store.ui.pose = saved.pose || 0;
+  store.setUi({ pose: saved.pose || 0 });
   store.clampSelection();
   if (saved.view && Number.isFinite(saved.view.k)) {
     const { ox, oy, k, left, top } = saved.view;
@@ -435,11 +434,11 @@ if (saved) {
   } else fit();
   store.hint('Welcome back: your last scene is restored.');
   if (saved.live) {
-    store.ui.live = true;
+    store.setUi({ live: true });
     $('opt-live').checked = true;
   }
   if (saved.result?.design) {
-    store.result = newResult({ design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene) });
+    store.setResult(newResult({ design: saved.result.design, scene: saved.result.scene, key: geometryKey(store.scene) }));
     results.select(saved.result.which ?? null).then(() => results.verify());
   }
 } else {
@@ -448,7 +447,7 @@ if (saved) {
 }
 store.changed('scene');
 store.hint(store.ui.hint || toolHint(store.ui));
-if (S.isEmpty(store.scene)) store.ui.tool = 'rect';
+if (S.isEmpty(store.scene)) store.setUi({ tool: 'rect' });
 
 // For the end-to-end tests and the curious: the state, and the page position of a world point.
 window.linkwright = {

@@ -243,7 +243,7 @@ export class Results {
       const design = await api.designStream(request, (name, data) => this.onEvent(name, data), controller.signal);
       if (epoch !== this.epoch) return;
       if (design) {
-        this.store.result = newResult({ design, scene, key, warnings: this.warnings });
+        this.store.setResult(newResult({ design, scene, key, warnings: this.warnings }));
         await this.select(null);
         if (epoch !== this.epoch) return;
         this.store.setUi({ tab: 'result' });
@@ -332,7 +332,7 @@ export class Results {
           const r = newResult({ design: answer.design, scene: base.scene, key: base.key, warnings: base.warnings });
           Object.assign(r, { mechanism: answer.design.mechanism, motion: answer.design.motion, metrics: answer.design.metrics, analysis: answer.analysis });
           r.verified = { ok: answer.violations.length === 0, violations: answer.violations };
-          this.store.result = r;
+          this.store.setResult(r);
           this.canvas.rejectedJoint = null;
           drag.moved = true;
           const broken = answer.violations[0];
@@ -376,7 +376,7 @@ export class Results {
     this.progress(null);
     this.livePending = false;
     this.fab?.forget();
-    this.store.result = null;
+    this.store.setResult(null);
     this.error = null;
     this.good = null;
     this.setPlaying(false);
@@ -429,7 +429,7 @@ export class Results {
       if (epoch !== this.epoch) {
         // Another scene was opened: this answer is not for it.
       } else if (design?.status === 'ok') {
-        this.store.result = newResult({ design, scene, key });
+        this.store.setResult(newResult({ design, scene, key }));
         await this.select(null, { keep: true, analysis });
         this.verify();
         this.store.hint(`Live: redesigned for the moved pose (cost ${design.metrics.cost.toFixed(2)}).`);
@@ -473,14 +473,8 @@ export class Results {
   async select(which, { keep = false, analysis = null } = {}) {
     const r = this.result;
     if (!r) return;
-    if (r.which !== which) r.verified = null; // the check was of the mechanism shown before
-    r.which = which;
+    this.store.showMechanism(which);
     const d = r.design;
-    r.mechanism = which === null ? d.mechanism : d.alternatives[which]?.mechanism;
-    r.metrics = which === null ? d.metrics : d.alternatives[which]?.metrics;
-    r.motion = which === null ? d.motion : d.alternatives[which]?.motion;
-    r.analysis = null;
-    r.balance = null; // the springs were for the mechanism shown before
     this.plot = null;
     this.torque = null;
     if (d.status !== 'ok' || !r.mechanism) {
@@ -491,8 +485,7 @@ export class Results {
       const before = this.frameCount();
       const got = analysis || await api.simulate(r.scene, d, which);
       // Another design (or mechanism) shown meanwhile: this analysis is not for it.
-      if (this.result !== r || r.which !== which) return;
-      r.analysis = got;
+      if (!this.store.answerResult(r, which, { analysis: got })) return;
       const held = keep && this.heldPose != null ? r.analysis.poses?.[this.heldPose] : null;
       if (held) {
         this.pos = held.frame;
@@ -503,14 +496,13 @@ export class Results {
         this.pos = 0;
         this.dir = 1;
       }
-      this.store.ui.showResult = true;
       // A live result arrives while a pose is being dragged: that drag keeps its pose.
-      if (!keep) this.store.ui.selection = null;
+      this.store.setUi(keep ? { showResult: true } : { showResult: true, selection: null });
       this.sync();
       this.drawFrame();
       this.setPlaying(!held);
     } catch (e) {
-      if (this.result !== r || r.which !== which) return;
+      if (!this.store.isShown(r, which)) return;
       this.error = { message: e.message, issues: e.issues || [] };
     }
     this.store.changed('result');
@@ -541,11 +533,9 @@ export class Results {
           this.store.hint('A mass is a number of kilograms, more than 0 and at most 100000; leave it empty to weigh the body in its material.');
           return;
         }
-        const set = (b) => { if (text === '') delete b.mass_kg; else b.mass_kg = v; };
-        this.store.edit(`mass of ${body.name}`, (s) => { set(s.moving_bodies[i]); });
         // The design stays (a mass changes no geometry): its torque is weighed again, and springs
         // found for the old masses are dropped (the status line says so).
-        set(r.scene.moving_bodies[i]);
+        this.store.setBodyMass(r, i, text === '' ? null : v);
         const hadSprings = !!r.balance;
         this.select(r.which, { keep: true }).then(() => this.store.hint(`${body.name} weighs ${text === '' ? 'what its material does' : `${v} kg`} now: the torque is weighed again${hadSprings ? '; the springs were for the old masses, so press Suggest springs again' : ''}.`));
       };
@@ -576,12 +566,13 @@ export class Results {
   async suggestSprings() {
     const r = this.result;
     if (!r?.analysis || this.balancing) return;
+    const which = r.which;
     this.balancing = true;
     this.store.hint('Looking for counterbalance springs…');
     try {
-      const answer = await api.balance(r.scene, r.design, r.which);
-      if (this.result === r) {
-        r.balance = answer;
+      const answer = await api.balance(r.scene, r.design, which);
+      // Springs for a mechanism no longer shown are dropped.
+      if (this.store.answerResult(r, which, { balance: answer })) {
         this.store.hint(answer.springs.length
           ? `Springs found: the peak torque drops by ${springCut(answer)}%.`
           : NO_SPRING);
@@ -608,9 +599,8 @@ export class Results {
     } catch (e) {
       answer = { ok: false, violations: [{ constraint: 'check', message: e.message }] };
     }
-    if (this.result !== r || r.which !== which) return; // another design or mechanism is shown by now
-    r.verified = answer;
-    this.store.changed('result');
+    // Dropped when another design or mechanism is shown by now.
+    this.store.answerResult(r, which, { verified: answer });
   }
 
   async download(kind) {

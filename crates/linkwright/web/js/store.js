@@ -1,6 +1,7 @@
-// The app's state and its undo history. The scene (the document) changes only through `edit` or a
-// `begin`/`update`/`end` gesture, each of which is one undo step; so does a design whose joints the
-// person moved (`editResult`); everything else is view state.
+// The app's state and its undo history. Every change of the state goes through a method here. The
+// scene (the document) changes only through `edit` or a `begin`/`update`/`end` gesture, each of which
+// is one undo step; so does a design whose joints the person moved (`editResult`); everything else is
+// view state.
 
 const HISTORY = 200;
 
@@ -38,8 +39,8 @@ export class Store {
       hint: '',
     };
     this.families = []; // the engine's mechanism families (GET /api/families), once loaded
+    this.limits = null; // the engine's limits on a scene (GET /api/status), once loaded
     this.result = null; // a design result (see `newResult`), or null
-    this.job = null; // {stage, fraction, bestCost, controller, queued}
     this.undoStack = [];
     this.redoStack = [];
     this.listeners = new Set();
@@ -181,6 +182,73 @@ export class Store {
       avoid: () => sel.index < (s.avoid_regions || []).length,
     }[sel.kind];
     if (!exists || !exists()) this.ui.selection = null;
+  }
+
+  /** The engine's mechanism families, loaded. */
+  setFamilies(families) {
+    this.families = families;
+    this.changed('families');
+  }
+
+  /** The engine's limits on a scene, loaded. */
+  setLimits(limits) {
+    this.limits = limits;
+    this.changed('ui');
+  }
+
+  /**
+   * Puts up `result` (see `newResult`; null: none) as the design shown. The listeners are told by the
+   * caller once it can be drawn: a new result's motion comes with its analysis (`answerResult`), and
+   * until then the drawing keeps the one shown before rather than blinking.
+   */
+  setResult(result) {
+    this.result = result;
+  }
+
+  /**
+   * Shows mechanism `which` of the result (null: the design itself, k: its alternative k): its
+   * mechanism, metrics and motion. Its analysis and springs were of the mechanism shown before, so
+   * they go, and so does the check when another mechanism is picked. Told as `setResult` is.
+   */
+  showMechanism(which) {
+    const r = this.result;
+    if (!r) return;
+    const d = r.design;
+    const shown = which === null ? d : d.alternatives[which];
+    if (r.which !== which) r.verified = null;
+    Object.assign(r, { which, mechanism: shown?.mechanism, metrics: shown?.metrics, motion: shown?.motion, analysis: null, balance: null });
+  }
+
+  /** True while `result` is the one shown, with mechanism `which`: an answer asked for it still
+   * belongs to what is on screen. */
+  isShown(result, which) {
+    return this.result === result && result.which === which;
+  }
+
+  /**
+   * What the server answered for `result`'s mechanism `which` (its `analysis`, the `verified` check,
+   * the `balance` springs), kept when they are still shown; false (and dropped) when another design or
+   * mechanism is shown by now.
+   */
+  answerResult(result, which, answer) {
+    if (!this.isShown(result, which)) return false;
+    Object.assign(result, answer);
+    this.changed('result');
+    return true;
+  }
+
+  /**
+   * Moving body `index`'s mass in kilograms (null: weighed in its material), as one undo step of the
+   * scene; the scene `result` was designed for takes it too, since a mass changes no geometry: the
+   * design stays and is weighed again.
+   */
+  setBodyMass(result, index, massKg) {
+    const set = (body) => {
+      if (massKg === null) delete body.mass_kg;
+      else body.mass_kg = massKg;
+    };
+    this.edit(`mass of ${result.scene.moving_bodies[index].name}`, (s) => { set(s.moving_bodies[index]); });
+    set(result.scene.moving_bodies[index]);
   }
 
   setUi(patch) {
