@@ -240,7 +240,7 @@ export class Results {
     this.sync();
     try {
       const request = { scene, print_settings: savedPrintSettings() };
-      const design = await api.designStream(request, (name, data) => this.onEvent(name, data), controller.signal);
+      const design = await api.designStream(request, (event) => this.onEvent(event), controller.signal);
       if (epoch !== this.epoch) return;
       if (design) {
         this.store.setResult(newResult({ design, scene, key, warnings: this.warnings }));
@@ -425,7 +425,7 @@ export class Results {
       let analysis = null;
       // The design that follows the one shown, not the cheapest: a small drag moves the linkage a little.
       const request = { scene, from: this.lastGood(), print_settings: savedPrintSettings(), analysis: true, follow: true };
-      const design = await api.designStream(request, (name, data) => { if (name === 'analysis') analysis = data; });
+      const design = await api.designStream(request, (event) => { if (event.name === 'analysis') analysis = event.data; });
       if (epoch !== this.epoch) {
         // Another scene was opened: this answer is not for it.
       } else if (design?.status === 'ok') {
@@ -449,11 +449,12 @@ export class Results {
     }
   }
 
-  onEvent(name, data) {
-    if (name === 'accepted') this.warnings = data.warnings || [];
-    if (name === 'queued') this.progress({ fraction: 0, text: 'Waiting for the server (another design is running)…' });
-    if (name === 'started') this.progress({ fraction: 0, text: 'Starting…' });
-    if (name === 'progress') {
+  onEvent(event) {
+    if (event.name === 'accepted') this.warnings = event.data.warnings || [];
+    if (event.name === 'queued') this.progress({ fraction: 0, text: 'Waiting for the server (another design is running)…' });
+    if (event.name === 'started') this.progress({ fraction: 0, text: 'Starting…' });
+    if (event.name === 'progress') {
+      const data = event.data;
       const pct = Math.round(data.fraction * 100);
       const best = data.best_cost == null ? '' : ` · best cost ${data.best_cost.toFixed(3)}`;
       this.progress({ fraction: data.fraction, text: `${STAGES[data.stage] || data.stage} (${familyLabel(this.store, data.mechanism)}) ${pct}%${best}` });
