@@ -147,12 +147,12 @@ function niceCeil(x) {
  * The torque the crank needs to hold the parts against gravity, against the crank angle, with the
  * poses marked, zero drawn, and a cursor at the current frame (returned for updates); with the
  * springs of `balance`, the torque with them too.
- * @param {Analysis & {torque: import('./api.js').Torque}} analysis
+ * @param {Analysis} analysis  the motion (its poses are marked)
+ * @param {import('./api.js').Torque} t  its torque
  * @param {Balance | null} [balance]
  * @returns {CursorPlot}
  */
-export function torquePlot(analysis, balance = null) {
-  const t = analysis.torque;
+export function torquePlot(analysis, t, balance = null) {
   const xs = t.crank_deg;
   const x0 = xs[0], x1 = xs[xs.length - 1] === x0 ? x0 + 1 : xs[xs.length - 1];
   // A printed model needs thousandths of a newton-metre: N·mm reads better there.

@@ -127,6 +127,21 @@ export function toFile(scene) {
   return s;
 }
 
+/**
+ * What a design depends on in the drawing (settings may change without hiding it): a design is
+ * fresh while the scene's key is the one it was made for.
+ * @param {Scene} scene
+ */
+export function geometryKey(scene) {
+  return JSON.stringify([
+    // A body's mass (or its material and thickness) changes the torque, not the design.
+    // Nor does a body's name.
+    scene.fixed_bodies.map(({ name, ...body }) => body),
+    scene.moving_bodies.map(({ mass_kg, material, thickness, name, ...body }) => body), scene.linkage_region || null,
+    scene.avoid_regions || [], scene.must_hit_poses || [],
+  ]);
+}
+
 /** The number of poses (of every moving body). @type {(scene: Scene) => number} */
 export const poseCount = (scene) => (scene.moving_bodies.length ? scene.moving_bodies[0].poses.length : 0);
 
