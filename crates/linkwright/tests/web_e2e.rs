@@ -910,7 +910,8 @@ async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Res
     let (mx, my) = (x + 3.0 * STEPS as f64, y - 2.0 * STEPS as f64);
     mouse(page, DispatchMouseEventType::MouseReleased, mx, my, 0).await?;
     // Let go, a design shown plays again (the last step's pose may have no design: nothing is shown).
-    let playing = "(() => { const R = window.linkwright.results; return R.player.playing || !R.canvas.showingResult(); })()";
+    let playing =
+        "(() => { const R = window.linkwright.results; return R.player.playing || !R.canvas.showingResult(); })()";
     until(page, playing, Duration::from_secs(20)).await?;
     latencies.sort_by(f64::total_cmp);
     eprintln!(

@@ -45,7 +45,11 @@ fn printed(out: &Output) -> String {
 fn the_web_app_type_checks() {
     let Some(tsc) = tsc("the_web_app_type_checks") else { return };
     let out = check(&tsc, &root().join("tsconfig.json"));
-    assert!(out.status.success(), "tsc finds type errors in the web app (crates/linkwright/web/js):\n{}", printed(&out));
+    assert!(
+        out.status.success(),
+        "tsc finds type errors in the web app (crates/linkwright/web/js):\n{}",
+        printed(&out)
+    );
 }
 
 /// The same settings refuse a module with a type error, so a clean check above means the modules
@@ -60,13 +64,17 @@ fn the_type_check_refuses_a_planted_error() {
     let config = serde_json::json!({ "extends": settings, "include": ["planted.js"] });
     std::fs::write(dir.join("tsconfig.json"), config.to_string()).unwrap();
     // A parameter without a type (strict's noImplicitAny) and a string where a number goes (checkJs).
-    let planted = "/** @param {number} x */\nexport const twice = (x) => 2 * x;\nexport const loose = (y) => y;\ntwice('2');\n";
+    let planted =
+        "/** @param {number} x */\nexport const twice = (x) => 2 * x;\nexport const loose = (y) => y;\ntwice('2');\n";
     std::fs::write(dir.join("planted.js"), planted).unwrap();
     let out = check(&tsc, &dir.join("tsconfig.json"));
     let text = printed(&out);
     let _ = std::fs::remove_dir_all(&dir);
     assert!(!out.status.success(), "tsc accepts a module with type errors:\n{text}");
-    assert!(text.contains("planted.js(3,") && text.contains("planted.js(4,"), "tsc does not name both planted errors:\n{text}");
+    assert!(
+        text.contains("planted.js(3,") && text.contains("planted.js(4,"),
+        "tsc does not name both planted errors:\n{text}"
+    );
 }
 
 #[test]
