@@ -101,10 +101,12 @@ export class JointEditor {
       try {
         const answer = await api.edit(base.scene, base.design, base.which, { [drag.name]: w });
         if (answer.design && answer.analysis) {
-          const r = newResult({ design: answer.design, scene: base.scene, key: base.key, warnings: base.warnings });
-          Object.assign(r, { mechanism: answer.design.mechanism, motion: answer.design.motion, metrics: answer.design.metrics, analysis: answer.analysis });
-          r.verified = { ok: answer.violations.length === 0, violations: answer.violations };
-          this.store.setResult(r);
+          const { mechanism, motion, metrics } = answer.design;
+          this.store.setResult({
+            ...newResult({ design: answer.design, scene: base.scene, key: base.key, warnings: base.warnings }),
+            mechanism, motion, metrics, analysis: answer.analysis,
+            verified: { ok: answer.violations.length === 0, violations: answer.violations },
+          });
           this.canvas.rejectedJoint = null;
           drag.moved = true;
           const broken = answer.violations[0];
