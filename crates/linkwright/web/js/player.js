@@ -149,7 +149,8 @@ export class Player {
   }
 
   /**
-   * Starts the motion of a design just shown at `pos` (going forward when `fromStart`).
+   * Moves the animation to fractional frame `pos`, to be drawn by the next `drawFrame` (with
+   * `fromStart`, it goes forward from there).
    * @param {number} pos
    * @param {{fromStart?: boolean}} [options]
    */
