@@ -441,7 +441,7 @@ async fn joint_edit_undone_and_redone(page: &Page) -> Result<()> {
     let name = eval(page, "document.querySelector('#tab-result input[data-joint-x]').dataset.jointX").await?;
     let name = name.as_str().ok_or("a joint in the Joints table")?.to_string();
     let settled = format!(
-        "!window.linkwright.results.editBusy && /^Joint {name} (at|cannot go)/.test(window.linkwright.store.ui.hint)"
+        "!window.linkwright.results.joints.editBusy && /^Joint {name} (at|cannot go)/.test(window.linkwright.store.ui.hint)"
     );
     let mut edited = None;
     for step in [0.3, -0.3, 0.6, -0.6, 1.0, -1.0] {

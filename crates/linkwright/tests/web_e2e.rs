@@ -455,7 +455,7 @@ async fn garbage_truck(page: &Page, downloads: &Path, shots: Option<&Path>) -> R
     assert!(drawn > 5000, "the 3D preview shows the parts: {drawn} pixels");
     let frames = "Number(document.getElementById('view3d-canvas').dataset.frames)";
     // Playing (a joint edit before leaves the animation waiting at the first pose).
-    if eval(page, "window.linkwright.results.playing").await? != Value::Bool(true) {
+    if eval(page, "window.linkwright.results.player.playing").await? != Value::Bool(true) {
         click(page, "#btn-play").await?;
     }
     let before = eval(page, frames).await?.as_u64().unwrap_or(0);
@@ -530,12 +530,12 @@ async fn joint_editing(page: &Page) -> Result<()> {
     // A few pixels one way; where the linkage would lock up or collide there (the app says so, and
     // the drag is undone), the other ways in turn.
     let settled =
-        "!window.linkwright.results.editBusy && /^Joint q0 (at|cannot go)/.test(window.linkwright.store.ui.hint)";
+        "!window.linkwright.results.joints.editBusy && /^Joint q0 (at|cannot go)/.test(window.linkwright.store.ui.hint)";
     let mut before = before;
     let ways = [(5.0, -3.0), (-5.0, 3.0), (3.0, 5.0), (-3.0, -5.0), (3.0, -2.0), (-3.0, 2.0), (2.0, 3.0), (-2.0, -3.0)];
     for (dx, dy) in ways {
         let start = floats(&eval(page, q0).await?);
-        eval(page, "(window.linkwright.store.ui.hint = '') || true").await?;
+        eval(page, "(window.linkwright.store.hint(''), true)").await?;
         drag(page, p, (p.0 + dx, p.1 + dy)).await?;
         until(page, settled, Duration::from_secs(10)).await?;
         // Moved, and sound (a drag may take the linkage into a collision: that one is undone too).
@@ -552,7 +552,7 @@ async fn joint_editing(page: &Page) -> Result<()> {
     }
     let moved = format!(
         "(() => {{ const r = window.linkwright.store.result; return r.analysis && r.verified && \
-         r.mechanism.joints.q0[0] !== {} && !window.linkwright.results.editBusy; }})()",
+         r.mechanism.joints.q0[0] !== {} && !window.linkwright.results.joints.editBusy; }})()",
         before[0]
     );
     until(page, &moved, Duration::from_secs(10)).await?;
@@ -583,7 +583,7 @@ async fn joint_editing(page: &Page) -> Result<()> {
     click(page, "[data-tab=result]").await?;
     let typed = ((after[0] + 0.4) * 10.0).round() / 10.0;
     type_joint_x(page, typed).await?;
-    until(page, &format!("{q0}[0] === {typed} && !window.linkwright.results.editBusy"), Duration::from_secs(10))
+    until(page, &format!("{q0}[0] === {typed} && !window.linkwright.results.joints.editBusy"), Duration::from_secs(10))
         .await?;
     // Pinned where it is.
     click(page, "[data-pin=q0]").await?;
@@ -685,7 +685,7 @@ async fn torque_plot(page: &Page) -> Result<()> {
     let drawn = "(() => { const s = document.querySelector('[data-spring]'); return s ? s.outerHTML : null; })()";
     let before = eval(page, drawn).await?;
     assert!(before.is_string(), "a spring is drawn on the canvas");
-    eval(page, "(() => { const R = window.linkwright.results; R.setPlaying(false); R.pos = R.frameCount() - 1; R.drawFrame(); return true; })()").await?;
+    eval(page, "(() => { const P = window.linkwright.results.player; P.setPlaying(false); P.goTo(P.frameCount() - 1); P.drawFrame(); return true; })()").await?;
     assert_ne!(eval(page, drawn).await?, before, "the spring moves with the linkage");
     Ok(())
 }
@@ -881,7 +881,7 @@ async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Res
     mouse(page, DispatchMouseEventType::MousePressed, x, y, 1).await?;
     let arrived = format!(
         "new Promise((resolve) => {{ const lw = window.linkwright; const t0 = window.__lastMove; \
-         const check = () => {{ const a = lw.results.liveAnswered, now = JSON.stringify(lw.store.scene.moving_bodies[{body}].poses[{pose}]); \
+         const check = () => {{ const a = lw.results.live.liveAnswered, now = JSON.stringify(lw.store.scene.moving_bodies[{body}].poses[{pose}]); \
          if (a && JSON.stringify(a.moving_bodies[{body}]?.poses[{pose}]) === now) resolve(performance.now() - t0); \
          else if (performance.now() - t0 > 20000) resolve(-1); else requestAnimationFrame(check); }}; check(); }})"
     );
@@ -894,12 +894,12 @@ async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Res
         assert!(ms >= 0.0, "{label}: no answer for step {step} within 20 s");
         latencies.push(ms);
         let fresh = "(() => { const lw = window.linkwright, r = lw.store.result; \
-                     return !!r && JSON.stringify(r.scene.moving_bodies) === JSON.stringify(lw.results.liveAnswered.moving_bodies); })()";
+                     return !!r && JSON.stringify(r.scene.moving_bodies) === JSON.stringify(lw.results.live.liveAnswered.moving_bodies); })()";
         designed += usize::from(eval(page, fresh).await? == Value::Bool(true));
         // While the pose is held, the design shown waits where it reaches that pose.
         let held = format!(
             "(() => {{ const R = window.linkwright.results, a = window.linkwright.store.result.analysis; \
-             return !R.playing && Math.abs(R.pos - a.poses[{pose}].frame) < 1e-9; }})()"
+             return !R.player.playing && Math.abs(R.player.pos - a.poses[{pose}].frame) < 1e-9; }})()"
         );
         assert_eq!(eval(page, &held).await?, Value::Bool(true), "{label}: step {step} does not hold at the pose");
         // The linkage followed stays of its family, and no "drawing changed" warning shows meanwhile.
@@ -910,7 +910,8 @@ async fn live_latency(page: &Page, label: &str, body: usize, pose: usize) -> Res
     let (mx, my) = (x + 3.0 * STEPS as f64, y - 2.0 * STEPS as f64);
     mouse(page, DispatchMouseEventType::MouseReleased, mx, my, 0).await?;
     // Let go, a design shown plays again (the last step's pose may have no design: nothing is shown).
-    let playing = "(() => { const R = window.linkwright.results; return R.playing || !R.canvas.showingResult(); })()";
+    let playing =
+        "(() => { const R = window.linkwright.results; return R.player.playing || !R.canvas.showingResult(); })()";
     until(page, playing, Duration::from_secs(20)).await?;
     latencies.sort_by(f64::total_cmp);
     eprintln!(

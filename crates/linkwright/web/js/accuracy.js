@@ -1,3 +1,4 @@
+// @ts-check
 // How closely a design reaches the drawn poses: per pose and body, the largest corner distance (in the
 // scene's units and as a share of the body's size d) and the angle still missing. A design/1 file may
 // carry these in `metrics.pose_errors`; older files do not, and then they come from the analysis the app
@@ -7,6 +8,25 @@ import { bounds } from './geom.js';
 import { html } from './svg.js';
 
 /**
+ * @typedef {import('./scene.js').Scene} Scene
+ * @typedef {import('./geom.js').Polygon} Polygon
+ * @typedef {import('./api.js').Metrics} Metrics
+ * @typedef {import('./api.js').Analysis} Analysis
+ */
+
+/**
+ * @typedef {{position: number, rel: number, angle: number}} Miss  How far a body is from a pose: the
+ *   largest corner distance (scene units), it over the body's size d, the angle still missing (°).
+ * @typedef {Miss & {pose: number, body: number}} MissRow  A body's miss at a pose (both from 0).
+ * @typedef {object} PoseErrors  The pose errors of the mechanism shown.
+ * @property {MissRow[]} rows  every pose and body
+ * @property {MissRow} worst  the row missed most
+ * @property {Miss} max  each field the largest over all rows
+ * @property {boolean} reached  every pose is reached (see REACHED)
+ * @property {import('./api.js').Metrics['far_from_pose'] | null} far  the engine's mark of a design far from a pose
+ */
+
+/**
  * Within these a pose counts as reached. The synthesis perturbs the intermediate poses on purpose
  * (`pose_tolerance`, paper §4.1) and refines the joints afterwards, so a design rarely hits a pose
  * exactly; a miss under 1% of the body's size and under 1° is too small to see at the scale of the
@@ -14,15 +34,31 @@ import { html } from './svg.js';
  */
 export const REACHED = { positionRelD: 0.01, angleDeg: 1 };
 
-/** The body size d: the shorter side of the outline's bounding box in its own frame, as the engine has it. */
+/**
+ * The body size d: the shorter side of the outline's bounding box in its own frame, as the engine has it.
+ * @param {Polygon} polygon
+ */
 export function bodySize(polygon) {
   const bb = bounds(polygon);
   return Math.min(bb.maxX - bb.minX, bb.maxY - bb.minY);
 }
 
-const finite = (x) => typeof x === 'number' && Number.isFinite(x);
+/**
+ * True when `x` is a finite number.
+ * @param {unknown} x
+ * @returns {x is number}
+ */
+function finite(x) {
+  return typeof x === 'number' && Number.isFinite(x);
+}
 
-/** The file's `pose_errors` when it has the scene's shape (N poses × K bodies of numbers), else null. */
+/**
+ * The file's `pose_errors` when it has the scene's shape (N poses × K bodies of numbers), else null.
+ * @param {Metrics | null | undefined} metrics
+ * @param {number} n
+ * @param {number} k
+ * @returns {Miss[][] | null}
+ */
 function fromMetrics(metrics, n, k) {
   const pe = metrics?.pose_errors;
   if (!Array.isArray(pe) || pe.length !== n) return null;
@@ -32,7 +68,14 @@ function fromMetrics(metrics, n, k) {
   return pe.map((row) => row.map((e) => ({ position: e.position, rel: e.position_rel_d, angle: Math.abs(e.angle_deg) })));
 }
 
-/** The same numbers from the analysis of `/api/simulate` (null when it does not fit the scene). */
+/**
+ * The same numbers from the analysis of `/api/simulate` (null when it does not fit the scene).
+ * @param {Analysis | null | undefined} analysis
+ * @param {Scene} scene
+ * @param {number} n
+ * @param {number} k
+ * @returns {Miss[][] | null}
+ */
 function fromAnalysis(analysis, scene, n, k) {
   const poses = analysis?.poses;
   if (!Array.isArray(poses) || poses.length !== n) return null;
@@ -46,12 +89,17 @@ function fromAnalysis(analysis, scene, n, k) {
 }
 
 /** How far a miss is past the line of "reached" (1 at the line): ranks the rows to find the worst. */
+/** @type {(e: Miss) => number} */
 const severity = (e) => Math.max(e.rel / REACHED.positionRelD, e.angle / REACHED.angleDeg);
 
 /**
  * The pose errors of the mechanism shown: `{rows: [{pose, body, position, rel, angle}], worst (the
  * row missed most), max: {position, rel, angle} (each the largest over all rows), reached}`, or null
  * while neither the file nor the analysis has them.
+ * @param {Metrics | null | undefined} metrics
+ * @param {Analysis | null | undefined} analysis
+ * @param {Scene} scene
+ * @returns {PoseErrors | null}
  */
 export function poseErrors(metrics, analysis, scene) {
   const n = scene.moving_bodies[0]?.poses.length || 0;
@@ -62,8 +110,11 @@ export function poseErrors(metrics, analysis, scene) {
   if (!table) return null;
   const rows = table.flatMap((row, pose) => row.map((e, body) => ({ pose, body, ...e })));
   const worst = rows.reduce((a, b) => (severity(b) > severity(a) ? b : a));
+  /** @type {Miss} */
   const max = { position: 0, rel: 0, angle: 0 };
-  for (const r of rows) for (const f of Object.keys(max)) max[f] = Math.max(max[f], r[f]);
+  for (const r of rows) {
+    for (const f of /** @type {(keyof Miss)[]} */ (['position', 'rel', 'angle'])) max[f] = Math.max(max[f], r[f]);
+  }
   const file = metrics?.worst_pose_error;
   if (fileTable && file && finite(file.position) && finite(file.position_rel_d) && finite(file.angle_deg)) {
     Object.assign(max, { position: file.position, rel: file.position_rel_d, angle: Math.abs(file.angle_deg) });
@@ -75,30 +126,45 @@ export function poseErrors(metrics, analysis, scene) {
 }
 
 /** Decimals that show a length or an angle legibly: two below 1, one above. */
+/** @type {(x: number) => number} */
 const decimals = (x) => (x < 1 ? 2 : 1);
 
-/** `x` rounded for reading. */
+/**
+ * `x` rounded for reading (a dash when it is not a number).
+ * @param {number | null | undefined} x
+ */
 export function fmt(x) {
   return finite(x) ? x.toFixed(decimals(x)) : '—';
 }
 
-/** `x` rounded up, for a bound that must stay true once rounded ("within 0.43" shows as 0.43, 0.431 as 0.44). */
+/**
+ * `x` rounded up, for a bound that must stay true once rounded ("within 0.43" shows as 0.43, 0.431 as 0.44).
+ * @param {number} x
+ */
 function fmtUp(x) {
   if (!finite(x)) return '—';
   const f = 10 ** decimals(x);
   return (Math.ceil(x * f - 1e-9) / f).toFixed(decimals(x));
 }
 
-/** A share of d as a percentage. */
+/**
+ * A share of d as a percentage.
+ * @param {number} rel
+ */
 export function pct(rel) {
   if (!finite(rel)) return '—';
   const p = rel * 100;
   return `${p.toFixed(p < 10 ? 1 : 0)}%`;
 }
 
+/** @type {(scene: Scene, k: number) => string} */
 const bodyName = (scene, k) => scene.moving_bodies[k]?.name || `body ${k + 1}`;
 
-/** The verification badge's words for errors `e`: a bound when every pose is reached, else the worst miss. */
+/**
+ * The verification badge's words for errors `e`: a bound when every pose is reached, else the worst miss.
+ * @param {PoseErrors} e
+ * @param {Scene} scene
+ */
 export function reachText(e, scene) {
   const units = scene.units || 'mm';
   if (e.reached) {
@@ -109,7 +175,11 @@ export function reachText(e, scene) {
   return e.far ? `Far from the drawing: ${missed}, and no linkage closer was found` : missed;
 }
 
-/** The badge for errors `e` once the design has passed the independent check. */
+/**
+ * The badge for errors `e` once the design has passed the independent check.
+ * @param {PoseErrors} e
+ * @param {Scene} scene
+ */
 export function reachBadge(e, scene) {
   return html('p', {
     class: e.reached ? 'badge ok verified' : e.far ? 'badge far verified' : 'badge warn verified',
@@ -122,7 +192,11 @@ export function reachBadge(e, scene) {
   });
 }
 
-/** The compact table: one row per pose (and body when there are several), the worst row marked. */
+/**
+ * The compact table: one row per pose (and body when there are several), the worst row marked.
+ * @param {PoseErrors} e
+ * @param {Scene} scene
+ */
 export function poseTable(e, scene) {
   const several = scene.moving_bodies.length > 1;
   const units = scene.units || 'mm';

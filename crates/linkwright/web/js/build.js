@@ -1,13 +1,20 @@
+// @ts-check
 // How the drawn object is built, the scene's `build`: a 3D-printed model at a scale, or the object at
 // full size in a workshop material. The words are the engine's (`model:auto`, `model:1:10`,
 // `full:plywood`); this module reads them once and says them in the screen's words.
 
 import { placed } from './geom.js';
 
+/**
+ * A build's word read: a printed model at a scale (`auto`, or `A:B`), or the object at full size in
+ * a workshop material.
+ * @typedef {{kind: 'model', scale: string} | {kind: 'full', material: string}} Build
+ */
+
 /** What a scene without `build` is built as. */
 export const DEFAULT_BUILD = 'model:auto';
 
-/** The workshop materials, as [word, label], in the engine's order. */
+/** The workshop materials, as [word, label], in the engine's order. @type {[string, string][]} */
 export const MATERIALS = [['plywood', 'Plywood'], ['aluminium', 'Aluminium'], ['steel', 'Steel']];
 
 /** The terms of the engine's 1-2-5 series: 1, 2, 5, 10, … 10000. */
@@ -23,6 +30,8 @@ export const SCALES = [
 /**
  * A build's word read: `{kind: 'model', scale: 'auto' | 'A:B'}` or `{kind: 'full', material}`; null
  * for a word this app does not know (the engine says what is wrong with it).
+ * @param {string | null | undefined} text
+ * @returns {Build | null}
  */
 export function parseBuild(text) {
   const word = String(text ?? DEFAULT_BUILD).trim().toLowerCase();
@@ -38,27 +47,32 @@ export function parseBuild(text) {
   return null;
 }
 
-/** The word of a build read by `parseBuild`. */
+/**
+ * The word of a build read by `parseBuild`.
+ * @param {Build} b
+ */
 export function buildWord(b) {
   return b.kind === 'full' ? `full:${b.material}` : `model:${b.scale}`;
 }
 
-/** The scene's build, read (a word the app does not know reads as null). */
+/** The scene's build, read (a word the app does not know reads as null). @type {(scene: import('./scene.js').Scene) => Build | null} */
 export const sceneBuild = (scene) => parseBuild(scene.build ?? DEFAULT_BUILD);
 
-/** The material's label. */
+/** The material's label. @type {(word: string) => string} */
 const materialLabel = (word) => MATERIALS.find(([w]) => w === word)?.[1] ?? word;
 
 /** A length in millimetres as the app shows a size: whole millimetres from 100 mm up, three figures
- * below. */
+ * below. @type {(v: number) => string} */
 export const mm = (v) => String(v >= 100 ? Math.round(v) : Number(v.toPrecision(3)));
 
-/** A model's extent `[w, h]` in millimetres: “214 × 180 mm”. */
+/** A model's extent `[w, h]` in millimetres: “214 × 180 mm”. @type {(size: number[]) => string} */
 export const extent = ([w, h]) => `${mm(w)} × ${mm(h)} mm`;
 
 /**
  * A build in words: “Printed model at 1:10”, with “(auto)” when `auto` (the scale was chosen by the
  * engine) and its extent when known; “Full size, plywood”. `word` is a build's word.
+ * @param {string} word
+ * @param {{auto?: boolean, modelMm?: number[] | null}} [options]
  */
 export function describe(word, { auto = false, modelMm = null } = {}) {
   const b = parseBuild(word);
@@ -69,27 +83,36 @@ export function describe(word, { auto = false, modelMm = null } = {}) {
   return `Printed model at ${scale}${auto && b.scale !== 'auto' ? ' (auto)' : ''}${size}`;
 }
 
-/** What a design file's `build` record says, in words (see `describe`); null for files without one. */
+/**
+ * What a design file's `build` record says, in words (see `describe`); null for files without one.
+ * @param {import('./api.js').BuildRecord | undefined} record
+ */
 export function describeRecord(record) {
   if (!record?.checked) return null;
-  return describe(record.checked, { auto: parseBuild(record.asked)?.scale === 'auto', modelMm: record.model_mm });
+  const asked = parseBuild(record.asked);
+  return describe(record.checked, { auto: asked?.kind === 'model' && asked.scale === 'auto', modelMm: record.model_mm });
 }
 
 /**
  * The scale an unbuildable design's reason suggests (“print at 1:5 or smaller”), as `A:B`, or null
  * when it suggests none. The engine writes the suggestion in exactly these words.
+ * @param {string | null | undefined} reason
  */
 export function suggestedScale(reason) {
   const m = /\bprint at (\d+):(\d+) or (?:smaller|larger)\b/.exec(reason || '');
   return m ? `${Number(m[1])}:${Number(m[2])}` : null;
 }
 
+/** @type {Record<string, number>} */
 const UNIT_MM = { '': 1, mm: 1, cm: 10, m: 1000, in: 25.4, ft: 304.8 };
 
 /**
  * The printed model's extent `[w, h]` in millimetres at a fixed `scale` (`A:B`): everything drawn (the
  * fixed bodies, the moving bodies at every pose, the linkage region), as the engine measures it; null
  * when the units are not a length or nothing is drawn.
+ * @param {import('./scene.js').Scene} scene
+ * @param {string} scale
+ * @returns {[number, number] | null}
  */
 export function modelExtent(scene, scale) {
   const perUnit = UNIT_MM[String(scene.units ?? 'mm').trim().toLowerCase()];

@@ -1,3 +1,4 @@
+// @ts-check
 // The drawing: grid, scene, onion-skinned poses, the designed linkage in motion, selection handles and
 // the shape being drawn. Everything is drawn in screen pixels from world coordinates (y up) through
 // the viewport, so strokes and handles keep their size at any zoom.
@@ -7,8 +8,30 @@ import { centroid, placed, toWorld } from './geom.js';
 import { besideShifts, placeLabels, tagShifts } from './labels.js';
 import { clear, points, svg } from './svg.js';
 
+/**
+ * @typedef {import('./geom.js').Point} Point
+ * @typedef {import('./geom.js').Pose} Pose
+ * @typedef {import('./geom.js').Polygon} Polygon
+ * @typedef {import('./scene.js').MovingBody} MovingBody
+ * @typedef {import('./store.js').Store} Store
+ * @typedef {import('./viewport.js').Viewport} Viewport
+ */
+
+/**
+ * The linkage at one moment of the motion, world coordinates: the joints (as the analysis names
+ * them), the moving bodies' poses, the crank angle and the counterbalance springs' ends.
+ * @typedef {{crank_deg: number, joints: Point[], bodies: Pose[], springs?: SpringAt[]}} FrameAt
+ * @typedef {{kind: 'extension' | 'torsion', ends: Point[]}} SpringAt
+ * @typedef {{points: Point[], cursor?: Point | null, kind: string, closed: boolean}} DrawingPreview
+ *   The shape being drawn: its corners so far (world), where the pointer is, what it will be, and
+ *   whether it is closed (a box) or still growing (a polygon).
+ * @typedef {{name: string, at: Point, message: string}} RejectedJoint  Where a moved joint was asked
+ *   to go when the linkage cannot follow it there, and why.
+ */
+
 export const BODY_COLOURS = ['#e67e22', '#2e9e4f', '#8e5cc2', '#a0522d', '#d6489b', '#1aa3b8', '#a6a61e'];
 export const PATH_COLOURS = ['#1b9e77', '#d95f02', '#7570b3', '#e7298a', '#66a61e', '#c79a00', '#a6761d', '#555555'];
+/** Moving body `b`'s colour. @type {(b: number) => string} */
 export const bodyColour = (b) => BODY_COLOURS[b % BODY_COLOURS.length];
 
 /** Pixels from a vertex within which it is grabbed. */
@@ -22,35 +45,59 @@ const TAG_REACH = 13;
 /** Width of the rulers along the canvas' top and left edges, pixels. */
 const RULER_PX = 18;
 
-/** A length for a label: as many decimals as `resolution` (the smallest step shown) needs, no more. */
+/**
+ * A length for a label: as many decimals as `resolution` (the smallest step shown) needs, no more.
+ * @param {number} value
+ * @param {number} [resolution]
+ */
 export function formatLength(value, resolution = Math.abs(value)) {
   const decimals = Math.max(0, Math.min(4, -Math.floor(Math.log10(Math.abs(resolution) || 1) + 1e-9)));
   const text = (Math.abs(value) < resolution * 1e-6 ? 0 : value).toFixed(decimals);
   return text === '-0' ? '0' : text;
 }
 
-/** A length with three significant figures (whole units from 100 up). */
+/**
+ * A length with three significant figures (whole units from 100 up).
+ * @param {number} value
+ */
 export function formatDimension(value) {
   const a = Math.abs(value);
   return value.toFixed(a >= 100 ? 0 : a >= 10 ? 1 : a >= 1 ? 2 : 3);
 }
 
+/** The drawing's layers, bottom first. */
+const LAYERS = /** @type {const} */ (['grid', 'scene', 'resultStatic', 'resultDynamic', 'dimensions', 'overlay', 'rulers']);
+
 export class Canvas {
+  /**
+   * Draws into the SVG element `root` what `store` holds, through `viewport`.
+   * @param {SVGSVGElement} root
+   * @param {Store} store
+   * @param {Viewport} viewport
+   */
   constructor(root, store, viewport) {
     this.root = root;
     this.store = store;
     this.view = viewport;
-    this.preview = null; // {points: world[], cursor: world|null, kind, closed}
-    this.layers = {};
-    for (const name of ['grid', 'scene', 'resultStatic', 'resultDynamic', 'dimensions', 'overlay', 'rulers']) {
-      this.layers[name] = svg('g', { class: `layer-${name}` });
-      root.append(this.layers[name]);
-    }
-    this.frame = null; // the result frame drawn now
+    /** @type {DrawingPreview | null} */
+    this.preview = null;
+    /** @type {Record<typeof LAYERS[number], SVGGElement>} */
+    this.layers = /** @type {Record<typeof LAYERS[number], SVGGElement>} */ (
+      Object.fromEntries(LAYERS.map((name) => [name, svg('g', { class: `layer-${name}` })])));
+    for (const name of LAYERS) root.append(this.layers[name]);
+    /** @type {FrameAt | null} the result frame drawn now */
+    this.frame = null;
     this.resultShown = false;
-    this.labelPlaces = new Map(); // where each label was put last (labels.js)
+    /** @type {RejectedJoint | null} */
+    this.rejectedJoint = null;
+    /** @type {Map<string, number>} where each label was put last (labels.js) */
+    this.labelPlaces = new Map();
   }
 
+  /**
+   * The screen pixel of world point `p`.
+   * @param {Point} p
+   */
   s(p) {
     return this.view.toScreen(p);
   }
@@ -72,6 +119,7 @@ export class Canvas {
     const v = this.view, step = v.gridStep(), box = v.visible();
     const lines = [];
     const major = step * 5;
+    /** @type {(x: number) => string} */
     const kind = (x) => (Math.abs(x) < step / 2 ? 'axis' : Math.abs(x / major - Math.round(x / major)) < 1e-6 ? 'major' : 'minor');
     for (let x = Math.ceil(box.minX / step) * step; x <= box.maxX; x += step) {
       const sx = v.toScreen([x, 0])[0];
@@ -91,6 +139,7 @@ export class Canvas {
     const v = this.view, units = this.store.scene.units || 'mm';
     // Labelled ticks at least 60 px apart (room for a number), minor ticks at a fifth of that.
     const step = v.gridStep(60), minor = step / 5, box = v.visible();
+    /** @type {SVGElement[]} */
     const out = [
       svg('rect', { class: 'ruler', x: 0, y: 0, width: v.width, height: RULER_PX }),
       svg('rect', { class: 'ruler', x: 0, y: 0, width: RULER_PX, height: v.height }),
@@ -123,6 +172,11 @@ export class Canvas {
     g.append(...out);
   }
 
+  /**
+   * A polygon of world points, drawn.
+   * @param {Polygon} world
+   * @param {Record<string, unknown>} attrs
+   */
   poly(world, attrs) {
     return svg('polygon', { points: points(world.map((p) => this.s(p))), ...attrs });
   }
@@ -182,6 +236,7 @@ export class Canvas {
     const slider = r.mechanism?.slider;
     if (slider) {
       const d = slider.direction, p = slider.point;
+      /** @type {(t: number) => Point} */
       const at = (t) => this.s([p[0] + d[0] * t, p[1] + d[1] * t]);
       const [s0, s1] = slider.stroke;
       const pad = 0.1 * Math.abs(s1 - s0);
@@ -190,12 +245,19 @@ export class Canvas {
     }
   }
 
-  /** The bodies and the linkage at one frame ({joints, bodies}), its labels kept apart; null hides them. */
+  /**
+   * The bodies and the linkage at one frame, its labels kept apart; null hides them.
+   * @param {FrameAt | null} frame
+   */
   renderResultFrame(frame) {
     this.drawResultFrame(frame);
     this.layoutLabels();
   }
 
+  /**
+   * The bodies and the linkage at one frame (the labels as they fall).
+   * @param {FrameAt | null} frame
+   */
   drawResultFrame(frame) {
     this.frame = frame;
     this.renderDimensions(frame);
@@ -205,7 +267,8 @@ export class Canvas {
     const { scene } = this.store;
     const a = r.analysis;
     const index = new Map(a.joint_names.map((n, j) => [n, j]));
-    const at = (name) => this.s(frame.joints[index.get(name)]);
+    /** @type {(name: string) => Point} */
+    const at = (name) => this.s(frame.joints[index.get(name) ?? -1]);
     scene.moving_bodies.forEach((b, i) => {
       const pose = frame.bodies[i];
       if (pose) g.append(this.poly(placed(b.polygon, pose), { class: 'moving animated', style: `--c:${bodyColour(i)}` }));
@@ -225,12 +288,13 @@ export class Canvas {
       } else if (part.kind === 'body') {
         // A bracket from the body to its joints, so joints outside the outline are seen to be fixed to it.
         const pts = part.joints.filter((n) => index.has(n)).map(at);
-        const pose = frame.bodies[part.body];
-        const body = scene.moving_bodies[part.body];
+        const k = part.body ?? -1;
+        const pose = frame.bodies[k];
+        const body = scene.moving_bodies[k];
         if (pose && body) {
           const c = this.s(toWorld(pose, centroid(body.polygon)));
           for (const p of pts) {
-            g.append(svg('line', { class: 'bracket', x1: c[0], y1: c[1], x2: p[0], y2: p[1], style: `--c:${bodyColour(part.body)}` }));
+            g.append(svg('line', { class: 'bracket', x1: c[0], y1: c[1], x2: p[0], y2: p[1], style: `--c:${bodyColour(k)}` }));
           }
         }
       }
@@ -260,7 +324,9 @@ export class Canvas {
   }
 
   /** A counterbalance spring at a frame: an extension spring as a coil between its hooks, a torsion
-   * spring as a spiral at its pivot with an arm to the part it winds with. */
+   * spring as a spiral at its pivot with an arm to the part it winds with.
+   * @param {SpringAt} spring
+   */
   spring({ kind, ends }) {
     const [a, b] = ends.map((p) => this.s(p));
     const d = [b[0] - a[0], b[1] - a[1]], length = Math.hypot(d[0], d[1]) || 1;
@@ -268,6 +334,7 @@ export class Canvas {
     if (kind === 'extension') {
       // Straight hooks at both ends, a zigzag of fixed width between them.
       const turns = 12, hook = Math.min(10, length * 0.15), width = 5;
+      /** @type {Point[]} */
       const pts = [a, [a[0] + u[0] * hook, a[1] + u[1] * hook]];
       for (let k = 1; k < 2 * turns; k++) {
         const t = hook + ((length - 2 * hook) * k) / (2 * turns), side = k % 2 ? width : -width;
@@ -276,6 +343,7 @@ export class Canvas {
       pts.push([b[0] - u[0] * hook, b[1] - u[1] * hook], b);
       return svg('polyline', { class: 'spring', points: points(pts), 'data-spring': kind });
     }
+    /** @type {Point[]} */
     const spiral = [];
     for (let k = 0; k <= 48; k++) {
       const angle = Math.atan2(u[1], u[0]) + (k / 48) * 4 * Math.PI, radius = 3 + (k / 48) * 9;
@@ -288,28 +356,34 @@ export class Canvas {
   }
 
   /** Each link's length at its middle and each ground pivot's position beside it, in the scene's
-   * units, from the design's own joints (lengths do not change along the motion). */
+   * units, from the design's own joints (lengths do not change along the motion).
+   * @param {FrameAt | null} frame
+   */
   renderDimensions(frame) {
     const g = clear(this.layers.dimensions);
     const r = this.store.result;
     const m = r?.mechanism;
     if (!frame || !this.resultShown || !r?.analysis || !m || this.store.ui.dimensions === false) return;
     const index = new Map(r.analysis.joint_names.map((n, j) => [n, j]));
-    const at = (name) => this.s(frame.joints[index.get(name)]);
+    /** @type {(name: string) => Point} */
+    const at = (name) => this.s(frame.joints[index.get(name) ?? -1]);
     const units = this.store.scene.units || 'mm';
+    /** @type {(p: Point, text: string, cls: string, attrs?: Record<string, unknown>) => SVGTextElement} */
     const label = (p, text, cls, attrs = {}) => svg('text', { class: cls, x: p[0], y: p[1], text, ...attrs });
     for (const part of m.parts) {
       if (part.kind !== 'link') continue;
       const names = part.joints.filter((n) => index.has(n) && m.joints[n]);
       // A binary link has one side; a ternary link three.
       const sides = names.length === 2 ? [[names[0], names[1]]] : names.map((n, i) => [n, names[(i + 1) % names.length]]);
+      /** @type {Point} */
+      let normal;
       for (const [a, b] of sides) {
         const [pa, pb] = [at(a), at(b)];
         const length = Math.hypot(m.joints[a][0] - m.joints[b][0], m.joints[a][1] - m.joints[b][1]);
         // Beside the link's middle, on the side away from the screen's top left, upright.
         const mid = [(pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2];
         const len = Math.hypot(pb[0] - pa[0], pb[1] - pa[1]) || 1;
-        let normal = [-(pb[1] - pa[1]) / len, (pb[0] - pa[0]) / len];
+        normal = [-(pb[1] - pa[1]) / len, (pb[0] - pa[0]) / len];
         if (normal[1] < 0) normal = [-normal[0], -normal[1]];
         g.append(label([mid[0] + normal[0] * 12, mid[1] + normal[1] * 12], `${formatDimension(length)} ${units}`, 'dimension', {
           'text-anchor': 'middle', dy: '0.35em', 'data-link': `${a}-${b}`, 'data-length': length, 'data-label': `link ${a}-${b}`,
@@ -326,6 +400,7 @@ export class Canvas {
     }
   }
 
+  /** The selection, the poses' numbers (and misses) and the shape being drawn. */
   renderOverlay() {
     const g = clear(this.layers.overlay);
     const { scene, ui } = this.store;
@@ -359,9 +434,11 @@ export class Canvas {
    * label with no free place near its own is left out (the Result tab lists them all).
    */
   layoutLabels() {
-    const misses = [...this.layers.overlay.querySelectorAll('.pose-miss')];
-    const pivots = [...this.layers.dimensions.querySelectorAll('.dimension.pivot')];
-    const links = [...this.layers.dimensions.querySelectorAll('.dimension:not(.pivot)')];
+    /** @type {(layer: SVGGElement, selector: string) => SVGElement[]} */
+    const labelsIn = (layer, selector) => [...layer.querySelectorAll(selector)].filter((e) => e instanceof SVGElement);
+    const misses = labelsIn(this.layers.overlay, '.pose-miss');
+    const pivots = labelsIn(this.layers.dimensions, '.dimension.pivot');
+    const links = labelsIn(this.layers.dimensions, '.dimension:not(.pivot)');
     const all = [...misses, ...pivots, ...links];
     if (!all.length) return;
     // Measured where they are drawn (all writes first, then all reads: one layout).
@@ -369,6 +446,7 @@ export class Canvas {
       e.removeAttribute('transform');
       e.removeAttribute('display');
     }
+    /** @type {(e: Element) => import('./labels.js').Box} */
     const box = (e) => {
       const r = e.getBoundingClientRect();
       return { x: r.left, y: r.top, w: r.width, h: r.height };
@@ -380,12 +458,15 @@ export class Canvas {
     const labels = all.map((element) => {
       const b = box(element);
       const shifts = element.classList.contains('pose-miss') ? tagShifts(b, TAG_REACH) : besideShifts(b);
-      return { element, key: element.dataset.label, box: b, shifts };
+      return { element, key: element.dataset.label ?? '', box: b, shifts };
     });
     this.labelPlaces = placeLabels(labels, area, marks, this.labelPlaces);
   }
 
-  /** Outline, vertex handles and (for a moving body) the rotate handle of the selection. */
+  /**
+   * Outline, vertex handles and (for a moving body) the rotate handle of the selection.
+   * @param {SVGGElement} g
+   */
   renderSelection(g) {
     const { scene, ui } = this.store;
     const sel = ui.selection;
@@ -413,7 +494,12 @@ export class Canvas {
     }
   }
 
-  /** Screen positions of a moving body's pose origin and its rotate handle (along the body's own up). */
+  /**
+   * Screen positions of a moving body's pose origin and its rotate handle (along the body's own up).
+   * @param {MovingBody} body
+   * @param {Pose} pose
+   * @returns {{origin: Point, handle: Point}}
+   */
   rotateHandle(body, pose) {
     const origin = this.s([pose[0], pose[1]]);
     const reach = Math.max(...body.polygon.map((m) => Math.hypot(m[0], m[1]))) * this.view.k + ROTATE_PX;
@@ -421,6 +507,10 @@ export class Canvas {
     return { origin, handle: [origin[0] + up[0] * reach, origin[1] - up[1] * reach] };
   }
 
+  /**
+   * The selected shape's outline in world coordinates (a moving body at the current pose).
+   * @returns {Polygon | null | undefined}
+   */
   selectionWorld() {
     const { scene, ui } = this.store;
     const sel = ui.selection;
@@ -436,6 +526,10 @@ export class Canvas {
     }
   }
 
+  /**
+   * The shape being drawn.
+   * @param {SVGGElement} g
+   */
   renderPreview(g) {
     const pv = this.preview;
     if (!pv || pv.points.length === 0) return;

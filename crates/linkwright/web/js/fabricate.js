@@ -1,3 +1,4 @@
+// @ts-check
 // Making the parts: print settings, the Fabricate action (a job on the server), the summary, the
 // downloads, the assembly steps, and the 3D preview of the printed parts moving with the linkage. For a
 // full-size build the same action asks for the workshop's files: the parts to cut, their stock and
@@ -9,10 +10,41 @@ import { partColour, partKind, Preview3D, ROLE_COLOURS } from './preview3d.js';
 import { bracketMounts, springCut, springList, withMounts } from './springs.js';
 import { html } from './svg.js';
 
+/**
+ * @typedef {import('./store.js').Store} Store
+ * @typedef {import('./result.js').Results} Results
+ * @typedef {import('./api.js').Fabrication} Fabrication
+ * @typedef {import('./api.js').PrintReport} PrintReport
+ * @typedef {import('./api.js').WorkshopReport} WorkshopReport
+ * @typedef {import('./api.js').FabricationFile} FabricationFile
+ * @typedef {import('./api.js').Preview} Preview
+ * @typedef {import('./api.js').PrintSettings} PrintSettings
+ * @typedef {import('./api.js').Design} Design
+ * @typedef {import('./api.js').Issue} Issue
+ * @typedef {import('./build.js').Build} Build
+ * @typedef {import('./springs.js').Naming} Naming
+ * @typedef {(Node | string)[]} Nodes
+ */
+
+/**
+ * The print settings panel as filled in: the fields typed (by path, millimetres), the faces the
+ * links may go on, and whether the parts get hooks for counterbalance springs.
+ * @typedef {{values: Record<string, number>, faces: string, springs?: boolean}} PrintForm
+ */
+
+/**
+ * The design (and mechanism) something was made for, to tell whether it is of the design shown.
+ * @typedef {{design: Design, which: number | null}} MadeFor
+ * @typedef {MadeFor & {answer: Fabrication}} Made  parts made
+ * @typedef {MadeFor & {problems: string[], fields: string[]}} Failed  why they could not be: in plain
+ *   words, and the settings' fields named
+ * @typedef {{controller: AbortController, started: number, timer: ReturnType<typeof setInterval> | null}} Job
+ */
+
 const SAVED = 'linkwright.print.v1';
 
 /** The print settings the panel offers, as [path in the settings, label, help]; the others keep
- * their defaults (GET /api/fabricate/settings). Millimetres. */
+ * their defaults (GET /api/fabricate/settings). Millimetres. @type {[string, string, string | null][]} */
 const FIELDS = [
   ['link_width', 'Link width', 'how wide the printed links are'],
   ['link_thickness', 'Link thickness', 'how thick each link is'],
@@ -26,7 +58,7 @@ const FACES = [['auto', 'Automatic'], ['one', 'Front face only'], ['both', 'Both
 const BUSY_TEXT = 'Making the parts: placing pins and connectors, stacking the layers so nothing rubs, building the solids…';
 const BUSY_TEXT_FULL = 'Making the workshop files…';
 
-/** The downloads by what they are for: [heading, which file names]. */
+/** The downloads by what they are for: [heading, which file names]. @type {[string, (name: string) => boolean][]} */
 const FILE_GROUPS = [
   ['Parts to print (STL)', (name) => name.endsWith('.stl')],
   ['Print beds (3MF)', (name) => name.endsWith('.3mf')],
@@ -36,7 +68,10 @@ const FILE_GROUPS = [
   ['Instructions', (name) => ['assembly.svg', 'fabrication.json', 'workshop_assembly.svg', 'workshop.json'].includes(name)],
 ];
 
-/** What a file other than a part is for (by its kind, for files this app does not name). */
+/**
+ * What a file other than a part is for (by its kind, for files this app does not name).
+ * @param {string} name
+ */
 function purpose(name) {
   if (name === 'assembly.3mf') return 'every part, assembled';
   if (name.endsWith('.3mf')) return 'the parts laid out on one bed';
@@ -48,25 +83,44 @@ function purpose(name) {
   if (name === 'workshop.json') return 'parts, loads, strength checks and bolts';
   if (name === 'cut_list.csv') return 'every part: stock, length, width, holes';
   if (name === 'bill_of_materials.csv') return 'stock, bolts, washers, spacers and springs to buy';
+  /** @type {Record<string, string>} */
   const kinds = { csv: 'a table', dxf: 'outlines for CAD or cutting', svg: 'a drawing', json: 'data', pdf: 'a sheet to print' };
-  return kinds[name.split('.').pop().toLowerCase()] || '';
+  return kinds[(name.split('.').pop() ?? '').toLowerCase()] || '';
 }
 
-const valueAt = (obj, path) => path.split('.').reduce((o, k) => o?.[k], obj);
+/**
+ * The value at a dotted `path` (`bed.width`) of nested settings.
+ * @param {PrintSettings} obj
+ * @param {string} path
+ * @returns {unknown}
+ */
+const valueAt = (obj, path) => path.split('.').reduce((/** @type {any} */ o, k) => o?.[k], obj);
 
+/**
+ * Sets the value at a dotted `path` (`bed.width`) of nested settings.
+ * @param {PrintSettings} obj
+ * @param {string} path
+ * @param {unknown} value
+ */
 function setAt(obj, path, value) {
   const keys = path.split('.');
-  const last = keys.pop();
+  const last = keys.pop() ?? '';
+  /** @type {any} */
   let o = obj;
   for (const k of keys) o = o[k] ??= {};
   o[last] = value;
 }
 
+/** @type {(n: number) => string} */
 const kilobytes = (n) => (n < 1e6 ? `${Math.max(1, Math.round(n / 1000))} kB` : `${(n / 1e6).toFixed(1)} MB`);
+/** @type {(n: number, one: string, many?: string) => string} */
 const plural = (n, one, many = `${one}s`) => `${n} ${n === 1 ? one : many}`;
 
-/** What went wrong, in plain words: a bad print setting by its label in the panel, anything else as
- * the server says it (the server's messages already say what to change). */
+/**
+ * What went wrong, in plain words: a bad print setting by its label in the panel, anything else as
+ * the server says it (the server's messages already say what to change).
+ * @param {{message: string, issues?: Issue[]}} e
+ */
 function problems(e) {
   const settings = (e.issues || []).filter((i) => i.field.startsWith('settings'));
   if (!settings.length) return [e.message];
@@ -78,8 +132,13 @@ function problems(e) {
   });
 }
 
-/** The print settings a saved form asks for: the defaults, changed by the fields filled in. */
+/**
+ * The print settings a saved form asks for: the defaults, changed by the fields filled in.
+ * @param {PrintForm} print
+ * @returns {PrintSettings}
+ */
 function settingsOf(print) {
+  /** @type {PrintSettings} */
   const out = { faces: print.faces };
   for (const [path, value] of Object.entries(print.values)) {
     if (FIELDS.some(([p]) => p === path) && Number.isFinite(value)) setAt(out, path, value);
@@ -92,6 +151,10 @@ export function savedPrintSettings() {
   return settingsOf(loadSaved());
 }
 
+/**
+ * The print settings panel as last saved (empty: the defaults).
+ * @returns {PrintForm}
+ */
 function loadSaved() {
   try {
     const saved = JSON.parse(localStorage.getItem(SAVED) || 'null');
@@ -106,32 +169,46 @@ export class Fabricator {
   /**
    * `els`: the stage's 3D view (`view`, its `canvas`, `legend`) and the player's 3D toggle (`toggle`).
    * `results` is the Results object whose design is fabricated.
+   * @param {Store} store
+   * @param {Results} results
+   * @param {{view: HTMLElement, canvas: HTMLCanvasElement, legend: HTMLElement, toggle: HTMLElement}} els
    */
   constructor(store, results, els) {
     this.store = store;
     this.results = results;
     this.els = els;
     this.print = loadSaved();
-    this.defaults = null; // the server's print settings, for the fields' placeholders
+    /** @type {PrintSettings | null} the server's print settings, for the fields' placeholders */
+    this.defaults = null;
     this.loadingDefaults = false;
-    this.job = null; // {controller, started, timer}
-    this.made = null; // {design, which, answer}
-    this.error = null; // {design, which, problems: [plain text], fields: [the fields named]}
+    /** @type {Job | null} */
+    this.job = null;
+    /** @type {Made | null} */
+    this.made = null;
+    /** @type {Failed | null} */
+    this.error = null;
     this.settingsOpen = false;
     this.show3d = false;
     this.shown = false;
     this.t = 0;
+    /** @type {Preview3D | null} */
     this.preview = null;
     els.toggle.addEventListener('click', () => this.setShow3d(!this.show3d));
   }
 
-  /** How the design shown is to be built (the scene it was designed for says), read. */
+  /**
+   * How the design shown is to be built (the scene it was designed for says), read.
+   * @returns {Build}
+   */
   build() {
     const scene = this.results.result?.scene || this.store.scene;
     return parseBuild(scene.build ?? DEFAULT_BUILD) || { kind: 'model', scale: 'auto' };
   }
 
-  /** True when `x` (the parts made, an error) belongs to the design shown. */
+  /**
+   * True when `x` (the parts made, an error) belongs to the design shown.
+   * @param {MadeFor | null} x
+   */
   isFor(x) {
     const r = this.results.result;
     return !!x && !!r && x.design === r.design && x.which === r.which;
@@ -142,7 +219,10 @@ export class Fabricator {
     return settingsOf(this.print);
   }
 
-  /** Print settings from a project file, kept as if typed here. */
+  /**
+   * Print settings from a project file, kept as if typed here.
+   * @param {PrintForm} print
+   */
   usePrint(print) {
     this.print = { values: { ...print.values }, faces: typeof print.faces === 'string' ? print.faces : 'auto' };
     if ('springs' in print) this.print.springs = !!print.springs;
@@ -157,40 +237,44 @@ export class Fabricator {
     }
   }
 
+  /** The Make parts button: asks the server for the parts of the design shown. */
   async run() {
     const r = this.results.result;
     if (this.job || !r?.design) return;
+    /** @type {MadeFor} */
     const target = { design: r.design, which: r.which };
-    this.job = { controller: new AbortController(), started: performance.now() };
-    this.job.timer = setInterval(() => this.tick(), 500);
+    const job = { controller: new AbortController(), started: performance.now(), timer: setInterval(() => this.tick(), 500) };
+    this.job = job;
     this.error = null;
     this.made = null;
     this.store.changed('result');
     try {
       const springs = !!this.print.springs;
-      const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, this.job.controller.signal, springs);
+      const answer = await api.fabricate(r.scene, r.design, this.settings(), r.which, job.controller.signal, springs);
       // Parts for a design no longer shown (another scene opened, another design made) are dropped.
       if (!this.isFor(target)) return;
       this.made = { ...target, answer };
-      const report = answer.report || {};
+      const report = answer.report?.linkwright === 'fabrication/1' ? answer.report : null;
       if (answer.preview) this.show(answer.preview);
       const turn = this.preview?.available && answer.preview ? '; drag the 3D view to turn it' : '';
-      const made = report.totals && report.plates
+      const made = report?.totals && report.plates
         ? `Parts made: ${plural(report.totals.parts, 'part')} on ${plural(report.plates.length, 'print bed')}.`
         : `Made ${plural((answer.files || []).length, 'file')}.`;
       this.store.hint(`${made} Download them in the Result tab${turn}.`);
     } catch (e) {
       if (!this.isFor(target)) {
         // Not for the design shown any more: nothing to say about it.
-      } else if (e.name === 'AbortError') {
+      } else if (api.isAbort(e)) {
         this.store.hint('Making the parts was cancelled.');
       } else {
-        this.error = { ...target, problems: problems(e), fields: (e.issues || []).map((i) => i.field) };
-        this.settingsOpen ||= (e.issues || []).some((i) => i.field.startsWith('settings'));
-        this.store.hint(`Cannot make the ${this.build().kind === 'full' ? 'workshop files' : 'parts'}: ${this.error.problems[0]}`);
+        const failure = api.errorOf(e);
+        const error = { ...target, problems: problems(failure), fields: failure.issues.map((i) => i.field) };
+        this.error = error;
+        this.settingsOpen ||= failure.issues.some((i) => i.field.startsWith('settings'));
+        this.store.hint(`Cannot make the ${this.build().kind === 'full' ? 'workshop files' : 'parts'}: ${error.problems[0]}`);
       }
     } finally {
-      clearInterval(this.job.timer);
+      clearInterval(job.timer);
       this.job = null;
       this.store.changed('result');
     }
@@ -214,7 +298,10 @@ export class Fabricator {
     if (out && this.job) out.textContent = `${Math.round((performance.now() - this.job.started) / 1000)} s`;
   }
 
-  /** Loads the 3D preview and shows it in place of the drawing (when the browser can draw it). */
+  /**
+   * Loads the 3D preview and shows it in place of the drawing (when the browser can draw it).
+   * @param {Preview} preview
+   */
   show(preview) {
     if (!this.preview) {
       this.preview = new Preview3D(this.els.canvas);
@@ -230,29 +317,43 @@ export class Fabricator {
     this.setShow3d(true);
   }
 
+  /**
+   * Shows the parts in 3D in place of the drawing, or the drawing again.
+   * @param {boolean} on
+   */
   setShow3d(on) {
     this.show3d = on;
     this.results.sync();
   }
 
-  /** Keeps the 3D view and its toggle in step with the result shown (called on every change). */
+  /**
+   * Keeps the 3D view and its toggle in step with the result shown (called on every change).
+   * @param {boolean} resultShown
+   */
   sync(resultShown) {
-    const can = resultShown && this.isFor(this.made) && !!this.made.answer.preview && !!this.preview?.available;
+    const preview = this.preview;
+    const can = resultShown && this.isFor(this.made) && !!this.made?.answer.preview && !!preview?.available;
     const shown = can && this.show3d;
     this.els.toggle.hidden = !can;
     this.els.toggle.setAttribute('aria-pressed', String(shown));
     this.els.view.hidden = !shown;
-    if (shown && !this.shown) this.preview.request();
+    if (shown && !this.shown) preview?.request();
     this.shown = shown;
   }
 
-  /** The animation moved to fraction `t` of the motion. */
+  /**
+   * The animation moved to fraction `t` of the motion.
+   * @param {number} t
+   */
   frame(t) {
     this.t = t;
-    if (this.shown) this.preview.setFraction(t);
+    if (this.shown) this.preview?.setFraction(t);
   }
 
-  /** The fabrication part of the Result tab. */
+  /**
+   * The fabrication part of the Result tab.
+   * @param {HTMLElement} host
+   */
   render(host) {
     if (!this.defaults && !this.loadingDefaults) {
       this.loadingDefaults = true;
@@ -286,7 +387,7 @@ export class Fabricator {
           : 'Search the extension springs that balance the printed parts and give the parts hooks for them' }, [
           html('input', {
             type: 'checkbox', id: 'fab-springs', checked: !!this.print.springs,
-            onchange: (e) => { this.print.springs = e.target.checked; this.saveSettings(); },
+            onchange: (e) => { this.print.springs = e.currentTarget.checked; this.saveSettings(); },
           }),
           full ? ' Counterbalance springs' : ' Hooks for counterbalance springs',
         ]),
@@ -298,7 +399,7 @@ export class Fabricator {
         ...error.problems.map((text) => html('p', { text })),
       ]));
     }
-    if (this.isFor(this.made) && !this.job) {
+    if (this.made && this.isFor(this.made) && !this.job) {
       if (this.preview && !this.preview.available) {
         host.append(html('p', { class: 'callout warn', text: 'This browser cannot show the parts in 3D (WebGL 2 is off or missing). '
           + 'The files are complete: open assembly.3mf in a slicer or a 3D viewer to see them assembled.' }));
@@ -307,7 +408,11 @@ export class Fabricator {
     }
   }
 
-  /** The print settings, folded away until wanted; empty fields keep their defaults. */
+  /**
+   * The print settings, folded away until wanted; empty fields keep their defaults; the fields
+   * `error` names are marked.
+   * @param {Failed | null} error
+   */
   settingsForm(error) {
     const bad = new Set(error?.fields || []);
     const fields = FIELDS.map(([path, label, help]) => {
@@ -319,8 +424,8 @@ export class Fabricator {
         placeholder: this.defaults ? String(valueAt(this.defaults, path)) : '',
         class: invalid ? 'invalid' : null, 'aria-invalid': invalid ? 'true' : null,
         onchange: (e) => {
-          const v = Number(e.target.value);
-          if (e.target.value === '' || !Number.isFinite(v)) delete this.print.values[path];
+          const v = Number(e.currentTarget.value);
+          if (e.currentTarget.value === '' || !Number.isFinite(v)) delete this.print.values[path];
           else this.print.values[path] = v;
           this.saveSettings();
         },
@@ -331,7 +436,7 @@ export class Fabricator {
     const faces = html('select', {
       'data-key': 'print-faces', 'aria-label': 'Faces',
       class: bad.has('settings.faces') ? 'invalid' : null,
-      onchange: (e) => { this.print.faces = e.target.value; this.saveSettings(); },
+      onchange: (e) => { this.print.faces = e.currentTarget.value; this.saveSettings(); },
     }, FACES.map(([v, t]) => html('option', { value: v, text: t, selected: this.print.faces === v })));
     const details = html('details', { class: 'print-settings', open: this.settingsOpen }, [
       html('summary', { text: 'Print settings' }),
@@ -349,28 +454,33 @@ export class Fabricator {
 
   /** What was made: how it is built, warnings, the numbers, the downloads and how to put it together.
    * Every part of the report is shown when the server sends it (a full-size build's report has other
-   * parts than a printed model's). */
+   * parts than a printed model's).
+   * @param {Fabrication} answer
+   * @returns {Nodes}
+   */
   summary(answer) {
-    const report = answer.report || {};
+    const report = answer.report;
+    /** @type {Nodes} */
     const out = [];
-    const warn = (title, text, ...more) =>
+    /** @type {(title: string, text: string, ...more: Node[]) => void} */
+    const warn = (title, text, ...more) => {
       out.push(html('div', { class: 'callout warn' }, [html('b', { text: title }), html('p', { text }), ...more]));
+    };
     // The scale the parts were made at, as the report says it.
     const build = this.build();
-    const made = typeof report.scale === 'string'
-      ? describe(`model:${report.scale}`, { modelMm: report.model_mm })
+    const scale = report.linkwright === 'fabrication/1' ? report.scale : undefined;
+    const made = typeof scale === 'string' && report.linkwright === 'fabrication/1'
+      ? describe(`model:${scale}`, { modelMm: report.model_mm })
       : build.kind === 'full' ? describe(buildWord(build)) : null;
-    if (made) out.push(html('p', { class: 'fab-scale', 'data-scale': report.scale ?? buildWord(build), text: made }));
-    if (typeof report.linkwright === 'string' && report.linkwright.startsWith('workshop/')) {
-      return [...out, ...this.workshop(answer)];
-    }
-    if (answer.used > 0 && this.made.which !== answer.used - 1) {
+    if (made) out.push(html('p', { class: 'fab-scale', 'data-scale': scale ?? buildWord(build), text: made }));
+    if (report.linkwright === 'workshop/1') return [...out, ...this.workshop(answer, report)];
+    if (answer.used > 0 && this.made?.which !== answer.used - 1) {
       warn(`These are the parts of alternative ${answer.used}`,
         'The linkage shown cannot be printed with these settings (its parts would collide or not fit), so its first alternative that can is used.',
         html('button', {
           text: `Show alternative ${answer.used}`,
           onclick: () => {
-            this.made.which = answer.used - 1;
+            if (this.made) this.made.which = answer.used - 1;
             this.results.select(answer.used - 1);
           },
         }));
@@ -385,16 +495,18 @@ export class Fabricator {
       const c = report.checks;
       warn('Some checks failed', Object.values(c).filter(Array.isArray).flat().join('; '));
     }
+    /** @type {[string, string][]} */
     const rows = [];
     const parts = report.parts || [];
+    /** @type {(role: string) => number} */
     const count = (role) => parts.filter((p) => p.role === role).length;
     // Bodies printed in halves or cut to fit the bed are several pieces of one body.
     const bodies = (this.results.result?.scene || this.store.scene).moving_bodies.length;
     const pieces = count('body') === bodies ? plural(bodies, 'moving body', 'moving bodies')
       : `${plural(count('body'), 'piece')} of ${plural(bodies, 'moving body', 'moving bodies')}`;
-    const kinds = [
+    const kinds = /** @type {[number, string][]} */ ([
       [count('link') + count('guide'), 'link'], [count('connector'), 'connector'], [count('spring_bracket'), 'spring bracket'],
-    ].filter(([n]) => n > 0).map(([n, one]) => plural(n, one));
+    ]).filter(([n]) => n > 0).map(([n, one]) => plural(n, one));
     if (count('body')) kinds.push(pieces);
     if (count('ground')) kinds.push(plural(count('ground'), 'fixed piece'));
     if (report.totals) rows.push(['Parts', kinds.length ? `${report.totals.parts} (${kinds.join(', ')})` : String(report.totals.parts)]);
@@ -402,15 +514,16 @@ export class Fabricator {
     if (layers) rows.push(['Layers of links', layers.back ? `${layers.front} on the front face, ${layers.back} on the back` : String(layers.count)]);
     const s = report.settings;
     if (report.plates && s?.bed) rows.push(['Print beds', `${report.plates.length} of ${s.bed.width} × ${s.bed.depth} mm`]);
-    if (Number.isFinite(report.totals?.volume_mm3)) rows.push(['Print volume', `${(report.totals.volume_mm3 / 1000).toFixed(1)} cm³`]);
-    if (Number.isFinite(report.totals?.mass_g) && s) {
-      rows.push(['Mass (estimate)', `${report.totals.mass_g.toFixed(0)} g at ${Math.round(s.fill_fraction * 100)}% fill`]);
+    const volume = report.totals?.volume_mm3, mass = report.totals?.mass_g;
+    if (typeof volume === 'number' && Number.isFinite(volume)) rows.push(['Print volume', `${(volume / 1000).toFixed(1)} cm³`]);
+    if (typeof mass === 'number' && Number.isFinite(mass) && s) {
+      rows.push(['Mass (estimate)', `${mass.toFixed(0)} g at ${Math.round(s.fill_fraction * 100)}% fill`]);
     }
     if (rows.length) {
       out.push(html('table', { class: 'metrics fab-summary' },
         rows.map(([k, v]) => html('tr', {}, [html('th', { text: k }), html('td', { text: v })]))));
     }
-    if (answer.balance) out.push(...this.springs(answer));
+    if (answer.balance) out.push(...this.springs(answer, answer.balance));
     out.push(...this.downloads(answer));
     if (report.assembly?.length) {
       // The engine's steps name a bracket put in place, not what it goes on: the app adds it.
@@ -421,10 +534,15 @@ export class Fabricator {
     return out;
   }
 
-  /** A full-size build: what to cut from which stock, the bolts, what the builder should know, the
-   * springs to buy, the files and the steps. */
-  workshop(answer) {
-    const report = answer.report;
+  /**
+   * A full-size build: what to cut from which stock, the bolts, what the builder should know, the
+   * springs to buy, the files and the steps.
+   * @param {Fabrication} answer
+   * @param {WorkshopReport} report  its report
+   * @returns {Nodes}
+   */
+  workshop(answer, report) {
+    /** @type {Nodes} */
     const out = [];
     if (report.notes?.length) {
       out.push(html('div', { class: 'callout warn workshop-notes' }, [html('b', { text: 'Before you build' }),
@@ -456,34 +574,49 @@ export class Fabricator {
     return out;
   }
 
-  /** The springs the parts are hooked for: what to buy, and where each hangs. */
-  springs(answer) {
-    const balance = answer.balance, units = (this.results.result?.scene || this.store.scene)?.units || 'mm';
+  /**
+   * The springs the parts are hooked for: what to buy, and where each hangs.
+   * @param {Fabrication} answer
+   * @param {import('./api.js').Balance} balance  its springs
+   * @returns {Nodes}
+   */
+  springs(answer, balance) {
+    const units = (this.results.result?.scene || this.store.scene)?.units || 'mm';
+    /** @type {Nodes} */
     const out = [html('h3', { text: 'Counterbalance springs' })];
     if (balance.springs.length) {
       out.push(html('p', { class: 'note', text: `They lower the crank's peak torque by ${springCut(balance)}%. `
         + 'Each hangs beyond the links, on hooks printed on the parts (see Putting it together).' }));
     }
-    out.push(springList(balance, units, this.naming(), answer.report?.springs, bracketMounts(answer, this.naming())));
+    const hooks = answer.report.linkwright === 'fabrication/1' ? answer.report.springs : null;
+    out.push(springList(balance, units, this.naming(), hooks, bracketMounts(answer, this.naming())));
     return out;
   }
 
   /** What the springs' words name the parts by: the person's names in the scene, and the mechanism
-   * shown (whose part names the engine's answer uses). */
+   * shown (whose part names the engine's answer uses).
+   * @returns {Naming}
+   */
   naming() {
     return { scene: this.store.scene, mechanism: this.results.result?.mechanism ?? null };
   }
 
   /** The zip of everything, then every file by what it is for (the files this app does not group
-   * last, as the server lists them). */
+   * last, as the server lists them).
+   * @param {Fabrication} answer
+   * @returns {Nodes}
+   */
   downloads(answer) {
+    /** @type {Nodes} */
     const out = [html('h3', { text: 'Downloads' })];
     if (answer.zip) {
       out.push(html('div', { class: 'inline' }, [this.link(answer.zip, `⬇ Everything (.zip, ${kilobytes(answer.zip.bytes)})`, 'button primary')]));
     }
-    const parts = new Map((answer.report?.parts || []).filter((p) => p.file).map((p) => [p.file, p]));
+    const printed = answer.report.linkwright === 'fabrication/1' ? answer.report.parts || [] : [];
+    const parts = new Map(printed.filter((p) => p.file).map((p) => [p.file, p]));
     const meshes = new Map((answer.preview?.parts || []).map((p) => [p.name, p]));
     const brackets = bracketMounts(answer, this.naming());
+    /** @type {(file: FabricationFile) => HTMLElement} */
     const describe = (file) => {
       const p = parts.get(file.name);
       if (!p) return html('small', { text: purpose(file.name) });
@@ -493,6 +626,7 @@ export class Fabricator {
         ` ${p.role.replace('_', ' ')}${mount}, ${size} mm, ${p.mass_g.toFixed(1)} g`]);
     };
     const files = answer.files || [];
+    /** @type {[string, (name: string) => boolean][]} */
     const groups = [...FILE_GROUPS, ['Other files', (name) => !FILE_GROUPS.some(([, test]) => test(name))]];
     for (const [title, test] of groups) {
       const listed = files.filter((f) => test(f.name));
@@ -502,9 +636,13 @@ export class Fabricator {
   }
 
   /** A download link for a file of the answer; a part's file is saved under the scene's name too
-   * (`garbage_truck_crank.stl`), so that parts of several objects do not overwrite each other. */
+   * (`garbage_truck_crank.stl`), so that parts of several objects do not overwrite each other.
+   * @param {FabricationFile} file
+   * @param {string} [text]
+   * @param {string} [cls]
+   */
   link(file, text = file.name.split('/').pop(), cls = 'file') {
-    const base = file.name.split('/').pop();
+    const base = file.name.split('/').pop() ?? file.name;
     const scene = (this.results.result?.scene?.name || '').replace(/[^\w.-]+/g, '_');
     const saved = file.name.startsWith('parts/') && scene ? `${scene}_${base}` : base;
     return html('a', {

@@ -1,6 +1,14 @@
+// @ts-check
 // The engine names what is wrong by its place in the scene file (`moving_bodies[0].poses[1]`); the
 // person knows the screen. These are the screen's words for those places, and what to select there.
 
+/**
+ * @typedef {import('./scene.js').Scene} Scene
+ * @typedef {{text: string, selection?: import('./scene.js').Selection, pose?: number}} ScreenPlace
+ *   Where a field of the scene file is on screen: in words, and the shape (and pose) to select there.
+ */
+
+/** @type {Record<string, string>} */
 const SETTINGS = {
   mechanism: 'Type',
   build: 'Build',
@@ -14,9 +22,13 @@ const SETTINGS = {
   min_transmission_deg: 'Min. transmission',
   comfortable_transmission_deg: 'Comfortable transmission',
 };
+/** @type {Record<string, string>} */
 const WEIGHTS = { accuracy: 'Accuracy', smoothness: 'Smoothness', location: 'Location', size: 'Size', transmission: 'Transmission' };
 
-/** A number as the engine writes it (Rust: `5000000.0`, `1e6`, `NaN`, `inf`) in the screen's words. */
+/**
+ * A number as the engine writes it (Rust: `5000000.0`, `1e6`, `NaN`, `inf`) in the screen's words.
+ * @param {string} text
+ */
 function plainNumber(text) {
   const v = Number(text.replace(/^(-?)inf$/, '$1Infinity'));
   if (Number.isNaN(v)) return 'not a number';
@@ -31,6 +43,9 @@ function plainNumber(text) {
  * outline's vertices and edges (counted from 0) as its corners and sides (counted from 1), numbers
  * such as `1e6` written out, and the mechanism families (`"slider_crank"`) as Settings › Type
  * names them (`families`, the engine's list, when loaded).
+ * @param {string} message
+ * @param {Scene} scene
+ * @param {{id: string, label: string}[]} [families]
  */
 export function screenWords(message, scene, families = []) {
   let out = message
@@ -58,6 +73,9 @@ export function screenWords(message, scene, families = []) {
 /**
  * Where `field` is on screen: `{text}` in words (“Moving body “lid”, pose 2”, “Settings › Samples”),
  * with `selection` and `pose` when it names a drawn shape or one of its poses.
+ * @param {string} field
+ * @param {Scene} scene
+ * @returns {ScreenPlace}
  */
 export function screenField(field, scene) {
   const path = field.replace(/^scene\.?/, '');
@@ -65,8 +83,9 @@ export function screenField(field, scene) {
   if (m) {
     const moving = m[1] === 'moving_bodies';
     const index = Number(m[2]);
-    const name = scene[m[1]]?.[index]?.name;
+    const name = (moving ? scene.moving_bodies : scene.fixed_bodies)[index]?.name;
     const text = `${moving ? 'Moving body' : 'Fixed body'} ${name ? `“${name}”` : index + 1}`;
+    /** @type {import('./scene.js').Selection} */
     const selection = { kind: moving ? 'moving' : 'fixed', index };
     const pose = /^\.poses\[(\d+)\]/.exec(m[3]);
     if (moving && pose) return { text: `${text}, pose ${Number(pose[1]) + 1}`, selection, pose: Number(pose[1]) };

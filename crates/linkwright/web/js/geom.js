@@ -1,28 +1,53 @@
+// @ts-check
 // Plane geometry for the editor: points are [x, y] arrays in world coordinates (y up), poses are
 // [x, y, angleDeg] as in scene/1 (a body point m sits at R(angle)·m + (x, y)).
 
+/**
+ * @typedef {[number, number]} Point  A point `[x, y]` (world coordinates, y up; or a body's own frame;
+ *   or screen pixels, y down, where a name says so). The offset between two is a Point too.
+ * @typedef {[number, number, number]} Pose  A body's pose `[x, y, angle_deg]`: its frame's origin and
+ *   its counter-clockwise turn.
+ * @typedef {Point[]} Polygon  An outline, its corners in order.
+ * @typedef {{minX: number, minY: number, maxX: number, maxY: number}} Bounds  A box along the axes.
+ */
+
 export const DEG = Math.PI / 180;
 
+/** @type {(a: Point, b: Point) => Point} */
 export const add = (a, b) => [a[0] + b[0], a[1] + b[1]];
+/** @type {(a: Point, b: Point) => Point} */
 export const sub = (a, b) => [a[0] - b[0], a[1] - b[1]];
+/** @type {(a: Point, s: number) => Point} */
 export const scale = (a, s) => [a[0] * s, a[1] * s];
+/** @type {(a: Point, b: Point) => number} */
 export const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
+/** @type {(a: Point, b: Point, t: number) => Point} */
 export const lerp = (a, b, t) => [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
 
-/** Rotates `p` by `deg` degrees counter-clockwise about the origin. */
+/**
+ * Rotates `p` by `deg` degrees counter-clockwise about the origin.
+ * @param {Point} p
+ * @param {number} deg
+ * @returns {Point}
+ */
 export function rotate(p, deg) {
   const c = Math.cos(deg * DEG), s = Math.sin(deg * DEG);
   return [c * p[0] - s * p[1], s * p[0] + c * p[1]];
 }
 
-/** The world position of body point `m` at `pose`. */
+/** The world position of body point `m` at `pose`. @type {(pose: Pose, m: Point) => Point} */
 export const toWorld = (pose, m) => add(rotate(m, pose[2]), [pose[0], pose[1]]);
 
-/** The body point at world position `w` for `pose`. */
+/** The body point at world position `w` for `pose`. @type {(pose: Pose, w: Point) => Point} */
 export const toBody = (pose, w) => rotate(sub(w, [pose[0], pose[1]]), -pose[2]);
 
+/** A body's outline placed at `pose`, in world coordinates. @type {(polygon: Polygon, pose: Pose) => Polygon} */
 export const placed = (polygon, pose) => polygon.map((m) => toWorld(pose, m));
 
+/**
+ * The area of `poly`, positive when its corners go counter-clockwise.
+ * @param {Polygon} poly
+ */
 export function signedArea(poly) {
   let s = 0;
   for (let i = 0; i < poly.length; i++) {
@@ -32,11 +57,15 @@ export function signedArea(poly) {
   return s / 2;
 }
 
-/** The area centroid (the vertex mean for a degenerate polygon). */
+/**
+ * The area centroid (the vertex mean for a degenerate polygon).
+ * @param {Polygon} poly
+ * @returns {Point}
+ */
 export function centroid(poly) {
   const a = signedArea(poly);
   if (Math.abs(a) < 1e-12) {
-    const s = poly.reduce((acc, p) => add(acc, p), [0, 0]);
+    const s = poly.reduce((acc, p) => add(acc, p), /** @type {Point} */ ([0, 0]));
     return scale(s, 1 / Math.max(poly.length, 1));
   }
   let cx = 0, cy = 0;
@@ -49,6 +78,11 @@ export function centroid(poly) {
   return [cx / (6 * a), cy / (6 * a)];
 }
 
+/**
+ * The box around `points` (empty: infinite the wrong way round).
+ * @param {Point[]} points
+ * @returns {Bounds}
+ */
 export function bounds(points) {
   let minX = Infinity, minY = Infinity, maxX = -Infinity, maxY = -Infinity;
   for (const [x, y] of points) {
@@ -58,7 +92,13 @@ export function bounds(points) {
   return { minX, minY, maxX, maxY };
 }
 
-/** Distance from `p` to segment a–b, and the parameter of the closest point. */
+/**
+ * Distance from `p` to segment a–b, and the parameter of the closest point.
+ * @param {Point} p
+ * @param {Point} a
+ * @param {Point} b
+ * @returns {{d: number, t: number}}
+ */
 export function segmentDistance(p, a, b) {
   const ab = sub(b, a);
   const len2 = ab[0] * ab[0] + ab[1] * ab[1];
@@ -66,35 +106,58 @@ export function segmentDistance(p, a, b) {
   return { d: dist(p, add(a, scale(ab, t))), t };
 }
 
-/** The four corners of the box spanned by two points, counter-clockwise. */
+/**
+ * The four corners of the box spanned by two points, counter-clockwise.
+ * @param {Point} a
+ * @param {Point} b
+ * @returns {Polygon}
+ */
 export function rectangle(a, b) {
   const x0 = Math.min(a[0], b[0]), x1 = Math.max(a[0], b[0]);
   const y0 = Math.min(a[1], b[1]), y1 = Math.max(a[1], b[1]);
   return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
 }
 
-/** An ellipse inscribed in the box spanned by two points, as a polygon of `n` vertices. */
+/**
+ * An ellipse inscribed in the box spanned by two points, as a polygon of `n` vertices.
+ * @param {Point} a
+ * @param {Point} b
+ * @returns {Polygon}
+ */
 export function ellipse(a, b, n = 32) {
   const c = lerp(a, b, 0.5);
   const rx = Math.abs(b[0] - a[0]) / 2, ry = Math.abs(b[1] - a[1]) / 2;
   return Array.from({ length: n }, (_, i) => {
     const t = (2 * Math.PI * i) / n;
-    return [c[0] + rx * Math.cos(t), c[1] + ry * Math.sin(t)];
+    /** @type {Point} */
+    const p = [c[0] + rx * Math.cos(t), c[1] + ry * Math.sin(t)];
+    return p;
   });
 }
 
-/** The angle `a` (degrees) brought into (−180, 180]. */
+/**
+ * The angle `a` (degrees) brought into (−180, 180].
+ * @param {number} a
+ */
 export function wrapDeg(a) {
   let w = ((a % 360) + 360) % 360;
   return w > 180 ? w - 360 : w;
 }
 
-/** Rounds to a tidy number of decimals for display and files. */
+/** Rounds to a tidy number of decimals for display and files. @type {(x: number, decimals?: number) => number} */
 export const tidy = (x, decimals = 3) => Math.round(x * 10 ** decimals) / 10 ** decimals;
 
+/** @type {(a: Point, b: Point) => number} */
 const cross = (a, b) => a[0] * b[1] - a[1] * b[0];
 
-/** True when segments a0–a1 and b0–b1 cross away from their ends (by more than `tol` along each). */
+/**
+ * True when segments a0–a1 and b0–b1 cross away from their ends (by more than `tol` along each).
+ * @param {Point} a0
+ * @param {Point} a1
+ * @param {Point} b0
+ * @param {Point} b1
+ * @param {number} tol
+ */
 function segmentsCross(a0, a1, b0, b1, tol) {
   const da = sub(a1, a0), db = sub(b1, b0);
   const denom = cross(da, db), la = Math.hypot(...da), lb = Math.hypot(...db);
@@ -104,8 +167,11 @@ function segmentsCross(a0, a1, b0, b1, tol) {
   return t > tol / la && t < 1 - tol / la && u > tol / lb && u < 1 - tol / lb;
 }
 
-/** The narrowest width of `points` (the least distance between two parallel lines with all of them
- * between): across the direction of some pair of them, so every pair is tried. */
+/**
+ * The narrowest width of `points` (the least distance between two parallel lines with all of them
+ * between): across the direction of some pair of them, so every pair is tried.
+ * @param {Point[]} points
+ */
 export function narrowestWidth(points) {
   let best = Infinity;
   for (let i = 0; i < points.length; i++) {
@@ -125,11 +191,19 @@ export function narrowestWidth(points) {
 }
 
 /**
+ * @typedef {{kind: 'few'} | {kind: 'flat', width: number} | {kind: 'crossing', sides: [number, number]}} OutlineProblem
+ *   Why an outline cannot be a shape (see `outlineProblem`).
+ */
+
+/**
  * Why `points` (an outline, in order) cannot be a shape, or null when they can: `{kind: 'few'}` for
  * fewer than three corners, `{kind: 'flat', width}` when it is narrower than `minWidth` (on one line,
  * or almost), `{kind: 'crossing', sides: [i, j]}` (0-based, side i from corner i to the next) when it
  * crosses itself. What the engine refuses (`Polygon::validate`: too few corners, no area, crossing),
  * and with `minWidth` a sliver it would take, which is of no use as a part.
+ * @param {Point[]} points
+ * @param {number} [minWidth]
+ * @returns {OutlineProblem | null}
  */
 export function outlineProblem(points, minWidth = 0) {
   const n = points.length;
@@ -159,7 +233,11 @@ export function outlineProblem(points, minWidth = 0) {
   return null;
 }
 
-/** True when `p` is inside `poly` (even-odd; a point on the boundary may answer either way). */
+/**
+ * True when `p` is inside `poly` (even-odd; a point on the boundary may answer either way).
+ * @param {Polygon} poly
+ * @param {Point} p
+ */
 export function contains(poly, p) {
   let inside = false;
   for (let i = 0, j = poly.length - 1; i < poly.length; j = i++) {
@@ -169,7 +247,11 @@ export function contains(poly, p) {
   return inside;
 }
 
-/** The distance from `p` to the area of `poly`: 0 inside. */
+/**
+ * The distance from `p` to the area of `poly`: 0 inside.
+ * @param {Polygon} poly
+ * @param {Point} p
+ */
 export function distanceTo(poly, p) {
   if (contains(poly, p)) return 0;
   return Math.min(...poly.map((a, i) => segmentDistance(p, a, poly[(i + 1) % poly.length]).d));

@@ -1,3 +1,4 @@
+// @ts-check
 // Labels on the canvas that must stay readable: each, in order of importance, takes the first of the
 // places offered to it that is on the canvas and covers no label placed before it and no mark that
 // must be seen; one with no such place is hidden. A label keeps the place it had last time while that is free, so
@@ -12,9 +13,11 @@ const GAP = 2;
  *   A label as drawn (`box`, where it is) with the shifts `[dx, dy]` it may be moved by, best first.
  */
 
+/** @type {(a: Box, b: Box) => boolean} */
 const overlap = (a, b) =>
   a.x < b.x + b.w + GAP && b.x < a.x + a.w + GAP && a.y < b.y + b.h + GAP && b.y < a.y + a.h + GAP;
 
+/** @type {(a: Box, area: Box) => boolean} */
 const inside = (a, area) => a.x >= area.x && a.y >= area.y && a.x + a.w <= area.x + area.w && a.y + a.h <= area.y + area.h;
 
 /**
@@ -24,7 +27,8 @@ const inside = (a, area) => a.x >= area.x && a.y >= area.y && a.x + a.w <= area.
  * @param {Label[]} labels
  * @param {Box} area
  * @param {Box[]} marks
- * @param {Map<string, number>} previous
+ * @param {Map<string, number>} [previous]
+ * @returns {Map<string, number>}
  */
 export function placeLabels(labels, area, marks, previous = new Map()) {
   const taken = [...marks];
@@ -52,14 +56,23 @@ export function placeLabels(labels, area, marks, previous = new Map()) {
   return chosen;
 }
 
-/** Shifts that keep a label beside its place: as drawn, then a line up or down, then two. */
+/**
+ * Shifts that keep a label beside its place: as drawn, then a line up or down, then two.
+ * @param {Box} box
+ * @returns {number[][]}
+ */
 export function besideShifts(box) {
   const h = box.h + GAP;
   return [[0, 0], [0, -h], [0, h], [0, -2 * h], [0, 2 * h]];
 }
 
-/** A pose's label, drawn to the right of the pose's number (`reach` pixels from its centre to the
- * label's start): there, or on the left, each also a line up or down. */
+/**
+ * A pose's label, drawn to the right of the pose's number (`reach` pixels from its centre to the
+ * label's start): there, or on the left, each also a line up or down.
+ * @param {Box} box
+ * @param {number} reach
+ * @returns {number[][]}
+ */
 export function tagShifts(box, reach) {
   const h = box.h + GAP, left = -(box.w + 2 * reach);
   return [[0, 0], [left, 0], [0, -h], [0, h], [left, -h], [left, h]];

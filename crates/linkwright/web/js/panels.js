@@ -1,3 +1,4 @@
+// @ts-check
 // The side panel's Object and Settings tabs: the list of shapes with names and poses, how the object is
 // built, and the search settings. Every change goes through the store as one undo step.
 
@@ -7,32 +8,62 @@ import { tidy } from './geom.js';
 import * as S from './scene.js';
 import { clear, html } from './svg.js';
 
-/** Replaces a panel's content, keeping the focused field focused (the panel is rebuilt on every change). */
+/**
+ * @typedef {import('./store.js').Store} Store
+ * @typedef {import('./scene.js').ShapeKind} ShapeKind
+ * @typedef {import('./scene.js').Settings} Settings
+ * @typedef {import('./scene.js').Weights} Weights
+ * @typedef {import('./build.js').Build} Build
+ * @typedef {(Node | string | null)[]} Nodes
+ */
+
+/**
+ * Replaces a panel's content, keeping the focused field focused (the panel is rebuilt on every change).
+ * @param {HTMLElement} host
+ * @param {Nodes} children
+ */
 function rebuild(host, children) {
-  const focused = host.contains(document.activeElement) ? document.activeElement?.dataset?.key : null;
-  clear(host).append(...children);
+  const active = document.activeElement;
+  const focused = active instanceof HTMLElement && host.contains(active) ? active.dataset.key : null;
+  clear(host).append(...children.filter((c) => c !== null));
   if (focused) {
     const again = host.querySelector(`[data-key="${CSS.escape(focused)}"]`);
-    again?.focus();
+    if (again instanceof HTMLElement) again.focus();
   }
 }
 
+/**
+ * A number field that calls `onCommit` with a number typed (Enter or leaving the field).
+ * @param {number} value
+ * @param {string} key  its `data-key`, which keeps it focused across a rebuild
+ * @param {(v: number) => void} onCommit
+ * @param {Record<string, unknown>} [attrs]
+ */
 const number = (value, key, onCommit, attrs = {}) =>
   html('input', {
     type: 'number', value: String(value), 'data-key': key, step: 'any', ...attrs,
     onchange: (e) => {
-      const v = Number(e.target.value);
-      if (e.target.value !== '' && Number.isFinite(v)) onCommit(v);
+      const v = Number(e.currentTarget.value);
+      if (e.currentTarget.value !== '' && Number.isFinite(v)) onCommit(v);
     },
-    onkeydown: (e) => e.key === 'Enter' && e.target.blur(),
+    onkeydown: (e) => { if (e.key === 'Enter') e.currentTarget.blur(); },
   });
 
+/**
+ * The Object tab: the shapes drawn, each to select, rename or delete, and the selected moving body's poses.
+ * @param {HTMLElement} host
+ * @param {Store} store
+ */
 export function renderObjectTab(host, store) {
   const { scene, ui } = store;
   const sel = ui.selection;
-  const isSel = (kind, index) => sel && sel.kind === kind && sel.index === index;
+  /** @type {(kind: ShapeKind, index: number) => boolean} */
+  const isSel = (kind, index) => !!sel && sel.kind === kind && sel.index === index;
+  /** @type {(kind: ShapeKind, index: number) => void} */
   const select = (kind, index) => store.setUi({ selection: { kind, index } });
+  /** @type {(kind: ShapeKind, index: number) => void} */
   const remove = (kind, index) => store.edit(`delete ${kind}`, (s) => S.deleteShape(s, { kind, index }));
+  /** @type {(kind: ShapeKind, index: number, label: string, colour: string, named: boolean) => HTMLLIElement} */
   const row = (kind, index, label, colour, named) =>
     html('li', { class: isSel(kind, index) ? 'row selected' : 'row', onclick: () => select(kind, index) }, [
       html('span', { class: 'swatch', style: `background:${colour}` }),
@@ -40,14 +71,16 @@ export function renderObjectTab(host, store) {
         ? html('input', {
           class: 'name', value: label, 'data-key': `${kind}-name-${index}`, 'aria-label': 'name',
           onclick: (e) => e.stopPropagation(),
-          onchange: (e) => store.edit('rename', (s) => {
-            (kind === 'fixed' ? s.fixed_bodies : s.moving_bodies)[index].name = e.target.value;
-          }),
+          onchange: (e) => {
+            const name = e.currentTarget.value;
+            store.edit('rename', (s) => { (kind === 'fixed' ? s.fixed_bodies : s.moving_bodies)[index].name = name; });
+          },
         })
         : html('span', { class: 'name', text: label }),
       html('button', { class: 'icon', title: 'Delete', 'aria-label': `delete ${label}`, text: '×', onclick: (e) => { e.stopPropagation(); remove(kind, index); } }),
     ]);
 
+  /** @type {Nodes} */
   const out = [];
   out.push(html('h3', { text: 'Fixed bodies' }));
   out.push(scene.fixed_bodies.length
@@ -69,15 +102,21 @@ export function renderObjectTab(host, store) {
   rebuild(host, out);
 }
 
-/** The selected moving body's poses as editable numbers. */
+/**
+ * The selected moving body's poses as editable numbers.
+ * @param {Store} store
+ * @param {number} b
+ */
 function poseTable(store, b) {
   const body = store.scene.moving_bodies[b];
+  /** @type {(p: number, k: number, v: number) => void} */
   const set = (p, k, v) => store.edit(`edit pose ${p + 1}`, (s) => { s.moving_bodies[b].poses[p][k] = tidy(v, k === 2 ? 2 : 3); });
   const head = html('tr', {}, [
     ...['Pose', 'x', 'y', 'angle°'].map((t) => html('th', { text: t })),
     html('th', { text: 'Must hit', title: 'The linkage must reach this pose within 0.5% of the body size and 0.5°; other poses in between are guides' }),
   ]);
   const n = body.poses.length;
+  /** @type {(p: number) => HTMLInputElement} */
   const mustHit = (p) => {
     const ends = p === 0 || p === n - 1;
     return html('input', {
@@ -85,7 +124,10 @@ function poseTable(store, b) {
       'aria-label': `Pose ${p + 1} must be hit`,
       title: ends ? 'The first and last poses, where the object rests, are always hit' : 'Must the linkage hit this pose?',
       onclick: (e) => e.stopPropagation(),
-      onchange: (e) => store.edit(`${e.target.checked ? 'mark' : 'unmark'} pose ${p + 1} must-hit`, (s) => S.setMustHit(s, p, e.target.checked)),
+      onchange: (e) => {
+        const on = e.currentTarget.checked;
+        store.edit(`${on ? 'mark' : 'unmark'} pose ${p + 1} must-hit`, (s) => S.setMustHit(s, p, on));
+      },
     });
   };
   const rows = body.poses.map((pose, p) =>
@@ -103,6 +145,7 @@ function poseTable(store, b) {
   ];
 }
 
+/** @type {[keyof Weights, string, string][]} */
 const WEIGHTS = [
   ['accuracy', 'Accuracy', 'how closely the poses are hit'],
   ['smoothness', 'Smoothness', 'how direct the motion between poses is'],
@@ -111,16 +154,23 @@ const WEIGHTS = [
   ['transmission', 'Transmission', 'how strongly the links keep a comfortable angle, away from dead points'],
 ];
 
-/** A log-scale slider (0.01 to 10,000) with a number field beside it. */
+/**
+ * A log-scale slider (0.01 to 10,000) with a number field beside it.
+ * @param {Store} store
+ * @param {keyof Weights} key
+ * @param {string} label
+ * @param {string} help
+ */
 function weightControl(store, key, label, help) {
   const value = store.scene.weights[key];
   const pos = value > 0 ? Math.log10(value) : -2;
   const field = number(value, `w-${key}`, (v) => commit(Math.max(0, v)), { min: 0 });
+  /** @type {(v: number) => void} */
   const commit = (v) => store.edit(`weight ${key}`, (s) => { s.weights[key] = v; });
   const slider = html('input', {
     type: 'range', min: -2, max: 4, step: 0.05, value: String(pos), 'data-key': `ws-${key}`, 'aria-label': `${label} weight`,
-    oninput: (e) => { field.value = String(tidy(10 ** Number(e.target.value), 3)); },
-    onchange: (e) => commit(tidy(10 ** Number(e.target.value), 3)),
+    oninput: (e) => { field.value = String(tidy(10 ** Number(e.currentTarget.value), 3)); },
+    onchange: (e) => commit(tidy(10 ** Number(e.currentTarget.value), 3)),
   });
   return html('div', { class: 'field' }, [
     html('label', { text: label, title: help }), slider, field,
@@ -132,14 +182,20 @@ function weightControl(store, key, label, help) {
  * back what was chosen before. */
 const lastBuild = { scale: 'auto', material: 'plywood' };
 
-/** How the object is built: a printed model at a scale (auto or fixed), or full size in a material. */
+/**
+ * How the object is built: a printed model at a scale (auto or fixed), or full size in a material.
+ * @param {Store} store
+ * @returns {Nodes}
+ */
 function buildSection(store) {
   const { scene } = store;
   const word = scene.build ?? DEFAULT_BUILD;
   const b = parseBuild(word);
   if (b?.kind === 'model') lastBuild.scale = b.scale;
   if (b?.kind === 'full') lastBuild.material = b.material;
+  /** @type {(next: Build) => void} */
   const set = (next) => store.edit('build', (s) => { s.build = buildWord(next); });
+  /** @type {(value: 'model' | 'full', label: string, help: string) => HTMLLabelElement} */
   const kind = (value, label, help) => html('label', { class: 'check', title: help }, [
     html('input', {
       type: 'radio', name: 'build-kind', value, 'data-key': `build-${value}`, checked: b?.kind === value,
@@ -147,6 +203,7 @@ function buildSection(store) {
     }),
     ` ${label}`,
   ]);
+  /** @type {Nodes} */
   const out = [
     html('fieldset', { class: 'build-kind' }, [
       html('legend', { text: 'Built as' }),
@@ -154,9 +211,10 @@ function buildSection(store) {
       kind('full', 'Full size', 'the object at its real size, made in a workshop'),
     ]),
   ];
+  /** @type {(key: string, label: string, options: string[][], selected: string, onPick: (v: string) => void) => HTMLElement[]} */
   const menu = (key, label, options, selected, onPick) => {
     const id = `settings-${key}`;
-    const select = html('select', { id, 'data-key': key, onchange: (e) => onPick(e.target.value) },
+    const select = html('select', { id, 'data-key': key, onchange: (e) => onPick(e.currentTarget.value) },
       options.map(([v, t]) => html('option', { value: v, text: t, selected: v === selected })));
     return [html('label', { for: id, text: label }), select];
   };
@@ -182,21 +240,31 @@ function buildSection(store) {
   return out;
 }
 
+/**
+ * The Settings tab: units, build, mechanism type, weights, tolerances and the search's size.
+ * @param {HTMLElement} host
+ * @param {Store} store
+ */
 export function renderSettingsTab(host, store) {
   const { scene } = store;
   const st = scene.settings;
+  /** @type {(k: keyof Settings, v: number) => void} */
   const setSetting = (k, v) => store.edit(`setting ${k}`, (s) => { s.settings[k] = v; });
+  /** @type {(label: string, control: HTMLElement, help?: string) => HTMLDivElement} */
   const row = (label, control, help) => html('div', { class: 'field' }, [html('label', { text: label }), control, help ? html('small', { text: help }) : null]);
   const mechanism = html('select', {
     'data-key': 'mechanism',
-    onchange: (e) => store.edit('mechanism', (s) => { s.mechanism = e.target.value; }),
+    onchange: (e) => {
+      const mechanism = e.currentTarget.value;
+      store.edit('mechanism', (s) => { s.mechanism = mechanism; });
+    },
   }, [
     ['auto', 'Automatic (best of all types)'],
     ...store.families.map((f) => [f.id, f.description]),
   ].map(([v, t]) => html('option', { value: v, text: t, selected: scene.mechanism === v })));
   const samples = html('div', { class: 'inline' }, [
     number(st.samples, 'samples', (v) => setSetting('samples', Math.min(1000000, Math.max(1, Math.round(v)))), { min: 1, max: 1000000, step: 1000 }),
-    ...[['Quick', 5000], ['Normal', 20000], ['Paper', 100000]].map(([t, n]) =>
+    .../** @type {[string, number][]} */ ([['Quick', 5000], ['Normal', 20000], ['Paper', 100000]]).map(([t, n]) =>
       html('button', { class: st.samples === n ? 'small on' : 'small', text: t, title: `${n} samples`, onclick: () => setSetting('samples', n) })),
   ]);
   const seed = html('div', { class: 'inline' }, [
@@ -206,7 +274,10 @@ export function renderSettingsTab(host, store) {
   const knownUnits = ['mm', 'cm', 'm', 'in', 'ft'];
   const units = html('select', {
     'data-key': 'units', 'aria-label': 'Units',
-    onchange: (e) => store.edit('units', (s) => { s.units = e.target.value; }),
+    onchange: (e) => {
+      const units = e.currentTarget.value;
+      store.edit('units', (s) => { s.units = units; });
+    },
   }, [...new Set([...knownUnits, scene.units || 'mm'])].map((u) => html('option', { value: u, text: u, selected: (scene.units || 'mm') === u })));
   rebuild(host, [
     html('h3', { text: 'Drawing' }),

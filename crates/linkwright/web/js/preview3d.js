@@ -1,3 +1,4 @@
+// @ts-check
 // The 3D preview of a fabrication: every printed part's mesh in its assembled place, moving with the
 // linkage. Plain WebGL 2: one indexed mesh per part drawn with its carrier's pose, flat shading from
 // screen-space derivatives, a light that follows the camera. Drag to turn, scroll to zoom,
@@ -9,7 +10,18 @@
 import { bodyColour } from './canvas.js';
 import { cross, lookAt, multiply, normalize, perspective, planar } from './mat4.js';
 
-/** What each kind of part looks like; `body` parts take their moving body's colour, as in the drawing. */
+/**
+ * @typedef {import('./api.js').Preview} Preview
+ * @typedef {import('./mat4.js').Vec3} Vec3
+ * @typedef {import('./mat4.js').Mat4} Mat4
+ * @typedef {{vao: WebGLVertexArrayObject, buffers: WebGLBuffer[], count: number}} Mesh  a mesh uploaded
+ * @typedef {Mesh & {carrier: number, colour: Vec3}} PartMesh  a part's mesh, its carrier and colour
+ * @typedef {{target: Vec3, radius: number, distance: number, yaw: number, pitch: number}} Camera
+ *   The camera orbits `target` at `distance`, turned by `yaw` and `pitch` (radians); `radius` is the
+ *   sphere around everything shown.
+ */
+
+/** What each kind of part looks like; `body` parts take their moving body's colour, as in the drawing. @type {Record<string, [string, string]>} */
 export const ROLE_COLOURS = {
   ground: ['#b8bec6', 'Fixed body'],
   body: ['#e67e22', 'Moving body'],
@@ -30,7 +42,11 @@ const WIRE = 0.16;
  * Drawn with a model matrix that stretches x to the hooks' distance, so the coils spread as it does.
  */
 function unitSpring() {
-  const steps = COILS * 12, sides = 6, positions = [], indices = [];
+  const steps = COILS * 12, sides = 6;
+  /** @type {number[]} */
+  const positions = [];
+  /** @type {number[]} */
+  const indices = [];
   for (let i = 0; i <= steps; i++) {
     const t = i / steps, a = 2 * Math.PI * COILS * t;
     const radial = [0, Math.cos(a), Math.sin(a)];
@@ -50,6 +66,7 @@ function unitSpring() {
   return { positions, indices };
 }
 
+/** @type {[number, number, number]} */
 const BACKGROUND = [0.965, 0.972, 0.98];
 const IDENTITY = planar(0, 0, 0);
 const FOV = (35 * Math.PI) / 180;
@@ -82,30 +99,48 @@ void main() {
   colour = vec4(u_colour * (0.38 + 0.62 * diffuse) + 0.06 * rim, 1.0);
 }`;
 
-/** `#rrggbb` as three numbers from 0 to 1. */
+/** `#rrggbb` as three numbers from 0 to 1. @type {(hex: string) => Vec3} */
 const rgb = (hex) => [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16) / 255);
 
-/** The key of a part (of the preview or the report) in ROLE_COLOURS. */
+/**
+ * The key of a part (of the preview or the report) in ROLE_COLOURS.
+ * @param {{role: string, name: string}} part
+ */
 export function partKind(part) {
   if (part.role === 'link' && part.name === 'crank') return 'crank';
   return part.role in ROLE_COLOURS ? part.role : 'link';
 }
 
-/** The colour of a part: its kind's, or for a moving body, that body's colour in the drawing. */
+/**
+ * The colour of a part: its kind's, or for a moving body, that body's colour in the drawing.
+ * @param {{role: string, name: string, body?: number}} part
+ */
 export function partColour(part) {
   return part.role === 'body' ? bodyColour(part.body ?? 0) : ROLE_COLOURS[partKind(part)][0];
 }
 
+/**
+ * A shader compiled.
+ * @param {WebGL2RenderingContext} gl
+ * @param {number} type
+ * @param {string} source
+ */
 function compile(gl, type, source) {
   const shader = gl.createShader(type);
+  if (!shader) throw new Error('shader');
   gl.shaderSource(shader, source);
   gl.compileShader(shader);
   if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(shader) || 'shader');
   return shader;
 }
 
+/**
+ * The one program the preview draws with.
+ * @param {WebGL2RenderingContext} gl
+ */
 function program(gl) {
   const p = gl.createProgram();
+  if (!p) throw new Error('program');
   gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, VERTEX));
   gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, FRAGMENT));
   gl.linkProgram(p);
@@ -114,24 +149,47 @@ function program(gl) {
 }
 
 export class Preview3D {
-  /** Draws into `canvas`; check `available` before use (WebGL 2 may be off or missing). */
+  /**
+   * Draws into `canvas`; check `available` before use (WebGL 2 may be off or missing).
+   * @param {HTMLCanvasElement} canvas
+   */
   constructor(canvas) {
     this.canvas = canvas;
-    this.parts = []; // {vao, buffers, count, carrier, colour}
+    /** @type {PartMesh[]} */
+    this.parts = [];
+    /** @type {number[][]} */
     this.poses = [];
+    /** @type {NonNullable<Preview['springs']>} */
+    this.springs = [];
+    /** @type {Mesh | null} */
+    this.springMesh = null;
+    /** @type {{min: Vec3, max: Vec3} | null} */
+    this.bounds = null;
+    /** @type {Camera | null} */
+    this.camera = null;
     this.t = 0;
     this.frames = 0;
+    this.raf = 0;
+    /** @type {(() => void) | null} called when the browser takes the 3D context away */
+    this.onLost = null;
+    /** @type {WebGL2RenderingContext | null} */
+    this.gl = null;
+    /** @type {WebGLProgram | null} */
+    this.program = null;
+    /** @type {Record<string, WebGLUniformLocation | null>} */
+    this.at = {};
+    this.position = 0;
     try {
       this.gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true });
       if (this.gl) this.program = program(this.gl);
     } catch {
       this.gl = null;
     }
-    if (!this.available) return;
-    const gl = this.gl;
+    const gl = this.gl, shading = this.program;
+    if (!gl || !shading) return;
     this.at = Object.fromEntries(['u_view_projection', 'u_model', 'u_colour', 'u_light', 'u_eye']
-      .map((u) => [u, gl.getUniformLocation(this.program, u)]));
-    this.position = gl.getAttribLocation(this.program, 'a_position');
+      .map((u) => [u, gl.getUniformLocation(shading, u)]));
+    this.position = gl.getAttribLocation(shading, 'a_position');
     canvas.addEventListener('webglcontextlost', (e) => {
       e.preventDefault();
       this.gl = null;
@@ -145,10 +203,13 @@ export class Preview3D {
     return !!this.gl && !!this.program;
   }
 
-  /** Shows a fabrication's preview (the `preview` member of the fabricate answer). */
+  /**
+   * Shows a fabrication's preview (the `preview` member of the fabricate answer).
+   * @param {Preview} preview
+   */
   load(preview) {
-    if (!this.available) return;
     const gl = this.gl;
+    if (!gl || !this.available) return;
     for (const p of this.parts) {
       gl.deleteVertexArray(p.vao);
       p.buffers.forEach((b) => gl.deleteBuffer(b));
@@ -162,9 +223,14 @@ export class Preview3D {
     this.reset();
   }
 
-  /** A triangle mesh (`positions`, `indices`) uploaded: its vertex array, buffers and index count. */
+  /**
+   * A triangle mesh (`positions`, `indices`) uploaded: its vertex array, buffers and index count.
+   * @param {{positions: number[], indices: number[]}} mesh
+   * @returns {Mesh}
+   */
   mesh({ positions, indices }) {
     const gl = this.gl;
+    if (!gl) throw new Error('no WebGL 2 context');
     const vao = gl.createVertexArray();
     gl.bindVertexArray(vao);
     const vertices = gl.createBuffer();
@@ -179,7 +245,10 @@ export class Preview3D {
     return { vao, buffers: [vertices, elements], count: indices.length };
   }
 
-  /** Shows the configuration at fraction `t` of the motion (0 the first pose, 1 the last). */
+  /**
+   * Shows the configuration at fraction `t` of the motion (0 the first pose, 1 the last).
+   * @param {number} t
+   */
   setFraction(t) {
     this.t = Math.max(0, Math.min(1, Number.isFinite(t) ? t : 0));
     this.request();
@@ -201,6 +270,7 @@ export class Preview3D {
     this.request();
   }
 
+  /** Draws again on the next animation frame. */
   request() {
     if (this.raf || !this.available) return;
     this.raf = requestAnimationFrame(() => {
@@ -209,9 +279,10 @@ export class Preview3D {
     });
   }
 
+  /** Draws the parts (and springs) at the current fraction of the motion. */
   draw() {
     const { gl, canvas, camera } = this;
-    if (!this.available || !camera || canvas.clientWidth === 0) return;
+    if (!gl || !this.available || !camera || canvas.clientWidth === 0) return;
     const dpr = window.devicePixelRatio || 1;
     const w = Math.round(canvas.clientWidth * dpr), h = Math.round(canvas.clientHeight * dpr);
     if (canvas.width !== w || canvas.height !== h) {
@@ -248,6 +319,7 @@ export class Preview3D {
       gl.bindVertexArray(this.springMesh.vao);
       for (const spring of this.springs) {
         const [a, b] = spring.hooks.map(([carrier, x, y]) => {
+          /** @type {Mat4} */
           const m = models[carrier] || IDENTITY;
           return [m[0] * x + m[4] * y + m[12], m[1] * x + m[5] * y + m[13]];
         });
@@ -263,15 +335,20 @@ export class Preview3D {
     canvas.dataset.frames = String(this.frames);
   }
 
-  /** Every carrier's pose at fraction `t`, interpolated between the rows around it. */
+  /**
+   * Every carrier's pose at fraction `t`, interpolated between the rows around it.
+   * @returns {Mat4[]}
+   */
   carrierModels() {
     const rows = this.poses;
     if (!rows.length) return [];
     const at = this.t * (rows.length - 1);
     const i = Math.max(0, Math.min(rows.length - 1, Math.floor(at)));
     const a = rows[i], b = rows[Math.min(rows.length - 1, i + 1)], f = at - i;
+    /** @type {Mat4[]} */
     const models = [];
     for (let k = 0; k + 2 < a.length; k += 3) {
+      /** @type {(j: number) => number} */
       const mix = (j) => a[k + j] + (b[k + j] - a[k + j]) * f;
       models.push(planar(mix(0), mix(1), mix(2)));
     }
@@ -281,6 +358,7 @@ export class Preview3D {
   /** Drag to turn, scroll to zoom, double-click to reset. */
   listen() {
     const c = this.canvas;
+    /** @type {{x: number, y: number} | null} */
     let drag = null;
     c.addEventListener('pointerdown', (e) => {
       drag = { x: e.clientX, y: e.clientY };
@@ -307,7 +385,11 @@ export class Preview3D {
   }
 }
 
-/** The box around every part in every configuration of the motion. */
+/**
+ * The box around every part in every configuration of the motion.
+ * @param {Preview} preview
+ * @returns {{min: Vec3, max: Vec3} | null}
+ */
 function motionBounds(preview) {
   const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
   for (const row of preview.poses.length ? preview.poses : [[]]) {

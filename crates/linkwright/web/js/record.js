@@ -1,3 +1,4 @@
+// @ts-check
 // The motion as a file: frames of the drawing as shown (the canvas' own SVG, with the page's style
 // sheet inlined), rasterised by the browser, then an animated GIF (encoded here: LZW after the GIF89a
 // specification, a palette of the drawing's own colours) or a WebM video (each frame encoded by the
@@ -5,11 +6,17 @@
 
 import { webmFile } from './webm.js';
 
+/**
+ * @typedef {{width: number, height: number, k: number}} FrameSize  an exported frame's size, pixels,
+ *   and its scale from the screen
+ */
+
 /** Longest side of an exported frame, pixels. */
 const MAX_SIDE = 800;
 
 /** The page's style rules as text, so a copy of the SVG draws as it does on the page. */
 function styleText() {
+  /** @type {string[]} */
   const rules = [];
   for (const sheet of document.styleSheets) {
     try {
@@ -21,16 +28,27 @@ function styleText() {
   return rules.join('\n');
 }
 
-/** The size an export of `svg` gets: its size on screen, the longer side at most MAX_SIDE. */
+/**
+ * The size an export of `svg` gets: its size on screen, the longer side at most MAX_SIDE.
+ * @param {SVGSVGElement} svg
+ * @returns {FrameSize}
+ */
 export function exportSize(svg) {
   const r = svg.getBoundingClientRect();
   const k = Math.min(1, MAX_SIDE / Math.max(r.width, r.height, 1));
   return { width: Math.max(2, Math.round(r.width * k)), height: Math.max(2, Math.round(r.height * k)), k };
 }
 
-/** Draws the SVG element `svg` as it is now into the 2D context `ctx` of `size`, on white. */
+/**
+ * Draws the SVG element `svg` as it is now into the 2D context `ctx` of `size`, on white, with the
+ * page's style `css`.
+ * @param {SVGSVGElement} svg
+ * @param {CanvasRenderingContext2D} ctx
+ * @param {FrameSize} size
+ * @param {string} css
+ */
 export async function drawSvg(svg, ctx, size, css) {
-  const copy = svg.cloneNode(true);
+  const copy = /** @type {SVGSVGElement} */ (svg.cloneNode(true));
   const r = svg.getBoundingClientRect();
   copy.setAttribute('xmlns', 'http://www.w3.org/2000/svg');
   copy.setAttribute('width', String(size.width));
@@ -48,20 +66,34 @@ export async function drawSvg(svg, ctx, size, css) {
   ctx.drawImage(image, 0, 0, size.width, size.height);
 }
 
-/** A canvas the size of an export of `svg` (`even`: rounded down to even numbers of pixels, as a
- * video's frames are), its 2D context (with `options`), and the page's style. */
+/**
+ * A canvas the size of an export of `svg` (`even`: rounded down to even numbers of pixels, as a
+ * video's frames are), its 2D context (with `options`), and the page's style.
+ * @param {SVGSVGElement} svg
+ * @param {CanvasRenderingContext2DSettings} [options]
+ * @param {{even?: boolean}} [rounding]
+ */
 function frameCanvas(svg, options = {}, { even = false } = {}) {
   const size = exportSize(svg);
   if (even) Object.assign(size, { width: size.width - (size.width % 2), height: size.height - (size.height % 2) });
   const canvas = document.createElement('canvas');
   canvas.width = size.width;
   canvas.height = size.height;
-  return { canvas, ctx: canvas.getContext('2d', options), size, css: styleText() };
+  const ctx = canvas.getContext('2d', options);
+  if (!ctx) throw new Error('this browser cannot draw into a canvas');
+  return { canvas, ctx, size, css: styleText() };
 }
 
-/** Captures `count` frames: `show(i)` puts frame i on the canvas, then it is drawn into a bitmap. */
+/**
+ * Captures `count` frames: `show(i)` puts frame i on the canvas, then it is drawn into a bitmap.
+ * @param {SVGSVGElement} svg
+ * @param {number} count
+ * @param {(i: number) => void} show
+ * @returns {Promise<{frames: ImageData[], size: FrameSize}>}
+ */
 export async function captureFrames(svg, count, show) {
   const { ctx, size, css } = frameCanvas(svg, { willReadFrequently: true });
+  /** @type {ImageData[]} */
   const frames = [];
   for (let i = 0; i < count; i++) {
     show(i);
@@ -71,14 +103,18 @@ export async function captureFrames(svg, count, show) {
   return { frames, size };
 }
 
-/** The 256 most used colours of `frames` (5 bits a channel), and a map from every 15-bit colour to
- * its nearest palette entry. The drawing has few colours, so this keeps them exactly enough. */
+/**
+ * The 256 most used colours of `frames` (5 bits a channel), and a map from every 15-bit colour to
+ * its nearest palette entry. The drawing has few colours, so this keeps them exactly enough.
+ * @param {ImageData[]} frames
+ */
 function palette(frames) {
   const counts = new Uint32Array(1 << 15);
   for (const f of frames) {
     const d = f.data;
     for (let p = 0; p < d.length; p += 16) counts[((d[p] >> 3) << 10) | ((d[p + 1] >> 3) << 5) | (d[p + 2] >> 3)]++;
   }
+  /** @type {number[]} */
   const used = [];
   for (let key = 0; key < counts.length; key++) if (counts[key] > 0) used.push(key);
   used.sort((a, b) => counts[b] - counts[a]);
@@ -86,6 +122,7 @@ function palette(frames) {
   while (keys.length < 2) keys.push(keys.length ? 0 : 0x7fff);
   const rgb = keys.map((k) => [((k >> 10) & 31) * 255 / 31, ((k >> 5) & 31) * 255 / 31, (k & 31) * 255 / 31].map(Math.round));
   const nearest = new Int16Array(1 << 15).fill(-1);
+  /** @type {(key: number) => number} */
   const lookup = (key) => {
     if (nearest[key] >= 0) return nearest[key];
     const r = ((key >> 10) & 31) * 255 / 31, g = ((key >> 5) & 31) * 255 / 31, b = (key & 31) * 255 / 31;
@@ -106,6 +143,7 @@ class Bytes {
     this.buf = new Uint8Array(1 << 16);
     this.len = 0;
   }
+  /** @param {number} b */
   byte(b) {
     if (this.len === this.buf.length) {
       const bigger = new Uint8Array(this.buf.length * 2);
@@ -114,10 +152,12 @@ class Bytes {
     }
     this.buf[this.len++] = b;
   }
+  /** @param {number} w  a 16-bit number, little-endian */
   word(w) {
     this.byte(w & 255);
     this.byte((w >> 8) & 255);
   }
+  /** @param {string} s  ASCII */
   text(s) {
     for (const c of s) this.byte(c.charCodeAt(0));
   }
@@ -126,18 +166,25 @@ class Bytes {
   }
 }
 
-/** The GIF LZW code stream of `indices` (colour indices, 8-bit minimum code size), in sub-blocks. */
+/**
+ * The GIF LZW code stream of `indices` (colour indices, 8-bit minimum code size), in sub-blocks.
+ * @param {Uint8Array} indices
+ * @param {Bytes} out
+ */
 function lzw(indices, out) {
   const minSize = 8, clear = 1 << minSize, end = clear + 1;
   let size = minSize + 1, next = end + 1;
+  /** @type {Map<number, number>} */
   let dict = new Map();
   let bits = 0, acc = 0;
+  /** @type {number[]} */
   const block = [];
   const flushBlock = () => {
     out.byte(block.length);
     for (const b of block) out.byte(b);
     block.length = 0;
   };
+  /** @type {(code: number) => void} */
   const emit = (code) => {
     acc |= code << bits;
     bits += size;
@@ -181,7 +228,11 @@ function lzw(indices, out) {
   out.byte(0);
 }
 
-/** An animated, looping GIF89a of `frames` (ImageData of one size), `delay` hundredths of a second each. */
+/**
+ * An animated, looping GIF89a of `frames` (ImageData of one size), `delay` hundredths of a second each.
+ * @param {ImageData[]} frames
+ * @param {number} delay
+ */
 export function encodeGif(frames, delay) {
   const { width, height } = frames[0];
   const { rgb, lookup } = palette(frames);
@@ -257,13 +308,20 @@ const VIDEO_CODEC = 'vp8';
  * frame by frame, so however long a frame takes to draw, every frame is in the video at its own time
  * (a recorder of the screen as it changes would miss the frames drawn faster than it looks). Null
  * when the browser cannot encode VP8.
+ * @param {SVGSVGElement} svg
+ * @param {number} count
+ * @param {number} fps
+ * @param {(i: number) => void} show
+ * @returns {Promise<Blob | null>}
  */
 export async function recordWebm(svg, count, fps, show) {
   if (typeof VideoEncoder === 'undefined') return null;
   const { canvas, ctx, size, css } = frameCanvas(svg, {}, { even: true });
   const config = { codec: VIDEO_CODEC, width: size.width, height: size.height, bitrate: 4e6, framerate: fps };
   if (!(await VideoEncoder.isConfigSupported(config)).supported) return null;
+  /** @type {import('./webm.js').VideoChunk[]} */
   const frames = [];
+  /** @type {Error | null} */
   let failure = null;
   const encoder = new VideoEncoder({
     output: (chunk) => {

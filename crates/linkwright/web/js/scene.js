@@ -1,18 +1,75 @@
+// @ts-check
 // The scene/1 document the person edits, and the edits themselves. Every function here either reads
 // a scene or changes the scene object it is given (the store snapshots it first, for undo).
 
 import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, wrapDeg } from './geom.js';
 
+/**
+ * @typedef {import('./geom.js').Point} Point
+ * @typedef {import('./geom.js').Pose} Pose
+ * @typedef {import('./geom.js').Polygon} Polygon
+ */
+
+/**
+ * The scene/1 document (docs/formats.md), as the editor holds it: `normalize` fills the lists,
+ * `weights`, `settings` and `mechanism` a file may leave out.
+ * @typedef {object} Scene
+ * @property {'scene/1'} linkwright
+ * @property {string} name
+ * @property {string} [units]  what one unit of the drawing is (`mm` when absent)
+ * @property {FixedBody[]} fixed_bodies
+ * @property {MovingBody[]} moving_bodies
+ * @property {Polygon} [linkage_region]  world coordinates
+ * @property {Polygon[]} [avoid_regions]  world coordinates
+ * @property {string} mechanism  `auto` or a family's id
+ * @property {string} [build]  `model:auto` when absent (build.js reads it)
+ * @property {number[]} [must_hit_poses]  intermediate poses (from 0) to hit as closely as the ends
+ * @property {Record<string, Point>} [pinned_joints]  joints placed by the person, at the first pose
+ * @property {Point} [gravity]
+ * @property {Weights} weights
+ * @property {Settings} settings
+ *
+ * @typedef {{name: string, polygon: Polygon}} FixedBody  Its outline in world coordinates.
+ * @typedef {object} MovingBody
+ * @property {string} name
+ * @property {Polygon} polygon  in the body's own frame
+ * @property {Pose[]} poses  where the body should be, in order
+ * @property {number} [mass_kg]
+ * @property {string} [material]
+ * @property {number} [thickness]
+ *
+ * @typedef {{accuracy: number, smoothness: number, location: number, size: number, transmission: number}} Weights
+ * @typedef {object} Settings
+ * @property {number} seed
+ * @property {number} samples
+ * @property {number} particles
+ * @property {number} iterations
+ * @property {number} pose_tolerance
+ * @property {number} angle_tolerance_deg
+ * @property {number} min_transmission_deg
+ * @property {number} comfortable_transmission_deg
+ *
+ * @typedef {'fixed' | 'moving' | 'region' | 'avoid'} ShapeKind  What a drawn shape is.
+ * @typedef {{kind: ShapeKind, index: number, vertex?: number}} Selection  A shape of the scene (the
+ *   region's index is 0), and one of its corners when `vertex` is given.
+ */
+
 /** Defaults the app writes into a new scene (the engine's own defaults, with fewer samples so a
  * first design takes seconds). */
+/** @type {Settings} */
 export const DEFAULT_SETTINGS = {
   seed: 0, samples: 20000, particles: 100, iterations: 20,
   pose_tolerance: 0.5, angle_tolerance_deg: 3, min_transmission_deg: 10, comfortable_transmission_deg: 30,
 };
+/** @type {Weights} */
 export const DEFAULT_WEIGHTS = { accuracy: 1000, smoothness: 1, location: 10, size: 1, transmission: 1 };
-/** The engine's defaults for fields a file leaves out. */
+/** The engine's defaults for fields a file leaves out. @type {Settings} */
 export const ENGINE_SETTINGS = { ...DEFAULT_SETTINGS, samples: 100000 };
 
+/**
+ * An empty scene.
+ * @returns {Scene}
+ */
 export function newScene() {
   return {
     linkwright: 'scene/1',
@@ -26,7 +83,11 @@ export function newScene() {
   };
 }
 
-/** Reads a scene file's JSON, filling the defaults the editor needs. Throws with a message. */
+/**
+ * Reads a scene file's JSON, filling the defaults the editor needs. Throws with a message.
+ * @param {any} doc  the parsed JSON, of any shape
+ * @returns {Scene}
+ */
 export function normalize(doc) {
   if (!doc || typeof doc !== 'object') throw new Error('the file is not a JSON object');
   if (doc.linkwright !== 'scene/1') {
@@ -50,7 +111,11 @@ export function normalize(doc) {
   return s;
 }
 
-/** The scene as the file is written: empty optional parts left out. */
+/**
+ * The scene as the file is written: empty optional parts left out.
+ * @param {Scene} scene
+ * @returns {Scene}
+ */
 export function toFile(scene) {
   const s = structuredClone(scene);
   if (!s.avoid_regions || s.avoid_regions.length === 0) delete s.avoid_regions;
@@ -62,13 +127,35 @@ export function toFile(scene) {
   return s;
 }
 
+/**
+ * What a design depends on in the drawing (settings may change without hiding it): a design is
+ * fresh while the scene's key is the one it was made for.
+ * @param {Scene} scene
+ */
+export function geometryKey(scene) {
+  return JSON.stringify([
+    // A body's mass (or its material and thickness) changes the torque, not the design.
+    // Nor does a body's name.
+    scene.fixed_bodies.map(({ name, ...body }) => body),
+    scene.moving_bodies.map(({ mass_kg, material, thickness, name, ...body }) => body), scene.linkage_region || null,
+    scene.avoid_regions || [], scene.must_hit_poses || [],
+  ]);
+}
+
+/** The number of poses (of every moving body). @type {(scene: Scene) => number} */
 export const poseCount = (scene) => (scene.moving_bodies.length ? scene.moving_bodies[0].poses.length : 0);
 
+/** True when nothing is drawn. @type {(scene: Scene) => boolean} */
 export const isEmpty = (scene) =>
   scene.fixed_bodies.length === 0 && scene.moving_bodies.length === 0 && !scene.linkage_region;
 
-/** Every polygon of the scene in world coordinates, for fitting the view. */
+/**
+ * Every polygon of the scene in world coordinates, for fitting the view.
+ * @param {Scene} scene
+ * @returns {Point[]}
+ */
 export function allPoints(scene) {
+  /** @type {Point[]} */
   const pts = [];
   for (const b of scene.fixed_bodies) pts.push(...b.polygon);
   for (const b of scene.moving_bodies) for (const p of b.poses) pts.push(...placed(b.polygon, p));
@@ -77,15 +164,25 @@ export function allPoints(scene) {
   return pts;
 }
 
-/** The shorter side of a body outline's box (the engine's body size d). */
+/**
+ * The shorter side of a body outline's box (the engine's body size d).
+ * @param {Polygon} polygon
+ */
 export function bodySize(polygon) {
   const b = bounds(polygon);
   return Math.min(b.maxX - b.minX, b.maxY - b.minY);
 }
 
+/** @type {(poly: Polygon) => Polygon} */
 const tidyPoly = (poly) => poly.map((p) => [tidy(p[0]), tidy(p[1])]);
 
-/** Adds a shape drawn in world coordinates as `kind`; returns the selection of the new thing. */
+/**
+ * Adds a shape drawn in world coordinates as `kind`; returns the selection of the new thing.
+ * @param {Scene} scene
+ * @param {ShapeKind} kind
+ * @param {Polygon} world
+ * @returns {Selection}
+ */
 export function addShape(scene, kind, world) {
   const poly = tidyPoly(world);
   switch (kind) {
@@ -94,15 +191,22 @@ export function addShape(scene, kind, world) {
       return { kind: 'fixed', index: scene.fixed_bodies.length - 1 };
     }
     case 'moving': {
-      const c = centroid(poly).map((v) => tidy(v));
+      const [cx, cy] = centroid(poly);
+      /** @type {Point} */
+      const c = [tidy(cx), tidy(cy)];
       const local = tidyPoly(poly.map((p) => sub(p, c)));
       const n = Math.max(poseCount(scene), 2);
       const size = bodySize(local);
       // The first moving body gets a second pose beside the first, to be dragged where it should go.
-      const poses = Array.from({ length: n }, (_, i) =>
-        scene.moving_bodies.length === 0 && i > 0 ? [tidy(c[0] + 1.5 * size * i), c[1], 0] : [c[0], c[1], 0]);
+      const poses = Array.from({ length: n }, (_, i) => /** @type {Pose} */ (
+        scene.moving_bodies.length === 0 && i > 0 ? [tidy(c[0] + 1.5 * size * i), c[1], 0] : [c[0], c[1], 0]));
       if (scene.moving_bodies.length > 0 && poseCount(scene) < 2) {
-        for (const b of scene.moving_bodies) while (b.poses.length < 2) b.poses.push([...b.poses[b.poses.length - 1]]);
+        for (const b of scene.moving_bodies) {
+          while (b.poses.length < 2) {
+            const [x, y, a] = b.poses[b.poses.length - 1];
+            b.poses.push([x, y, a]);
+          }
+        }
       }
       scene.moving_bodies.push({ name: `moving ${scene.moving_bodies.length + 1}`, polygon: local, poses });
       return { kind: 'moving', index: scene.moving_bodies.length - 1 };
@@ -119,7 +223,12 @@ export function addShape(scene, kind, world) {
   }
 }
 
-/** The polygon of a selection as stored (world for fixed bodies and regions, body frame for moving). */
+/**
+ * The polygon of a selection as stored (world for fixed bodies and regions, body frame for moving).
+ * @param {Scene} scene
+ * @param {Selection | null} sel
+ * @returns {Polygon | null}
+ */
 export function storedPolygon(scene, sel) {
   if (!sel) return null;
   switch (sel.kind) {
@@ -131,16 +240,29 @@ export function storedPolygon(scene, sel) {
   }
 }
 
-/** The polygon of a selection in world coordinates (a moving body at pose `pose`). */
+/**
+ * The polygon of a selection in world coordinates (a moving body at pose `pose`).
+ * @param {Scene} scene
+ * @param {Selection | null} sel
+ * @param {number} pose
+ * @returns {Polygon | null}
+ */
 export function worldPolygon(scene, sel, pose) {
   const poly = storedPolygon(scene, sel);
-  if (!poly) return null;
+  if (!poly || !sel) return null;
   if (sel.kind !== 'moving') return poly;
   const b = scene.moving_bodies[sel.index];
   return placed(poly, b.poses[Math.min(pose, b.poses.length - 1)] || [0, 0, 0]);
 }
 
-/** Moves vertex `v` of a selection to world point `w` (through pose `pose` for a moving body). */
+/**
+ * Moves vertex `v` of a selection to world point `w` (through pose `pose` for a moving body).
+ * @param {Scene} scene
+ * @param {Selection} sel
+ * @param {number} v
+ * @param {Point} w
+ * @param {number} pose
+ */
 export function moveVertex(scene, sel, v, w, pose) {
   const poly = storedPolygon(scene, sel);
   if (!poly || !poly[v]) return;
@@ -148,7 +270,14 @@ export function moveVertex(scene, sel, v, w, pose) {
   poly[v] = [tidy(p[0]), tidy(p[1])];
 }
 
-/** Inserts a vertex after `v` at world point `w`. */
+/**
+ * Inserts a vertex after `v` at world point `w` (through pose `pose` for a moving body).
+ * @param {Scene} scene
+ * @param {Selection} sel
+ * @param {number} v
+ * @param {Point} w
+ * @param {number} pose
+ */
 export function insertVertex(scene, sel, v, w, pose) {
   const poly = storedPolygon(scene, sel);
   if (!poly) return;
@@ -156,7 +285,12 @@ export function insertVertex(scene, sel, v, w, pose) {
   poly.splice(v + 1, 0, [tidy(p[0]), tidy(p[1])]);
 }
 
-/** Deletes vertex `v`; false when the polygon would have fewer than three. */
+/**
+ * Deletes vertex `v`; false when the polygon would have fewer than three.
+ * @param {Scene} scene
+ * @param {Selection} sel
+ * @param {number} v
+ */
 export function deleteVertex(scene, sel, v) {
   const poly = storedPolygon(scene, sel);
   if (!poly || poly.length <= 3 || !(v >= 0 && v < poly.length)) return false;
@@ -164,7 +298,13 @@ export function deleteVertex(scene, sel, v) {
   return true;
 }
 
-/** Moves a whole shape by `delta` (a moving body: only its pose `pose`). */
+/**
+ * Moves a whole shape by `delta` (a moving body: only its pose `pose`).
+ * @param {Scene} scene
+ * @param {Selection} sel
+ * @param {Point} delta
+ * @param {number} pose
+ */
 export function translate(scene, sel, delta, pose) {
   if (sel.kind === 'moving') {
     const p = scene.moving_bodies[sel.index].poses[pose];
@@ -177,32 +317,59 @@ export function translate(scene, sel, delta, pose) {
   for (let i = 0; i < poly.length; i++) poly[i] = [tidy(poly[i][0] + delta[0]), tidy(poly[i][1] + delta[1])];
 }
 
+/**
+ * Turns moving body `body` at pose `pose` to `deg` degrees.
+ * @param {Scene} scene
+ * @param {number} body
+ * @param {number} pose
+ * @param {number} deg
+ */
 export function setPoseAngle(scene, body, pose, deg) {
   scene.moving_bodies[body].poses[pose][2] = tidy(deg, 2);
 }
 
+/**
+ * Deletes a shape.
+ * @param {Scene} scene
+ * @param {Selection} sel
+ */
 export function deleteShape(scene, sel) {
   switch (sel.kind) {
     case 'fixed': scene.fixed_bodies.splice(sel.index, 1); break;
     case 'moving': scene.moving_bodies.splice(sel.index, 1); break;
     case 'region': delete scene.linkage_region; break;
-    case 'avoid': scene.avoid_regions.splice(sel.index, 1); break;
+    case 'avoid': scene.avoid_regions?.splice(sel.index, 1); break;
     default: break;
   }
 }
 
-/** A pose halfway between two (angles the short way round). */
+/**
+ * A pose halfway between two (angles the short way round).
+ * @param {Pose} a
+ * @param {Pose} b
+ * @returns {Pose}
+ */
 function between(a, b) {
-  const m = lerp(a, b, 0.5);
+  // lerp reads the positions only.
+  const m = lerp([a[0], a[1]], [b[0], b[1]], 0.5);
   return [tidy(m[0]), tidy(m[1]), tidy(a[2] + wrapDeg(b[2] - a[2]) / 2, 2)];
 }
 
-/** Whether pose `i` must be hit: the first and last always are, others when the scene marks them. */
+/**
+ * Whether pose `i` must be hit: the first and last always are, others when the scene marks them.
+ * @param {Scene} scene
+ * @param {number} i
+ */
 export function isMustHit(scene, i) {
   return i === 0 || i === poseCount(scene) - 1 || (scene.must_hit_poses || []).includes(i);
 }
 
-/** Marks intermediate pose `i` as one the linkage must hit (or not). */
+/**
+ * Marks intermediate pose `i` as one the linkage must hit (or not).
+ * @param {Scene} scene
+ * @param {number} i
+ * @param {boolean} on
+ */
 export function setMustHit(scene, i, on) {
   const marked = new Set(scene.must_hit_poses || []);
   if (on) marked.add(i);
@@ -210,32 +377,49 @@ export function setMustHit(scene, i, on) {
   scene.must_hit_poses = [...marked].sort((a, b) => a - b);
 }
 
-/** The must-hit marks carried along when the poses are renumbered (`map`: old index → new, or null). */
+/**
+ * The must-hit marks carried along when the poses are renumbered (`map`: old index → new, or null).
+ * @param {Scene} scene
+ * @param {(i: number) => number | null} map
+ */
 function renumberMustHit(scene, map) {
   if (!scene.must_hit_poses) return;
   scene.must_hit_poses = scene.must_hit_poses.map(map).filter((i) => i !== null).sort((a, b) => a - b);
 }
 
-/** Adds a pose after pose `after` for every body: halfway to the next pose, or beyond the last. */
+/**
+ * Adds a pose after pose `after` for every body: halfway to the next pose, or beyond the last.
+ * @param {Scene} scene
+ * @param {number} after
+ */
 export function insertPose(scene, after) {
   renumberMustHit(scene, (i) => (i > after ? i + 1 : i));
   for (const b of scene.moving_bodies) {
     const cur = b.poses[after];
     const next = b.poses[after + 1];
+    /** @type {Pose} */
     let pose;
     if (next) pose = between(cur, next);
     else {
       const prev = b.poses[after - 1];
-      const step = prev ? sub(cur, prev) : [bodySize(b.polygon), 0];
-      const shift = dist(step, [0, 0]) > 0 ? step : [bodySize(b.polygon), 0];
-      const p = add(cur, shift.map((v) => v * 0.5));
+      /** @type {Point} */
+      const at = [cur[0], cur[1]];
+      /** @type {Point} */
+      const across = [bodySize(b.polygon), 0];
+      const step = prev ? sub(at, [prev[0], prev[1]]) : across;
+      const shift = dist(step, [0, 0]) > 0 ? step : across;
+      const p = add(at, [shift[0] * 0.5, shift[1] * 0.5]);
       pose = [tidy(p[0]), tidy(p[1]), cur[2]];
     }
     b.poses.splice(after + 1, 0, pose);
   }
 }
 
-/** Deletes pose `i` of every body; false when that would leave fewer than two. */
+/**
+ * Deletes pose `i` of every body; false when that would leave fewer than two.
+ * @param {Scene} scene
+ * @param {number} i
+ */
 export function deletePose(scene, i) {
   if (poseCount(scene) <= 2) return false;
   renumberMustHit(scene, (k) => (k === i ? null : k > i ? k - 1 : k));
@@ -243,7 +427,12 @@ export function deletePose(scene, i) {
   return true;
 }
 
-/** Swaps poses `i` and `j` of every body. */
+/**
+ * Swaps poses `i` and `j` of every body.
+ * @param {Scene} scene
+ * @param {number} i
+ * @param {number} j
+ */
 export function swapPoses(scene, i, j) {
   renumberMustHit(scene, (k) => (k === i ? j : k === j ? i : k));
   for (const b of scene.moving_bodies) [b.poses[i], b.poses[j]] = [b.poses[j], b.poses[i]];

@@ -1,3 +1,4 @@
+// @ts-check
 // What the pointer and the keyboard do on the canvas: select and move shapes and poses, edit vertices,
 // rotate poses, draw rectangles, polygons and ellipses, pan and zoom.
 
@@ -5,6 +6,41 @@ import { formatDimension, GRAB_PX } from './canvas.js';
 import { dist, ellipse, outlineProblem, rectangle, segmentDistance, sub } from './geom.js';
 import * as S from './scene.js';
 
+/**
+ * @typedef {import('./geom.js').Point} Point
+ * @typedef {import('./geom.js').Polygon} Polygon
+ * @typedef {import('./geom.js').OutlineProblem} OutlineProblem
+ * @typedef {import('./store.js').Store} Store
+ * @typedef {import('./store.js').UiState} UiState
+ * @typedef {import('./store.js').Tool} Tool
+ * @typedef {import('./scene.js').ShapeKind} ShapeKind
+ * @typedef {import('./scene.js').Selection} Selection
+ * @typedef {import('./canvas.js').Canvas} Canvas
+ * @typedef {import('./viewport.js').Viewport} Viewport
+ */
+
+/**
+ * What the tools ask of the rest of the app.
+ * @typedef {object} ToolActions
+ * @property {() => void} redraw  draws the canvas again (a change of the view or the preview only)
+ * @property {() => void} leaveResult  back from the design shown to the poses to edit
+ * @property {() => boolean} liveResult  a design is shown and redesigned live as a pose moves
+ * @property {() => void} poseEdited  a pose moved (live mode designs again)
+ * @property {() => void} poseReleased  a pose dragged was let go
+ * @property {(name: string) => boolean} beginJointDrag  starts moving a joint of the design shown (false: none shown)
+ * @property {(w: Point) => void} moveJoint
+ * @property {() => void} endJointDrag
+ * @property {() => void} deleteSelection
+ * @property {(w: Point) => void} [pointer]  where the pointer is, world coordinates
+ */
+
+/**
+ * A drag under way: panning the view, spanning a box, moving a corner, a joint, a shape or turning a pose.
+ * @typedef {{type: 'pan', last: Point} | {type: 'box', start: Point} | {type: 'vertex', v: number} | {type: 'joint'}
+ *   | {type: 'move', start: Point, applied: Point} | {type: 'rotate'}} Drag
+ */
+
+/** @type {Record<ShapeKind, string>} */
 const KIND_NAMES = {
   fixed: 'a fixed body (a part that never moves)',
   moving: 'a moving body (a part the linkage will move)',
@@ -12,6 +48,7 @@ const KIND_NAMES = {
   avoid: 'an avoid region (no link may enter it)',
 };
 
+/** @type {Record<Tool, string>} */
 export const TOOL_HINTS = {
   select: 'Select: click a shape to select it, drag to move it (a moving body: its current pose). Drag a square handle to move a corner, double-click an edge to add one, Delete removes. Drag empty space to pan, scroll to zoom.',
   pan: 'Pan: drag to move the view, scroll (or + and −) to zoom. Press F to fit everything.',
@@ -25,7 +62,11 @@ export const TOOL_HINTS = {
 const MIN_SHAPE_PX = 4;
 
 /** What the status line says when the corners placed cannot be the shape: what is wrong, and what to
- * do about it (the corners stay, so the person goes on from them). */
+ * do about it (the corners stay, so the person goes on from them).
+ * @param {OutlineProblem} problem
+ * @param {ShapeKind} kind
+ * @param {string} units
+ */
 function outlineHint(problem, kind, units) {
   const what = kind === 'fixed' || kind === 'moving' ? 'A body' : 'A region';
   const needs = `${what} needs at least three corners that are not on one line`;
@@ -39,18 +80,43 @@ function outlineHint(problem, kind, units) {
   return `The outline crosses itself (side ${i + 1} crosses side ${j + 1}): place the corners in order around the shape. (${more}.)`;
 }
 
+/**
+ * The status line's words for the tool chosen (and what it draws).
+ * @param {UiState} ui
+ */
 export function toolHint(ui) {
   return TOOL_HINTS[ui.tool].replace('{kind}', KIND_NAMES[ui.kind]);
 }
 
+/**
+ * The element under the pointer, or its nearest ancestor, that matches `selector`.
+ * @param {Event} e
+ * @param {string} selector
+ * @returns {HTMLElement | SVGElement | null}
+ */
+function targetOf(e, selector) {
+  const found = e.target instanceof Element ? e.target.closest(selector) : null;
+  return found instanceof HTMLElement || found instanceof SVGElement ? found : null;
+}
+
 export class Tools {
+  /**
+   * Listens to the pointer on the canvas `root`.
+   * @param {SVGSVGElement} root
+   * @param {Store} store
+   * @param {Canvas} canvas
+   * @param {Viewport} view
+   * @param {ToolActions} actions
+   */
   constructor(root, store, canvas, view, actions) {
     this.root = root;
     this.store = store;
     this.canvas = canvas;
     this.view = view;
-    this.actions = actions; // {redraw(), leaveResult(), fit(), deleteSelection()}
+    this.actions = actions;
+    /** @type {Drag | null} */
     this.drag = null;
+    /** @type {Point[]} the corners of the polygon being drawn */
     this.polygon = [];
     this.space = false; // Space is held: a drag pans
     this.spacePanned = false; // and one did, so letting Space go does not also play or pause
@@ -63,31 +129,46 @@ export class Tools {
     root.addEventListener('contextmenu', (e) => e.preventDefault());
   }
 
+  /**
+   * The pointer's place on the canvas, pixels.
+   * @param {MouseEvent} e
+   * @returns {Point}
+   */
   screen(e) {
     const r = this.root.getBoundingClientRect();
     return [e.clientX - r.left, e.clientY - r.top];
   }
 
-  /** The world point under the pointer, on the grid when snapping is on (Alt turns it off). */
+  /**
+   * The world point under the pointer, on the grid when snapping is on (Alt turns it off).
+   * @param {MouseEvent} e
+   * @returns {Point}
+   */
   snapped(e) {
     const w = this.view.toWorld(this.screen(e));
     if (!this.store.ui.snap || e.altKey) return w;
     const step = this.view.gridStep();
-    return w.map((v) => Math.round(v / step) * step);
+    return [Math.round(w[0] / step) * step, Math.round(w[1] / step) * step];
   }
 
+  /**
+   * Chooses the tool a drag on the canvas uses.
+   * @param {Tool} tool
+   */
   setTool(tool) {
     this.cancelDrawing();
     this.store.setUi({ tool });
     this.store.hint(toolHint(this.store.ui));
   }
 
+  /** Drops the polygon being drawn. */
   cancelDrawing() {
     this.polygon = [];
     this.canvas.preview = null;
     this.actions.redraw();
   }
 
+  /** @param {PointerEvent} e */
   down(e) {
     this.root.setPointerCapture?.(e.pointerId);
     const s = this.screen(e);
@@ -119,9 +200,14 @@ export class Tools {
     }
   }
 
+  /**
+   * A press with the select tool at screen point `s`: on a handle, a joint, a shape, or empty space.
+   * @param {PointerEvent} e
+   * @param {Point} s
+   */
   selectDown(e, s) {
     const ui = this.store.ui;
-    const handle = e.target.closest?.('[data-handle]');
+    const handle = targetOf(e, '[data-handle]');
     if (handle && ui.selection) {
       if (handle.dataset.handle === 'vertex') {
         const v = Number(handle.dataset.vertex);
@@ -134,10 +220,10 @@ export class Tools {
       }
       return;
     }
-    const joint = e.target.closest?.('[data-joint]');
+    const joint = targetOf(e, '[data-joint]');
     if (joint) {
       // A joint of the design shown moves with the pointer, the linkage judged again as it goes.
-      if (this.actions.beginJointDrag(joint.dataset.joint)) {
+      if (this.actions.beginJointDrag(joint.dataset.joint ?? '')) {
         this.drag = { type: 'joint' };
       } else {
         this.store.hint(`Joint ${joint.dataset.joint} of the design: show the design (▶) to move its joints.`);
@@ -145,11 +231,13 @@ export class Tools {
       }
       return;
     }
-    const shape = e.target.closest?.('[data-kind]');
+    const shape = targetOf(e, '[data-kind]');
     if (shape) {
       // In live mode the linkage keeps moving while a pose is dragged (and is redesigned).
       if (!(this.actions.liveResult() && shape.dataset.kind === 'moving')) this.actions.leaveResult();
-      const sel = { kind: shape.dataset.kind, index: Number(shape.dataset.index) };
+      /** @type {Selection} */
+      const sel = { kind: /** @type {ShapeKind} */ (shape.dataset.kind), index: Number(shape.dataset.index) };
+      /** @type {Partial<UiState>} */
       const patch = { selection: sel };
       if (shape.dataset.pose !== undefined) patch.pose = Number(shape.dataset.pose);
       this.store.setUi(patch);
@@ -164,6 +252,7 @@ export class Tools {
     this.drag = { type: 'pan', last: s };
   }
 
+  /** @param {PointerEvent} e */
   move(e) {
     const s = this.screen(e);
     const w = this.view.toWorld(s);
@@ -190,25 +279,30 @@ export class Tools {
         this.actions.redraw();
         break;
       }
-      case 'vertex':
-        this.store.update((sc) => S.moveVertex(sc, ui.selection, d.v, this.snapped(e), ui.pose));
+      case 'vertex': {
+        const sel = ui.selection;
+        if (sel) this.store.update((sc) => S.moveVertex(sc, sel, d.v, this.snapped(e), ui.pose));
         break;
+      }
       case 'joint':
         // Not snapped: a linkage answers to small moves, and a grid step can be too far for it.
         this.actions.moveJoint(w);
         break;
       case 'move': {
+        const sel = ui.selection;
         const total = sub(this.snapped(e), d.start);
         const delta = sub(total, d.applied);
         d.applied = total;
-        if (delta[0] || delta[1]) {
-          this.store.update((sc) => S.translate(sc, ui.selection, delta, ui.pose));
-          if (ui.selection.kind === 'moving') this.actions.poseEdited();
+        if (sel && (delta[0] || delta[1])) {
+          this.store.update((sc) => S.translate(sc, sel, delta, ui.pose));
+          if (sel.kind === 'moving') this.actions.poseEdited();
         }
         break;
       }
       case 'rotate': {
-        const b = this.store.scene.moving_bodies[ui.selection.index];
+        const sel = ui.selection;
+        if (!sel) break;
+        const b = this.store.scene.moving_bodies[sel.index];
         const pose = b.poses[ui.pose];
         const v = sub(w, [pose[0], pose[1]]);
         let deg = (Math.atan2(v[1], v[0]) * 180) / Math.PI - 90;
@@ -217,7 +311,7 @@ export class Tools {
         // Keep the angle continuous with the previous value (poses may wind past ±180°).
         const prev = pose[2];
         deg += 360 * Math.round((prev - deg) / 360);
-        this.store.update((sc) => S.setPoseAngle(sc, ui.selection.index, ui.pose, deg));
+        this.store.update((sc) => S.setPoseAngle(sc, sel.index, ui.pose, deg));
         this.actions.poseEdited();
         this.store.hint(`Pose ${ui.pose + 1}: ${deg.toFixed(1)}° (Shift: steps of 15°, Alt: free)`);
         break;
@@ -227,6 +321,7 @@ export class Tools {
     }
   }
 
+  /** @param {PointerEvent} e */
   up(e) {
     const d = this.drag;
     this.drag = null;
@@ -250,29 +345,33 @@ export class Tools {
     }
   }
 
+  /** @param {MouseEvent} e */
   dblclick(e) {
     const ui = this.store.ui;
     if (ui.tool === 'polygon') {
       if (this.polygon.length) this.finishPolygon();
       return;
     }
-    if (ui.tool !== 'select' || !ui.selection) return;
+    const sel = ui.selection;
+    if (ui.tool !== 'select' || !sel) return;
     const world = this.canvas.selectionWorld();
     if (!world) return;
     const s = this.screen(e);
+    /** @type {{d: number, i: number} | null} */
     let best = null;
-    world.forEach((p, i) => {
+    for (const [i, p] of world.entries()) {
       const q = world[(i + 1) % world.length];
       const { d } = segmentDistance(s, this.view.toScreen(p), this.view.toScreen(q));
       if (d <= GRAB_PX && (!best || d < best.d)) best = { d, i };
-    });
+    }
     if (best) {
-      const w = this.snapped(e);
-      this.store.edit('add a corner', (sc) => S.insertVertex(sc, ui.selection, best.i, w, ui.pose));
-      this.store.setUi({ selection: { ...ui.selection, vertex: best.i + 1 } });
+      const w = this.snapped(e), after = best.i;
+      this.store.edit('add a corner', (sc) => S.insertVertex(sc, sel, after, w, ui.pose));
+      this.store.setUi({ selection: { ...sel, vertex: after + 1 } });
     }
   }
 
+  /** @param {WheelEvent} e */
   wheel(e) {
     e.preventDefault();
     const factor = Math.exp(-e.deltaY * (e.deltaMode === 1 ? 0.05 : 0.0015));
@@ -299,6 +398,10 @@ export class Tools {
     this.addShape(pts);
   }
 
+  /**
+   * Adds the shape drawn (world coordinates) as what the drawing tools draw, selected.
+   * @param {Polygon} world
+   */
   addShape(world) {
     const kind = this.store.ui.kind;
     const sel = this.store.edit(`draw ${kind === 'region' ? 'the linkage region' : `a ${kind} shape`}`, (sc) => S.addShape(sc, kind, world));
@@ -317,7 +420,10 @@ export class Tools {
     }
   }
 
-  /** Keyboard shortcuts on the canvas; returns true when the key was used. */
+  /**
+   * Keyboard shortcuts on the canvas; returns true when the key was used.
+   * @param {KeyboardEvent} e
+   */
   key(e) {
     const ui = this.store.ui;
     if (ui.tool === 'polygon' && this.polygon.length) {
@@ -325,7 +431,8 @@ export class Tools {
       if (e.key === 'Escape') { this.cancelDrawing(); return true; }
       if (e.key === 'Backspace') {
         this.polygon.pop();
-        this.canvas.preview = this.polygon.length ? { ...this.canvas.preview, points: this.polygon } : null;
+        const preview = this.canvas.preview;
+        this.canvas.preview = this.polygon.length && preview ? { ...preview, points: this.polygon } : null;
         this.actions.redraw();
         return true;
       }
@@ -338,11 +445,14 @@ export class Tools {
       this.store.setUi({ selection: null });
       return true;
     }
-    if (e.key.startsWith('Arrow') && ui.selection) {
+    const sel = ui.selection;
+    if (e.key.startsWith('Arrow') && sel) {
       const step = e.shiftKey ? this.view.gridStep() * 10 : this.view.gridStep();
-      const delta = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, step], ArrowDown: [0, -step] }[e.key];
+      /** @type {Record<string, Point>} */
+      const deltas = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, step], ArrowDown: [0, -step] };
+      const delta = deltas[e.key];
       this.actions.leaveResult();
-      this.store.edit('nudge', (sc) => S.translate(sc, ui.selection, delta, ui.pose));
+      this.store.edit('nudge', (sc) => S.translate(sc, sel, delta, ui.pose));
       return true;
     }
     return false;

@@ -1,3 +1,4 @@
+// @ts-check
 // The WebM container (Matroska's EBML elements, the subset WebM players read) around VP8 frames the
 // browser's VideoEncoder made: one video track, a cluster from each key frame, every frame a
 // SimpleBlock at its own time. Times are in milliseconds (TimecodeScale 1,000,000 ns).
@@ -12,14 +13,22 @@ const ID = {
   Cluster: 0x1f43b675, Timecode: 0xe7, SimpleBlock: 0xa3,
 };
 
-/** The bytes of a non-negative integer, big-endian, at least `min` of them. */
+/**
+ * The bytes of a non-negative integer, big-endian, at least `min` of them.
+ * @param {number} value
+ * @returns {number[]}
+ */
 function uintBytes(value, min = 1) {
+  /** @type {number[]} */
   const out = [];
   for (let v = value; v > 0 || out.length < min; v = Math.floor(v / 256)) out.unshift(v % 256);
   return out;
 }
 
-/** An element size as an EBML variable-length integer (the shortest that holds it). */
+/**
+ * An element size as an EBML variable-length integer (the shortest that holds it).
+ * @param {number} n
+ */
 function sizeBytes(n) {
   for (let len = 1; len <= 8; len++) {
     if (n < 2 ** (7 * len) - 1) {
@@ -31,20 +40,35 @@ function sizeBytes(n) {
   throw new Error('an element too large for WebM');
 }
 
-/** One element: its ID, its size, its content (bytes, or child elements). */
+/**
+ * One element: its ID, its size, its content (bytes, or child elements).
+ * @param {number} id
+ * @param {Uint8Array | Uint8Array[]} content
+ * @returns {Uint8Array<ArrayBuffer>}
+ */
 function element(id, content) {
   const body = Array.isArray(content) ? concat(content) : content;
   return concat([Uint8Array.from(uintBytes(id)), Uint8Array.from(sizeBytes(body.length)), body]);
 }
 
+/** @type {(id: number, value: number) => Uint8Array} */
 const uint = (id, value) => element(id, Uint8Array.from(uintBytes(value)));
+/** @type {(id: number, value: string) => Uint8Array} */
 const text = (id, value) => element(id, new TextEncoder().encode(value));
+/**
+ * @param {number} id
+ * @param {number} value
+ */
 function float(id, value) {
   const bytes = new Uint8Array(8);
   new DataView(bytes.buffer).setFloat64(0, value);
   return element(id, bytes);
 }
 
+/**
+ * @param {Uint8Array[]} parts
+ * @returns {Uint8Array<ArrayBuffer>}
+ */
 function concat(parts) {
   const out = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
   let at = 0;
@@ -56,8 +80,15 @@ function concat(parts) {
 }
 
 /**
- * A WebM file of VP8 `frames` ({data: Uint8Array, ms: its time, key: a key frame}), in order, the
- * first a key frame, of `width` × `height` pixels at `fps` frames a second.
+ * @typedef {{data: Uint8Array, ms: number, key: boolean}} VideoChunk  An encoded frame: its bytes, its
+ *   time in milliseconds, and whether it is a key frame.
+ */
+
+/**
+ * A WebM file of VP8 `frames`, in order, the first a key frame, of `width` × `height` pixels at `fps`
+ * frames a second.
+ * @param {{width: number, height: number, fps: number, frames: VideoChunk[]}} video
+ * @returns {Uint8Array<ArrayBuffer>}
  */
 export function webmFile({ width, height, fps, frames }) {
   const header = element(ID.EBML, [
@@ -73,7 +104,9 @@ export function webmFile({ width, height, fps, frames }) {
     text(ID.CodecID, 'V_VP8'), uint(ID.DefaultDuration, Math.round(1e9 / fps)),
     element(ID.Video, [uint(ID.PixelWidth, width), uint(ID.PixelHeight, height)]),
   ])]);
+  /** @type {{ms: number, children: Uint8Array[]}[]} */
   const clusters = [];
+  /** @type {{ms: number, children: Uint8Array[]} | null} */
   let cluster = null;
   for (const f of frames) {
     // A cluster starts at each key frame (a player seeks to clusters) and holds 16-bit relative times.
