@@ -17,8 +17,11 @@
 //! Exactness rests on margins, a slack of 1e-9 of the obstacle's coordinates, far above the rounding of
 //! these computations: a list holds every edge within its reach, and a little more.
 
+use super::polygon::Aabb;
 use super::polygon::{boundary_distance_raw, closer, contains_deeply_raw, contains_raw, crosses_ray, segment_box};
-use super::{point_segment_distance, segments_cross, Aabb, Isometry, Point, Vec2};
+use super::rigid::Isometry;
+use super::segment::{point_segment_distance, segments_cross};
+use super::vector::{Point, Vec2};
 use std::ops::Range;
 
 /// Cells along the longer side of an obstacle's box.

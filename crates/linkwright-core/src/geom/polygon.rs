@@ -1,6 +1,8 @@
 //! Simple polygons: area, bounds, containment, distances and overlap.
 
-use super::{point_segment_distance, point_segment_distance_sq, segments_cross, Point, Rigid};
+use super::rigid::Rigid;
+use super::segment::{point_segment_distance, point_segment_distance_sq, segments_cross};
+use super::vector::Point;
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]

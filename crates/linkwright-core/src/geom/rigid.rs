@@ -1,6 +1,6 @@
 //! Rigid transforms of the plane (rotation then translation).
 
-use super::{Point, Vec2};
+use super::vector::{Point, Vec2};
 
 /// A proper rigid motion `p ↦ R(angle)·p + translation`.
 ///

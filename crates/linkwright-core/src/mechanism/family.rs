@@ -2,7 +2,8 @@
 //! linkages. A new family is one more implementation of [`Family`] in this module, returned by
 //! [`MechanismType::family`] for its word in files.
 
-use super::{MechanismType, Topology};
+use super::topology::Topology;
+use crate::scene::MechanismType;
 
 /// A family of linkages.
 pub trait Family: Sync {
