@@ -6,7 +6,7 @@
 //! memory bounded by the file's size: the crank's travel is bounded before any motion is simulated, and
 //! the motion it simulates (to catch a linkage that cannot move) has at most one row per degree.
 
-use super::{DesignFile, MechanismJson, Metrics, Motion, PartKindJson, Status, DESIGN_FORMAT};
+use super::file::{DesignFile, MechanismJson, Metrics, Motion, PartKindJson, Status, DESIGN_FORMAT};
 use crate::geom::{Point, Vec2};
 use crate::issues::IssueList;
 use crate::kinematics::Plan;
