@@ -38,8 +38,8 @@ fn quantile(values: &mut [f64], q: f64) -> f64 {
     values.get(((values.len() as f64 - 1.0) * q).round() as usize).copied().unwrap_or(f64::NAN)
 }
 
+use crate::failure::Failure;
 use crate::files::read_problem;
-use crate::Failure;
 use clap::Args;
 use linkwright_core::{synthesize, DesignFile, MechanismChoice, MechanismType, Problem, Scene, Silent};
 use serde::Serialize;

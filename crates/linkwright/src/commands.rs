@@ -1,11 +1,11 @@
 //! The subcommands.
 
+use crate::failure::Failure;
 use crate::files::{
     existing_subfolder, make_subfolder, read_design, read_problem, read_problem_with, read_valid_design, remove_below,
     remove_folder_if_empty, write_below,
 };
 use crate::terminal::{escaped, say, warn};
-use crate::Failure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use linkwright_core::analysis::{AnalysisOptions, Replay, Which};

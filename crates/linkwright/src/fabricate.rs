@@ -2,10 +2,10 @@
 //! plates, profiles, the assembly sheet and `fabrication.json` for a design (and `design --fabricate`),
 //! with hooks for its counterbalance springs when asked.
 
+use crate::failure::Failure;
 use crate::files::{
     check_output_paths, read_problem, read_text, read_valid_design, remove_below, remove_folder_if_empty, write_below,
 };
-use crate::Failure;
 use clap::Args;
 use linkwright_core::fab::{
     bundle, fabricate_design_or_alternative, is_safe_relative_path, Chosen, FabError, PrintSettings, FIXED_FILES,

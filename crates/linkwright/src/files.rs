@@ -1,8 +1,8 @@
 //! Reading inputs with messages a person can act on, and writing outputs without ever leaving a
 //! half-written file in place of one the person had.
 
+use crate::failure::Failure;
 use crate::terminal::{escaped, warn};
-use crate::Failure;
 use linkwright_core::fab::is_safe_relative_path;
 use linkwright_core::{DesignFile, Problem, Scene, Severity};
 use std::collections::hash_map::RandomState;

@@ -4,6 +4,7 @@
 mod bench;
 mod commands;
 mod fabricate;
+mod failure;
 mod files;
 mod memory;
 mod serve;
@@ -12,6 +13,7 @@ mod terminal;
 mod workshop;
 
 use clap::{Parser, Subcommand};
+use failure::Failure;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -91,14 +93,6 @@ enum Command {
     },
 }
 
-/// Exit codes: 0 done (a `no_solution` design included), 1 a check found violations, 2 bad input.
-pub enum Failure {
-    /// The person's input is unusable; the message says what to change.
-    Input(String),
-    /// `check` found violations (already printed).
-    Violations,
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -112,12 +106,5 @@ fn main() -> ExitCode {
         Command::Serve(args) => serve::serve(args),
         Command::Bench(args) => bench::bench(args),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Violations) => ExitCode::from(1),
-        Err(Failure::Input(message)) => {
-            terminal::warn(&message);
-            ExitCode::from(2)
-        }
-    }
+    result.map_or_else(Failure::exit, |()| ExitCode::SUCCESS)
 }

@@ -1,7 +1,7 @@
 //! The counterbalance springs of a design, as `analyze` reports them, and in words a person buys from
 //! (`analyze`, `fabricate --springs`).
 
-use crate::Failure;
+use crate::failure::Failure;
 use linkwright_core::analysis::{Replay, Which};
 use linkwright_core::balance::{Balance, Spring, SpringSearch};
 use linkwright_core::fab::PrintSettings;

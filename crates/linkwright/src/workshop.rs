@@ -2,8 +2,8 @@
 //! to cut, the cut list, the bill of materials, the assembly sheet and `workshop.json`, written into
 //! a folder.
 
+use crate::failure::Failure;
 use crate::files::{check_output_paths, read_text, remove_below, write_below};
-use crate::Failure;
 use linkwright_core::fab::is_safe_relative_path;
 use linkwright_core::workshop::{files, plan, SpringOrder, WorkshopSettings};
 use linkwright_core::{DesignFile, Material, Problem};

@@ -5,8 +5,8 @@
 //! of the paired ratios of seconds (auto over the family alone), and both runs' cost and worst pose
 //! error (the design auto returns should be as good as the family's own run).
 
+use crate::failure::Failure;
 use crate::files::read_problem;
-use crate::Failure;
 use linkwright_core::{DesignFile, MechanismChoice, Problem, Start};
 use serde::Serialize;
 use std::path::PathBuf;

@@ -3,8 +3,8 @@
 //! four-bar motion task of the literature. Errors come from replaying each design file against its
 //! scene ([`analyze`]), independently of the engine's own cost terms.
 
+use crate::failure::Failure;
 use crate::files::{make_subfolder, write_below};
-use crate::Failure;
 use linkwright_core::analysis::{analyze, AnalysisOptions, MotionAnalysis, Which};
 use linkwright_core::testbed::{known_scene, Family};
 use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent, Status};

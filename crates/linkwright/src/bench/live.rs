@@ -4,8 +4,8 @@
 //! before it as the app's live mode asks for it. Reported per scene: whether the family changed, the
 //! largest move of a joint in one step (fraction of d) and the seconds per step (median, p90).
 
+use crate::failure::Failure;
 use crate::files::read_problem;
-use crate::Failure;
 use linkwright_core::{Problem, Start, Status};
 use serde::Serialize;
 use std::path::PathBuf;

@@ -3,8 +3,8 @@
 //! model scale, how close it comes to its poses at each size, and whether its printed model's parts
 //! all lie on plates.
 
+use crate::failure::Failure;
 use crate::files::read_problem;
-use crate::Failure;
 use linkwright_core::fab::{bundle, fabricate_design, BuildPlan, PrintSettings};
 use linkwright_core::testbed::scaled_scene;
 use linkwright_core::{Options, Problem, Silent, Status};

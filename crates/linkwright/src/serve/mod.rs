@@ -12,7 +12,7 @@ mod fabricate;
 mod jobs;
 mod preview;
 
-use crate::Failure;
+use crate::failure::Failure;
 use axum::extract::{DefaultBodyLimit, Request, State};
 use axum::http::{header, HeaderValue, Method, StatusCode};
 use axum::middleware::Next;
