@@ -247,7 +247,7 @@ impl<'de> Deserialize<'de> for MechanismChoice {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Weights {
-    /// Weight of E_acc / d², the mean squared joint error at the poses. Default 1000.
+    /// Weight of E_acc / d², the mean squared joint error at the poses. Default 10000.
     pub accuracy: f64,
     /// Weight of E_smooth, the tortuosity of the joint paths (≥ 1, unitless). Default 1.
     pub smoothness: f64,
@@ -256,7 +256,7 @@ pub struct Weights {
     /// Weight of E_size / d, the mean link length. Default 1.
     pub size: f64,
     /// Weight of E_trans, how far the smallest transmission angle along the travel falls short of
-    /// `settings.comfortable_transmission_deg` (0 when it does not; 1 at a dead point). Default 1.
+    /// `settings.comfortable_transmission_deg` (0 when it does not; 1 at a dead point). Default 10.
     pub transmission: f64,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
@@ -265,7 +265,7 @@ pub struct Weights {
 
 impl Default for Weights {
     fn default() -> Self {
-        Weights { accuracy: 1000.0, smoothness: 1.0, location: 10.0, size: 1.0, transmission: 1.0, extra: Map::new() }
+        Weights { accuracy: 10000.0, smoothness: 1.0, location: 10.0, size: 1.0, transmission: 10.0, extra: Map::new() }
     }
 }
 
@@ -289,7 +289,8 @@ pub struct Settings {
     pub min_transmission_deg: f64,
     /// The transmission angle (distance from 0° and 180°, degrees) a design is pushed to keep along
     /// its whole travel, a soft goal weighted by `weights.transmission`: textbooks ask for 40° where
-    /// the motion allows. Default 30.
+    /// the motion allows. Default 35: the term's pull vanishes at the comfortable angle, so designs
+    /// that trade it against the others settle just under it (docs/quality.md).
     pub comfortable_transmission_deg: f64,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
@@ -306,7 +307,7 @@ impl Default for Settings {
             pose_tolerance: 0.5,
             angle_tolerance_deg: 3.0,
             min_transmission_deg: 10.0,
-            comfortable_transmission_deg: 30.0,
+            comfortable_transmission_deg: 35.0,
             extra: Map::new(),
         }
     }

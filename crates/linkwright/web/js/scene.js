@@ -59,10 +59,10 @@ import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, wrapDeg }
 /** @type {Settings} */
 export const DEFAULT_SETTINGS = {
   seed: 0, samples: 20000, particles: 100, iterations: 20,
-  pose_tolerance: 0.5, angle_tolerance_deg: 3, min_transmission_deg: 10, comfortable_transmission_deg: 30,
+  pose_tolerance: 0.5, angle_tolerance_deg: 3, min_transmission_deg: 10, comfortable_transmission_deg: 35,
 };
 /** @type {Weights} */
-export const DEFAULT_WEIGHTS = { accuracy: 1000, smoothness: 1, location: 10, size: 1, transmission: 1 };
+export const DEFAULT_WEIGHTS = { accuracy: 10000, smoothness: 1, location: 10, size: 1, transmission: 10 };
 /** The engine's defaults for fields a file leaves out. @type {Settings} */
 export const ENGINE_SETTINGS = { ...DEFAULT_SETTINGS, samples: 100000 };
 
