@@ -60,7 +60,7 @@ pub use report::{
     ConstraintReport, HookReport, Layers, Oversized, PartReport, PlateReport, Report, SpringReport, Totals,
     FABRICATION_FORMAT,
 };
-pub use settings::{millimetres_per_unit, Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
+pub use settings::{Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
 pub use sheet::steps as assembly_steps;
 pub use solid::Mesh;
 use std::time::Instant;
@@ -71,9 +71,9 @@ pub enum FabError {
     /// The print settings cannot work (every issue, in words).
     #[error("print settings: {0}")]
     Settings(String),
-    /// The scene's `units` (given) is not a unit with a known length in millimetres.
-    #[error("the scene's units \"{0}\" are not known; use mm, cm, m, in or ft")]
-    Units(String),
+    /// The model's scale has a zero term.
+    #[error("the model's scale {0} has a zero term; both sides of a scale are whole numbers from 1")]
+    Scale(crate::scene::Ratio),
     /// The design moves other bodies than the scene has (how, in words).
     #[error("the design does not match the scene: {0}")]
     Mismatch(String),
@@ -268,12 +268,12 @@ pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabE
     Ok(trace)
 }
 
-/// Fabricates `mechanism` moving through `travel` in the scene of `problem`, drawn in units of
-/// `mm_per_unit` millimetres, with a hook at both ends of each of `springs` (the counterbalance
-/// springs of [`crate::balance`], for instance).
+/// Fabricates `mechanism` moving through `travel` in the scene of `problem`, a model at `scale` of
+/// the drawing (in the scene's units), with a hook at both ends of each of `springs` (the
+/// counterbalance springs of [`crate::balance`], for instance).
 pub fn fabricate(
     problem: &Problem,
-    mm_per_unit: f64,
+    scale: crate::scene::Ratio,
     mechanism: &Mechanism,
     travel: Travel,
     settings: &PrintSettings,
@@ -283,8 +283,9 @@ pub fn fabricate(
     if !issues.is_empty() {
         return Err(FabError::Settings(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; ")));
     }
+    let mm_per_unit = problem.units.millimetres() * scale.factor();
     if !(mm_per_unit.is_finite() && mm_per_unit > 0.0) {
-        return Err(FabError::Units(mm_per_unit.to_string()));
+        return Err(FabError::Scale(scale));
     }
     let dims = Dims::new(settings, mm_per_unit);
     let trace = motion_trace(mechanism, travel)?;
@@ -354,7 +355,7 @@ pub fn fabricate(
         joint_names: mechanism.topology.joint_names.clone(),
         settings: settings.clone(),
         dims,
-        scale: crate::scene::Ratio::ONE,
+        scale,
         model_mm: build::drawn_mm(problem, mm_per_unit),
         layout,
         recorded,
@@ -377,8 +378,8 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
     }
 }
 
-/// Fabricates the mechanism of a design file for its scene (`units` is the scene's `units` field). A
-/// design file that is not valid ([`crate::design::DesignFile::validate`]) or fails its check against
+/// Fabricates the mechanism of a design file for its scene, at the scale the design is printed at
+/// ([`model_scale`]). A design file that is not valid ([`crate::design::DesignFile::validate`]) or fails its check against
 /// the scene ([`crate::design::DesignFile::violations`]) is refused before anything is built.
 ///
 /// ```
@@ -389,7 +390,7 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
 /// // A known four-bar in a scene drawn in millimetres, with the default print settings.
 /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
 /// let problem = Problem::new(&known.scene).expect("a valid scene");
-/// let fabrication = fabricate_design(&problem, &known.scene.units, &known.design(), &PrintSettings::default())?;
+/// let fabrication = fabricate_design(&problem, &known.design(), &PrintSettings::default())?;
 ///
 /// // Its two links are printed, and every part passes the checks along the whole motion.
 /// assert_eq!(fabrication.parts.iter().filter(|p| p.role == Role::Link).count(), 2);
@@ -402,28 +403,23 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
 /// ```
 pub fn fabricate_design(
     problem: &Problem,
-    units: &str,
     design: &crate::design::DesignFile,
     settings: &PrintSettings,
 ) -> Result<Fabrication, FabError> {
-    fabricate_design_with_springs(problem, units, design, settings, &[])
+    fabricate_design_with_springs(problem, design, settings, &[])
 }
 
 /// [`fabricate_design`] with a hook at both ends of each of `springs`, anchored on the design's parts
 /// (not on an alternative's).
 pub fn fabricate_design_with_springs(
     problem: &Problem,
-    units: &str,
     design: &crate::design::DesignFile,
     settings: &PrintSettings,
     springs: &[SpringEnds],
 ) -> Result<Fabrication, FabError> {
-    let mm = millimetres_per_unit(units).ok_or_else(|| FabError::Units(units.to_string()))?;
-    let scale = model_scale(problem, mm, Some(design), settings);
+    let scale = model_scale(problem, Some(design), settings);
     let (mechanism, travel) = checked_design(problem, design)?;
-    let mut fabrication = fabricate(problem, mm * scale.factor(), &mechanism, travel, settings, springs)?;
-    fabrication.scale = scale;
-    Ok(fabrication)
+    fabricate(problem, scale, &mechanism, travel, settings, springs)
 }
 
 /// The mechanism and travel of a design file that is valid ([`crate::design::DesignFile::validate`])
@@ -466,13 +462,12 @@ pub struct Chosen {
 /// fabricates. A design file that is not valid or fails its check is refused with no fallback.
 pub fn fabricate_design_or_alternative(
     problem: &Problem,
-    units: &str,
     design: &crate::design::DesignFile,
     settings: &PrintSettings,
 ) -> Result<Chosen, FabError> {
-    let first = match fabricate_design(problem, units, design, settings) {
+    let first = match fabricate_design(problem, design, settings) {
         Ok(f) if f.off_bed().is_empty() => return Ok(Chosen { used: 0, fabrication: f, passed_over: None }),
-        Err(e @ (FabError::Settings(_) | FabError::Units(_) | FabError::Invalid(_) | FabError::FailsCheck(_))) => {
+        Err(e @ (FabError::Settings(_) | FabError::Scale(_) | FabError::Invalid(_) | FabError::FailsCheck(_))) => {
             return Err(e)
         }
         other => other,
@@ -495,7 +490,7 @@ pub fn fabricate_design_or_alternative(
             alternatives: Vec::new(),
             ..design.clone()
         };
-        match fabricate_design(problem, units, &view, settings) {
+        match fabricate_design(problem, &view, settings) {
             Ok(f) if f.off_bed().is_empty() => return Ok(chosen(k + 1, f)),
             Ok(f) if first.is_err() && fallback.is_none() => fallback = Some(chosen(k + 1, f)),
             _ => {}
