@@ -21,8 +21,9 @@
 //! closed under a factor of 10, the same object drawn 100 times larger or smaller gets the same
 //! model, so the same linkage.
 
-use super::settings::{Bed, Dims};
-use super::{FabError, FeasibilityCheck, PrintSettings};
+use super::error::FabError;
+use super::feasibility::FeasibilityCheck;
+use super::settings::{Bed, Dims, PrintSettings};
 use crate::design::{BuildRecord, DesignFile, Status};
 use crate::geom::Aabb;
 use crate::mechanism::{Mechanism, PartKind};

@@ -26,9 +26,9 @@
 //! All members on one joint share a face, and so do both hooks of a spring and whatever they stand on.
 //! The solver minimises the layers on the busier face.
 
+use super::error::FabError;
 use super::layout::{HookBase, Layout};
 use super::settings::Faces;
-use super::FabError;
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::Trace;
 use pumpkin_conflict_resolvers::resolvers::ResolutionResolver;
@@ -48,7 +48,7 @@ pub enum PillarRef {
     Post(usize),
     /// The pin of this joint, fused to a body or the ground.
     Pin(usize),
-    /// This spring hook, standing on a body or the ground ([`super::HookBase::Body`]).
+    /// This spring hook, standing on a body or the ground ([`HookBase::Body`]).
     Hook(usize),
 }
 
@@ -109,7 +109,7 @@ pub enum Constraint {
     UnderHook {
         /// The member that passes over the hook.
         member: usize,
-        /// The hook, an index into [`Layout::hooks`](super::Layout::hooks).
+        /// The hook, an index into [`Layout::hooks`].
         hook: usize,
     },
     /// The coils of springs `a` and `b` meet along the motion, so on one face they hang at different
@@ -124,7 +124,7 @@ pub enum Constraint {
     SpringOverHook {
         /// The spring that passes over.
         spring: usize,
-        /// The hook, an index into [`Layout::hooks`](super::Layout::hooks).
+        /// The hook, an index into [`Layout::hooks`].
         hook: usize,
     },
     /// Every member of `L_joint` is on one face (always imposed; never recorded, only reported broken).
@@ -161,7 +161,7 @@ pub struct Ordering {
     /// The face each spring hangs on, beyond its outermost layer.
     pub spring_face: Vec<Face>,
     /// Each spring's level beyond the layers of its face (0 nearest), so that springs of one face
-    /// pass over each other and over each other's hooks ([`super::Dims::spring_axis`]).
+    /// pass over each other and over each other's hooks ([`Dims::spring_axis`](super::settings::Dims::spring_axis)).
     pub spring_level: Vec<u32>,
     /// The most layers on either face.
     pub layers: u32,

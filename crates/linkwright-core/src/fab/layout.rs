@@ -3,9 +3,10 @@
 //! rides on, where connector posts stand on the bodies ([`super::posts`]), and which joints are pins
 //! fused straight onto a body, and where the hooks of counterbalance springs stand ([`Hook`]).
 
+use super::error::FabError;
+use super::plates::{self, Misfit};
 use super::posts::{self, Pad, Pillar, SceneShapes};
-use super::settings::Dims;
-use super::FabError;
+use super::settings::{Bed, Dims};
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::{BodyFrames, Trace};
 use crate::mechanism::{Mechanism, PartKind};
@@ -496,16 +497,31 @@ impl Layout {
     }
 
     /// The members that fit the print bed in no turn, each with what it would take.
-    pub fn off_bed(&self, bed: &super::settings::Bed) -> Vec<(usize, super::plates::Misfit)> {
+    pub fn off_bed(&self, bed: &Bed) -> Vec<(usize, Misfit)> {
         let mm = self.dims.mm_per_unit;
         self.members
             .iter()
             .enumerate()
             .filter_map(|(i, m)| {
                 let core: Vec<Point> = m.core.iter().map(|p| Point::new(p.x * mm, p.y * mm)).collect();
-                super::plates::misfit(&core, self.dims.half_width * mm, bed).map(|f| (i, f))
+                plates::misfit(&core, self.dims.half_width * mm, bed).map(|f| (i, f))
             })
             .collect()
+    }
+
+    /// [`FabError::OffBed`] for the members in `misfits` (as [`Layout::off_bed`] gives them).
+    pub(crate) fn off_bed_error(&self, misfits: &[(usize, Misfit)], bed: &Bed) -> FabError {
+        let parts: Vec<String> = misfits
+            .iter()
+            .map(|(i, f)| format!("{} ({:.0} × {:.0} mm)", self.members[*i].name, f.footprint_mm[0], f.footprint_mm[1]))
+            .collect();
+        FabError::OffBed {
+            parts: parts.join(", "),
+            width: bed.width - 2.0 * bed.margin,
+            depth: bed.depth - 2.0 * bed.margin,
+            square_bed_mm: misfits.iter().map(|m| m.1.square_bed_mm).fold(0.0, f64::max),
+            max_scale: misfits.iter().map(|m| m.1.max_scale).fold(f64::INFINITY, f64::min),
+        }
     }
 
     /// Where hook `k` stands in the configuration `row`, given every carrier's pose there.

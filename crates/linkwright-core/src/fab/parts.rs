@@ -10,12 +10,12 @@
 //! capped beyond the spring's axis.
 
 use super::depth::{Face, Ordering};
+use super::error::FabError;
 use super::layout::{HookBase, Layout, MemberKind};
 use super::posts::SceneShapes;
 use super::settings::Dims;
 use super::shapes::{circle, rounded_outline, stadium};
 use super::solid::{ring_outline, Feature, Mesh, RingShape, Slab};
-use super::FabError;
 use crate::geom::Point;
 use i_overlay::core::overlay_rule::OverlayRule;
 use serde::Serialize;
@@ -97,7 +97,7 @@ type Half<'a> = (String, Face, Heights, Vec<&'a Spec>);
 pub struct PinSeat {
     /// The joint the pin is.
     pub joint: usize,
-    /// Part that carries the pin (an index into [`Fabrication::parts`](super::Fabrication::parts)).
+    /// Part that carries the pin (an index into [`Fabrication::parts`](super::fabrication::Fabrication::parts)).
     pub pin_part: usize,
     /// The pin's axis in that part's carrier frame.
     pub pin_at: Point,
