@@ -4,7 +4,7 @@
 //! made ([`fabricate_design_or_alternative`]).
 
 use super::build::{self, model_scale};
-use super::depth::{self, Recorded};
+use super::depth::{self, Ordering, Recorded};
 use super::error::FabError;
 use super::fabrication::{Fabrication, Timings};
 use super::layout::{Layout, SpringEnds};
@@ -66,6 +66,47 @@ pub fn fabricate(
     let dims = Dims::new(settings, mm_per_unit);
     let trace = motion_trace(mechanism, travel)?;
     let shapes = SceneShapes::new(problem, dims);
+    let ((layout, recorded, ordering), timings) = ordered_layout(&shapes, mechanism, &trace, settings, springs)?;
+    let t2 = Instant::now();
+    let body_names = names::body_names(problem);
+    let (mut parts, seats) = parts::build(&shapes, &layout, &ordering, &body_names, &settings.bed)?;
+    // Link and connector names come from the design file, and every part's name becomes a file name.
+    let names = names::file_names(parts.iter().map(|p| p.name.as_str()));
+    for (part, name) in parts.iter_mut().zip(names) {
+        part.name = name;
+    }
+    let t3 = Instant::now();
+    Ok(Fabrication {
+        scene_name: problem.name.clone(),
+        springs: springs.to_vec(),
+        joint_names: mechanism.topology.joint_names.clone(),
+        settings: settings.clone(),
+        dims,
+        scale,
+        model_mm: build::drawn_mm(problem, mm_per_unit),
+        layout,
+        recorded,
+        ordering,
+        parts,
+        seats,
+        trace,
+        timings: Timings { meshing: (t3 - t2).as_secs_f64(), ..timings },
+    })
+}
+
+/// A layout with the constraints recorded along its motion and a depth ordering that satisfies them.
+type Ordered = (Layout, Recorded, Ordering);
+
+/// The layout of `mechanism` moving through `trace` for the first of the [`strategies`] whose ordering
+/// is solved with every member on the bed, else for the first whose ordering is solved; with the
+/// seconds spent recording and solving (none yet meshing).
+fn ordered_layout(
+    shapes: &SceneShapes,
+    mechanism: &Mechanism,
+    trace: &Trace,
+    settings: &PrintSettings,
+    springs: &[SpringEnds],
+) -> Result<(Ordered, Timings), FabError> {
     let (mut recording, mut ordering_s) = (0.0, 0.0);
     // The first attempt with an ordering whose members all fit the bed; else the first with an ordering.
     let mut found = None;
@@ -83,8 +124,8 @@ pub fn fabricate(
         }
         let attempt = built[k].get_or_insert_with(|| {
             let t0 = Instant::now();
-            let attempt = Layout::new(&shapes, mechanism, &trace, body_pins, springs).map(|l| {
-                let r = depth::record(&l, &trace);
+            let attempt = Layout::new(shapes, mechanism, trace, body_pins, springs).map(|l| {
+                let r = depth::record(&l, trace);
                 (l, r)
             });
             recording += t0.elapsed().as_secs_f64();
@@ -113,34 +154,10 @@ pub fn fabricate(
             }
         }
     }
-    let Some((layout, recorded, ordering)) = found.or(off_bed) else {
+    let Some(ordered) = found.or(off_bed) else {
         return Err(first_error.unwrap_or(FabError::NoOrdering));
     };
-    let t2 = Instant::now();
-    let body_names = names::body_names(problem);
-    let (mut parts, seats) = parts::build(&shapes, &layout, &ordering, &body_names, &settings.bed)?;
-    // Link and connector names come from the design file, and every part's name becomes a file name.
-    let names = names::file_names(parts.iter().map(|p| p.name.as_str()));
-    for (part, name) in parts.iter_mut().zip(names) {
-        part.name = name;
-    }
-    let t3 = Instant::now();
-    Ok(Fabrication {
-        scene_name: problem.name.clone(),
-        springs: springs.to_vec(),
-        joint_names: mechanism.topology.joint_names.clone(),
-        settings: settings.clone(),
-        dims,
-        scale,
-        model_mm: build::drawn_mm(problem, mm_per_unit),
-        layout,
-        recorded,
-        ordering,
-        parts,
-        seats,
-        trace,
-        timings: Timings { recording, ordering: ordering_s, meshing: (t3 - t2).as_secs_f64() },
-    })
+    Ok((ordered, Timings { recording, ordering: ordering_s, meshing: 0.0 }))
 }
 
 /// The attempts, in order of preference: (fuse pins to bodies where they fit?, faces allowed). One
