@@ -50,16 +50,18 @@ impl FeasibilityCheck {
     }
     /// True when `mechanism`, moving from the first to the last crank angle of `trace` (as
     /// [`crate::synth::Candidate::trace`]), has connectors that fit, members that fit the bed and a
-    /// depth ordering; what it accepts, [`fabricate`] over that travel builds with every member on the
-    /// bed (it may refuse a design whose ordering the solver does not find within 50 ms).
+    /// depth ordering; what it accepts, [`fabricate`](super::pipeline::fabricate) over that travel
+    /// builds with every member on the bed (it may refuse a design whose ordering the solver does not
+    /// find within 50 ms).
     pub fn check(&self, mechanism: &Mechanism, trace: &Trace) -> bool {
         self.diagnose(mechanism, trace).is_ok()
     }
     /// [`FeasibilityCheck::check`] with the reason when it fails (the first strategy's reason: pins
     /// fused to the bodies where they fit). The motion is simulated again from the trace's first to its
-    /// last crank angle at the steps [`fabricate`] takes ([`motion_trace`]), so the constraints are
-    /// recorded at the very rows fabrication records them (a grazing contact between two rows of one
-    /// sampling can show in the other's), and what the check accepts fabricates.
+    /// last crank angle at the steps [`fabricate`](super::pipeline::fabricate) takes ([`motion_trace`]),
+    /// so the constraints are recorded at the very rows fabrication records them (a grazing contact
+    /// between two rows of one sampling can show in the other's), and what the check accepts
+    /// fabricates.
     pub fn diagnose(&self, mechanism: &Mechanism, trace: &Trace) -> Result<(), FabError> {
         let (Some(&start), Some(&end)) = (trace.thetas.first(), trace.thetas.last()) else {
             return Err(FabError::Motion("the trace is empty".into()));
