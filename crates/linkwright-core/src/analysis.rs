@@ -367,8 +367,8 @@ pub struct MotionAnalysis {
     /// The angle the synthesis pushes it above (`settings.comfortable_transmission_deg`).
     pub comfortable_transmission_deg: f64,
     /// The torque the crank needs at each frame to hold the parts against gravity, their masses as
-    /// printed with the default print settings (or the scene's `mass_kg`); `None` when the scene's
-    /// units are not a length or the travel passes a dead point.
+    /// printed with the default print settings (or the scene's `mass_kg`); `None` when the travel
+    /// passes a dead point.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub torque: Option<Torque>,
 }

@@ -10,8 +10,7 @@ use crate::analysis::{AnalysisOptions, Replay, Which};
 use crate::balance::{Balance, Balancing, Spring, SpringSearch};
 use crate::design::DesignFile;
 use crate::fab::{
-    checked_design, fabricate, millimetres_per_unit, model_scale, Dims, FabError, Fabrication, HookRefusal,
-    PrintSettings, SpringEnds,
+    checked_design, fabricate, model_scale, Dims, FabError, Fabrication, HookRefusal, PrintSettings, SpringEnds,
 };
 use crate::scene::Problem;
 use crate::statics::{driving_torque, Masses, Torque};
@@ -31,9 +30,6 @@ pub struct Hooked {
 /// Why a design cannot be fabricated with springs.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum HookedError {
-    /// The scene's units are not a length, so nothing can be weighed.
-    #[error("the scene's units \"{0}\" are not a length, so the parts cannot be weighed; use mm, cm, m, in or ft")]
-    Units(String),
     /// The design cannot be simulated or weighed (why).
     #[error("the springs cannot be chosen: {0}")]
     Statics(String),
@@ -64,22 +60,18 @@ impl From<Cancelled> for HookedError {
 /// hooks fit. A design no spring helps is fabricated without hooks.
 pub fn fabricate_with_springs(
     problem: &Problem,
-    units: &str,
     design: &DesignFile,
     settings: &PrintSettings,
     observer: &dyn Observer,
 ) -> Result<Hooked, HookedError> {
-    let object_mm = millimetres_per_unit(units).ok_or_else(|| HookedError::Units(units.to_string()))?;
     // The model is printed, weighed and sprung at its scale.
-    let scale = model_scale(problem, object_mm, Some(design), settings);
-    let mm = object_mm * scale.factor();
-    let masses = Masses::model(settings, units, scale).map_err(|e| HookedError::Statics(e.to_string()))?;
+    let scale = model_scale(problem, Some(design), settings);
+    let mm = problem.units.millimetres() * scale.factor();
+    let masses = Masses::model(settings, &problem.units, scale).map_err(|e| HookedError::Statics(e.to_string()))?;
     // The design is checked once, and must fabricate without springs: an ordering that fails with
     // them then fails for their hooks.
     let (fab_mechanism, travel) = checked_design(problem, design)?;
-    let fabricated = |ends: &[SpringEnds]| {
-        fabricate(problem, mm, &fab_mechanism, travel, settings, ends).map(|f| Fabrication { scale, ..f })
-    };
+    let fabricated = |ends: &[SpringEnds]| fabricate(problem, scale, &fab_mechanism, travel, settings, ends);
     let plain = fabricated(&[])?;
     let replay = Replay::new(problem, design, Which::Best, AnalysisOptions::default().steps)
         .map_err(|e| HookedError::Statics(e.to_string()))?;

@@ -7,11 +7,11 @@
 //! its joints, so its centre's velocity follows from theirs. Gravity pulls down the drawing (−y)
 //! unless the scene gives another direction.
 
-use crate::fab::{millimetres_per_unit, PrintSettings};
+use crate::fab::PrintSettings;
 use crate::geom::{Point, Vec2};
 use crate::kinematics::{carried_velocity, BodyFrames, Plan, Trace};
 use crate::mechanism::{Mechanism, PartKind};
-use crate::scene::{Build, Material, ModelScale, Problem, Ratio};
+use crate::scene::{Build, Material, ModelScale, Problem, Ratio, Units};
 use serde::Serialize;
 
 /// Standard gravity, m/s².
@@ -93,9 +93,6 @@ impl FullSize {
 /// Why parts cannot be weighed for a build.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MassesError {
-    /// The scene's units are not a length this version knows.
-    #[error("the scene's units \"{0}\" are not a length, so the parts cannot be weighed; use mm, cm, m, in or ft")]
-    Units(String),
     /// A model's scale is `auto`, which is decided when a design is checked for the build.
     #[error(
         "the model's scale is auto: weigh the model at the scale its design was checked for (the design \
@@ -120,10 +117,9 @@ impl Masses {
     /// `units`, except that a body the scene gives a real mass (`mass_kg`, or a material and
     /// thickness) weighs that. Kept for the front ends that weigh a design without its build, where
     /// a scene's real mass is the load a person asked about (`analyze` on the full-size wall bed).
-    /// `None` when the units are not a length this knows (then nothing can be weighed). A model at
-    /// its scale is weighed by [`Masses::model`], the full-size object by [`Masses::full`].
-    pub fn printed(settings: &PrintSettings, units: &str) -> Option<Masses> {
-        Some(Masses { bodies: BodyMass::Scene, ..Masses::model(settings, units, Ratio::ONE).ok()? })
+    /// A model at its scale is weighed by [`Masses::model`], the full-size object by [`Masses::full`].
+    pub fn printed(settings: &PrintSettings, units: &Units) -> Masses {
+        Masses { bodies: BodyMass::Scene, ..Masses::model(settings, units, Ratio::ONE).expect("1:1 is a scale") }
     }
 
     /// A model printed with `settings` at `scale` of the object drawn in `units`: every length of the
@@ -131,14 +127,13 @@ impl Masses {
     /// its print does (the print settings are the model's own millimetres). The real object's masses
     /// are ignored: the model's springs are chosen for the model, and a 60 kg bed's 1:10 model weighs
     /// grams.
-    pub fn model(settings: &PrintSettings, units: &str, scale: Ratio) -> Result<Masses, MassesError> {
-        let mm = millimetres_per_unit(units).ok_or_else(|| MassesError::Units(units.to_string()))?;
+    pub fn model(settings: &PrintSettings, units: &Units, scale: Ratio) -> Result<Masses, MassesError> {
         let factor = scale.factor();
         if !(factor.is_finite() && factor > 0.0) {
             return Err(MassesError::Scale(scale));
         }
         Ok(Masses {
-            millimetres_per_unit: mm * factor,
+            millimetres_per_unit: units.millimetres() * factor,
             // g/cm³ is 10⁻⁶ kg/mm³.
             kg_per_mm3: settings.density * settings.fill_fraction * 1e-6,
             body_thickness: settings.body_thickness,
@@ -150,8 +145,7 @@ impl Masses {
     /// The object at its drawn size, cut from `stock`: a body weighs the scene's `mass_kg`, else its
     /// own material × thickness × outline, else the stock's material at its body thickness; links
     /// are solid bars of the stock's section and material.
-    pub fn full(stock: &FullSize, units: &str) -> Result<Masses, MassesError> {
-        let mm = millimetres_per_unit(units).ok_or_else(|| MassesError::Units(units.to_string()))?;
+    pub fn full(stock: &FullSize, units: &Units) -> Result<Masses, MassesError> {
         let positive = |field: &'static str, value: f64| {
             if value.is_finite() && value > 0.0 {
                 Ok(())
@@ -164,7 +158,7 @@ impl Masses {
             positive("link_section_mm", value)?;
         }
         Ok(Masses {
-            millimetres_per_unit: mm,
+            millimetres_per_unit: units.millimetres(),
             kg_per_mm3: stock.material.density_kg_m3() * KG_PER_MM3_PER_KG_M3,
             body_thickness: stock.body_thickness_mm,
             link_section: stock.link_section_mm,
@@ -174,7 +168,7 @@ impl Masses {
 
     /// The masses of `build` (a model at its decided scale, or full size in [`FullSize::new`]'s stock
     /// of its material), for a drawing in `units`.
-    pub fn for_build(build: Build, settings: &PrintSettings, units: &str) -> Result<Masses, MassesError> {
+    pub fn for_build(build: Build, settings: &PrintSettings, units: &Units) -> Result<Masses, MassesError> {
         match build {
             Build::Model(ModelScale::Fixed(scale)) => Masses::model(settings, units, scale),
             Build::Model(ModelScale::Auto) => Err(MassesError::UndecidedScale),
@@ -191,11 +185,10 @@ impl Masses {
         design: Option<&crate::design::DesignFile>,
         settings: &PrintSettings,
     ) -> Result<Masses, MassesError> {
-        let mm = millimetres_per_unit(&problem.units).ok_or_else(|| MassesError::Units(problem.units.clone()))?;
         match problem.build {
             Build::Full(material) => Masses::full(&FullSize::new(material), &problem.units),
             Build::Model(_) => {
-                Masses::model(settings, &problem.units, crate::fab::model_scale(problem, mm, design, settings))
+                Masses::model(settings, &problem.units, crate::fab::model_scale(problem, design, settings))
             }
         }
     }
@@ -546,7 +539,7 @@ pub(crate) mod tests {
             let outcome = crate::synthesize(&problem, &crate::Silent).unwrap();
             let design = crate::DesignFile::from_outcome(&problem, &outcome);
             assert!(design.mechanism.is_some(), "{name}: {:?}", design.reason);
-            let masses = Masses::printed(&PrintSettings::default(), &scene.units).unwrap();
+            let masses = Masses::printed(&PrintSettings::default(), &problem.units);
             assert_virtual_work(&name, &problem, &design, &masses);
         }
     }

@@ -21,7 +21,7 @@ fn design(scene: &Scene, build: Build, samples: usize) -> (Problem, BuildPlan, D
     scene.build = build;
     scene.settings.samples = samples;
     let problem = Problem::new(&scene).unwrap();
-    let plan = BuildPlan::new(&problem, &PrintSettings::default()).unwrap();
+    let plan = BuildPlan::new(&problem, &PrintSettings::default());
     let settings = PrintSettings::default();
     let (plan, outcome) = plan.synthesize(&problem, &settings, &Options::default(), &Silent).unwrap();
     let file = plan.design_file(&problem, &outcome);
@@ -73,7 +73,7 @@ fn an_auto_model_is_at_the_scale_nearest_full_size_that_fits() {
     for (scene, scale) in cases {
         assert_eq!(expected_auto(&scene), scale, "{}", scene.name);
         let problem = Problem::new(&scene).unwrap();
-        let plan = BuildPlan::new(&problem, &PrintSettings::default()).unwrap();
+        let plan = BuildPlan::new(&problem, &PrintSettings::default());
         assert_eq!(plan.model_scale(), Some(scale), "{}", scene.name);
         assert!(plan.notes.is_empty(), "{:?}", plan.notes);
     }
@@ -98,7 +98,7 @@ fn a_model_at_a_fixed_scale_is_designed_and_printed_at_that_scale() {
         let apart = at(&part.joints[0]).distance(at(&part.joints[1])) * plan.model_mm_per_unit().unwrap();
         assert!(apart >= need, "{}: {apart} mm in the model", part.name);
     }
-    let fabrication = fab::fabricate_design(&problem, &scene.units, &file, &PrintSettings::default()).unwrap();
+    let fabrication = fab::fabricate_design(&problem, &file, &PrintSettings::default()).unwrap();
     assert_eq!(fabrication.scale, Ratio { model: 1, object: 10 });
     assert!(fabrication.off_bed().is_empty());
     assert!(fab::check(&fabrication).ok());
@@ -110,7 +110,7 @@ fn the_full_size_wall_bed_prints_as_an_auto_model_on_a_few_plates() {
     let (problem, _, file, _) = design(&scene, Build::default(), 100_000);
     let record = file.build.as_ref().unwrap();
     assert_eq!((record.checked, record.buildable), (model(1, 5), true), "{:?}", record.reason);
-    let fabrication = fab::fabricate_design(&problem, &scene.units, &file, &PrintSettings::default()).unwrap();
+    let fabrication = fab::fabricate_design(&problem, &file, &PrintSettings::default()).unwrap();
     assert!(fab::check(&fabrication).ok());
     let files = fab::bundle(&fabrication).unwrap();
     assert!(files.report.oversized.is_empty(), "{:?}", files.report.oversized);
@@ -176,7 +176,7 @@ fn an_auto_model_that_prints_nothing_is_tried_at_larger_scales() {
     for (scene, decided, printed) in
         [(roof.clone(), model(1, 2), model(1, 1)), (scaled_scene(&roof, 0.01), model(50, 1), model(100, 1))]
     {
-        let plan = BuildPlan::new(&Problem::new(&scene).unwrap(), &PrintSettings::default()).unwrap();
+        let plan = BuildPlan::new(&Problem::new(&scene).unwrap(), &PrintSettings::default());
         assert_eq!(plan.checked, decided);
         let (_, _, file, unbuildable) = design(&scene, Build::default(), 20_000);
         assert_eq!(file.status, Status::Ok, "{:?}", file.reason);

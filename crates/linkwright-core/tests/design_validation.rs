@@ -53,7 +53,7 @@ fn an_extra_link_that_locks_the_linkage_is_refused() {
     assert!(issues[0].message.contains("0 degrees of freedom"), "{}", issues[0]);
     assert!(design.usable_mechanisms().is_empty(), "a locked linkage is no start for a search either");
     assert!(!design.violations(&problem).is_empty(), "and the check does not pass it");
-    let refused = fab::fabricate_design(&problem, "mm", &design, &PrintSettings::default());
+    let refused = fab::fabricate_design(&problem, &design, &PrintSettings::default());
     assert!(matches!(refused, Err(FabError::Invalid(_))), "{refused:?}");
 }
 
@@ -75,7 +75,7 @@ fn travels_of_a_turn_or_more_are_refused_before_anything_is_simulated() {
         d.motion.as_mut().unwrap().crank_end_deg = end;
         let t = Instant::now();
         assert_eq!(fields(&d, &problem), ["motion.crank_end_deg"], "{end}");
-        let refused = fab::fabricate_design(&problem, "mm", &d, &PrintSettings::default());
+        let refused = fab::fabricate_design(&problem, &d, &PrintSettings::default());
         assert!(matches!(refused, Err(FabError::Invalid(_))), "{end}: {refused:?}");
         assert!(t.elapsed() < Duration::from_secs(1), "{end}: {:?}", t.elapsed());
     }

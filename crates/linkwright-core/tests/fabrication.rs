@@ -7,7 +7,9 @@ use linkwright_core::fab::{
     self, assembled_meshes, bundle, check, FeasibilityCheck, MemberKind, PrintSettings, Travel,
 };
 use linkwright_core::geom::Point;
-use linkwright_core::{synthesize, synthesize_with, Candidate, DesignFile, Options, Problem, Scene, Silent, Start};
+use linkwright_core::{
+    synthesize, synthesize_with, Candidate, DesignFile, Options, Problem, Ratio, Scene, Silent, Start,
+};
 use std::io::Read;
 use std::time::Instant;
 
@@ -30,13 +32,13 @@ fn scene(name: &str) -> Scene {
 
 /// A scene and the design kept for it in the fixtures.
 /// A fixture's scene and design, printed at 1:1 (the fixture designs were checked at full size).
-fn fixture_design(name: &str) -> (Scene, Problem, DesignFile) {
+fn fixture_design(name: &str) -> (Problem, DesignFile) {
     let s = scene(name);
     let path = format!("{}/{name}.design.json", fixtures_dir());
     let design = DesignFile::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
     let mut p = Problem::new(&s).unwrap();
-    p.build = linkwright_core::Build::Model(linkwright_core::ModelScale::Fixed(linkwright_core::Ratio::ONE));
-    (s, p, design)
+    p.build = linkwright_core::Build::Model(linkwright_core::ModelScale::Fixed(Ratio::ONE));
+    (p, design)
 }
 
 fn problem(name: &str, samples: usize) -> Problem {
@@ -66,7 +68,7 @@ fn try_fabricated(name: &str, samples: usize) -> Result<(Problem, fab::Fabricati
     let mut fabricated = Vec::new();
     for c in std::iter::once(best).chain(&outcome.alternatives) {
         assert!(printable.check(&c.mechanism, &c.trace), "{name}: the engine offered a design its check refuses");
-        let f = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[])
+        let f = fab::fabricate(&p, Ratio::ONE, &c.mechanism, travel(c), &settings, &[])
             .map_err(|e| format!("{name}: a design the engine offered does not fabricate: {e}"))?;
         fabricated.push(f);
     }
@@ -85,7 +87,7 @@ fn feasibility_check_agrees_with_fabrication() {
         let (mut accepted, mut refused) = (0, 0);
         for c in outcome.best.iter().chain(&outcome.alternatives) {
             let quick = check.diagnose(&c.mechanism, &c.trace);
-            match fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[]) {
+            match fab::fabricate(&p, Ratio::ONE, &c.mechanism, travel(c), &settings, &[]) {
                 Ok(f) if f.off_bed().is_empty() => {
                     assert!(quick.is_ok(), "{name}: the check refused a design that fabricates: {quick:?}");
                     assert_sound(name, &f);
@@ -312,7 +314,7 @@ fn perturbed_designs_fabricate_soundly_or_fail_cleanly() {
         let t = travel(&base);
         match fab::fabricate(
             &p,
-            1.0,
+            Ratio::ONE,
             &m,
             Travel { start: t.start, end: t.start + 0.3 * (t.end - t.start) },
             &settings,
@@ -338,9 +340,9 @@ fn a_scene_in_centimetres_gets_parts_of_the_same_physical_size() {
         .best
         .iter()
         .chain(&outcome.alternatives)
-        .find(|c| fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[]).is_ok());
+        .find(|c| fab::fabricate(&p, Ratio::ONE, &c.mechanism, travel(c), &settings, &[]).is_ok());
     let Some(c) = c else { panic!("no fabricable design") };
-    let mm = fab::fabricate(&p, 1.0, &c.mechanism, travel(c), &settings, &[]).unwrap();
+    let mm = fab::fabricate(&p, Ratio::ONE, &c.mechanism, travel(c), &settings, &[]).unwrap();
     let link_mm = mm.parts.iter().find(|p| p.role == fab::Role::Link).unwrap();
     let (lo, hi) = link_mm.print_mesh.bounds();
     // Thickness of a link in mm is the setting, whatever the unit.
@@ -407,9 +409,8 @@ fn car_roof_six_bar_is_printable_when_asked() {
 
 /// Fabricates a design kept in the fixtures with the default settings; every check must hold.
 fn fabricated_fixture(name: &str) -> fab::Fabrication {
-    let (scene, p, design) = fixture_design(name);
-    let f = fab::fabricate_design(&p, &scene.units, &design, &PrintSettings::default())
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let (p, design) = fixture_design(name);
+    let f = fab::fabricate_design(&p, &design, &PrintSettings::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_sound(name, &f);
     f
 }
@@ -475,7 +476,7 @@ fn a_scene_without_a_fixed_body_gets_a_frame_on_a_foot() {
 /// file takes an alternative that fits when one does; on a bed large enough nothing is oversized.
 #[test]
 fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
-    let (scene, p, design) = fixture_design("k3_power_shovel_updated_3poses");
+    let (p, design) = fixture_design("k3_power_shovel_updated_3poses");
     let settings = PrintSettings::default();
     let mechanism = design.mechanism.as_ref().unwrap().to_mechanism().unwrap();
     let motion = design.motion.as_ref().unwrap();
@@ -489,7 +490,7 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
         }
         other => panic!("expected the bed to refuse the design, got {other:?}"),
     }
-    let f = fab::fabricate_design(&p, &scene.units, &design, &settings).unwrap();
+    let f = fab::fabricate_design(&p, &design, &settings).unwrap();
     assert_sound("power shovel", &f);
     let b = bundle(&f).unwrap();
     let names: Vec<&str> = b.report.oversized.iter().map(|o| o.name.as_str()).collect();
@@ -504,7 +505,7 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
     assert!(json["oversized"][0]["square_bed_mm"].as_f64().is_some(), "{}", json["oversized"]);
     assert_exports_read_back("power shovel", &f);
     // The design file: an alternative that fits, or the design with its parts reported.
-    let chosen = fab::fabricate_design_or_alternative(&p, &scene.units, &design, &settings).unwrap();
+    let chosen = fab::fabricate_design_or_alternative(&p, &design, &settings).unwrap();
     let (which, g) = (chosen.used, &chosen.fabrication);
     assert!(which > 0 || !g.off_bed().is_empty());
     if which > 0 {
@@ -519,7 +520,7 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
     let mut big = settings.clone();
     big.bed.width = side.ceil();
     big.bed.depth = side.ceil();
-    let f = fab::fabricate_design(&p, &scene.units, &design, &big).unwrap();
+    let f = fab::fabricate_design(&p, &design, &big).unwrap();
     assert!(f.off_bed().is_empty());
     assert!(!printable.check(&mechanism, &trace));
     assert!(FeasibilityCheck::new(&p, &big, 1.0).check(&mechanism, &trace), "the larger bed takes the design");

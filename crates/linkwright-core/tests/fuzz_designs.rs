@@ -21,30 +21,29 @@ use std::time::Instant;
 /// The examples whose designs are mutated: one body, two bodies, and the slider-crank family.
 const EXAMPLES: [&str; 3] = ["k1_garbage_truck", "k2_wall_chair", "k1_sofa_bed"];
 
-fn example(name: &str) -> (Scene, Arc<Problem>) {
+fn example(name: &str) -> Arc<Problem> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../examples/{name}.json"));
     let mut scene = Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
     scene.settings.samples = 5000;
-    let problem = Arc::new(Problem::new(&scene).unwrap());
-    (scene, problem)
+    Arc::new(Problem::new(&scene).unwrap())
 }
 
-/// Per example: its scene, problem and the engine's design of it as text.
-fn seeds() -> Vec<(Scene, Arc<Problem>, String)> {
+/// Per example: its problem and the engine's design of it as text.
+fn seeds() -> Vec<(Arc<Problem>, String)> {
     EXAMPLES
         .iter()
         .map(|name| {
-            let (scene, problem) = example(name);
+            let problem = example(name);
             let outcome = synthesize(&problem, &Silent).unwrap();
             let design = DesignFile::from_outcome(&problem, &outcome);
             let text = serde_json::to_string(&design).unwrap();
-            (scene, problem, text)
+            (problem, text)
         })
         .collect()
 }
 
 /// Everything a design file reaches; `fabricate` also builds its parts.
-fn run_case(problem: &Problem, units: &str, text: &str, fabricate: bool) -> bool {
+fn run_case(problem: &Problem, text: &str, fabricate: bool) -> bool {
     let Ok(design) = DesignFile::from_json(text) else { return false };
     if !design.validate(problem).is_empty() {
         // Every reader refuses it with the same issues.
@@ -59,15 +58,15 @@ fn run_case(problem: &Problem, units: &str, text: &str, fabricate: bool) -> bool
         }
     }
     if fabricate {
-        let _ = fabricate_design(problem, units, &design, &PrintSettings::default());
+        let _ = fabricate_design(problem, &design, &PrintSettings::default());
     }
     true
 }
 
 /// [`run_case`] within its bound: whether the design passed validation, or its failure.
-fn outcome(problem: &Arc<Problem>, units: &str, text: &str, fabricate: bool) -> Result<bool, String> {
-    let (problem, units, owned) = (problem.clone(), units.to_string(), text.to_string());
-    bounded(move || run_case(&problem, &units, &owned, fabricate))
+fn outcome(problem: &Arc<Problem>, text: &str, fabricate: bool) -> Result<bool, String> {
+    let (problem, owned) = (problem.clone(), text.to_string());
+    bounded(move || run_case(&problem, &owned, fabricate))
 }
 
 #[test]
@@ -79,9 +78,9 @@ fn the_corpus_of_designs_that_once_failed_still_passes() {
     for case in cases {
         // Files are named `<example>--<what>.json`: the example is the design's scene.
         let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
-        let (scene, problem) = example(stem.split("--").next().unwrap());
+        let problem = example(stem.split("--").next().unwrap());
         let text = String::from_utf8_lossy(&std::fs::read(&case).unwrap()).into_owned();
-        let result = outcome(&problem, &scene.units, &text, true);
+        let result = outcome(&problem, &text, true);
         assert!(result.is_ok(), "{}: {result:?}", case.display());
     }
 }
@@ -95,11 +94,11 @@ fn mutated_designs_never_panic_nor_run_unbounded() {
     let (mut cases, mut valid) = (0usize, 0usize);
     while cases < 20 || started.elapsed() < duration {
         let k = rng.below(seeds.len());
-        let (scene, problem, text) = &seeds[k];
+        let (problem, text) = &seeds[k];
         let mutated = mutate(text, &mut rng);
         // Fabrication is the slowest reader: one case in eight.
         let fabricate = rng.below(8) == 0;
-        match outcome(problem, &scene.units, &mutated, fabricate) {
+        match outcome(problem, &mutated, fabricate) {
             Ok(passed) => valid += usize::from(passed),
             Err(what) => {
                 let path = keep_failure(&format!("{}--seed{seed}-case{cases}.json", EXAMPLES[k]), &mutated);

@@ -10,11 +10,13 @@
 use linkwright_core::balance::{
     Balance, Balancing, Series, Spring, SpringNeed, SpringSearch, FREE_LENGTHS, NO_SPRING_NEEDED_NM, STRETCH_RATIO,
 };
-use linkwright_core::fab::{millimetres_per_unit, PrintSettings};
+use linkwright_core::fab::PrintSettings;
 use linkwright_core::geom::{Point, Rigid, Vec2};
 use linkwright_core::kinematics::{BodyFrames, Plan, Trace};
 use linkwright_core::statics::{driving_torque, FullSize, Masses, MassesError, Torque};
-use linkwright_core::{Build, Material, Mechanism, ModelScale, PartKind, Problem, Ratio, Scene, Silent, Topology};
+use linkwright_core::{
+    Build, Material, Mechanism, ModelScale, PartKind, Problem, Ratio, Scene, Silent, Topology, Units,
+};
 use std::sync::Arc;
 
 /// ISO 3's R10 and R20 steps of a decade, written out here rather than read from the library.
@@ -88,7 +90,7 @@ fn in_centimetres(scene: &Scene) -> Scene {
 fn four_bar(scene: &Scene) -> FourBar {
     let problem = Problem::new(scene).unwrap();
     let bed = &problem.bodies[0];
-    let unit = millimetres_per_unit(&scene.units).unwrap();
+    let unit = problem.units.millimetres();
     let places = |x: f64, y: f64| -> Vec<Point> {
         bed.poses.iter().map(|pose| pose.apply(Point::new(x / unit, y / unit))).collect()
     };
@@ -169,16 +171,17 @@ fn a_full_size_body_weighs_its_stock_and_links_their_bars() {
     // The same object drawn in centimetres weighs the same.
     for scene in [scene.clone(), in_centimetres(&scene)] {
         let bed = four_bar(&scene);
-        let torque = bed.torque(&Masses::full(&steel, &scene.units).unwrap());
+        let torque = bed.torque(&Masses::full(&steel, &bed.problem.units).unwrap());
         // Its own plywood, though the links are steel.
         assert_close(FourBar::mass(&torque, "body1"), area_m2 * 0.018 * 680.0, 1e-12, "plywood bed");
         for link in ["crank", "rocker"] {
             // Steel flat bar, 30 × 5 mm.
-            let metres = bed.link_length(link) * millimetres_per_unit(&scene.units).unwrap() / 1000.0;
+            let metres = bed.link_length(link) * bed.problem.units.millimetres() / 1000.0;
             assert_close(FourBar::mass(&torque, link), metres * 0.030 * 0.005 * 7850.0, 1e-12, link);
         }
     }
-    let steel = Masses::full(&steel, &scene.units).unwrap();
+    let mm = Units::default();
+    let steel = Masses::full(&steel, &mm).unwrap();
 
     // Given its mass, the bed weighs it, its stock notwithstanding.
     scene.moving_bodies[0].mass_kg = Some(60.0);
@@ -192,25 +195,24 @@ fn a_full_size_body_weighs_its_stock_and_links_their_bars() {
     scene.moving_bodies[0].thickness = None;
     let bed = four_bar(&scene);
     let aluminium = FullSize::new(Material::Aluminium);
-    let torque = bed.torque(&Masses::full(&aluminium, &scene.units).unwrap());
+    let torque = bed.torque(&Masses::full(&aluminium, &bed.problem.units).unwrap());
     assert_close(FourBar::mass(&torque, "body1"), area_m2 * 0.006 * 2700.0, 1e-12, "aluminium bed");
     let thicker = aluminium.with_body_thickness_mm(10.0).with_link_section_mm([50.0, 8.0]);
-    let torque = bed.torque(&Masses::full(&thicker, &scene.units).unwrap());
+    let torque = bed.torque(&Masses::full(&thicker, &bed.problem.units).unwrap());
     assert_close(FourBar::mass(&torque, "body1"), area_m2 * 0.010 * 2700.0, 1e-12, "10 mm bed");
     let expected = bed.link_length("crank") / 1000.0 * 0.050 * 0.008 * 2700.0;
     assert_close(FourBar::mass(&torque, "crank"), expected, 1e-12, "50 × 8 crank");
 
     // What cannot be weighed says why.
     let settings = PrintSettings::default();
-    assert_eq!(Masses::for_build(Build::Model(ModelScale::Auto), &settings, "mm"), Err(MassesError::UndecidedScale));
-    assert_eq!(Masses::for_build(Build::Full(Material::Steel), &settings, "px"), Err(MassesError::Units("px".into())));
+    assert_eq!(Masses::for_build(Build::Model(ModelScale::Auto), &settings, &mm), Err(MassesError::UndecidedScale));
     assert!(matches!(
-        Masses::full(&aluminium.with_link_section_mm([0.0, 6.0]), "mm"),
+        Masses::full(&aluminium.with_link_section_mm([0.0, 6.0]), &mm),
         Err(MassesError::Stock { field: "link_section_mm", .. })
     ));
     assert_eq!(
-        Masses::for_build(Build::Full(Material::Steel), &settings, "mm"),
-        Masses::full(&FullSize::new(Material::Steel), "mm")
+        Masses::for_build(Build::Full(Material::Steel), &settings, &mm),
+        Masses::full(&FullSize::new(Material::Steel), &mm)
     );
 }
 
@@ -225,25 +227,25 @@ fn a_model_weighs_its_print_at_its_size_and_its_torque_scales_with_it() {
     let scene = wall_bed_scene();
     let bed = four_bar(&scene);
     let settings = PrintSettings::default();
-    let full_scale = Masses::model(&settings, &scene.units, Ratio::ONE).unwrap();
+    let full_scale = Masses::model(&settings, &bed.problem.units, Ratio::ONE).unwrap();
     let one = bed.torque(&full_scale);
     // Printed: 600,000 mm² × 6 mm at 1.24 g/cm³, half filled; the scene's 60 kg are the real bed's.
     let printed_bed = 600_000.0 * 6.0 * 1.24e-6 * 0.5;
     assert_close(FourBar::mass(&one, "body1"), printed_bed, 1e-12, "printed bed");
     // The weighing of the front ends that do not choose a build keeps the scene's mass.
-    let legacy = bed.torque(&Masses::printed(&settings, &scene.units).unwrap());
+    let legacy = bed.torque(&Masses::printed(&settings, &bed.problem.units));
     assert_eq!(FourBar::mass(&legacy, "body1"), 60.0);
 
     let f = 0.1;
     let tenth = Ratio { model: 1, object: 10 };
-    let same_settings = bed.torque(&Masses::model(&settings, &scene.units, tenth).unwrap());
+    let same_settings = bed.torque(&Masses::model(&settings, &bed.problem.units, tenth).unwrap());
     let scaled_settings = PrintSettings {
         body_thickness: settings.body_thickness * f,
         link_width: settings.link_width * f,
         link_thickness: settings.link_thickness * f,
         ..settings.clone()
     };
-    let all_scaled = bed.torque(&Masses::model(&scaled_settings, &scene.units, tenth).unwrap());
+    let all_scaled = bed.torque(&Masses::model(&scaled_settings, &bed.problem.units, tenth).unwrap());
     for (k, part) in one.parts.iter().enumerate() {
         let body = part.name == "body1";
         let (mass, share) = if body { (f * f, f * f * f) } else { (f, f * f) };
@@ -274,7 +276,7 @@ fn the_full_size_wall_bed_gets_stock_springs_whose_torque_is_their_own() {
     let mut scene = wall_bed_scene();
     scene.build = Build::Full(Material::Plywood);
     let bed = four_bar(&scene);
-    let masses = Masses::for_build(bed.problem.build, &PrintSettings::default(), &scene.units).unwrap();
+    let masses = Masses::for_build(bed.problem.build, &PrintSettings::default(), &bed.problem.units).unwrap();
     let torque = bed.torque(&masses);
     assert!(torque.peak_nm > 100.0, "a 60 kg bed asks hundreds of N·m: {}", torque.peak_nm);
     let balance = bed.balance(&masses, &torque);
@@ -394,7 +396,7 @@ fn a_tiny_load_needs_no_spring() {
     let scene = wall_bed_scene();
     let bed = four_bar(&scene);
     let settings = PrintSettings::default();
-    let tiny = Masses::model(&settings, &scene.units, Ratio { model: 1, object: 100 }).unwrap();
+    let tiny = Masses::model(&settings, &bed.problem.units, Ratio { model: 1, object: 100 }).unwrap();
     let torque = bed.torque(&tiny);
     assert!(torque.peak_nm > 0.0 && torque.peak_nm < NO_SPRING_NEEDED_NM, "{}", torque.peak_nm);
     let balance = bed.balance(&tiny, &torque);
@@ -405,7 +407,7 @@ fn a_tiny_load_needs_no_spring() {
     let json = serde_json::to_value(&balance).unwrap();
     assert_eq!(json["need"], "not_needed");
 
-    let one = bed.torque(&Masses::model(&settings, &scene.units, Ratio::ONE).unwrap());
+    let one = bed.torque(&Masses::model(&settings, &bed.problem.units, Ratio::ONE).unwrap());
     assert!(one.peak_nm > NO_SPRING_NEEDED_NM);
     assert_eq!(Balance::none(&one).need, SpringNeed::NoneHelps);
     // The series the test reads its members from are the library's too.

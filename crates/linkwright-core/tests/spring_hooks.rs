@@ -15,7 +15,7 @@ fn hooked() -> Vec<Hooked> {
         let known = known_scene(family, 3, seed, 100.0).expect("a known scene");
         let problem = Problem::new(&known.scene).expect("a valid scene");
         let design = known.design();
-        match fabricate_with_springs(&problem, &known.scene.units, &design, &PrintSettings::default(), &Silent) {
+        match fabricate_with_springs(&problem, &design, &PrintSettings::default(), &Silent) {
             Ok(h) => out.push(h),
             Err(e) => println!("{family:?} seed {seed}: {e}"),
         }
@@ -83,7 +83,7 @@ fn anchors_on_unknown_parts_or_off_the_numbers_are_refused_with_their_spring() {
     ];
     for (moving, why) in cases {
         let ends = [ground(Point::new(0.0, 0.0)), moving.clone()];
-        match fabricate_design_with_springs(&problem, &known.scene.units, &design, &settings, &[ends]) {
+        match fabricate_design_with_springs(&problem, &design, &settings, &[ends]) {
             Err(FabError::SpringHook { spring: 1, part, why: got }) => {
                 assert_eq!((part, got), (moving.part, why));
             }

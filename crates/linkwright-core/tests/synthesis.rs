@@ -217,7 +217,7 @@ fn assert_a_drag_is_followed(mut problem: Problem, pose: usize, steps: usize, pr
     use linkwright_core::{Options, Start};
     fn design(problem: &Problem, start: Start, printed: bool) -> Mechanism {
         let settings = PrintSettings::default();
-        let plan = BuildPlan::new(problem, &settings).unwrap();
+        let plan = BuildPlan::new(problem, &settings);
         let options = Options { start, printable: None };
         let outcome = if printed {
             plan.synthesize(problem, &settings, &options, &Silent).unwrap().1

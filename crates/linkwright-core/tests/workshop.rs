@@ -254,7 +254,8 @@ fn the_holding_torque_is_the_statics_driving_torque() {
             .collect();
         let rows = equilibrium(&problem, m, &trace, &masses).unwrap();
         // Weightless printed links, bodies at the scene's masses.
-        let weightless = Masses::printed(&PrintSettings { density: 0.0, ..PrintSettings::default() }, "mm").unwrap();
+        let weightless =
+            Masses::printed(&PrintSettings { density: 0.0, ..PrintSettings::default() }, &Default::default());
         let torque = driving_torque(&problem, m, &plan, &trace, &weightless).unwrap();
         let along = (trace.thetas[trace.len() - 1] - trace.thetas[0]).signum();
         for (row, &tau) in rows.iter().zip(&torque.torque_nm) {

@@ -16,20 +16,14 @@ fn scene_label(path: &std::path::Path) -> String {
 }
 
 /// `problem` designed as `linkwright design` designs it by default: an auto printed model with the
-/// default print settings (`path` names the scene in an error).
-fn design_printed(
-    path: &std::path::Path,
-    problem: &Problem,
-    start: linkwright_core::Start,
-    pool: &rayon::ThreadPool,
-) -> Result<DesignFile, Failure> {
+/// default print settings.
+fn design_printed(problem: &Problem, start: linkwright_core::Start, pool: &rayon::ThreadPool) -> DesignFile {
     let settings = linkwright_core::fab::PrintSettings::default();
-    let plan = linkwright_core::fab::BuildPlan::new(problem, &settings)
-        .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;
+    let plan = linkwright_core::fab::BuildPlan::new(problem, &settings);
     let options = linkwright_core::Options { start, printable: None };
     let (plan, outcome) =
         pool.install(|| plan.synthesize(problem, &settings, &options, &Silent)).expect("never cancelled");
-    Ok(plan.design_file(problem, &outcome))
+    plan.design_file(problem, &outcome)
 }
 
 /// The `q` quantile of `values` (sorted in place), NaN when there are none.

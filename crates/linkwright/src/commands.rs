@@ -82,7 +82,7 @@ impl Observer for Bar {
 
 pub fn design(args: DesignArgs) -> Result<(), Failure> {
     // The command line's settings are part of the scene that is validated (its limits bound the work).
-    let (scene, problem) = read_problem_with(&args.scene, |scene| {
+    let (_, problem) = read_problem_with(&args.scene, |scene| {
         if let Some(seed) = args.seed {
             scene.settings.seed = seed;
         }
@@ -97,13 +97,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     let plan = if args.no_print_check {
         None
     } else {
-        let plan = BuildPlan::new(&problem, &print_settings).map_err(|_| {
-            Failure::Input(format!(
-                "error: {}: units: \"{}\" is not a known unit; use mm, cm, m, in or ft (or --no-print-check)",
-                args.scene.display(),
-                escaped(&scene.units)
-            ))
-        })?;
+        let plan = BuildPlan::new(&problem, &print_settings);
         for note in &plan.notes {
             warn(&format!("warning: {} (--build {} now)", escaped(&note.to_string()), plan.asked));
         }
@@ -147,7 +141,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     if args.json {
         println!("{json}");
     } else {
-        say(&summary(&file, &problem, &scene.units, &out_dir));
+        say(&summary(&file, &problem, &out_dir));
     }
     // The library says what would help; the remedy only this command has is its own.
     if let Some(far) = file.metrics.as_ref().and_then(|m| m.far_from_pose.as_ref()) {
@@ -167,7 +161,7 @@ pub fn design(args: DesignArgs) -> Result<(), Failure> {
     if args.fabricate {
         if outcome.best.is_some() {
             let fabrication = make_subfolder(&out_dir, "fabrication")?;
-            let line = crate::fabricate::run(&scene, &problem, &file, &print_settings, false, &fabrication)?;
+            let line = crate::fabricate::run(&problem, &file, &print_settings, false, &fabrication)?;
             // Keep stdout the design JSON alone with --json.
             if args.json {
                 warn(&line);
@@ -264,8 +258,8 @@ fn previous_mechanisms(path: &Path) -> Result<Vec<linkwright_core::Mechanism>, F
     Ok(mechanisms)
 }
 
-fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) -> String {
-    let s = &file.stats;
+fn summary(file: &DesignFile, problem: &Problem, out_dir: &Path) -> String {
+    let (s, units) = (&file.stats, &problem.units);
     let counts = format!("{} valid of {} samples, {:.2} s, seed {}", s.valid, s.samples, s.seconds.total, s.seed);
     match (&file.status, &file.mechanism, &file.metrics) {
         (Status::Ok, Some(m), Some(x)) => format!(
@@ -284,7 +278,7 @@ fn summary(file: &DesignFile, problem: &Problem, units: &str, out_dir: &Path) ->
                     100.0 * far.miss.position_rel_d,
                     far.miss.angle_deg
                 ),
-                None => pose_reach(problem, &x.pose_errors, units),
+                None => pose_reach(problem, &x.pose_errors),
             },
             file.build.as_ref().map_or(String::new(), build_words),
             x.cost,
@@ -345,7 +339,7 @@ fn kind_name(m: &linkwright_core::MechanismJson) -> String {
 }
 
 pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
-    let (scene, problem) = read_problem(scene)?;
+    let (_, problem) = read_problem(scene)?;
     let file = read_valid_design(design, &problem)?;
     let violations = file.violations(&problem);
     if json {
@@ -357,7 +351,7 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
                 let (row, sine) = r.trace.least_transmission(&r.plan);
                 let at = travel_share(&file, Some(r.trace.thetas[row].to_degrees()));
                 let words = transmission_words(sine.asin().to_degrees(), at, &problem);
-                format!("{}; {words}", pose_reach(&problem, &misses, &scene.units))
+                format!("{}; {words}", pose_reach(&problem, &misses))
             }
             Err(_) => String::new(),
         };
@@ -420,7 +414,7 @@ pub fn analyze(
     print_settings: Option<&Path>,
     build: Option<Build>,
 ) -> Result<(), Failure> {
-    let (scene_file, mut problem) = read_problem(scene)?;
+    let (_, mut problem) = read_problem(scene)?;
     if let Some(build) = build {
         problem.build = build;
     }
@@ -465,7 +459,7 @@ pub fn analyze(
     if springs {
         out.push_str("counterbalance:\n");
         for spring in &balance.springs {
-            out.push_str(&format!("  {}\n", crate::springs::spring_words(spring, &scene_file.units)));
+            out.push_str(&format!("  {}\n", crate::springs::spring_words(spring, &problem.units)));
         }
         let cut = balance.peak_lowered_percent(&torque);
         out.push_str(&format!(
@@ -501,7 +495,8 @@ const REACHED_DEG: f64 = 1.0;
 
 /// What a person wants to know after the hard constraints: whether the design reaches the drawn poses,
 /// and if not, which one it misses most (the one furthest past either bound).
-fn pose_reach(problem: &Problem, misses: &[Vec<PoseMiss>], units: &str) -> String {
+fn pose_reach(problem: &Problem, misses: &[Vec<PoseMiss>]) -> String {
+    let units = &problem.units;
     let past = |m: &PoseMiss| (m.position_rel_d / REACHED_REL_D).max(m.angle_deg / REACHED_DEG);
     let indexed = misses.iter().enumerate().flat_map(|(i, m)| m.iter().enumerate().map(move |(b, m)| (i, b, m)));
     match indexed.max_by(|a, b| past(a.2).total_cmp(&past(b.2))) {

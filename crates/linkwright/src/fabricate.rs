@@ -12,7 +12,7 @@ use linkwright_core::fab::{
 };
 use linkwright_core::hooked::{fabricate_with_springs, Hooked, HookedError};
 use linkwright_core::workshop::SpringOrder;
-use linkwright_core::{Build, DesignFile, Problem, Scene, Silent};
+use linkwright_core::{Build, DesignFile, Problem, Silent};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -58,20 +58,19 @@ pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
 }
 
 pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
-    let (scene, mut problem) = read_problem(&args.scene)?;
+    let (_, mut problem) = read_problem(&args.scene)?;
     if let Some(build) = args.build {
         problem.build = build;
     }
     let design = read_valid_design(&args.design, &problem)?;
     let settings = read_settings(args.settings.as_deref())?;
-    let summary = run(&scene, &problem, &design, &settings, args.springs, &args.output)?;
+    let summary = run(&problem, &design, &settings, args.springs, &args.output)?;
     crate::terminal::say(&summary);
     Ok(())
 }
 
 /// Fabricates `design` into `out_dir` and returns a one-line summary.
 pub fn run(
-    scene: &Scene,
     problem: &Problem,
     design: &DesignFile,
     settings: &PrintSettings,
@@ -96,7 +95,7 @@ pub fn run(
     // Springs are hooked on the design's own parts: no alternative stands in for it.
     let mut words = String::new();
     let chosen = if springs {
-        let hooked = fabricate_with_springs(problem, &scene.units, design, settings, &Silent).map_err(|e| {
+        let hooked = fabricate_with_springs(problem, design, settings, &Silent).map_err(|e| {
             let remedy = match e {
                 HookedError::NoRoomForSprings | HookedError::Fab(FabError::SpringHook { .. }) => {
                     " (or leave out --springs)"
@@ -107,7 +106,7 @@ pub fn run(
         })?;
         let Hooked { fabrication, torque, balance } = hooked;
         for (n, spring) in balance.springs.iter().enumerate() {
-            words.push_str(&format!("\nspring {}: {}", n + 1, crate::springs::spring_words(spring, &scene.units)));
+            words.push_str(&format!("\nspring {}: {}", n + 1, crate::springs::spring_words(spring, &problem.units)));
         }
         if balance.springs.is_empty() {
             words.push_str("\nnote: no extension spring lowers the crank's peak torque, so the parts have no hooks");
@@ -120,7 +119,7 @@ pub fn run(
         }
         Chosen { used: 0, fabrication, passed_over: None }
     } else {
-        fabricate_design_or_alternative(problem, &scene.units, design, settings).map_err(|e| cannot(&e))?
+        fabricate_design_or_alternative(problem, design, settings).map_err(|e| cannot(&e))?
     };
     let bundle = bundle(&chosen.fabrication).map_err(|e| cannot(&e))?;
     check_output_paths(bundle.files.iter().map(|(path, _)| path.as_str()))?;

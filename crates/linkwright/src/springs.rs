@@ -6,7 +6,7 @@ use linkwright_core::analysis::{Replay, Which};
 use linkwright_core::balance::{Balance, Spring, SpringSearch};
 use linkwright_core::fab::PrintSettings;
 use linkwright_core::statics::{Masses, Torque};
-use linkwright_core::{DesignFile, Problem, Silent};
+use linkwright_core::{DesignFile, Problem, Silent, Units};
 
 /// Steps of the crank's travel the torque is given at.
 pub const ANALYZE_STEPS: usize = 180;
@@ -36,7 +36,7 @@ pub fn counterbalanced(
 
 /// A spring as a person buys and fits it: the stock rate and free length (millimetres of the thing
 /// built: a model's for a printed model), and where its ends hang in the drawing.
-pub fn spring_words(spring: &Spring, units: &str) -> String {
+pub fn spring_words(spring: &Spring, units: &Units) -> String {
     match spring {
         Spring::Extension { anchors, rate_n_per_mm, free_length_mm, length_range_mm, force_range_n, .. } => {
             let [a, b] = anchors;

@@ -96,6 +96,19 @@ fn unknown_format() {
     assert_rejected("unknown_format", &s, &["error: linkwright: unknown format"]);
 }
 
+/// A unit with no known length in millimetres is refused with the units accepted: no later command
+/// (fabricating, weighing) could use the scene.
+#[test]
+fn unknown_units() {
+    let mut s = scene();
+    s["units"] = json!("furlongs");
+    assert_rejected(
+        "unknown_units",
+        &s,
+        &["error: units: is \"furlongs\", not a unit of length this version knows; use mm, cm, m, in, ft or µm"],
+    );
+}
+
 #[test]
 fn no_moving_body() {
     let mut s = scene();

@@ -21,8 +21,9 @@
 //! closed under a factor of 10, the same object drawn 100 times larger or smaller gets the same
 //! model, so the same linkage.
 
-use super::settings::{Bed, Dims};
-use super::{millimetres_per_unit, FabError, FeasibilityCheck, PrintSettings};
+use super::error::FabError;
+use super::feasibility::FeasibilityCheck;
+use super::settings::{Bed, Dims, PrintSettings};
 use crate::design::{BuildRecord, DesignFile, Status};
 use crate::geom::Aabb;
 use crate::mechanism::{Mechanism, PartKind};
@@ -109,9 +110,9 @@ struct Sizes {
 }
 
 impl Sizes {
-    fn new(problem: &Problem, mm_per_unit: f64, settings: &PrintSettings) -> Sizes {
+    fn new(problem: &Problem, settings: &PrintSettings) -> Sizes {
         Sizes {
-            reach_mm: problem.region.aabb().diagonal() * mm_per_unit,
+            reach_mm: problem.region.aabb().diagonal() * problem.units.millimetres(),
             bed_mm: bed_diagonal_mm(&settings.bed),
             link_width: settings.link_width,
             need_mm: PIN_SPACINGS_PER_REGION * Dims::new(settings, 1.0).min_joint_spacing(),
@@ -182,20 +183,17 @@ fn bed_diagonal_mm(bed: &Bed) -> f64 {
 
 impl BuildPlan {
     /// The scene's build (`problem.build`) made concrete with `settings`: an `auto` model scale
-    /// decided from the drawing, and the print check at the model's scale. Fails when the scene's
-    /// units are not a length.
-    pub fn new(problem: &Problem, settings: &PrintSettings) -> Result<BuildPlan, FabError> {
-        let object_mm_per_unit =
-            millimetres_per_unit(&problem.units).ok_or_else(|| FabError::Units(problem.units.clone()))?;
-        let sizes = Sizes::new(problem, object_mm_per_unit, settings);
-        let plan = match problem.build {
+    /// decided from the drawing, and the print check at the model's scale.
+    pub fn new(problem: &Problem, settings: &PrintSettings) -> BuildPlan {
+        let object_mm_per_unit = problem.units.millimetres();
+        let sizes = Sizes::new(problem, settings);
+        match problem.build {
             Build::Model(ModelScale::Auto) => {
                 let scale = sizes.auto();
                 BuildPlan::at(problem, settings, object_mm_per_unit, sizes, Build::Model(ModelScale::Fixed(scale)))
             }
             checked => BuildPlan::at(problem, settings, object_mm_per_unit, sizes, checked),
-        };
-        Ok(plan)
+        }
     }
 
     /// The plan that checks designs for `checked` (a model's scale fixed, or full size).
@@ -377,16 +375,10 @@ impl BuildPlan {
     }
 }
 
-/// The scale a design is printed at, for a drawing of `mm_per_unit` millimetres per unit: the
-/// scene's model scale when it fixes one; with `auto`, the scale `design` was checked at when it
-/// records one for `auto`, else the one the drawing decides ([`BuildPlan`]). A full-size build's
-/// printed model takes the `auto` scale too.
-pub fn model_scale(
-    problem: &Problem,
-    mm_per_unit: f64,
-    design: Option<&DesignFile>,
-    settings: &PrintSettings,
-) -> Ratio {
+/// The scale a design is printed at: the scene's model scale when it fixes one; with `auto`, the
+/// scale `design` was checked at when it records one for `auto`, else the one the drawing decides
+/// ([`BuildPlan`]). A full-size build's printed model takes the `auto` scale too.
+pub fn model_scale(problem: &Problem, design: Option<&DesignFile>, settings: &PrintSettings) -> Ratio {
     if let Build::Model(ModelScale::Fixed(scale)) = problem.build {
         return scale;
     }
@@ -394,7 +386,7 @@ pub fn model_scale(
         (Build::Model(ModelScale::Auto), Build::Model(ModelScale::Fixed(scale))) => Some(scale),
         _ => None,
     });
-    recorded.unwrap_or_else(|| Sizes::new(problem, mm_per_unit, settings).auto())
+    recorded.unwrap_or_else(|| Sizes::new(problem, settings).auto())
 }
 
 /// Everything drawn, width and height at `mm_per_unit` millimetres per unit.

@@ -3,11 +3,12 @@
 //! `profiles.dxf`, `assembly.svg` and `fabrication.json`.
 
 use super::check::check;
+use super::error::FabError;
 use super::export::{profiles_dxf, profiles_svg, stl_bytes, three_mf, Profile};
+use super::fabrication::Fabrication;
 use super::plates::{pack, placed_mesh};
 use super::report::{report, Report};
 use super::solid::Mesh;
-use super::{FabError, Fabrication};
 use crate::geom::Point;
 
 /// The files every bundle holds besides its parts (`parts/NAME.stl`), its plates (`plate_N.3mf`) and

@@ -8,8 +8,8 @@
 //! meets no part between them (its coil taken as wide as a link) at any row.
 
 use super::depth::{violations, Constraint};
+use super::fabrication::Fabrication;
 use super::parts::{Prism, Role};
-use super::Fabrication;
 use crate::geom::{point_segment_distance, Aabb, Point, Rigid};
 use i_overlay::float::relate::FloatRelate;
 use serde::Serialize;

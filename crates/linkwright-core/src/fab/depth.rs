@@ -26,9 +26,9 @@
 //! All members on one joint share a face, and so do both hooks of a spring and whatever they stand on.
 //! The solver minimises the layers on the busier face.
 
+use super::error::FabError;
 use super::layout::{HookBase, Layout};
 use super::settings::Faces;
-use super::FabError;
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::Trace;
 use pumpkin_conflict_resolvers::resolvers::ResolutionResolver;
@@ -48,7 +48,7 @@ pub enum PillarRef {
     Post(usize),
     /// The pin of this joint, fused to a body or the ground.
     Pin(usize),
-    /// This spring hook, standing on a body or the ground ([`super::HookBase::Body`]).
+    /// This spring hook, standing on a body or the ground ([`HookBase::Body`]).
     Hook(usize),
 }
 
@@ -109,7 +109,7 @@ pub enum Constraint {
     UnderHook {
         /// The member that passes over the hook.
         member: usize,
-        /// The hook, an index into [`Layout::hooks`](super::Layout::hooks).
+        /// The hook, an index into [`Layout::hooks`].
         hook: usize,
     },
     /// The coils of springs `a` and `b` meet along the motion, so on one face they hang at different
@@ -124,7 +124,7 @@ pub enum Constraint {
     SpringOverHook {
         /// The spring that passes over.
         spring: usize,
-        /// The hook, an index into [`Layout::hooks`](super::Layout::hooks).
+        /// The hook, an index into [`Layout::hooks`].
         hook: usize,
     },
     /// Every member of `L_joint` is on one face (always imposed; never recorded, only reported broken).
@@ -161,7 +161,7 @@ pub struct Ordering {
     /// The face each spring hangs on, beyond its outermost layer.
     pub spring_face: Vec<Face>,
     /// Each spring's level beyond the layers of its face (0 nearest), so that springs of one face
-    /// pass over each other and over each other's hooks ([`super::Dims::spring_axis`]).
+    /// pass over each other and over each other's hooks ([`Dims::spring_axis`](super::settings::Dims::spring_axis)).
     pub spring_level: Vec<u32>,
     /// The most layers on either face.
     pub layers: u32,
@@ -171,172 +171,25 @@ pub struct Ordering {
 
 /// Records every constraint along the motion `trace` (paper §7.2: a 2D kinematic simulation).
 pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
-    let d = &layout.dims;
-    let hw = d.half_width;
-    let margin = d.clearance;
-    let members = &layout.members;
-    let m = members.len();
-    let mut out = Recorded::default();
-    let mut poses: Vec<Rigid> = Vec::new();
-    let mut cores: Vec<Vec<Point>> = members.iter().map(|x| x.core.clone()).collect();
-    let pillars: Vec<(PillarRef, usize)> = members
-        .iter()
-        .enumerate()
-        .filter(|(_, x)| x.post.is_some())
-        .map(|(i, x)| (PillarRef::Post(i), x.carrier))
-        .chain(layout.body_pins.iter().enumerate().filter_map(|(j, p)| p.map(|p| (PillarRef::Pin(j), p.carrier))))
-        .chain(
-            layout
-                .hooks
-                .iter()
-                .enumerate()
-                .filter(|(_, h)| h.base == HookBase::Body)
-                .map(|(k, h)| (PillarRef::Hook(k), h.carrier)),
-        )
-        .collect();
-    let pillar_radius = |p: PillarRef| match p {
-        PillarRef::Post(_) => d.post_collar_radius,
-        PillarRef::Pin(_) => d.boss_radius,
-        PillarRef::Hook(_) => d.cap_base_radius,
-    };
-    let hook_reach = hw + d.cap_base_radius + margin;
-    // A spring's coil meets what comes within its radius and the clearance of its axis.
-    let coil_reach = d.spring_radius() + margin;
-    let mut hook_at: Vec<Point> = vec![Point::ORIGIN; layout.hooks.len()];
-    let mut pillar_at: Vec<Point> = vec![Point::ORIGIN; pillars.len()];
-    // Each member's core box, for a cheap test before the exact distance.
-    let mut boxes: Vec<(Point, Point)> = vec![(Point::ORIGIN, Point::ORIGIN); m];
-    let gap = |a: &(Point, Point), b: &(Point, Point)| -> f64 {
-        let dx = (a.0.x - b.1.x).max(b.0.x - a.1.x).max(0.0);
-        let dy = (a.0.y - b.1.y).max(b.0.y - a.1.y).max(0.0);
-        dx.hypot(dy)
-    };
+    let mut recording = Recording::new(layout);
     for r in 0..trace.len() {
         let row = trace.row(r);
         let deg = trace.thetas[r].to_degrees();
-        layout.carrier_poses(row, &mut poses);
-        for (i, x) in members.iter().enumerate() {
-            let pose = &poses[x.carrier];
-            for (k, &c) in x.core.iter().enumerate() {
-                cores[i][k] = pose.apply(c);
-            }
-            let (mut lo, mut hi) = (cores[i][0], cores[i][0]);
-            for q in &cores[i] {
-                lo = Point::new(lo.x.min(q.x), lo.y.min(q.y));
-                hi = Point::new(hi.x.max(q.x), hi.y.max(q.y));
-            }
-            boxes[i] = (lo, hi);
+        recording.place(row);
+        // Parts on one carrier keep their places: what they meet, they meet at the first row.
+        let first_row = r == 0;
+        for a in 0..layout.members.len() {
+            recording.members_overlapping(a, first_row, deg);
+            recording.pillars_passed_over(a, first_row, deg);
+            recording.hooks_passed_over(a, first_row, deg);
+            recording.pins_passed_over(a, row, deg);
         }
-        for (k, &(p, carrier)) in pillars.iter().enumerate() {
-            pillar_at[k] = match p {
-                PillarRef::Post(i) => poses[carrier].apply(members[i].post.unwrap_or_default()),
-                PillarRef::Pin(j) => row[j],
-                PillarRef::Hook(h) => poses[carrier].apply(layout.hooks[h].at),
-            };
-        }
-        for (k, at) in hook_at.iter_mut().enumerate() {
-            *at = layout.hook_at(k, row, &poses);
-        }
-        let mut note = |c: Constraint| {
-            out.constraints.entry(c).or_insert(deg);
-        };
-        let moving = |a: usize, b: usize| r == 0 || a != b;
-        for a in 0..m {
-            for b in a + 1..m {
-                if !moving(members[a].carrier, members[b].carrier) {
-                    continue;
-                }
-                if gap(&boxes[a], &boxes[b]) < 2.0 * hw + margin
-                    && super::shapes::core_distance(&cores[a], &cores[b]) < 2.0 * hw + margin
-                {
-                    note(Constraint::Distinct { a, b });
-                }
-            }
-            // Posts and pins the member passes over.
-            for (k, &(p, carrier)) in pillars.iter().enumerate() {
-                if !moving(members[a].carrier, carrier) {
-                    continue;
-                }
-                let reach = hw + pillar_radius(p) + margin;
-                if gap(&boxes[a], &(pillar_at[k], pillar_at[k])) >= reach {
-                    continue;
-                }
-                match p {
-                    PillarRef::Post(c)
-                        if c != a && super::shapes::point_core_distance(pillar_at[k], &cores[a]) < reach =>
-                    {
-                        note(Constraint::Below { lower: c, upper: a });
-                    }
-                    PillarRef::Pin(j)
-                        if !layout.joint_members[j].contains(&a)
-                            && super::shapes::point_core_distance(pillar_at[k], &cores[a]) < reach =>
-                    {
-                        note(Constraint::Above { member: a, joint: j });
-                    }
-                    _ => {}
-                }
-            }
-            // Spring hooks the member passes over.
-            for (k, hook) in layout.hooks.iter().enumerate() {
-                let own = match hook.base {
-                    HookBase::Member(i) => i == a,
-                    HookBase::Joint(j) => layout.joint_members[j].contains(&a),
-                    HookBase::Body => false,
-                };
-                if own
-                    || !moving(members[a].carrier, hook.carrier)
-                    || gap(&boxes[a], &(hook_at[k], hook_at[k])) >= hook_reach
-                {
-                    continue;
-                }
-                if super::shapes::point_core_distance(hook_at[k], &cores[a]) < hook_reach {
-                    note(Constraint::UnderHook { member: a, hook: k });
-                }
-            }
-            // Pins carried by members.
-            for (j, lj) in layout.joint_members.iter().enumerate() {
-                if layout.body_pins[j].is_some() || lj.contains(&a) || lj.is_empty() {
-                    continue;
-                }
-                let reach = hw + d.boss_radius + margin;
-                if gap(&boxes[a], &(row[j], row[j])) < reach
-                    && super::shapes::point_core_distance(row[j], &cores[a]) < reach
-                {
-                    note(Constraint::Around { member: a, joint: j });
-                }
-            }
-        }
-        for k in 0..pillars.len() {
-            for l in k + 1..pillars.len() {
-                let (pk, ck) = pillars[k];
-                let (pl, cl) = pillars[l];
-                if ck == cl {
-                    continue;
-                }
-                if pillar_at[k].distance(pillar_at[l]) < pillar_radius(pk) + pillar_radius(pl) + margin {
-                    note(Constraint::OppositeFaces { a: pk, b: pl });
-                }
-            }
-        }
-        // Spring s hangs between hooks 2s and 2s + 1.
-        let springs = layout.spring_count();
-        let ends = |s: usize| [hook_at[2 * s], hook_at[2 * s + 1]];
-        for a in 0..springs {
-            for b in a + 1..springs {
-                if super::shapes::core_distance(&ends(a), &ends(b)) < coil_reach + d.spring_radius() {
-                    note(Constraint::SpringsApart { a, b });
-                }
-            }
-            for k in (0..layout.hooks.len()).filter(|&k| layout.hooks[k].spring != a) {
-                let [p, q] = ends(a);
-                if point_segment_distance(hook_at[k], p, q) < coil_reach + d.cap_base_radius {
-                    note(Constraint::SpringOverHook { spring: a, hook: k });
-                }
-            }
-        }
+        recording.pillars_meeting(deg);
+        recording.springs_meeting(deg);
     }
+    let mut out = recording.out;
     if let Some(j) = layout.slider_joint {
-        let slotted = |i: &usize| members[*i].slot.is_some_and(|s| s.joint == j);
+        let slotted = |i: &usize| layout.members[*i].slot.is_some_and(|s| s.joint == j);
         if let Some(g) = layout.joint_members[j].iter().copied().find(slotted) {
             out.constraints
                 .entry(Constraint::Outermost { member: g, joint: j })
@@ -344,6 +197,238 @@ pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
         }
     }
     out
+}
+
+/// What [`record`] carries from row to row: the pillars, where everything is at the current row
+/// (world frame), and the constraints seen so far.
+struct Recording<'a> {
+    layout: &'a Layout,
+    /// Every pillar (the posts, the pins fused to bodies, the hooks standing on bodies) with its
+    /// carrier.
+    pillars: Vec<(PillarRef, usize)>,
+    /// Every carrier's pose.
+    poses: Vec<Rigid>,
+    /// Every member's core.
+    cores: Vec<Vec<Point>>,
+    /// Every member's core box, for a cheap test before the exact distance.
+    boxes: Vec<(Point, Point)>,
+    /// Where each pillar stands.
+    pillar_at: Vec<Point>,
+    /// Where each spring hook stands.
+    hook_at: Vec<Point>,
+    out: Recorded,
+}
+
+impl<'a> Recording<'a> {
+    fn new(layout: &'a Layout) -> Recording<'a> {
+        let members = &layout.members;
+        let pillars: Vec<(PillarRef, usize)> = members
+            .iter()
+            .enumerate()
+            .filter(|(_, x)| x.post.is_some())
+            .map(|(i, x)| (PillarRef::Post(i), x.carrier))
+            .chain(layout.body_pins.iter().enumerate().filter_map(|(j, p)| p.map(|p| (PillarRef::Pin(j), p.carrier))))
+            .chain(
+                layout
+                    .hooks
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, h)| h.base == HookBase::Body)
+                    .map(|(k, h)| (PillarRef::Hook(k), h.carrier)),
+            )
+            .collect();
+        Recording {
+            layout,
+            poses: Vec::new(),
+            cores: members.iter().map(|x| x.core.clone()).collect(),
+            boxes: vec![(Point::ORIGIN, Point::ORIGIN); members.len()],
+            pillar_at: vec![Point::ORIGIN; pillars.len()],
+            hook_at: vec![Point::ORIGIN; layout.hooks.len()],
+            pillars,
+            out: Recorded::default(),
+        }
+    }
+
+    /// The radius of a pillar's widest part.
+    fn pillar_radius(&self, p: PillarRef) -> f64 {
+        let d = &self.layout.dims;
+        match p {
+            PillarRef::Post(_) => d.post_collar_radius,
+            PillarRef::Pin(_) => d.boss_radius,
+            PillarRef::Hook(_) => d.cap_base_radius,
+        }
+    }
+
+    /// Places every carrier, member core, pillar and hook in the configuration `row`.
+    fn place(&mut self, row: &[Point]) {
+        let layout = self.layout;
+        layout.carrier_poses(row, &mut self.poses);
+        for (i, x) in layout.members.iter().enumerate() {
+            let pose = &self.poses[x.carrier];
+            for (k, &c) in x.core.iter().enumerate() {
+                self.cores[i][k] = pose.apply(c);
+            }
+            let (mut lo, mut hi) = (self.cores[i][0], self.cores[i][0]);
+            for q in &self.cores[i] {
+                lo = Point::new(lo.x.min(q.x), lo.y.min(q.y));
+                hi = Point::new(hi.x.max(q.x), hi.y.max(q.y));
+            }
+            self.boxes[i] = (lo, hi);
+        }
+        for (k, &(p, carrier)) in self.pillars.iter().enumerate() {
+            self.pillar_at[k] = match p {
+                PillarRef::Post(i) => self.poses[carrier].apply(layout.members[i].post.unwrap_or_default()),
+                PillarRef::Pin(j) => row[j],
+                PillarRef::Hook(h) => self.poses[carrier].apply(layout.hooks[h].at),
+            };
+        }
+        for (k, at) in self.hook_at.iter_mut().enumerate() {
+            *at = layout.hook_at(k, row, &self.poses);
+        }
+    }
+
+    /// [`Constraint::Distinct`]: the members after `a` whose outlines overlap it.
+    fn members_overlapping(&mut self, a: usize, first_row: bool, deg: f64) {
+        let (members, d) = (&self.layout.members, &self.layout.dims);
+        let reach = 2.0 * d.half_width + d.clearance;
+        for b in a + 1..members.len() {
+            if !(first_row || members[a].carrier != members[b].carrier) {
+                continue;
+            }
+            if box_gap(&self.boxes[a], &self.boxes[b]) < reach
+                && super::shapes::core_distance(&self.cores[a], &self.cores[b]) < reach
+            {
+                self.out.note(Constraint::Distinct { a, b }, deg);
+            }
+        }
+    }
+
+    /// [`Constraint::Below`] and [`Constraint::Above`]: the posts and the pins fused to bodies that
+    /// member `a` passes over.
+    fn pillars_passed_over(&mut self, a: usize, first_row: bool, deg: f64) {
+        let layout = self.layout;
+        let d = &layout.dims;
+        for (k, &(p, carrier)) in self.pillars.iter().enumerate() {
+            if !(first_row || layout.members[a].carrier != carrier) {
+                continue;
+            }
+            let reach = d.half_width + self.pillar_radius(p) + d.clearance;
+            let at = self.pillar_at[k];
+            if box_gap(&self.boxes[a], &(at, at)) >= reach {
+                continue;
+            }
+            let over = || super::shapes::point_core_distance(at, &self.cores[a]) < reach;
+            match p {
+                PillarRef::Post(c) if c != a && over() => {
+                    self.out.note(Constraint::Below { lower: c, upper: a }, deg);
+                }
+                PillarRef::Pin(j) if !layout.joint_members[j].contains(&a) && over() => {
+                    self.out.note(Constraint::Above { member: a, joint: j }, deg);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// [`Constraint::UnderHook`]: the spring hooks member `a` passes over (other than its own).
+    fn hooks_passed_over(&mut self, a: usize, first_row: bool, deg: f64) {
+        let layout = self.layout;
+        let d = &layout.dims;
+        let hook_reach = d.half_width + d.cap_base_radius + d.clearance;
+        for (k, hook) in layout.hooks.iter().enumerate() {
+            let own = match hook.base {
+                HookBase::Member(i) => i == a,
+                HookBase::Joint(j) => layout.joint_members[j].contains(&a),
+                HookBase::Body => false,
+            };
+            let at = self.hook_at[k];
+            if own
+                || !(first_row || layout.members[a].carrier != hook.carrier)
+                || box_gap(&self.boxes[a], &(at, at)) >= hook_reach
+            {
+                continue;
+            }
+            if super::shapes::point_core_distance(at, &self.cores[a]) < hook_reach {
+                self.out.note(Constraint::UnderHook { member: a, hook: k }, deg);
+            }
+        }
+    }
+
+    /// [`Constraint::Around`]: the pins carried by members (not fused to a body) that member `a`
+    /// passes over, the joints in the configuration `row`.
+    fn pins_passed_over(&mut self, a: usize, row: &[Point], deg: f64) {
+        let layout = self.layout;
+        let d = &layout.dims;
+        for (j, lj) in layout.joint_members.iter().enumerate() {
+            if layout.body_pins[j].is_some() || lj.contains(&a) || lj.is_empty() {
+                continue;
+            }
+            let reach = d.half_width + d.boss_radius + d.clearance;
+            if box_gap(&self.boxes[a], &(row[j], row[j])) < reach
+                && super::shapes::point_core_distance(row[j], &self.cores[a]) < reach
+            {
+                self.out.note(Constraint::Around { member: a, joint: j }, deg);
+            }
+        }
+    }
+
+    /// [`Constraint::OppositeFaces`]: pillars on different carriers that meet.
+    fn pillars_meeting(&mut self, deg: f64) {
+        let margin = self.layout.dims.clearance;
+        for k in 0..self.pillars.len() {
+            for l in k + 1..self.pillars.len() {
+                let (pk, ck) = self.pillars[k];
+                let (pl, cl) = self.pillars[l];
+                if ck == cl {
+                    continue;
+                }
+                if self.pillar_at[k].distance(self.pillar_at[l])
+                    < self.pillar_radius(pk) + self.pillar_radius(pl) + margin
+                {
+                    self.out.note(Constraint::OppositeFaces { a: pk, b: pl }, deg);
+                }
+            }
+        }
+    }
+
+    /// [`Constraint::SpringsApart`] and [`Constraint::SpringOverHook`]: springs whose coils meet, and
+    /// springs passing over another's hook. Spring s hangs between hooks 2s and 2s + 1.
+    fn springs_meeting(&mut self, deg: f64) {
+        let layout = self.layout;
+        let d = &layout.dims;
+        // A spring's coil meets what comes within its radius and the clearance of its axis.
+        let coil_reach = d.spring_radius() + d.clearance;
+        let springs = layout.spring_count();
+        let hook_at = &self.hook_at;
+        let ends = |s: usize| [hook_at[2 * s], hook_at[2 * s + 1]];
+        for a in 0..springs {
+            for b in a + 1..springs {
+                if super::shapes::core_distance(&ends(a), &ends(b)) < coil_reach + d.spring_radius() {
+                    self.out.note(Constraint::SpringsApart { a, b }, deg);
+                }
+            }
+            for k in (0..layout.hooks.len()).filter(|&k| layout.hooks[k].spring != a) {
+                let [p, q] = ends(a);
+                if point_segment_distance(hook_at[k], p, q) < coil_reach + d.cap_base_radius {
+                    self.out.note(Constraint::SpringOverHook { spring: a, hook: k }, deg);
+                }
+            }
+        }
+    }
+}
+
+/// The distance between two boxes (`(min, max)` corners), 0 when they overlap.
+fn box_gap(a: &(Point, Point), b: &(Point, Point)) -> f64 {
+    let dx = (a.0.x - b.1.x).max(b.0.x - a.1.x).max(0.0);
+    let dy = (a.0.y - b.1.y).max(b.0.y - a.1.y).max(0.0);
+    dx.hypot(dy)
+}
+
+impl Recorded {
+    /// Notes constraint `c`, seen at crank angle `deg` unless it was seen earlier.
+    fn note(&mut self, c: Constraint, deg: f64) {
+        self.constraints.entry(c).or_insert(deg);
+    }
 }
 
 /// Why no ordering was found.
@@ -425,95 +510,149 @@ enum Outcome {
 /// One satisfaction problem: every member on a layer in `1..=upper`, on one face or (with `two`) on
 /// either face.
 fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budget_s: f64) -> Outcome {
-    let m = layout.members.len();
-    let mut solver = Solver::default();
-    let tag = solver.new_constraint_tag();
-    let z: Vec<DomainId> = (0..m).map(|_| solver.new_bounded_integer(1, upper)).collect();
-    let front: Vec<Literal> = (0..m).map(|_| solver.new_literal()).collect();
-    let t = |l: Literal| l.get_true_predicate();
-    let f = |l: Literal| l.get_false_predicate();
-    let truth = solver.get_true_literal();
-    if two {
-        // Symmetry: the first member is on the front.
-        solver.add_clause([t(front[0])], tag);
-    } else {
-        for &s in &front {
-            solver.add_clause([t(s)], tag);
+    let mut model = Model::new(layout, two, upper);
+    for &c in recorded.constraints.keys() {
+        if model.impose(c).is_err() {
+            return Outcome::Unsat;
         }
     }
-    // Members on one joint share a face.
-    for lj in &layout.joint_members {
-        for w in lj.windows(2) {
-            let (a, b) = (front[w[0]], front[w[1]]);
-            solver.add_clause([f(a), t(b)], tag);
-            solver.add_clause([t(a), f(b)], tag);
+    model.satisfy(budget_s)
+}
+
+/// A satisfaction problem being built: a layer and a face for every member, a face and a level
+/// beyond the layers for every spring.
+struct Model<'a> {
+    layout: &'a Layout,
+    solver: Solver,
+    tag: ConstraintTag,
+    /// Whether the members may be on either face (otherwise all are on the front).
+    two: bool,
+    /// Each member's layer.
+    z: Vec<DomainId>,
+    /// Each member's face: true on the front.
+    front: Vec<Literal>,
+    /// A literal that always holds.
+    truth: Literal,
+    /// The literals "members a and b are on the same face" made so far, by `(min, max)`.
+    same_cache: BTreeMap<(usize, usize), Literal>,
+    /// Each spring's face: true on the front.
+    spring_front: Vec<Literal>,
+    /// Each spring's level beyond the layers of its face.
+    level: Vec<DomainId>,
+}
+
+impl<'a> Model<'a> {
+    /// Every member on a layer in `1..=upper` and a face (the front unless `two`), the members of a
+    /// joint on one face, and each spring on the face of what its hooks stand on.
+    fn new(layout: &'a Layout, two: bool, upper: i32) -> Model<'a> {
+        let m = layout.members.len();
+        let mut solver = Solver::default();
+        let tag = solver.new_constraint_tag();
+        let z: Vec<DomainId> = (0..m).map(|_| solver.new_bounded_integer(1, upper)).collect();
+        let front: Vec<Literal> = (0..m).map(|_| solver.new_literal()).collect();
+        let t = |l: Literal| l.get_true_predicate();
+        let f = |l: Literal| l.get_false_predicate();
+        let truth = solver.get_true_literal();
+        if two {
+            // Symmetry: the first member is on the front.
+            solver.add_clause([t(front[0])], tag);
+        } else {
+            for &s in &front {
+                solver.add_clause([t(s)], tag);
+            }
         }
+        // Members on one joint share a face.
+        for lj in &layout.joint_members {
+            for w in lj.windows(2) {
+                let (a, b) = (front[w[0]], front[w[1]]);
+                solver.add_clause([f(a), t(b)], tag);
+                solver.add_clause([t(a), f(b)], tag);
+            }
+        }
+        // Each spring's face, shared with whatever its hooks stand on.
+        let springs = layout.spring_count();
+        let spring_front: Vec<Literal> = (0..springs).map(|_| if two { solver.new_literal() } else { truth }).collect();
+        let level: Vec<DomainId> = (0..springs).map(|_| solver.new_bounded_integer(0, springs as i32 - 1)).collect();
+        for hook in &layout.hooks {
+            let base = match hook.base {
+                HookBase::Member(i) => Some(i),
+                HookBase::Joint(j) => layout.joint_members[j].first().copied(),
+                HookBase::Body => None,
+            };
+            if let (Some(i), true) = (base, two) {
+                let (a, b) = (spring_front[hook.spring], front[i]);
+                solver.add_clause([f(a), t(b)], tag);
+                solver.add_clause([t(a), f(b)], tag);
+            }
+        }
+        Model { layout, solver, tag, two, z, front, truth, same_cache: BTreeMap::new(), spring_front, level }
     }
-    // `same[a][b]` ⇔ a and b are on the same face (created on demand).
-    let mut same_cache: BTreeMap<(usize, usize), Literal> = BTreeMap::new();
-    let mut same = |solver: &mut Solver, a: usize, b: usize| -> Literal {
-        if !two {
-            return truth;
+
+    /// A literal true exactly when members `a` and `b` are on the same face (made once per pair).
+    fn same(&mut self, a: usize, b: usize) -> Literal {
+        if !self.two {
+            return self.truth;
         }
         let key = (a.min(b), a.max(b));
-        if let Some(&l) = same_cache.get(&key) {
+        if let Some(&l) = self.same_cache.get(&key) {
             return l;
         }
-        let e = equal_literal(solver, front[a], front[b], tag);
-        same_cache.insert(key, e);
+        let e = equal_literal(&mut self.solver, self.front[a], self.front[b], self.tag);
+        self.same_cache.insert(key, e);
         e
-    };
-    // Each spring's face, shared with whatever its hooks stand on.
-    let springs = layout.spring_count();
-    let spring_front: Vec<Literal> = (0..springs).map(|_| if two { solver.new_literal() } else { truth }).collect();
-    let level: Vec<DomainId> = (0..springs).map(|_| solver.new_bounded_integer(0, springs as i32 - 1)).collect();
-    // `spring_same(a, b)` ⇔ springs a and b hang on the same face.
-    let spring_same = |solver: &mut Solver, a: usize, b: usize| -> Literal {
-        if two {
-            equal_literal(solver, spring_front[a], spring_front[b], tag)
+    }
+
+    /// A literal true exactly when springs `a` and `b` hang on the same face.
+    fn spring_same(&mut self, a: usize, b: usize) -> Literal {
+        if self.two {
+            equal_literal(&mut self.solver, self.spring_front[a], self.spring_front[b], self.tag)
         } else {
-            truth
-        }
-    };
-    for hook in &layout.hooks {
-        let base = match hook.base {
-            HookBase::Member(i) => Some(i),
-            HookBase::Joint(j) => layout.joint_members[j].first().copied(),
-            HookBase::Body => None,
-        };
-        if let (Some(i), true) = (base, two) {
-            let (a, b) = (spring_front[hook.spring], front[i]);
-            solver.add_clause([f(a), t(b)], tag);
-            solver.add_clause([t(a), f(b)], tag);
+            self.truth
         }
     }
-    let pillar_face = |p: PillarRef| -> Option<Literal> {
+
+    /// The face of what a pillar stands on (none for a pin on a joint no member carries).
+    fn pillar_face(&self, p: PillarRef) -> Option<Literal> {
         match p {
-            PillarRef::Post(i) => Some(front[i]),
-            PillarRef::Pin(j) => layout.joint_members[j].first().map(|&i| front[i]),
-            PillarRef::Hook(k) => Some(spring_front[layout.hooks[k].spring]),
+            PillarRef::Post(i) => Some(self.front[i]),
+            PillarRef::Pin(j) => self.layout.joint_members[j].first().map(|&i| self.front[i]),
+            PillarRef::Hook(k) => Some(self.spring_front[self.layout.hooks[k].spring]),
         }
-    };
-    for &c in recorded.constraints.keys() {
+    }
+
+    /// Adds recorded constraint `c` to the problem; [`NoOrdering::Infeasible`] when it alone makes the
+    /// problem unsatisfiable with the faces allowed.
+    fn impose(&mut self, c: Constraint) -> Result<(), NoOrdering> {
+        let (layout, tag) = (self.layout, self.tag);
+        let (t, f) = (|l: Literal| l.get_true_predicate(), |l: Literal| l.get_false_predicate());
         match c {
             Constraint::Distinct { a, b } => {
-                let e = same(&mut solver, a, b);
-                solver.add_constraint(pumpkin_constraints::binary_not_equals(z[a], z[b], tag)).implied_by(e);
+                let e = self.same(a, b);
+                let z = &self.z;
+                self.solver.add_constraint(pumpkin_constraints::binary_not_equals(z[a], z[b], tag)).implied_by(e);
             }
             Constraint::Below { lower, upper } => {
-                let e = same(&mut solver, lower, upper);
-                solver.add_constraint(pumpkin_constraints::binary_less_than(z[lower], z[upper], tag)).implied_by(e);
+                let e = self.same(lower, upper);
+                let z = &self.z;
+                self.solver
+                    .add_constraint(pumpkin_constraints::binary_less_than(z[lower], z[upper], tag))
+                    .implied_by(e);
             }
             Constraint::Above { member, joint } | Constraint::Outermost { member, joint } => {
-                let Some(&first) = layout.joint_members[joint].first() else { continue };
-                let e = same(&mut solver, member, first);
+                let Some(&first) = layout.joint_members[joint].first() else { return Ok(()) };
+                let e = self.same(member, first);
+                let z = &self.z;
                 for &l in layout.joint_members[joint].iter().filter(|&&l| l != member) {
-                    solver.add_constraint(pumpkin_constraints::binary_less_than(z[l], z[member], tag)).implied_by(e);
+                    self.solver
+                        .add_constraint(pumpkin_constraints::binary_less_than(z[l], z[member], tag))
+                        .implied_by(e);
                 }
             }
             Constraint::Around { member, joint } => {
-                let Some(&first) = layout.joint_members[joint].first() else { continue };
-                let e = same(&mut solver, member, first);
+                let Some(&first) = layout.joint_members[joint].first() else { return Ok(()) };
+                let e = self.same(member, first);
+                let z = &self.z;
+                let solver = &mut self.solver;
                 let below = solver.new_literal();
                 let above = solver.new_literal();
                 solver.add_clause([f(e), t(below), t(above)], tag);
@@ -527,67 +666,86 @@ fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budge
                 }
             }
             Constraint::UnderHook { member, hook } => {
-                let on = spring_front[layout.hooks[hook].spring];
+                let on = self.spring_front[layout.hooks[hook].spring];
                 let below: Vec<usize> = match layout.hooks[hook].base {
                     HookBase::Member(i) => vec![i],
                     HookBase::Joint(j) => layout.joint_members[j].clone(),
                     HookBase::Body => {
                         // Nothing can pass over a hook standing on a body: the member is on the other face.
-                        if !two {
-                            return Outcome::Unsat;
+                        if !self.two {
+                            return Err(NoOrdering::Infeasible);
                         }
-                        solver.add_clause([f(on), f(front[member])], tag);
-                        solver.add_clause([t(on), t(front[member])], tag);
-                        continue;
+                        self.solver.add_clause([f(on), f(self.front[member])], tag);
+                        self.solver.add_clause([t(on), t(self.front[member])], tag);
+                        return Ok(());
                     }
                 };
-                let Some(&first) = below.first() else { continue };
-                let e = same(&mut solver, member, first);
+                let Some(&first) = below.first() else { return Ok(()) };
+                let e = self.same(member, first);
+                let z = &self.z;
                 for l in below {
-                    solver.add_constraint(pumpkin_constraints::binary_less_than(z[member], z[l], tag)).implied_by(e);
+                    self.solver
+                        .add_constraint(pumpkin_constraints::binary_less_than(z[member], z[l], tag))
+                        .implied_by(e);
                 }
             }
             Constraint::SpringsApart { a, b } => {
-                let e = spring_same(&mut solver, a, b);
-                solver.add_constraint(pumpkin_constraints::binary_not_equals(level[a], level[b], tag)).implied_by(e);
+                let e = self.spring_same(a, b);
+                let level = &self.level;
+                self.solver
+                    .add_constraint(pumpkin_constraints::binary_not_equals(level[a], level[b], tag))
+                    .implied_by(e);
             }
             Constraint::SpringOverHook { spring, hook } => {
                 let other = layout.hooks[hook].spring;
-                let e = spring_same(&mut solver, spring, other);
-                solver
+                let e = self.spring_same(spring, other);
+                let level = &self.level;
+                self.solver
                     .add_constraint(pumpkin_constraints::binary_less_than(level[other], level[spring], tag))
                     .implied_by(e);
             }
-            // Imposed for every joint above.
+            // Imposed for every joint by `Model::new`.
             Constraint::SameFace { .. } => {}
             Constraint::OppositeFaces { a, b } => {
-                let (Some(fa), Some(fb)) = (pillar_face(a), pillar_face(b)) else { continue };
-                if !two {
-                    return Outcome::Unsat;
+                let (Some(fa), Some(fb)) = (self.pillar_face(a), self.pillar_face(b)) else { return Ok(()) };
+                if !self.two {
+                    return Err(NoOrdering::Infeasible);
                 }
-                solver.add_clause([t(fa), t(fb)], tag);
-                solver.add_clause([f(fa), f(fb)], tag);
+                self.solver.add_clause([t(fa), t(fb)], tag);
+                self.solver.add_clause([f(fa), f(fb)], tag);
             }
         }
+        Ok(())
     }
-    let mut brancher = solver.default_brancher();
-    let mut termination = TimeBudget::starting_now(std::time::Duration::from_secs_f64(budget_s));
-    let mut resolver = ResolutionResolver::default();
-    let result = solver.satisfy(&mut brancher, &mut termination, &mut resolver);
-    match result {
-        SatisfactionResult::Satisfiable(s) => {
-            let sol = s.solution();
-            let layer: Vec<u32> = z.iter().map(|&v| sol.get_integer_value(v).max(1) as u32).collect();
-            let face: Vec<Face> =
-                front.iter().map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back }).collect();
-            let (layer, layers) = compress(&layer, &face);
-            let spring_face =
-                spring_front.iter().map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back }).collect();
-            let spring_level = level.iter().map(|&v| sol.get_integer_value(v).max(0) as u32).collect();
-            Outcome::Sat(Ordering { face, layer, spring_face, spring_level, layers, optimal: false })
+
+    /// Asks the solver, within `budget_s` seconds, for every member's layer and face and every
+    /// spring's face and level.
+    fn satisfy(mut self, budget_s: f64) -> Outcome {
+        let mut brancher = self.solver.default_brancher();
+        let mut termination = TimeBudget::starting_now(std::time::Duration::from_secs_f64(budget_s));
+        let mut resolver = ResolutionResolver::default();
+        let result = self.solver.satisfy(&mut brancher, &mut termination, &mut resolver);
+        match result {
+            SatisfactionResult::Satisfiable(s) => {
+                let sol = s.solution();
+                let layer: Vec<u32> = self.z.iter().map(|&v| sol.get_integer_value(v).max(1) as u32).collect();
+                let face: Vec<Face> = self
+                    .front
+                    .iter()
+                    .map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back })
+                    .collect();
+                let (layer, layers) = compress(&layer, &face);
+                let spring_face = self
+                    .spring_front
+                    .iter()
+                    .map(|&l| if sol.get_literal_value(l) { Face::Front } else { Face::Back })
+                    .collect();
+                let spring_level = self.level.iter().map(|&v| sol.get_integer_value(v).max(0) as u32).collect();
+                Outcome::Sat(Ordering { face, layer, spring_face, spring_level, layers, optimal: false })
+            }
+            SatisfactionResult::Unsatisfiable(..) => Outcome::Unsat,
+            SatisfactionResult::Unknown(..) => Outcome::Unknown,
         }
-        SatisfactionResult::Unsatisfiable(..) => Outcome::Unsat,
-        SatisfactionResult::Unknown(..) => Outcome::Unknown,
     }
 }
 

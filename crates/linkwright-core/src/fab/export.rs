@@ -186,7 +186,7 @@ pub fn profiles_dxf(profiles: &[Profile], scale: f64) -> String {
     pair(0, "SECTION");
     pair(2, "ENTITIES");
     for (p, &(ox, oy, _, _)) in profiles.iter().zip(&places) {
-        let layer = super::sanitize(p.name);
+        let layer = super::names::sanitize(p.name);
         for c in p.contours {
             pair(0, "POLYLINE");
             pair(8, &layer);

@@ -3,9 +3,10 @@
 //! rides on, where connector posts stand on the bodies ([`super::posts`]), and which joints are pins
 //! fused straight onto a body, and where the hooks of counterbalance springs stand ([`Hook`]).
 
+use super::error::FabError;
+use super::plates::{self, Misfit};
 use super::posts::{self, Pad, Pillar, SceneShapes};
-use super::settings::Dims;
-use super::FabError;
+use super::settings::{Bed, Dims};
 use crate::geom::{point_segment_distance, Point, Rigid};
 use crate::kinematics::{BodyFrames, Trace};
 use crate::mechanism::{Mechanism, PartKind};
@@ -190,7 +191,6 @@ impl Layout {
     ) -> Result<Layout, FabError> {
         let topo = &mechanism.topology;
         let dims = shapes.dims;
-        let n = topo.joint_count();
         if topo.body_count != shapes.bodies.len() {
             return Err(FabError::Mismatch(format!(
                 "the design moves {} bodies, the scene has {}",
@@ -198,272 +198,20 @@ impl Layout {
                 shapes.bodies.len()
             )));
         }
-        let mut carriers = vec![Carrier::Ground];
-        let mut link_frames = vec![(0, 0)];
-        for b in 0..topo.body_count {
-            carriers.push(Carrier::Body(b));
-            link_frames.push((0, 0));
-        }
         let frames = BodyFrames::new(mechanism, &shapes.first_poses);
-        let mut members = Vec::new();
-        let mut joint_members = vec![Vec::new(); n];
-        for (pi, part) in topo.parts.iter().enumerate() {
-            if part.kind != PartKind::Link {
-                continue;
-            }
-            if part.joints.len() < 2 {
-                return Err(FabError::Mismatch(format!("link {} carries fewer than two joints", part.name)));
-            }
-            let (a, b) = (part.joints[0], part.joints[1]);
-            let frame = link_frame(mechanism.joints[a], mechanism.joints[b]);
-            let c = carriers.len();
-            carriers.push(Carrier::Link(pi));
-            link_frames.push((a, b));
-            let core: Vec<Point> = part.joints.iter().map(|&j| frame.inverse().apply(mechanism.joints[j])).collect();
-            too_close(&part.name, &part.joints, mechanism, dims)?;
-            for &j in &part.joints {
-                joint_members[j].push(members.len());
-            }
-            members.push(Member {
-                name: part.name.clone(),
-                kind: MemberKind::Link,
-                carrier: c,
-                core,
-                joints: part.joints.clone(),
-                post: None,
-                slot: None,
-            });
-        }
-
-        // Joints on the ground and on bodies: a pin fused to the body when the joint lies deep inside
-        // it, otherwise a connector from a post (see [`super::posts`]). Without a fixed body, the ground
-        // joints are held by a printed frame instead.
-        let mut pins = vec![None; n];
-        let mut connectors: Vec<Vec<(Point, Point)>> = vec![Vec::new(); carriers.len()];
-        let mut frame_joints: Vec<usize> = Vec::new();
-        // Where the links are at every row (world), to keep posts out of their way.
-        let link_rows: Vec<Vec<Vec<Point>>> = (0..trace.len())
-            .map(|r| {
-                if r % trace.len().div_ceil(90).max(1) != 0 {
-                    return Vec::new();
-                }
-                let row = trace.row(r);
-                members
-                    .iter()
-                    .map(|m| {
-                        let (a, b) = link_frames[m.carrier];
-                        let pose = link_frame(row[a], row[b]);
-                        m.core.iter().map(|&c| pose.apply(c)).collect()
-                    })
-                    .collect()
-            })
-            .collect();
+        let placed = Placed::links(mechanism, dims)?;
+        let sweep = Sweep::new(&placed, &frames, trace, dims);
         // Every carrier's pose along the motion, for pads (computed when a body needs one).
         let poses = std::cell::OnceCell::new();
         let poses = || poses.get_or_init(|| posts::Poses::new(&frames, trace));
-        let mut standing =
-            Standing { shapes, poses: &poses, pillars: vec![Vec::new(); carriers.len()], pads: Vec::new() };
-        let sweep_reach = dims.half_width + dims.post_collar_radius + dims.clearance;
-        // A preference only (validity comes from the recorded constraints), so every few rows suffice.
-        let stride = trace.len().div_ceil(90).max(1);
-        let swept = |ci: usize, p: Point| -> bool {
-            (0..trace.len()).step_by(stride).any(|r| {
-                let pose = if ci == 0 { Rigid::IDENTITY } else { frames.pose(ci - 1, trace.row(r)) };
-                let w = pose.apply(p);
-                link_rows[r].iter().any(|core| super::shapes::point_core_distance(w, core) < sweep_reach)
-            })
-        };
-        for part in &topo.parts {
-            let (carrier, ci) = match part.kind {
-                PartKind::Fixed => (Carrier::Ground, 0),
-                PartKind::Body(b) => (Carrier::Body(b), 1 + b),
-                PartKind::Link => continue,
-            };
-            let regions = shapes.carrier_regions(ci);
-            if regions.is_empty() {
-                frame_joints.extend(&part.joints);
-                continue;
-            }
-            let to_local = carrier_first_pose(carrier, shapes).inverse();
-            for &j in &part.joints {
-                let at = to_local.apply(mechanism.joints[j]);
-                if body_pins && standing.fuse(ci, at, dims.boss_radius) {
-                    pins[j] = Some(BodyPin { carrier: ci, at });
-                    continue;
-                }
-                // Connectors of one body must not cover each other's posts both ways (no layer order
-                // could then exist): prefer posts that neither cover nor are covered, then posts that
-                // are not both.
-                let reach = dims.half_width + dims.post_collar_radius + dims.clearance;
-                let mine = &connectors[ci];
-                let clear = |p: Point, level: u8| {
-                    mine.iter().all(|&(q, jq): &(Point, Point)| {
-                        let new_covers_old = point_segment_distance(q, p, at) < reach;
-                        let old_covers_new = point_segment_distance(p, q, jq) < reach;
-                        match level {
-                            2 => !new_covers_old && !old_covers_new,
-                            1 => !(new_covers_old && old_covers_new),
-                            _ => true,
-                        }
-                    })
-                };
-                let swept_here = |p: Point| swept(ci, p);
-                let rules = posts::Rules { clear: &clear, swept: &swept_here };
-                let min_reach = dims.boss_radius + dims.post_collar_radius + dims.wall;
-                let post = standing
-                    .post(ci, (at, at), min_reach, &rules)
-                    .map_err(|e| refusal(e, &topo.joint_names[j], carrier))?;
-                connectors[ci].push((post, at));
-                joint_members[j].push(members.len());
-                members.push(Member {
-                    name: format!("connector_{}", topo.joint_names[j]),
-                    kind: MemberKind::Connector,
-                    carrier: ci,
-                    core: vec![post, at],
-                    joints: vec![j],
-                    post: Some(post),
-                    slot: None,
-                });
-            }
-        }
-
-        // The slider guide: a slotted plate over the stroke, fixed to the ground by one post (or part
-        // of the frame when there is no fixed body).
-        let mut frame_slot = None;
-        if let (Some(j), Some(line)) = (topo.slider_joint, mechanism.slider) {
-            let along = (0..trace.len()).map(|r| (trace.row(r)[j] - line.point).dot(line.direction));
-            let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| (lo.min(s), hi.max(s)));
-            if !(lo.is_finite() && hi.is_finite()) {
-                return Err(FabError::Mismatch("the slider's stroke is empty".into()));
-            }
-            let slot = Slot { joint: j, ends: (line.point + line.direction * lo, line.point + line.direction * hi) };
-            if shapes.ground.is_empty() {
-                frame_slot = Some(slot);
-            } else {
-                let swept_here = |p: Point| swept(0, p);
-                let rules = posts::Rules { clear: &|_, _| true, swept: &swept_here };
-                // Clear of the slider's own members running along the slot.
-                let min_reach = dims.half_width + dims.post_collar_radius + dims.wall;
-                let post = standing
-                    .post(0, slot.ends, min_reach, &rules)
-                    .map_err(|e| refusal(e, &format!("{} (slider guide)", topo.joint_names[j]), Carrier::Ground))?;
-                joint_members[j].push(members.len());
-                members.push(Member {
-                    name: "slider_guide".into(),
-                    kind: MemberKind::Guide,
-                    carrier: 0,
-                    core: vec![slot.ends.0, slot.ends.1, post],
-                    joints: vec![j],
-                    post: Some(post),
-                    slot: Some(slot),
-                });
-            }
-        }
-
-        // No fixed body: a frame on its own layer joins the ground joints (and carries the slot), held
-        // by a square post on a foot that stands on the table where no body comes.
-        let mut foot = None;
-        if !frame_joints.is_empty() || frame_slot.is_some() {
-            too_close("the frame", &frame_joints, mechanism, dims)?;
-            let mut core: Vec<Point> = frame_joints.iter().map(|&j| mechanism.joints[j]).collect();
-            let mut joints = frame_joints.clone();
-            if let Some(slot) = frame_slot {
-                core.extend([slot.ends.0, slot.ends.1]);
-                joints.push(slot.joint);
-            }
-            let hit = |p: Point| posts::pad_hit(shapes, poses(), 0, p, dims.post_depth(), &standing.pads).is_some();
-            let at = posts::foot(&core, &dims, &|p| swept(0, p), &hit);
-            if let Some(p) = at {
-                core.push(p);
-                foot = Some(Pad { carrier: 0, centre: p, radius: dims.post_depth() });
-            }
-            for &j in &joints {
-                joint_members[j].push(members.len());
-            }
-            members.push(Member {
-                name: "frame".into(),
-                kind: MemberKind::Frame,
-                carrier: 0,
-                core,
-                joints,
-                post: at,
-                slot: frame_slot,
-            });
-        }
-
-        // The springs' hooks, after every joint (the joints' posts take the best places).
-        let mut hooks = Vec::new();
-        let row0 = trace.row(0);
-        for (s, ends) in springs.iter().enumerate() {
-            for (anchor, end) in ends.iter().zip(["ground", "moving"]) {
-                let refuse = |why| FabError::SpringHook { spring: s + 1, part: anchor.part.clone(), why };
-                let Some(pi) = topo.parts.iter().position(|p| p.name == anchor.part) else {
-                    return Err(refuse(HookRefusal::NoSuchPart));
-                };
-                if !(anchor.point.x.is_finite() && anchor.point.y.is_finite()) {
-                    return Err(refuse(HookRefusal::NotFinite));
-                }
-                let part = &topo.parts[pi];
-                let ci = match part.kind {
-                    PartKind::Fixed => 0,
-                    PartKind::Body(b) => 1 + b,
-                    PartKind::Link => carriers.iter().position(|&c| c == Carrier::Link(pi)).unwrap_or(0),
-                };
-                let pose0 = match carriers[ci] {
-                    Carrier::Ground => Rigid::IDENTITY,
-                    Carrier::Body(b) => frames.pose(b, row0),
-                    Carrier::Link(_) => link_frame(row0[link_frames[ci].0], row0[link_frames[ci].1]),
-                };
-                let at = pose0.inverse().apply(anchor.point);
-                let mut hook = Hook { spring: s, carrier: ci, at, base: HookBase::Body };
-                // An anchor on one of the part's joints hooks on that joint's pin.
-                let on_joint = |j: &&usize| {
-                    row0[**j].distance(anchor.point) <= 1e-9 * (1.0 + anchor.point.distance(Point::ORIGIN))
-                };
-                if let Some(&j) = part.joints.iter().find(on_joint) {
-                    hook.base = HookBase::Joint(j);
-                    hooks.push(hook);
-                    continue;
-                }
-                // Links and the frame carry nothing but their plate; bodies have regions.
-                let regions: &[super::shapes::Region] =
-                    if ci < 1 + shapes.bodies.len() { shapes.carrier_regions(ci) } else { &[] };
-                let plate = members.iter().position(|m| {
-                    m.carrier == ci
-                        && (m.kind == MemberKind::Link || (regions.is_empty() && m.kind == MemberKind::Frame))
-                });
-                if let Some(mi) = plate {
-                    // The plate is widened to the anchor; the hook must clear the holes of its joints.
-                    let holes = members[mi].joints.len().min(members[mi].core.len());
-                    if members[mi].core[..holes].iter().any(|c| c.distance(at) < dims.hook_clear_of_joints()) {
-                        return Err(refuse(HookRefusal::BesideJoint));
-                    }
-                    members[mi].core.push(at);
-                    hook.base = HookBase::Member(mi);
-                    hooks.push(hook);
-                    continue;
-                }
-                if body_pins && standing.fuse(ci, at, dims.cap_base_radius) {
-                    hooks.push(hook);
-                    continue;
-                }
-                let swept_here = |p: Point| swept(ci, p);
-                let rules = posts::Rules { clear: &|_, _| true, swept: &swept_here };
-                let min_reach = dims.cap_base_radius + dims.post_collar_radius + dims.wall;
-                let post = standing.post(ci, (at, at), min_reach, &rules).map_err(|_| refuse(HookRefusal::NoRoom))?;
-                hook.base = HookBase::Member(members.len());
-                hooks.push(hook);
-                members.push(Member {
-                    name: format!("spring{}_{end}_bracket", s + 1),
-                    kind: MemberKind::Bracket,
-                    carrier: ci,
-                    core: vec![post, at],
-                    joints: Vec::new(),
-                    post: Some(post),
-                    slot: None,
-                });
-            }
-        }
+        let standing =
+            Standing { shapes, poses: &poses, pillars: vec![Vec::new(); placed.carriers.len()], pads: Vec::new() };
+        let mut connecting = Connecting { shapes, mechanism, trace, frames: &frames, sweep, standing, placed };
+        let (pins, frame_joints) = connecting.joints(body_pins)?;
+        let frame_slot = connecting.slider_guide()?;
+        let foot = connecting.frame(&frame_joints, frame_slot)?;
+        let hooks = connecting.hooks(springs, body_pins)?;
+        let Connecting { placed: Placed { carriers, link_frames, members, joint_members }, standing, .. } = connecting;
         let layout = Layout {
             carriers,
             link_frames,
@@ -496,16 +244,31 @@ impl Layout {
     }
 
     /// The members that fit the print bed in no turn, each with what it would take.
-    pub fn off_bed(&self, bed: &super::settings::Bed) -> Vec<(usize, super::plates::Misfit)> {
+    pub fn off_bed(&self, bed: &Bed) -> Vec<(usize, Misfit)> {
         let mm = self.dims.mm_per_unit;
         self.members
             .iter()
             .enumerate()
             .filter_map(|(i, m)| {
                 let core: Vec<Point> = m.core.iter().map(|p| Point::new(p.x * mm, p.y * mm)).collect();
-                super::plates::misfit(&core, self.dims.half_width * mm, bed).map(|f| (i, f))
+                plates::misfit(&core, self.dims.half_width * mm, bed).map(|f| (i, f))
             })
             .collect()
+    }
+
+    /// [`FabError::OffBed`] for the members in `misfits` (as [`Layout::off_bed`] gives them).
+    pub(crate) fn off_bed_error(&self, misfits: &[(usize, Misfit)], bed: &Bed) -> FabError {
+        let parts: Vec<String> = misfits
+            .iter()
+            .map(|(i, f)| format!("{} ({:.0} × {:.0} mm)", self.members[*i].name, f.footprint_mm[0], f.footprint_mm[1]))
+            .collect();
+        FabError::OffBed {
+            parts: parts.join(", "),
+            width: bed.width - 2.0 * bed.margin,
+            depth: bed.depth - 2.0 * bed.margin,
+            square_bed_mm: misfits.iter().map(|m| m.1.square_bed_mm).fold(0.0, f64::max),
+            max_scale: misfits.iter().map(|m| m.1.max_scale).fold(f64::INFINITY, f64::min),
+        }
     }
 
     /// Where hook `k` stands in the configuration `row`, given every carrier's pose there.
@@ -525,6 +288,356 @@ impl Layout {
     /// The member whose name is `name`.
     pub fn member(&self, name: &str) -> Option<usize> {
         self.members.iter().position(|m| m.name == name)
+    }
+}
+
+/// The carriers and the members placed so far, while [`Layout::new`] adds them kind by kind.
+struct Placed {
+    carriers: Vec<Carrier>,
+    /// For each carrier, the first two joints whose frame places it (links), unused otherwise.
+    link_frames: Vec<(usize, usize)>,
+    members: Vec<Member>,
+    /// The members that turn on each joint.
+    joint_members: Vec<Vec<usize>>,
+}
+
+impl Placed {
+    /// The ground and the moving bodies, then a carrier and a member for each link of `mechanism`.
+    fn links(mechanism: &Mechanism, dims: Dims) -> Result<Placed, FabError> {
+        let topo = &mechanism.topology;
+        let mut placed = Placed {
+            carriers: vec![Carrier::Ground],
+            link_frames: vec![(0, 0)],
+            members: Vec::new(),
+            joint_members: vec![Vec::new(); topo.joint_count()],
+        };
+        for b in 0..topo.body_count {
+            placed.carriers.push(Carrier::Body(b));
+            placed.link_frames.push((0, 0));
+        }
+        for (pi, part) in topo.parts.iter().enumerate() {
+            if part.kind != PartKind::Link {
+                continue;
+            }
+            if part.joints.len() < 2 {
+                return Err(FabError::Mismatch(format!("link {} carries fewer than two joints", part.name)));
+            }
+            let (a, b) = (part.joints[0], part.joints[1]);
+            let frame = link_frame(mechanism.joints[a], mechanism.joints[b]);
+            let c = placed.carriers.len();
+            placed.carriers.push(Carrier::Link(pi));
+            placed.link_frames.push((a, b));
+            let core: Vec<Point> = part.joints.iter().map(|&j| frame.inverse().apply(mechanism.joints[j])).collect();
+            too_close(&part.name, &part.joints, mechanism, dims)?;
+            placed.push(Member {
+                name: part.name.clone(),
+                kind: MemberKind::Link,
+                carrier: c,
+                core,
+                joints: part.joints.clone(),
+                post: None,
+                slot: None,
+            });
+        }
+        Ok(placed)
+    }
+
+    /// Adds `member`, which turns on its joints; its index.
+    fn push(&mut self, member: Member) -> usize {
+        let i = self.members.len();
+        for &j in &member.joints {
+            self.joint_members[j].push(i);
+        }
+        self.members.push(member);
+        i
+    }
+}
+
+/// Where the links pass along the motion, to keep posts out of their way. A preference only
+/// (validity comes from the recorded constraints), so every few rows suffice.
+struct Sweep<'a> {
+    frames: &'a BodyFrames,
+    trace: &'a Trace,
+    /// Every link's core (world) at every `stride`-th row, empty at the other rows.
+    link_rows: Vec<Vec<Vec<Point>>>,
+    stride: usize,
+    /// How close to a link's core a post's collar is passed over.
+    reach: f64,
+}
+
+impl<'a> Sweep<'a> {
+    /// The sweep of the links `placed` holds (only links, so far).
+    fn new(placed: &Placed, frames: &'a BodyFrames, trace: &'a Trace, dims: Dims) -> Sweep<'a> {
+        let link_rows: Vec<Vec<Vec<Point>>> = (0..trace.len())
+            .map(|r| {
+                if r % trace.len().div_ceil(90).max(1) != 0 {
+                    return Vec::new();
+                }
+                let row = trace.row(r);
+                placed
+                    .members
+                    .iter()
+                    .map(|m| {
+                        let (a, b) = placed.link_frames[m.carrier];
+                        let pose = link_frame(row[a], row[b]);
+                        m.core.iter().map(|&c| pose.apply(c)).collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        Sweep {
+            frames,
+            trace,
+            link_rows,
+            stride: trace.len().div_ceil(90).max(1),
+            reach: dims.half_width + dims.post_collar_radius + dims.clearance,
+        }
+    }
+
+    /// Whether some link passes over point `p` of carrier `ci` (its frame) along the motion.
+    fn swept(&self, ci: usize, p: Point) -> bool {
+        (0..self.trace.len()).step_by(self.stride).any(|r| {
+            let pose = if ci == 0 { Rigid::IDENTITY } else { self.frames.pose(ci - 1, self.trace.row(r)) };
+            let w = pose.apply(p);
+            self.link_rows[r].iter().any(|core| super::shapes::point_core_distance(w, core) < self.reach)
+        })
+    }
+}
+
+/// What [`Layout::new`] places the rest with once the links are placed: the scene and the motion,
+/// where the links pass, what stands on each carrier so far, and the members placed so far.
+struct Connecting<'a> {
+    shapes: &'a SceneShapes,
+    mechanism: &'a Mechanism,
+    trace: &'a Trace,
+    frames: &'a BodyFrames,
+    sweep: Sweep<'a>,
+    standing: Standing<'a>,
+    placed: Placed,
+}
+
+impl Connecting<'_> {
+    /// Joints on the ground and on bodies: a pin fused to the body when the joint lies deep inside
+    /// it (with `body_pins`), otherwise a connector from a post (see [`super::posts`]). Without a
+    /// fixed body, the ground joints are held by a printed frame instead. Returns each joint's pin
+    /// fused to a body, and the joints the frame must hold.
+    fn joints(&mut self, body_pins: bool) -> Result<(Vec<Option<BodyPin>>, Vec<usize>), FabError> {
+        let (shapes, mechanism) = (self.shapes, self.mechanism);
+        let topo = &mechanism.topology;
+        let dims = shapes.dims;
+        let mut pins = vec![None; topo.joint_count()];
+        let mut connectors: Vec<Vec<(Point, Point)>> = vec![Vec::new(); self.placed.carriers.len()];
+        let mut frame_joints: Vec<usize> = Vec::new();
+        for part in &topo.parts {
+            let (carrier, ci) = match part.kind {
+                PartKind::Fixed => (Carrier::Ground, 0),
+                PartKind::Body(b) => (Carrier::Body(b), 1 + b),
+                PartKind::Link => continue,
+            };
+            let regions = shapes.carrier_regions(ci);
+            if regions.is_empty() {
+                frame_joints.extend(&part.joints);
+                continue;
+            }
+            let to_local = carrier_first_pose(carrier, shapes).inverse();
+            for &j in &part.joints {
+                let at = to_local.apply(mechanism.joints[j]);
+                if body_pins && self.standing.fuse(ci, at, dims.boss_radius) {
+                    pins[j] = Some(BodyPin { carrier: ci, at });
+                    continue;
+                }
+                // Connectors of one body must not cover each other's posts both ways (no layer order
+                // could then exist): prefer posts that neither cover nor are covered, then posts that
+                // are not both.
+                let reach = dims.half_width + dims.post_collar_radius + dims.clearance;
+                let mine = &connectors[ci];
+                let clear = |p: Point, level: u8| {
+                    mine.iter().all(|&(q, jq): &(Point, Point)| {
+                        let new_covers_old = point_segment_distance(q, p, at) < reach;
+                        let old_covers_new = point_segment_distance(p, q, jq) < reach;
+                        match level {
+                            2 => !new_covers_old && !old_covers_new,
+                            1 => !(new_covers_old && old_covers_new),
+                            _ => true,
+                        }
+                    })
+                };
+                let sweep = &self.sweep;
+                let swept_here = |p: Point| sweep.swept(ci, p);
+                let rules = posts::Rules { clear: &clear, swept: &swept_here };
+                let min_reach = dims.boss_radius + dims.post_collar_radius + dims.wall;
+                let post = self
+                    .standing
+                    .post(ci, (at, at), min_reach, &rules)
+                    .map_err(|e| refusal(e, &topo.joint_names[j], carrier))?;
+                connectors[ci].push((post, at));
+                self.placed.push(Member {
+                    name: format!("connector_{}", topo.joint_names[j]),
+                    kind: MemberKind::Connector,
+                    carrier: ci,
+                    core: vec![post, at],
+                    joints: vec![j],
+                    post: Some(post),
+                    slot: None,
+                });
+            }
+        }
+        Ok((pins, frame_joints))
+    }
+
+    /// The slider guide: a slotted plate over the stroke, fixed to the ground by one post. Without a
+    /// fixed body the frame carries the slot instead: returns that slot.
+    fn slider_guide(&mut self) -> Result<Option<Slot>, FabError> {
+        let (mechanism, trace, dims) = (self.mechanism, self.trace, self.shapes.dims);
+        let topo = &mechanism.topology;
+        let (Some(j), Some(line)) = (topo.slider_joint, mechanism.slider) else { return Ok(None) };
+        let along = (0..trace.len()).map(|r| (trace.row(r)[j] - line.point).dot(line.direction));
+        let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| (lo.min(s), hi.max(s)));
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Err(FabError::Mismatch("the slider's stroke is empty".into()));
+        }
+        let slot = Slot { joint: j, ends: (line.point + line.direction * lo, line.point + line.direction * hi) };
+        if self.shapes.ground.is_empty() {
+            return Ok(Some(slot));
+        }
+        let sweep = &self.sweep;
+        let swept_here = |p: Point| sweep.swept(0, p);
+        let rules = posts::Rules { clear: &|_, _| true, swept: &swept_here };
+        // Clear of the slider's own members running along the slot.
+        let min_reach = dims.half_width + dims.post_collar_radius + dims.wall;
+        let post = self
+            .standing
+            .post(0, slot.ends, min_reach, &rules)
+            .map_err(|e| refusal(e, &format!("{} (slider guide)", topo.joint_names[j]), Carrier::Ground))?;
+        self.placed.push(Member {
+            name: "slider_guide".into(),
+            kind: MemberKind::Guide,
+            carrier: 0,
+            core: vec![slot.ends.0, slot.ends.1, post],
+            joints: vec![j],
+            post: Some(post),
+            slot: Some(slot),
+        });
+        Ok(None)
+    }
+
+    /// No fixed body: a frame on its own layer joins the ground joints `frame_joints` (and carries
+    /// `frame_slot`), held by a square post on a foot that stands on the table where no body comes.
+    /// Returns the foot, when one has a place.
+    fn frame(&mut self, frame_joints: &[usize], frame_slot: Option<Slot>) -> Result<Option<Pad>, FabError> {
+        if frame_joints.is_empty() && frame_slot.is_none() {
+            return Ok(None);
+        }
+        let (shapes, mechanism, dims) = (self.shapes, self.mechanism, self.shapes.dims);
+        too_close("the frame", frame_joints, mechanism, dims)?;
+        let mut core: Vec<Point> = frame_joints.iter().map(|&j| mechanism.joints[j]).collect();
+        let mut joints = frame_joints.to_vec();
+        if let Some(slot) = frame_slot {
+            core.extend([slot.ends.0, slot.ends.1]);
+            joints.push(slot.joint);
+        }
+        let standing = &self.standing;
+        let hit =
+            |p: Point| posts::pad_hit(shapes, (standing.poses)(), 0, p, dims.post_depth(), &standing.pads).is_some();
+        let at = posts::foot(&core, &dims, &|p| self.sweep.swept(0, p), &hit);
+        let mut foot = None;
+        if let Some(p) = at {
+            core.push(p);
+            foot = Some(Pad { carrier: 0, centre: p, radius: dims.post_depth() });
+        }
+        self.placed.push(Member {
+            name: "frame".into(),
+            kind: MemberKind::Frame,
+            carrier: 0,
+            core,
+            joints,
+            post: at,
+            slot: frame_slot,
+        });
+        Ok(foot)
+    }
+
+    /// The springs' hooks, two per spring (ground end first), placed after every joint (the joints'
+    /// posts take the best places).
+    fn hooks(&mut self, springs: &[SpringEnds], body_pins: bool) -> Result<Vec<Hook>, FabError> {
+        let mut hooks = Vec::new();
+        for (s, ends) in springs.iter().enumerate() {
+            for (anchor, end) in ends.iter().zip(["ground", "moving"]) {
+                hooks.push(self.hook(s, anchor, end, body_pins)?);
+            }
+        }
+        Ok(hooks)
+    }
+
+    /// The hook at `anchor`, the `end` ("ground" or "moving") of spring `s`: on the joint's pin when
+    /// the anchor is a joint, on a link's plate widened to reach it, fused to the body when deep inside
+    /// it (with `body_pins`), otherwise on a bracket from a post.
+    fn hook(&mut self, s: usize, anchor: &Anchor, end: &str, body_pins: bool) -> Result<Hook, FabError> {
+        let (shapes, topo, dims) = (self.shapes, &self.mechanism.topology, self.shapes.dims);
+        let row0 = self.trace.row(0);
+        let refuse = |why| FabError::SpringHook { spring: s + 1, part: anchor.part.clone(), why };
+        let Some(pi) = topo.parts.iter().position(|p| p.name == anchor.part) else {
+            return Err(refuse(HookRefusal::NoSuchPart));
+        };
+        if !(anchor.point.x.is_finite() && anchor.point.y.is_finite()) {
+            return Err(refuse(HookRefusal::NotFinite));
+        }
+        let part = &topo.parts[pi];
+        let placed = &mut self.placed;
+        let ci = match part.kind {
+            PartKind::Fixed => 0,
+            PartKind::Body(b) => 1 + b,
+            PartKind::Link => placed.carriers.iter().position(|&c| c == Carrier::Link(pi)).unwrap_or(0),
+        };
+        let pose0 = match placed.carriers[ci] {
+            Carrier::Ground => Rigid::IDENTITY,
+            Carrier::Body(b) => self.frames.pose(b, row0),
+            Carrier::Link(_) => link_frame(row0[placed.link_frames[ci].0], row0[placed.link_frames[ci].1]),
+        };
+        let at = pose0.inverse().apply(anchor.point);
+        let mut hook = Hook { spring: s, carrier: ci, at, base: HookBase::Body };
+        // An anchor on one of the part's joints hooks on that joint's pin.
+        let on_joint =
+            |j: &&usize| row0[**j].distance(anchor.point) <= 1e-9 * (1.0 + anchor.point.distance(Point::ORIGIN));
+        if let Some(&j) = part.joints.iter().find(on_joint) {
+            hook.base = HookBase::Joint(j);
+            return Ok(hook);
+        }
+        // Links and the frame carry nothing but their plate; bodies have regions.
+        let regions: &[super::shapes::Region] =
+            if ci < 1 + shapes.bodies.len() { shapes.carrier_regions(ci) } else { &[] };
+        let plate = placed.members.iter().position(|m| {
+            m.carrier == ci && (m.kind == MemberKind::Link || (regions.is_empty() && m.kind == MemberKind::Frame))
+        });
+        if let Some(mi) = plate {
+            // The plate is widened to the anchor; the hook must clear the holes of its joints.
+            let members = &mut placed.members;
+            let holes = members[mi].joints.len().min(members[mi].core.len());
+            if members[mi].core[..holes].iter().any(|c| c.distance(at) < dims.hook_clear_of_joints()) {
+                return Err(refuse(HookRefusal::BesideJoint));
+            }
+            members[mi].core.push(at);
+            hook.base = HookBase::Member(mi);
+            return Ok(hook);
+        }
+        if body_pins && self.standing.fuse(ci, at, dims.cap_base_radius) {
+            return Ok(hook);
+        }
+        let sweep = &self.sweep;
+        let swept_here = |p: Point| sweep.swept(ci, p);
+        let rules = posts::Rules { clear: &|_, _| true, swept: &swept_here };
+        let min_reach = dims.cap_base_radius + dims.post_collar_radius + dims.wall;
+        let post = self.standing.post(ci, (at, at), min_reach, &rules).map_err(|_| refuse(HookRefusal::NoRoom))?;
+        hook.base = HookBase::Member(self.placed.push(Member {
+            name: format!("spring{}_{end}_bracket", s + 1),
+            kind: MemberKind::Bracket,
+            carrier: ci,
+            core: vec![post, at],
+            joints: Vec::new(),
+            post: Some(post),
+            slot: None,
+        }));
+        Ok(hook)
     }
 }
 

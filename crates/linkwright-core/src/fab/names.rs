@@ -68,6 +68,32 @@ pub fn is_safe_relative_path(path: &str) -> bool {
         && path.split('/').all(|c| !c.is_empty() && c != "." && c != ".." && !c.starts_with('.'))
 }
 
+/// Unique file-name-safe names of the moving bodies.
+pub(super) fn body_names(problem: &crate::scene::Problem) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let mut name = sanitize(&body.name);
+        if name.is_empty() || name.starts_with("ground") {
+            name = format!("body{}", b + 1);
+        }
+        while out.contains(&name) {
+            name.push_str(&format!("_{}", b + 1));
+        }
+        out.push(name);
+    }
+    out
+}
+
+/// Lower-case letters, digits, `_` and `-` only.
+pub fn sanitize(name: &str) -> String {
+    let s: String = name
+        .trim()
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c.to_ascii_lowercase() } else { '_' })
+        .collect();
+    s.trim_matches('_').to_string()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

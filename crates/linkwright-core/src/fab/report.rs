@@ -2,9 +2,11 @@
 
 use super::check::CheckReport;
 use super::depth::{Constraint, Face};
+use super::fabrication::{Fabrication, Timings};
+use super::layout::Anchor;
 use super::parts::Role;
 use super::plates::{misfit, Misfit, Plates};
-use super::Fabrication;
+use super::settings::PrintSettings;
 use crate::geom::Point;
 use serde::Serialize;
 
@@ -27,7 +29,7 @@ pub struct Report {
     /// the model's scale.
     pub model_mm: [f64; 2],
     /// The print settings used.
-    pub settings: super::PrintSettings,
+    pub settings: PrintSettings,
     /// How many layers the depth ordering uses on each face.
     pub layers: Layers,
     /// Every printed part, with its file and size.
@@ -45,7 +47,7 @@ pub struct Report {
     /// The assembly steps, in order, as sentences.
     pub assembly: Vec<String>,
     /// Seconds spent in each stage of the fabrication.
-    pub seconds: super::Timings,
+    pub seconds: Timings,
     /// What the fabrication's checks found ([`super::check`]).
     pub checks: CheckReport,
 }
@@ -116,7 +118,7 @@ pub struct SpringReport {
 pub struct HookReport {
     /// Where the spring is anchored, as asked for.
     #[serde(flatten)]
-    pub anchor: super::Anchor,
+    pub anchor: Anchor,
     /// The printed part the hook stands on, in words.
     pub on: String,
 }

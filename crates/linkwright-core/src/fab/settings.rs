@@ -299,19 +299,6 @@ impl PrintSettings {
     }
 }
 
-/// Millimetres in one unit of a scene's `units` field, `None` for a unit this version does not know.
-pub fn millimetres_per_unit(units: &str) -> Option<f64> {
-    match units.trim().to_ascii_lowercase().as_str() {
-        "mm" | "millimeter" | "millimeters" | "millimetre" | "millimetres" | "" => Some(1.0),
-        "cm" | "centimeter" | "centimeters" | "centimetre" | "centimetres" => Some(10.0),
-        "m" | "meter" | "meters" | "metre" | "metres" => Some(1000.0),
-        "in" | "inch" | "inches" => Some(25.4),
-        "ft" | "foot" | "feet" => Some(304.8),
-        "um" | "µm" | "micrometer" | "micrometers" => Some(0.001),
-        _ => None,
-    }
-}
-
 /// The settings as the lengths geometry is built from, in scene units (every field derived from
 /// [`PrintSettings`]; nothing here is chosen independently).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -522,8 +509,7 @@ mod tests {
     #[test]
     fn units_scale_the_parts() {
         let s = PrintSettings::default();
-        let cm = Dims::new(&s, millimetres_per_unit("cm").unwrap());
+        let cm = Dims::new(&s, "cm".parse::<crate::Units>().unwrap().millimetres());
         assert!((cm.half_width - 0.5).abs() < 1e-12);
-        assert_eq!(millimetres_per_unit("furlong"), None);
     }
 }

@@ -2,9 +2,9 @@
 //! pins and posts) and the order in which to put the parts together.
 
 use super::depth::Face;
+use super::fabrication::Fabrication;
 use super::layout::{HookBase, MemberKind};
 use super::parts::Role;
-use super::Fabrication;
 use crate::geom::{Aabb, Point, Rigid};
 use std::fmt::Write as _;
 

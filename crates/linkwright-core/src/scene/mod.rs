@@ -3,11 +3,13 @@
 
 mod build;
 mod problem;
+mod units;
 mod validate;
 
 pub use build::{Build, BuildParseError, Material, ModelScale, Ratio, MAX_RATIO_TERM};
 pub(crate) use problem::repeated_pose_words;
 pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
+pub use units::{Units, UnitsParseError};
 pub(crate) use validate::name_problems;
 pub use validate::{limits, validate, Issue, Severity};
 
@@ -28,8 +30,9 @@ pub struct Scene {
     /// What the object is called, for titles and file names (may be empty).
     #[serde(default)]
     pub name: String,
-    /// The length unit of every coordinate, `mm` by default. The synthesis works in whatever unit the
-    /// scene uses; fabrication needs one it can convert to millimetres (`mm`, `cm`, `m`, `in`, `ft`).
+    /// The length unit of every coordinate, `mm` by default: one [`Units`] reads (`mm`, `cm`, `m`, `in`,
+    /// `ft`, `µm` or a unit's name), which validation checks. Kept as written, so the scene is written
+    /// back as it was read; the [`Problem`] holds it read.
     #[serde(default = "default_units")]
     pub units: String,
     /// The parts of the object that never move. None is allowed (with a warning): the ground joints

@@ -1,6 +1,6 @@
 //! The immutable problem derived once from a valid scene: everything every sample needs.
 
-use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Weights};
+use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Units, Weights};
 use crate::geom::{Aabb, Point, Polygon, Rigid};
 use crate::issues::IssueList;
 
@@ -100,8 +100,8 @@ impl PoseMiss {
 pub struct Problem {
     /// The scene's name.
     pub name: String,
-    /// What one unit of the drawing is ("mm"), for labels.
-    pub units: String,
+    /// The length unit of the drawing: its size in millimetres, and its word for labels.
+    pub units: Units,
     /// The unit direction gravity pulls in (down the drawing unless the scene says otherwise).
     pub gravity: crate::geom::Vec2,
     /// The fixed bodies' outlines, world coordinates.
@@ -202,7 +202,7 @@ impl Problem {
         let avoid: Vec<Polygon> = scene.avoid_regions.iter().map(|r| Polygon::new(r.clone())).collect();
         Ok(Problem {
             name: scene.name.clone(),
-            units: scene.units.clone(),
+            units: scene.units.parse().expect("validation refuses units it cannot read"),
             gravity: scene.gravity.map_or(crate::geom::Vec2::new(0.0, -1.0), |[x, y]| unit_direction(x, y)),
             fixed,
             pose_count: bodies[0].poses.len(),

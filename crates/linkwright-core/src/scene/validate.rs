@@ -4,7 +4,7 @@
 //! It never panics either, whatever the numbers (NaN, infinities, huge values, empty lists): checks that
 //! need sound geometry (the collision checks) skip the bodies whose outline or pose is already reported.
 
-use super::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use super::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Units, Weights, SCENE_FORMAT};
 use crate::geom::{Aabb, Point, Polygon, PolygonError, Rigid};
 use crate::issues::IssueList;
 use serde_json::{Map, Value};
@@ -153,6 +153,9 @@ pub fn validate(scene: &Scene) -> IssueList<Issue> {
     }
     out.unknown_fields("", &scene.extra);
     out.name("name", "scene", &scene.name);
+    if let Err(e) = scene.units.parse::<Units>() {
+        out.error("units", e.to_string());
+    }
     if !check_counts(scene, &mut out) {
         // Every later check costs in proportion to these counts: a file far beyond them is answered
         // at once with what to cut, not after minutes of checking what will not run anyway.
@@ -931,6 +934,21 @@ mod tests {
         let mut s = scene();
         s.linkwright = "scene/2".into();
         assert_error(&s, "linkwright", "unknown format \"scene/2\"");
+    }
+
+    #[test]
+    fn units_must_be_a_length_this_version_knows() {
+        let mut s = scene();
+        s.units = "furlongs".into();
+        assert_error(
+            &s,
+            "units",
+            "is \"furlongs\", not a unit of length this version knows; use mm, cm, m, in, ft or µm",
+        );
+        s.units = " Inches".into();
+        assert_eq!(errors(&s), vec![]);
+        let problem = crate::Problem::new(&s).unwrap();
+        assert_eq!((problem.units.as_str(), problem.units.millimetres()), (" Inches", 25.4));
     }
 
     #[test]

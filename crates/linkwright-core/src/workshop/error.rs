@@ -9,9 +9,6 @@ pub enum WorkshopError {
     /// The workshop settings cannot work (every issue, each naming its field).
     #[error("workshop settings: {}", .0.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; "))]
     Settings(Vec<SettingsIssue>),
-    /// The scene's `units` (given) is not a length with a known size in millimetres.
-    #[error("the scene's units \"{0}\" are not known; use mm, cm, m, in or ft")]
-    Units(String),
     /// The design cannot be read against its scene, or fails its check (the reason in words).
     #[error("{0}")]
     Design(FabError),

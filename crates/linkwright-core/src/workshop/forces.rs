@@ -20,7 +20,6 @@
 //! (u the up direction): forces statically equivalent to the weight at its centre.
 
 use super::error::WorkshopError;
-use crate::fab::millimetres_per_unit;
 use crate::geom::{Point, Vec2};
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, PartKind};
@@ -352,7 +351,6 @@ pub fn equilibrium(
     trace: &Trace,
     masses_kg: &[f64],
 ) -> Result<Vec<RowForces>, WorkshopError> {
-    let mm = millimetres_per_unit(&problem.units).ok_or_else(|| WorkshopError::Units(problem.units.clone()))?;
-    let model = Model::new(problem, mechanism, masses_kg, mm / 1000.0)?;
+    let model = Model::new(problem, mechanism, masses_kg, problem.units.millimetres() / 1000.0)?;
     (0..trace.len()).map(|r| model.solve(trace.thetas[r], trace.row(r))).collect()
 }

@@ -29,13 +29,11 @@ use super::sizing::{Bending, Check, Demand, EdgeLoad, Rule, Section};
 use super::stack::{Layered, Stack};
 use super::standards::{BoltSize, BoltSpec, MaterialValues};
 use crate::design::DesignFile;
-use crate::fab::{
-    millimetres_per_unit, Bed, Carrier, FabError, Fabrication, Face, Faces, MemberKind, PrintSettings, SnapCap, Travel,
-};
+use crate::fab::{Bed, Carrier, FabError, Fabrication, Face, Faces, MemberKind, PrintSettings, SnapCap, Travel};
 use crate::geom::{point_segment_distance, Point, Rigid, Vec2};
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, PartKind};
-use crate::scene::{Material, Problem};
+use crate::scene::{Material, Problem, Ratio};
 use std::collections::BTreeMap;
 
 /// Rounds of sizing the links before their weights are taken as settled.
@@ -73,7 +71,7 @@ pub fn plan(
     if !issues.is_empty() {
         return Err(WorkshopError::Settings(issues));
     }
-    let mm = millimetres_per_unit(&problem.units).ok_or_else(|| WorkshopError::Units(problem.units.clone()))?;
+    let mm = problem.units.millimetres();
     let (mechanism, travel) = crate::fab::checked_design(problem, design).map_err(WorkshopError::Design)?;
     let trace = crate::fab::motion_trace(&mechanism, travel).map_err(WorkshopError::Design)?;
     let ctx = Context::new(problem, &mechanism, travel, &trace, mm, material, settings);
@@ -406,26 +404,28 @@ impl<'a> Context<'a> {
             density: 1.0,
             fill_fraction: 1.0,
         };
-        crate::fab::fabricate(self.problem, self.mm, self.mechanism, self.travel, &settings, &[]).map_err(|e| match e {
-            FabError::JointsTooClose { link, a, b, need_mm } => {
-                let at = |name: &str| self.mechanism.joint(name).unwrap_or(Point::ORIGIN);
-                WorkshopError::JointsTooClose {
-                    apart_mm: at(&a).distance(at(&b)) * self.mm,
-                    link,
-                    a,
-                    b,
-                    need_mm,
+        crate::fab::fabricate(self.problem, Ratio::ONE, self.mechanism, self.travel, &settings, &[]).map_err(
+            |e| match e {
+                FabError::JointsTooClose { link, a, b, need_mm } => {
+                    let at = |name: &str| self.mechanism.joint(name).unwrap_or(Point::ORIGIN);
+                    WorkshopError::JointsTooClose {
+                        apart_mm: at(&a).distance(at(&b)) * self.mm,
+                        link,
+                        a,
+                        b,
+                        need_mm,
+                        width_mm: width,
+                        bolt: bolt.size,
+                    }
+                }
+                FabError::NoOrdering => WorkshopError::Layers {
                     width_mm: width,
                     bolt: bolt.size,
-                }
-            }
-            FabError::NoOrdering => WorkshopError::Layers {
-                width_mm: width,
-                bolt: bolt.size,
-                why: "no depth ordering exists on one face or on both".into(),
+                    why: "no depth ordering exists on one face or on both".into(),
+                },
+                other => WorkshopError::Layers { width_mm: width, bolt: bolt.size, why: other.to_string() },
             },
-            other => WorkshopError::Layers { width_mm: width, bolt: bolt.size, why: other.to_string() },
-        })
+        )
     }
 
     /// The layers and the brackets: fabrication's layout with the links' width, the brackets sized on

@@ -40,8 +40,8 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
     for path in scenes {
         let (scene, problem) = read_problem(path)?;
         let label = super::scene_label(path);
-        let design = |problem: &Problem, start: Start| super::design_printed(path, problem, start, pool);
-        let mut shown = design(&problem, Start::Cold)?;
+        let design = |problem: &Problem, start: Start| super::design_printed(problem, start, pool);
+        let mut shown = design(&problem, Start::Cold);
         if shown.status != Status::Ok {
             eprintln!("{label}: no design to start from");
             continue;
@@ -57,7 +57,7 @@ pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> R
             let Ok(problem) = Problem::new(&dragged) else { break };
             let previous = shown.usable_mechanisms();
             let t = Instant::now();
-            let next = design(&problem, Start::Follow(&previous))?;
+            let next = design(&problem, Start::Follow(&previous));
             seconds.push(t.elapsed().as_secs_f64());
             let (Some(before), Some(after)) = (&shown.mechanism, &next.mechanism) else { continue };
             designed += 1;

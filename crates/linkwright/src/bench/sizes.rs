@@ -51,8 +51,7 @@ pub fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> 
                 continue;
             };
             let t = Instant::now();
-            let plan = BuildPlan::new(&problem, &settings)
-                .map_err(|e| Failure::Input(format!("error: {}: {e}", path.display())))?;
+            let plan = BuildPlan::new(&problem, &settings);
             let seconds_build = t.elapsed().as_secs_f64();
             let t = Instant::now();
             let (plan, outcome) = pool
@@ -62,7 +61,7 @@ pub fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> 
             let file = plan.design_file(&problem, &outcome);
             let designed = file.status == Status::Ok;
             let fabricated = designed
-                .then(|| fabricate_design(&problem, &scaled.units, &file, &settings).ok())
+                .then(|| fabricate_design(&problem, &file, &settings).ok())
                 .flatten()
                 .and_then(|f| bundle(&f).ok());
             let report = fabricated.as_ref().map(|b| &b.report);

@@ -16,12 +16,12 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use linkwright_core::analysis::{analyze, AnalysisError, AnalysisOptions, Replay, Which, MAX_STEPS};
 use linkwright_core::balance::{Balance, Balanced, SpringSearch};
-use linkwright_core::fab::{millimetres_per_unit, model_scale, BuildPlan, PrintSettings};
+use linkwright_core::fab::{model_scale, BuildPlan, PrintSettings};
 use linkwright_core::geom::Point;
 use linkwright_core::statics::Masses;
 use linkwright_core::{
-    animation_svg, design_svg, synthesize_with, DesignFile, EditError, Mechanism, MechanismType, Options, Problem,
-    Progress, Reject, RenderInput, Scene, Start, Status,
+    animation_svg, design_svg, DesignFile, EditError, Mechanism, MechanismType, Options, Problem, Progress, Reject,
+    RenderInput, Scene, Start, Status,
 };
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -156,10 +156,9 @@ fn body_text(body: Result<Bytes, BytesRejection>) -> Result<String, ApiError> {
 }
 
 /// Parses and validates a scene; `prefix` is the request field it sits in (empty for a bare scene).
-fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
+fn scene_of(text: &str, prefix: &str) -> Result<Problem, ApiError> {
     let scene = Scene::from_json(text).map_err(|e| ApiError::parse("the scene", prefix, &e.path, &e.message))?;
-    let problem = Problem::new(&scene).map_err(|issues| ApiError::invalid_scene(prefix, &issues))?;
-    Ok((scene, problem))
+    Problem::new(&scene).map_err(|issues| ApiError::invalid_scene(prefix, &issues))
 }
 
 /// The largest body the server builds printable parts or the print pre-check for, millimetres across.
@@ -169,17 +168,11 @@ fn scene_of(text: &str, prefix: &str) -> Result<(Scene, Problem), ApiError> {
 /// printer makes, and costs well under a second.
 const MAX_PRINTED_BODY_MM: f64 = 100_000.0;
 
-/// Refuses a scene with a body too large for the print computations ([`MAX_PRINTED_BODY_MM`]), when
-/// its units are known (otherwise nothing is printed). `prefix` is the request field of the scene.
-pub(super) fn printable_size(
-    problem: &Problem,
-    units: &str,
-    settings: &PrintSettings,
-    prefix: &str,
-) -> Result<(), ApiError> {
-    let Some(object_mm) = millimetres_per_unit(units) else { return Ok(()) };
+/// Refuses a scene with a body too large for the print computations ([`MAX_PRINTED_BODY_MM`]).
+/// `prefix` is the request field of the scene.
+pub(super) fn printable_size(problem: &Problem, settings: &PrintSettings, prefix: &str) -> Result<(), ApiError> {
     // What is printed is the model, at its scale.
-    let mm = object_mm * model_scale(problem, object_mm, None, settings).factor();
+    let mm = problem.units.millimetres() * model_scale(problem, None, settings).factor();
     let across = |points: &mut dyn Iterator<Item = &linkwright_core::geom::Point>| {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
@@ -226,14 +219,14 @@ impl DesignInput {
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let wrapped = value.get("scene").filter(|_| value.get("linkwright").is_none());
         let Some(scene) = wrapped else {
-            let (scene, problem) = scene_of(text, "")?;
+            let problem = scene_of(text, "")?;
             let settings = PrintSettings::default();
-            printable_size(&problem, &scene.units, &settings, "")?;
+            printable_size(&problem, &settings, "")?;
             return Ok(DesignInput { problem, previous: Vec::new(), settings, analysis: false, follow: false });
         };
-        let (scene, problem) = scene_of(&scene.to_string(), "scene")?;
+        let problem = scene_of(&scene.to_string(), "scene")?;
         let settings = print_settings(value.get("print_settings"), "print_settings")?;
-        printable_size(&problem, &scene.units, &settings, "scene")?;
+        printable_size(&problem, &settings, "scene")?;
         let previous = match value.get("from") {
             None | Some(Value::Null) => Vec::new(),
             Some(from) => {
@@ -265,13 +258,12 @@ impl DesignInput {
     }
 
     /// Designs the scene, as a job: it stops at its next check once `flag` is set. Designs start from
-    /// the earlier design when there is one, and must be printable (when the scene's units are known).
+    /// the earlier design when there is one, and must be printable (for a printed model).
     fn design(&self, flag: &Arc<StopFlag>, on_progress: impl Fn(&Progress) + Sync) -> Result<DesignFile, ApiError> {
         // The print pre-check is built here, inside the job, not while the request is parsed: for a
         // large scene it is heavy, and it has no cancellation hook, so it must not run on the async
         // threads that answer every other request.
-        // A scene in units that are not a length is designed without a build (nothing is printed).
-        let plan = BuildPlan::new(&self.problem, &self.settings).ok();
+        let plan = BuildPlan::new(&self.problem, &self.settings);
         let start = match (self.previous.is_empty(), self.follow) {
             (true, _) => Start::Cold,
             (false, false) => Start::Warm(&self.previous),
@@ -279,26 +271,16 @@ impl DesignInput {
         };
         let options = Options { start, printable: None };
         let observer = JobObserver { flag: flag.clone(), on_progress };
-        let (plan, outcome) = match plan {
-            Some(plan) => {
-                plan.synthesize(&self.problem, &self.settings, &options, &observer).map(|(p, o)| (Some(p), o))
-            }
-            None => synthesize_with(&self.problem, &options, &observer).map(|o| (None, o)),
-        }
-        .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))?;
-        let file = match plan {
-            Some(plan) => plan.design_file(&self.problem, &outcome),
-            None => DesignFile::from_outcome(&self.problem, &outcome),
-        };
-        Ok(file)
+        let (plan, outcome) = plan
+            .synthesize(&self.problem, &self.settings, &options, &observer)
+            .map_err(|_| ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the design was cancelled"))?;
+        Ok(plan.design_file(&self.problem, &outcome))
     }
 }
 
 /// A request that carries a scene and a design, with options.
 pub(super) struct Compound {
     pub problem: Problem,
-    /// The scene's `units` (the problem has none).
-    pub units: String,
     pub design: DesignFile,
     pub fields: Map<String, Value>,
 }
@@ -315,7 +297,7 @@ impl Compound {
                 ApiError::bad_request(format!("the body has no \"{name}\"")).with_issue(name, "is required")
             })
         };
-        let (scene, problem) = scene_of(&member("scene")?.to_string(), "scene")?;
+        let problem = scene_of(&member("scene")?.to_string(), "scene")?;
         let design = DesignFile::from_json(&member("design")?.to_string())
             .map_err(|e| ApiError::parse("the design", "design", &e.path, &e.message))?;
         let issues = design.validate(&problem);
@@ -326,7 +308,7 @@ impl Compound {
             let answer = ApiError::new(status, error);
             return Err(answer.listed(&issues, |i| format!("design.{}", i.field), |i| &i.message));
         }
-        Ok(Compound { problem, units: scene.units, design, fields })
+        Ok(Compound { problem, design, fields })
     }
 
     /// `alternative`: absent or null for the design itself, an index into its alternatives otherwise.
@@ -542,7 +524,7 @@ pub async fn balance(
 ) -> Result<Json<Value>, ApiError> {
     let request = parsed(&state, body, Compound::parse).await?;
     let masses = Masses::for_design(&request.problem, Some(&request.design), &PrintSettings::default())
-        .map_err(|e| ApiError::unprocessable(e.to_string()).with_issue("scene.units", e.to_string()))?;
+        .map_err(|e| ApiError::unprocessable(e.to_string()).with_issue("scene", e.to_string()))?;
     let steps = request.count("steps", AnalysisOptions::default().steps, MAX_STEPS)?;
     let work = move |flag: &Arc<StopFlag>| {
         let replay = request.replay(steps)?;

@@ -31,7 +31,6 @@ use std::sync::Arc;
 /// What a fabrication request asks for, checked.
 struct Request {
     problem: Problem,
-    units: String,
     /// The design to fabricate: the request's design, or a view of the alternative it names.
     design: DesignFile,
     /// What [`Answer::used`] adds to the number of the design that was fabricated: 0 for the design
@@ -49,8 +48,8 @@ impl Request {
         let settings = print_settings(compound.fields.get("settings"), "settings")?;
         let which = compound.which()?;
         let springs = compound.flag("springs")?;
-        let Compound { problem, units, mut design, .. } = compound;
-        printable_size(&problem, &units, &settings, "scene")?;
+        let Compound { problem, mut design, .. } = compound;
+        printable_size(&problem, &settings, "scene")?;
         if design.mechanism.is_none() {
             let message = "the design has no linkage to fabricate (it found no solution): design one first";
             return Err(ApiError::unprocessable(message).with_issue("design.mechanism", message));
@@ -75,7 +74,7 @@ impl Request {
                 );
             }
         };
-        Ok(Request { problem, units, design, offset, settings, springs })
+        Ok(Request { problem, design, offset, settings, springs })
     }
 
     /// Fabricates and bundles the design (or its first alternative that can be fabricated; with
@@ -87,14 +86,11 @@ impl Request {
         let (chosen, balance) = if self.springs {
             // The spring search stops with the job (its deadline, or the client gone).
             let observer = JobObserver { flag: flag.clone(), on_progress: |_: &Progress| {} };
-            let hooked = fabricate_with_springs(&self.problem, &self.units, &self.design, &self.settings, &observer)
-                .map_err(|e| match e {
+            let hooked = fabricate_with_springs(&self.problem, &self.design, &self.settings, &observer).map_err(
+                |e| match e {
                     HookedError::Fab(e) => cannot(e),
                     HookedError::Cancelled => {
                         ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the spring search was cancelled")
-                    }
-                    HookedError::Units(_) => {
-                        ApiError::unprocessable(e.to_string()).with_issue("scene.units", e.to_string())
                     }
                     HookedError::Statics(_) => {
                         ApiError::unprocessable(e.to_string()).with_issue("design", e.to_string())
@@ -103,13 +99,14 @@ impl Request {
                         ApiError::unprocessable(format!("cannot fabricate this design with springs: {e}"))
                             .with_issue("springs", e.to_string())
                     }
-                })?;
+                },
+            )?;
             let Hooked { fabrication, torque, balance } = hooked;
             let balance = serde_json::to_value(Balanced { torque: &torque, balance: &balance }).unwrap_or(Value::Null);
             (Chosen { used: 0, fabrication, passed_over: None }, Some(balance))
         } else {
-            let chosen = fabricate_design_or_alternative(&self.problem, &self.units, &self.design, &self.settings)
-                .map_err(cannot)?;
+            let chosen =
+                fabricate_design_or_alternative(&self.problem, &self.design, &self.settings).map_err(cannot)?;
             (chosen, None)
         };
         let (which, fab) = (chosen.used, chosen.fabrication);
@@ -180,7 +177,6 @@ enum Document {
 fn cannot(e: FabError) -> ApiError {
     let (status, field) = match e {
         FabError::Settings(_) => (StatusCode::BAD_REQUEST, "settings"),
-        FabError::Units(_) => (StatusCode::UNPROCESSABLE_ENTITY, "scene.units"),
         _ => (StatusCode::UNPROCESSABLE_ENTITY, "design"),
     };
     ApiError::new(status, format!("cannot fabricate this design: {e}")).with_issue(field, e.to_string())

@@ -146,9 +146,7 @@ mod tests {
         scene.settings.samples = 3000;
         let problem = Problem::new(&scene).unwrap();
         let design = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
-        let fab = fabricate_design_or_alternative(&problem, &scene.units, &design, &PrintSettings::default())
-            .unwrap()
-            .fabrication;
+        let fab = fabricate_design_or_alternative(&problem, &design, &PrintSettings::default()).unwrap().fabrication;
         let preview = preview(&fab);
         assert_eq!((preview.poses.len(), preview.crank_deg.len()), (fab.trace.len(), fab.trace.len()));
         assert!(preview.poses.iter().all(|row| row.len() == 3 * preview.carriers));
