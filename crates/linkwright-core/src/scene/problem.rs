@@ -1,6 +1,8 @@
 //! The immutable problem derived once from a valid scene: everything every sample needs.
 
-use super::{validate, Issue, MechanismChoice, Scene, Settings, Severity, Units, Weights};
+use super::file::{MechanismChoice, Scene, Settings, Weights};
+use super::units::Units;
+use super::validate::{validate, Issue, Severity};
 use crate::geom::{Aabb, Point, Polygon, Rigid};
 use crate::issues::IssueList;
 

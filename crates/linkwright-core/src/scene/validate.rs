@@ -4,7 +4,8 @@
 //! It never panics either, whatever the numbers (NaN, infinities, huge values, empty lists): checks that
 //! need sound geometry (the collision checks) skip the bodies whose outline or pose is already reported.
 
-use super::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Units, Weights, SCENE_FORMAT};
+use super::file::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use super::units::Units;
 use crate::geom::{Aabb, Point, Polygon, PolygonError, Rigid};
 use crate::issues::IssueList;
 use serde_json::{Map, Value};
