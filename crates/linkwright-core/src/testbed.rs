@@ -11,7 +11,7 @@
 
 use crate::design::{DesignFile, MechanismJson, Metrics, Motion, SliderJson, Stats, Status, DESIGN_FORMAT};
 use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};
-use crate::kinematics::{complete, completion_order, BodyFrames, Plan, Trace};
+use crate::kinematics::{complete, completion_order, BodyFrames, Completion, Plan, Trace};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
 use crate::scene::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use crate::synth::random::splitmix;
@@ -275,25 +275,63 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
     }
     let plan = Plan::compile(&mechanism).ok()?;
     let start = mechanism.crank_start();
-
-    // How far the crank can turn each way with every transmission angle at least the bound, and
-    // the joints only links carry where the bodies' places put them (a Watt-II six-bar's crank
-    // stops short of where the body's four-bar turns back: there the body retraces its motion),
-    // unless the body is to go out and back.
     let out_and_back = family == Family::WattTwoOutAndBack;
-    let bound = MIN_TRANSMISSION_DEG.to_radians().sin();
     let completion = completion_order(&mechanism.topology);
-    let completes = |row: &[Point]| {
-        let mut completed = row.to_vec();
-        complete(&completion, joints, &mut completed).is_ok()
-            && completed.iter().zip(row).all(|(c, r)| c.distance(*r) <= 1e-9 * CENTRE_SPACING)
-    };
+    let completes = |row: &[Point]| link_joints_in_place(&completion, joints, row);
     let mut trace = Trace::new(plan.joint_count());
-    let step = STEP_DEG.to_radians();
+    let reach = reach(&plan, start, out_and_back, completes, &mut trace);
+    let end = start + travel(reach, rng)?;
+    trace.sweep(&plan, start, end, STEP_DEG.to_radians()).ok()?;
+    if out_and_back && !turns_back_once(&trace, completes) {
+        return None;
+    }
+
+    let bodies = outlines(&mechanism, rng);
+    let first: Vec<Rigid> = bodies.iter().map(|(_, f)| *f).collect();
+    let frames = BodyFrames::new(&mechanism, &first);
+    let placed_rows: Vec<Vec<Polygon>> = (0..trace.len())
+        .map(|r| bodies.iter().enumerate().map(|(b, (o, _))| o.transformed(&frames.pose(b, trace.row(r)))).collect())
+        .collect();
+    if !every_body_moves(&bodies, &placed_rows, out_and_back) {
+        return None;
+    }
+    let smallest = bodies.iter().map(|(o, _)| size(o)).fold(f64::INFINITY, f64::min);
+    let apart = Apart { gap: GAP_FRACTION * smallest };
+    let swept = apart.swept(&placed_rows)?;
+    let fixed = ground(&mechanism, &placed_rows, &apart, swept, rng);
+
+    // The linkage region: every joint at the first pose, with room around them.
+    let joints_box = Aabb::around(mechanism.joints.iter().copied())?;
+    let pad = 0.3;
+    let region =
+        rectangle(joints_box.min.x - pad, joints_box.min.y - pad, joints_box.max.x + pad, joints_box.max.y + pad);
+    Some(Drawn { mechanism, plan, bodies, fixed, region, start, end })
+}
+
+/// Whether the joints only links carry are where the bodies' places put them in `row`: completed from
+/// the first pose's `joints` by `completion`, they land on the row's own.
+fn link_joints_in_place(completion: &[Completion], joints: &[Point], row: &[Point]) -> bool {
+    let mut completed = row.to_vec();
+    complete(completion, joints, &mut completed).is_ok()
+        && completed.iter().zip(row).all(|(c, r)| c.distance(*r) <= 1e-9 * CENTRE_SPACING)
+}
+
+/// How far the crank can turn each way from `start` (positively, then negatively) with every
+/// transmission angle at least the bound and, unless the body is to go out and back, the joints only
+/// links carry where the bodies' places put them (a Watt-II six-bar's crank stops short of where the
+/// body's four-bar turns back: there the body retraces its motion).
+fn reach(
+    plan: &Plan,
+    start: f64,
+    out_and_back: bool,
+    completes: impl Fn(&[Point]) -> bool,
+    trace: &mut Trace,
+) -> [f64; 2] {
+    let bound = MIN_TRANSMISSION_DEG.to_radians().sin();
     let mut reach = [0.0f64; 2];
     for (side, dir) in [1.0f64, -1.0].into_iter().enumerate() {
         // A sweep that stops early keeps the rows before the failure, which are all we need.
-        let _ = trace.sweep(&plan, start, start + dir * MAX_TRAVEL_DEG.to_radians(), step);
+        let _ = trace.sweep(plan, start, start + dir * MAX_TRAVEL_DEG.to_radians(), STEP_DEG.to_radians());
         let good = (0..trace.len())
             .take_while(|&r| {
                 plan.min_transmission_sine(trace.row(r)) >= bound && (out_and_back || completes(trace.row(r)))
@@ -301,6 +339,13 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
             .count();
         reach[side] = if good == 0 { 0.0 } else { (trace.thetas[good - 1] - start).abs() };
     }
+    reach
+}
+
+/// The crank's travel, radians, signed: a direction it can turn at least [`MIN_TRAVEL_DEG`] (either,
+/// at random, when both can), and a random length from half its reach to all of it, at least the
+/// shortest travel. `None` when neither direction reaches that far.
+fn travel(reach: [f64; 2], rng: &mut Xoshiro256PlusPlus) -> Option<f64> {
     let min_travel = MIN_TRAVEL_DEG.to_radians();
     let dir = match (reach[0] >= min_travel, reach[1] >= min_travel) {
         (false, false) => return None,
@@ -315,20 +360,21 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
         }
     };
     let available = reach[if dir > 0.0 { 0 } else { 1 }];
-    let travel = rng.random_range(min_travel.max(0.5 * available)..=available);
-    let end = start + dir * travel;
-    trace.sweep(&plan, start, end, step).ok()?;
-    // Out and back: the body's four-bar turns back once, between a third and two thirds of the way.
-    if out_and_back {
-        let turned = (0..trace.len()).position(|r| !completes(trace.row(r)))?;
-        let back = (turned..trace.len()).all(|r| !completes(trace.row(r)));
-        if !(back && (trace.len() / 3..2 * trace.len() / 3).contains(&turned)) {
-            return None;
-        }
-    }
+    Some(dir * rng.random_range(min_travel.max(0.5 * available)..=available))
+}
 
-    // Outlines around each body's joints, framed at the body's centroid along its first two joints.
-    let topo = mechanism.topology.clone();
+/// Out and back: whether the body's four-bar turns back once along `trace` (the joints only links
+/// carry leave the bodies' places and never return), between a third and two thirds of the way.
+fn turns_back_once(trace: &Trace, completes: impl Fn(&[Point]) -> bool) -> bool {
+    let Some(turned) = (0..trace.len()).position(|r| !completes(trace.row(r))) else { return false };
+    let back = (turned..trace.len()).all(|r| !completes(trace.row(r)));
+    back && (trace.len() / 3..2 * trace.len() / 3).contains(&turned)
+}
+
+/// Outlines around each body's joints, each with its frame at the first pose: at the body's centroid
+/// along its first two joints.
+fn outlines(mechanism: &Mechanism, rng: &mut Xoshiro256PlusPlus) -> Vec<(Polygon, Rigid)> {
+    let topo = &mechanism.topology;
     let mut bodies = Vec::with_capacity(topo.body_count);
     for b in 0..topo.body_count {
         let carried: Vec<Point> = topo.body_part(b).joints.iter().map(|&j| mechanism.joints[j]).collect();
@@ -342,57 +388,68 @@ fn draw(family: Family, rng: &mut Xoshiro256PlusPlus) -> Option<Drawn> {
         let local: Vec<Point> = carried.iter().map(|&c| frame.inverse().apply(c)).collect();
         bodies.push((padded_hull(&local, padding), frame));
     }
-    let first: Vec<Rigid> = bodies.iter().map(|(_, f)| *f).collect();
-    let frames = BodyFrames::new(&mechanism, &first);
-    let smallest = bodies.iter().map(|(o, _)| size(o)).fold(f64::INFINITY, f64::min);
-    let gap = GAP_FRACTION * smallest;
+    bodies
+}
 
-    // Every body moves, and no two bodies come close, anywhere along the travel.
-    let placed_rows: Vec<Vec<Polygon>> = (0..trace.len())
-        .map(|r| bodies.iter().enumerate().map(|(b, (o, _))| o.transformed(&frames.pose(b, trace.row(r)))).collect())
-        .collect();
-    // Out and back, the body's farthest place counts, not its last.
+/// Whether every body moves at least [`MIN_MOVE_FRACTION`] of its size from its first place
+/// (`placed_rows`: each body's outline placed at each row of the travel) to its last or, out and
+/// back, to its farthest.
+fn every_body_moves(bodies: &[(Polygon, Rigid)], placed_rows: &[Vec<Polygon>], out_and_back: bool) -> bool {
     let farthest = if out_and_back { &placed_rows[1..] } else { &placed_rows[placed_rows.len() - 1..] };
-    for (b, (outline, _)) in bodies.iter().enumerate() {
+    bodies.iter().enumerate().all(|(b, (outline, _))| {
         let first = placed_rows[0][b].vertices();
         let moved = farthest
             .iter()
             .flat_map(|row| first.iter().zip(row[b].vertices()).map(|(a, z)| a.distance(*z)))
             .fold(0.0, f64::max);
-        if moved < MIN_MOVE_FRACTION * size(outline) {
-            return None;
-        }
-    }
-    let apart = |a: &Polygon, b: &Polygon| !a.penetrates(b, 0.0) && outline_distance(a.vertices(), b.vertices()) >= gap;
-    let mut swept: Option<Aabb> = None;
-    for placed in &placed_rows {
-        for (i, a) in placed.iter().enumerate() {
-            if placed[i + 1..].iter().any(|b| !apart(a, b)) {
-                return None;
-            }
-            let bb = a.aabb();
-            swept = Some(swept.map_or(bb, |s| s.union(&bb)));
-        }
-    }
-    let swept = swept?;
+        moved >= MIN_MOVE_FRACTION * size(outline)
+    })
+}
 
-    // The ground: an outline around the fixed pivots when the bodies keep clear of it, otherwise a
-    // slab under everything the bodies sweep.
-    let ground: Vec<Point> = topo.fixed_joints().iter().map(|&j| mechanism.joints[j]).collect();
-    let around_pivots = padded_hull(&ground, rng.random_range(PADDING.0..PADDING.1));
-    let fixed = if placed_rows.iter().all(|row| row.iter().all(|b| apart(b, &around_pivots))) {
+/// How far apart outlines keep along the travel: no penetration, and at least `gap` between them.
+struct Apart {
+    gap: f64,
+}
+
+impl Apart {
+    fn holds(&self, a: &Polygon, b: &Polygon) -> bool {
+        !a.penetrates(b, 0.0) && outline_distance(a.vertices(), b.vertices()) >= self.gap
+    }
+
+    /// The box the bodies sweep along the travel (each row of `placed_rows` holds the bodies'
+    /// outlines there), or `None` when two bodies come close somewhere.
+    fn swept(&self, placed_rows: &[Vec<Polygon>]) -> Option<Aabb> {
+        let mut swept: Option<Aabb> = None;
+        for placed in placed_rows {
+            for (i, a) in placed.iter().enumerate() {
+                if placed[i + 1..].iter().any(|b| !self.holds(a, b)) {
+                    return None;
+                }
+                let bb = a.aabb();
+                swept = Some(swept.map_or(bb, |s| s.union(&bb)));
+            }
+        }
+        swept
+    }
+}
+
+/// The ground: an outline around the fixed pivots when the bodies keep clear of it all along the
+/// travel, otherwise a slab under everything the bodies sweep.
+fn ground(
+    mechanism: &Mechanism,
+    placed_rows: &[Vec<Polygon>],
+    apart: &Apart,
+    swept: Aabb,
+    rng: &mut Xoshiro256PlusPlus,
+) -> Polygon {
+    let pivots: Vec<Point> = mechanism.topology.fixed_joints().iter().map(|&j| mechanism.joints[j]).collect();
+    let around_pivots = padded_hull(&pivots, rng.random_range(PADDING.0..PADDING.1));
+    if placed_rows.iter().all(|row| row.iter().all(|b| apart.holds(b, &around_pivots))) {
         around_pivots
     } else {
         let (top, height) = (swept.min.y - 0.3, 0.3);
         rectangle(swept.min.x, top - height, swept.max.x, top)
-    };
-
-    // The linkage region: every joint at the first pose, with room around them.
-    let joints_box = Aabb::around(mechanism.joints.iter().copied())?;
-    let pad = 0.3;
-    let region =
-        rectangle(joints_box.min.x - pad, joints_box.min.y - pad, joints_box.max.x + pad, joints_box.max.y + pad);
-    Some(Drawn { mechanism, plan, bodies, fixed, region, start, end })
+    }
 }
 
 /// A chain of `k` bodies: body centres one step apart along a wandering heading, each joint near its
