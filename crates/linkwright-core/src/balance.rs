@@ -961,7 +961,7 @@ mod tests {
     use super::*;
     use crate::statics::tests::{assert_energy_derivative, parallelogram, weight_energy, MASSES, PARALLELOGRAM_R};
     use crate::statics::{driving_torque, GRAVITY};
-    use crate::testbed::{known_scene, Family};
+    use crate::testbed::{known_scene, Known};
 
     /// A spring's stored energy, J, from a row of joints.
     type Energy = Box<dyn Fn(&[Point]) -> f64>;
@@ -1011,7 +1011,12 @@ mod tests {
     /// known linkages of every family.
     #[test]
     fn the_torque_with_springs_is_the_derivative_of_the_whole_potential_energy() {
-        let families = [Family::Chain(1), Family::Chain(2), Family::SliderCrank, Family::WattTwo];
+        let families = [
+            Known::chain(1),
+            Known::chain(2),
+            Known::one(crate::MechanismType::SliderCrank),
+            Known::one(crate::MechanismType::WattTwo),
+        ];
         for (seed, family) in families.into_iter().enumerate() {
             let known = known_scene(family, 3, seed as u64, 100.0).unwrap();
             let problem = Problem::new(&known.scene).unwrap();

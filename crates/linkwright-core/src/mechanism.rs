@@ -18,5 +18,6 @@ mod topology;
 
 pub use crate::scene::MechanismType;
 pub use dimensioned::{Mechanism, SliderLine};
+pub(crate) use family::CENTRE_SPACING;
 pub use family::{Family, Loop};
 pub use topology::{Part, PartKind, Topology};

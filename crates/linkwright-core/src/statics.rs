@@ -377,7 +377,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::mechanism::Topology;
     use crate::scene::{FixedBody, MovingBody, Scene};
-    use crate::testbed::{known_scene, Family};
+    use crate::testbed::{known_scene, Known};
     use std::sync::Arc;
 
     /// Grams per cubic centimetre of 1, solid; 6 mm bodies, 10 × 3 mm links; drawn in millimetres.
@@ -549,7 +549,8 @@ pub(crate) mod tests {
     /// every family (known mechanisms, so each design exists), turning either way.
     #[test]
     fn torque_is_the_derivative_of_the_potential_energy() {
-        let families = [Family::Chain(1), Family::Chain(2), Family::Chain(3), Family::SliderCrank];
+        let families =
+            [Known::chain(1), Known::chain(2), Known::chain(3), Known::one(crate::MechanismType::SliderCrank)];
         for (seed, family) in families.into_iter().enumerate() {
             let known = known_scene(family, 3, seed as u64, 100.0).unwrap();
             let problem = Problem::new(&known.scene).unwrap();

@@ -37,125 +37,168 @@ pub struct Travel<'a> {
 /// the accuracy at the pose angles when the linkage assembles there.
 pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -> (Vec<Violation>, Option<Accuracy>) {
     let mut out = Vec::new();
-    let mut fail = |constraint, message: String| out.push(Violation { constraint, message });
+    let Some(plan) = check_linkage(problem, mechanism, &mut out) else { return (out, None) };
+    if !check_order(problem, mechanism, travel, &mut out) {
+        return (out, None);
+    }
+    let trace = match sweep(&plan, travel.start, travel.end) {
+        Ok(trace) => trace,
+        Err(violation) => {
+            out.push(violation);
+            return (out, None);
+        }
+    };
+    let min_transmission = trace.min_transmission(&plan).to_degrees();
+    if min_transmission < problem.settings.min_transmission_deg - 1e-9 {
+        out.push(violation(
+            "transmission",
+            format!(
+                "a transmission angle comes {min_transmission:.2}° from 0°/180° (minimum {})",
+                problem.settings.min_transmission_deg
+            ),
+        ));
+    }
+    let frames = body_frames(problem, mechanism);
+    out.extend(first_contact(problem, mechanism, &trace, &frames));
+    match pose_accuracy(problem, mechanism, &plan, &frames, travel.poses) {
+        Ok(accuracy) => (out, Some(accuracy)),
+        Err(violation) => {
+            out.push(violation);
+            (out, None)
+        }
+    }
+}
+
+fn violation(constraint: &'static str, message: String) -> Violation {
+    Violation { constraint, message }
+}
+
+/// The checks of the linkage alone: as many bodies as the scene, every pinned joint on its pin, and
+/// a plan to simulate it, which it returns (`None` when nothing more can be checked).
+fn check_linkage(problem: &Problem, mechanism: &Mechanism, out: &mut Vec<Violation>) -> Option<Plan> {
     if mechanism.topology.body_count != problem.body_count() {
-        fail(
+        out.push(violation(
             "format",
             format!(
                 "the design moves {} bodies, the scene has {}",
                 mechanism.topology.body_count,
                 problem.body_count()
             ),
-        );
-        return (out, None);
+        ));
+        return None;
     }
     for (name, pin) in &problem.pinned {
         match mechanism.joint(name) {
-            None => fail("pinned", format!("the scene pins joint {name}, which this linkage does not have")),
-            Some(p) if p.distance(*pin) > PIN_TOLERANCE * problem.scale => {
-                fail("pinned", format!("joint {name} is {:.6} from where pinned_joints puts it", p.distance(*pin)))
+            None => {
+                out.push(violation("pinned", format!("the scene pins joint {name}, which this linkage does not have")))
             }
+            Some(p) if p.distance(*pin) > PIN_TOLERANCE * problem.scale => out.push(violation(
+                "pinned",
+                format!("joint {name} is {:.6} from where pinned_joints puts it", p.distance(*pin)),
+            )),
             Some(_) => {}
         }
     }
-    let plan = match Plan::compile(mechanism) {
-        Ok(p) => p,
+    match Plan::compile(mechanism) {
+        Ok(plan) => Some(plan),
         Err(e) => {
-            fail("assembly", e.to_string());
-            return (out, None);
+            out.push(violation("assembly", e.to_string()));
+            None
         }
-    };
+    }
+}
+
+/// The order checks of the travel: one angle per pose, in order, from the crank's angle at the first
+/// pose, within less than a turn. Returns whether the travel can be simulated: a travel that is not
+/// finite or turns a full circle or more is an order defect and is not (a huge one would take forever
+/// at fine steps).
+fn check_order(problem: &Problem, mechanism: &Mechanism, travel: Travel, out: &mut Vec<Violation>) -> bool {
     let Travel { start, end, poses } = travel;
     if poses.len() != problem.pose_count {
-        fail("order", format!("{} pose angles for {} poses", poses.len(), problem.pose_count));
-        return (out, None);
+        out.push(violation("order", format!("{} pose angles for {} poses", poses.len(), problem.pose_count)));
+        return false;
     }
-    // A travel that is not finite or turns a full circle or more is an order defect; it is not
-    // simulated (a huge one would take forever at fine steps).
     if !(start.is_finite() && end.is_finite() && poses.iter().all(|p| p.is_finite()) && (end - start).abs() < 360.0) {
-        fail("order", format!("the crank's travel {start}° → {end}° must be finite and less than a full turn"));
-        return (out, None);
+        out.push(violation(
+            "order",
+            format!("the crank's travel {start}° → {end}° must be finite and less than a full turn"),
+        ));
+        return false;
     }
     let dir = (end - start).signum();
     if (mechanism.crank_start().to_degrees() - start).abs() > 1e-6 {
-        fail("order", format!("crank_start_deg {start} is not the crank's angle at the first pose"));
+        out.push(violation("order", format!("crank_start_deg {start} is not the crank's angle at the first pose")));
     }
     if (poses[0] - start).abs() > 1e-9 || (poses[poses.len() - 1] - end).abs() > 1e-9 {
-        fail("order", "pose_crank_deg must start at crank_start_deg and end at crank_end_deg".into());
+        out.push(violation("order", "pose_crank_deg must start at crank_start_deg and end at crank_end_deg".into()));
     }
     if poses.windows(2).any(|w| dir * (w[1] - w[0]) <= 0.0) {
-        fail("order", format!("pose_crank_deg {poses:?} is not monotone within one turn"));
+        out.push(violation("order", format!("pose_crank_deg {poses:?} is not monotone within one turn")));
     }
+    true
+}
 
-    // The whole travel, at fine steps.
+/// The whole travel from `start` to `end` (degrees) at fine steps, or where it comes apart.
+fn sweep(plan: &Plan, start: f64, end: f64) -> Result<Trace, Violation> {
     let mut trace = Trace::new(plan.joint_count());
     let steps = (((end - start).abs() / STEP_DEG).ceil() as usize).max(1);
     for s in 0..=steps {
         let theta = (start + (end - start) * s as f64 / steps as f64).to_radians();
-        if let Err(e) = trace.push(&plan, theta) {
-            fail("assembly", e.to_string());
-            return (out, None);
-        }
+        trace.push(plan, theta).map_err(|e| violation("assembly", e.to_string()))?;
     }
-    let min_transmission = trace.min_transmission(&plan).to_degrees();
-    if min_transmission < problem.settings.min_transmission_deg - 1e-9 {
-        fail(
-            "transmission",
-            format!(
-                "a transmission angle comes {min_transmission:.2}° from 0°/180° (minimum {})",
-                problem.settings.min_transmission_deg
-            ),
-        );
-    }
+    Ok(trace)
+}
 
-    let frames = body_frames(problem, mechanism);
+/// The first contact along `trace`, if any: a body entering a fixed body or another moving body, or a
+/// link entering an avoid region.
+fn first_contact(problem: &Problem, mechanism: &Mechanism, trace: &Trace, frames: &BodyFrames) -> Option<Violation> {
     let tol = problem.contact_tolerance();
     let link_segments: Vec<(usize, usize)> = mechanism.topology.link_pairs();
-    'rows: for r in 0..trace.len() {
+    for r in 0..trace.len() {
         let row = trace.row(r);
+        let crank_deg = trace.thetas[r].to_degrees();
         let placed: Vec<Polygon> =
             (0..problem.body_count()).map(|b| problem.bodies[b].outline.transformed(&frames.pose(b, row))).collect();
         for (b, body) in placed.iter().enumerate() {
-            for (f, fixed) in problem.fixed.iter().enumerate() {
-                if body.penetrates(fixed, tol) {
-                    fail(
-                        "collision",
-                        format!("body {b} enters fixed body {f} at crank {:.2}°", trace.thetas[r].to_degrees()),
-                    );
-                    break 'rows;
-                }
+            if let Some(f) = problem.fixed.iter().position(|fixed| body.penetrates(fixed, tol)) {
+                return Some(violation(
+                    "collision",
+                    format!("body {b} enters fixed body {f} at crank {crank_deg:.2}°"),
+                ));
             }
-            for (c, other) in placed.iter().enumerate().take(b) {
-                if body.penetrates(other, tol) {
-                    fail(
-                        "collision",
-                        format!("bodies {c} and {b} overlap at crank {:.2}°", trace.thetas[r].to_degrees()),
-                    );
-                    break 'rows;
-                }
+            if let Some(c) = placed.iter().take(b).position(|other| body.penetrates(other, tol)) {
+                return Some(violation("collision", format!("bodies {c} and {b} overlap at crank {crank_deg:.2}°")));
             }
         }
         for &(a, b) in &link_segments {
             let link = Polygon::new(vec![row[a], row[b]]);
             if let Some(k) = problem.avoid.iter().position(|z| link.penetrates(z, tol)) {
-                fail(
+                return Some(violation(
                     "avoid_region",
-                    format!("a link enters avoid region {k} at crank {:.2}°", trace.thetas[r].to_degrees()),
-                );
-                break 'rows;
+                    format!("a link enters avoid region {k} at crank {crank_deg:.2}°"),
+                ));
             }
         }
     }
+    None
+}
 
-    // Accuracy at the design's pose angles, against the input poses: the joints' part (eq. 10) and
-    // the outlines' part, vertex by vertex (the engine has it in closed form).
+/// Accuracy at the design's pose angles (`poses`, degrees), against the input poses: the joints' part
+/// (eq. 10) and the outlines' part, vertex by vertex (the engine has it in closed form); or the pose
+/// where the linkage does not assemble.
+fn pose_accuracy(
+    problem: &Problem,
+    mechanism: &Mechanism,
+    plan: &Plan,
+    frames: &BodyFrames,
+    poses: &[f64],
+) -> Result<Accuracy, Violation> {
     let mut row = vec![Point::ORIGIN; plan.joint_count()];
     let (mut joints, mut joint_count) = (0.0, 0usize);
     let mut outlines = 0.0;
     for (i, &theta) in poses.iter().enumerate() {
         if plan.solve(theta.to_radians(), &mut row).is_err() {
-            fail("assembly", format!("the linkage does not assemble at pose {}", i + 1));
-            return (out, None);
+            return Err(violation("assembly", format!("the linkage does not assemble at pose {}", i + 1)));
         }
         for part in mechanism.topology.parts.iter() {
             if let crate::mechanism::PartKind::Body(b) = part.kind {
@@ -175,7 +218,7 @@ pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -
     }
     let joints = joints / joint_count.max(1) as f64;
     let outlines = outlines / (poses.len() * problem.bodies.len()).max(1) as f64;
-    (out, Some(Accuracy { joints, outlines }))
+    Ok(Accuracy { joints, outlines })
 }
 
 /// E_acc of a design, recomputed: the mean squared miss of the body-carried joints over the poses

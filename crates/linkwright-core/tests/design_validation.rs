@@ -2,13 +2,13 @@
 //! or fabricates it; and what every reader builds on it (the check, fabrication) refuses it too.
 
 use linkwright_core::fab::{self, FabError, PrintSettings, Travel};
-use linkwright_core::testbed::{known_scene, Family};
+use linkwright_core::testbed::{known_scene, Known};
 use linkwright_core::{DesignFile, PartJson, PartKindJson, Problem};
 use std::time::{Duration, Instant};
 
 /// A known four-bar with its scene: a design that is sound.
 fn four_bar() -> (Problem, DesignFile) {
-    let known = known_scene(Family::Chain(1), 3, 7, 100.0).unwrap();
+    let known = known_scene(Known::chain(1), 3, 7, 100.0).unwrap();
     (Problem::new(&known.scene).unwrap(), known.design())
 }
 

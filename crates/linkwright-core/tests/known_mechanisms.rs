@@ -2,23 +2,23 @@
 //! including motions with more poses than the linkage type can hit in general: each must give a valid
 //! design that the independent check passes, reaching the last pose, with small errors at the others.
 
-use linkwright_core::testbed::{known_scene, Family};
-use linkwright_core::{synthesize, DesignFile, Problem, Silent, Status};
+use linkwright_core::testbed::{known_scene, Known};
+use linkwright_core::{synthesize, DesignFile, MechanismType, Problem, Silent, Status};
 
 /// The design of the known scene, with its worst pose error and last pose error (fractions of d).
-fn design(family: Family, poses: usize, seed: u64) -> (String, DesignFile, f64, f64) {
-    let known = known_scene(family, poses, seed, 100.0).unwrap();
+fn design(kind: Known, poses: usize, seed: u64) -> (String, DesignFile, f64, f64) {
+    let known = known_scene(kind, poses, seed, 100.0).unwrap();
     let mut scene = known.scene.clone();
     // Chains of five and six bodies through three poses need the default samples (a valid one of
     // tens of thousands); so does a Watt-II six-bar, whose body may go out and back.
-    let many = (family.body_count() >= 5 && poses >= 3) || family == Family::WattTwo;
+    let many = (kind.bodies() >= 5 && poses >= 3) || kind == Known::one(MechanismType::WattTwo);
     scene.settings.samples = if many { 100_000 } else { 20_000 };
     scene.settings.iterations = 8;
     let problem = Problem::new(&scene).unwrap();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
     let outcome = pool.install(|| synthesize(&problem, &Silent)).unwrap();
     let file = DesignFile::from_outcome(&problem, &outcome);
-    let label = format!("{} K={} N={poses} seed {seed}", family.name(), family.body_count());
+    let label = format!("{} K={} N={poses} seed {seed}", kind.mechanism_type().id(), kind.bodies());
     assert_eq!(file.status, Status::Ok, "{label}: {:?}", file.reason);
     assert_eq!(file.violations(&problem), vec![], "{label}");
     let metrics = file.metrics.as_ref().unwrap();
@@ -33,20 +33,20 @@ fn design(family: Family, poses: usize, seed: u64) -> (String, DesignFile, f64, 
 /// handful of fits.
 #[test]
 fn over_determined_motions_of_known_linkages_get_close_designs() {
-    let mut cases: Vec<(Family, usize)> = Vec::new();
-    cases.extend((6..=10).map(|n| (Family::Chain(1), n)));
-    cases.extend((4..=6).map(|n| (Family::Chain(2), n)));
-    cases.push((Family::Chain(3), 4));
+    let mut cases: Vec<(Known, usize)> = Vec::new();
+    cases.extend((6..=10).map(|n| (Known::chain(1), n)));
+    cases.extend((4..=6).map(|n| (Known::chain(2), n)));
+    cases.push((Known::chain(3), 4));
     // Chains of four to six bodies through three poses: before each ternary link was drawn until
     // its loop kept its branch, and before their pose noise was scaled down, chains of five and six
     // found no design here.
-    cases.extend((4..=6).map(|k| (Family::Chain(k), 3)));
-    cases.extend((4..=6).map(|k| (Family::Chain(k), 2)));
+    cases.extend((4..=6).map(|k| (Known::chain(k), 3)));
+    cases.extend((4..=6).map(|k| (Known::chain(k), 2)));
     // The Watt-II six-bar's body rides a four-bar, which meets five poses exactly.
-    cases.extend([6, 8].map(|n| (Family::WattTwo, n)));
+    cases.extend([6, 8].map(|n| (Known::one(MechanismType::WattTwo), n)));
     let mut worsts = Vec::new();
-    for (family, poses) in cases {
-        let (label, _, worst, last) = design(family, poses, 0);
+    for (kind, poses) in cases {
+        let (label, _, worst, last) = design(kind, poses, 0);
         // The end poses are kept: every design comes to rest at the last pose.
         assert!(last <= 0.005, "{label}: last pose missed by {last}·d");
         worsts.push(worst);
@@ -61,18 +61,18 @@ fn over_determined_motions_of_known_linkages_get_close_designs() {
 /// slider-crank through up to four), the design comes close to all of them.
 #[test]
 fn determined_motions_of_known_linkages_are_reached() {
-    for (family, poses) in [
-        (Family::Chain(1), 3),
-        (Family::Chain(1), 5),
-        (Family::Chain(2), 2),
-        (Family::Chain(3), 2),
-        (Family::SliderCrank, 3),
-        (Family::SliderCrank, 4),
-        (Family::WattTwo, 3),
-        (Family::WattTwo, 4),
-        (Family::StephensonThree, 3),
+    for (kind, poses) in [
+        (Known::chain(1), 3),
+        (Known::chain(1), 5),
+        (Known::chain(2), 2),
+        (Known::chain(3), 2),
+        (Known::one(MechanismType::SliderCrank), 3),
+        (Known::one(MechanismType::SliderCrank), 4),
+        (Known::one(MechanismType::WattTwo), 3),
+        (Known::one(MechanismType::WattTwo), 4),
+        (Known::one(MechanismType::StephensonThree), 3),
     ] {
-        let (label, _, worst, last) = design(family, poses, 1);
+        let (label, _, worst, last) = design(kind, poses, 1);
         assert!(last <= 0.005, "{label}: last pose missed by {last}·d");
         assert!(worst <= 0.05, "{label}: a pose missed by {worst}·d");
     }
@@ -83,7 +83,7 @@ fn determined_motions_of_known_linkages_are_reached() {
 /// pass exactly in general: unmarked, the same run misses one of those poses by more.
 #[test]
 fn must_hit_poses_are_reached_by_every_design() {
-    let known = known_scene(Family::Chain(1), 6, 0, 100.0).unwrap();
+    let known = known_scene(Known::chain(1), 6, 0, 100.0).unwrap();
     let attempt = |marked: &[usize], nudge: f64| {
         let mut scene = known.scene.clone();
         scene.moving_bodies[0].poses[3][0] += nudge;
@@ -142,7 +142,7 @@ fn must_hit_poses_are_reached_by_every_design() {
 /// kept there too, and a pin only the six-bars have a joint for leaves `auto` those families.
 #[test]
 fn pinned_joints_stay_where_they_are_pinned() {
-    let known = known_scene(Family::Chain(1), 3, 2, 100.0).unwrap();
+    let known = known_scene(Known::chain(1), 3, 2, 100.0).unwrap();
     let at = |name: &str| known.mechanism.joint(name).unwrap();
     let design = |pins: &[(&str, linkwright_core::geom::Point)]| {
         let mut scene = known.scene.clone();
@@ -186,7 +186,7 @@ fn pinned_joints_stay_where_they_are_pinned() {
 fn a_warm_start_from_a_known_out_and_back_six_bar_is_kept() {
     use linkwright_core::{assess, synthesize_with, Options, Start};
     for (poses, seed) in [(5, 0), (7, 0), (6, 1), (8, 1)] {
-        let known = known_scene(Family::WattTwoOutAndBack, poses, seed, 100.0).unwrap();
+        let known = known_scene(Known::watt_two_out_and_back(), poses, seed, 100.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
         let label = format!("out and back, {poses} poses, seed {seed}");
         assert!(matches!(assess(&problem, &known.mechanism), Some(Ok(_))), "{label}: the known linkage is rejected");
@@ -213,7 +213,7 @@ fn assert_valid_within(problem: &Problem, file: &DesignFile, bound: f64, label: 
 #[test]
 fn a_design_far_from_a_pose_says_so() {
     use linkwright_core::{FAR_ANGLE_DEG, FAR_POSITION_REL_D};
-    let known = known_scene(Family::WattTwoOutAndBack, 4, 0, 100.0).unwrap();
+    let known = known_scene(Known::watt_two_out_and_back(), 4, 0, 100.0).unwrap();
     let mut scene = known.scene.clone();
     scene.settings.samples = 10_000;
     let problem = Problem::new(&scene).unwrap();
@@ -241,7 +241,7 @@ fn a_design_far_from_a_pose_says_so() {
 #[test]
 fn a_cold_search_finds_an_out_and_back_six_bar() {
     for poses in [5, 6] {
-        let known = known_scene(Family::WattTwoOutAndBack, poses, 0, 100.0).unwrap();
+        let known = known_scene(Known::watt_two_out_and_back(), poses, 0, 100.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
         let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
         assert_valid_within(&problem, &file, 0.05, &format!("{poses} poses"));
@@ -255,7 +255,7 @@ fn a_cold_search_finds_an_out_and_back_six_bar() {
 #[test]
 fn a_stephenson_three_through_many_poses_keeps_its_rocker_rigid() {
     for (poses, seed) in [(5, 1), (6, 0)] {
-        let known = known_scene(Family::StephensonThree, poses, seed, 1.0).unwrap();
+        let known = known_scene(Known::one(MechanismType::StephensonThree), poses, seed, 1.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
         let file = DesignFile::from_outcome(&problem, &synthesize(&problem, &Silent).unwrap());
         assert_valid_within(&problem, &file, 0.05, &format!("{poses} poses, seed {seed}"));

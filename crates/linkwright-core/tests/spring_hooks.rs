@@ -5,19 +5,19 @@
 use linkwright_core::fab::{check, fabricate_design_with_springs, Anchor, FabError, Face, HookRefusal, PrintSettings};
 use linkwright_core::geom::Point;
 use linkwright_core::hooked::{fabricate_with_springs, Hooked};
-use linkwright_core::testbed::{known_scene, Family};
+use linkwright_core::testbed::{known_scene, Known};
 use linkwright_core::{Problem, Silent};
 
 /// Known four-bars and six-bars drawn in millimetres, fabricated with the springs that balance them.
 fn hooked() -> Vec<Hooked> {
     let mut out = Vec::new();
-    for (family, seed) in [(Family::Chain(1), 3), (Family::Chain(1), 7), (Family::Chain(2), 5)] {
-        let known = known_scene(family, 3, seed, 100.0).expect("a known scene");
+    for (kind, seed) in [(Known::chain(1), 3), (Known::chain(1), 7), (Known::chain(2), 5)] {
+        let known = known_scene(kind, 3, seed, 100.0).expect("a known scene");
         let problem = Problem::new(&known.scene).expect("a valid scene");
         let design = known.design();
         match fabricate_with_springs(&problem, &design, &PrintSettings::default(), &Silent) {
             Ok(h) => out.push(h),
-            Err(e) => println!("{family:?} seed {seed}: {e}"),
+            Err(e) => println!("{kind} seed {seed}: {e}"),
         }
     }
     out
@@ -71,7 +71,7 @@ fn the_check_finds_a_part_in_a_springs_way() {
 
 #[test]
 fn anchors_on_unknown_parts_or_off_the_numbers_are_refused_with_their_spring() {
-    let known = known_scene(Family::Chain(1), 3, 3, 100.0).expect("a known scene");
+    let known = known_scene(Known::chain(1), 3, 3, 100.0).expect("a known scene");
     let problem = Problem::new(&known.scene).expect("a valid scene");
     let design = known.design();
     let ground = |point: Point| Anchor { part: "ground".into(), point };

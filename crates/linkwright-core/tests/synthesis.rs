@@ -303,9 +303,9 @@ fn a_warm_start_keeps_to_the_family_it_starts_from() {
 /// with the four-bar a cold run finds (2.1). Started from that, it stays.
 #[test]
 fn a_warm_start_switches_family_when_another_is_clearly_better() {
-    use linkwright_core::testbed::{known_scene, Family};
+    use linkwright_core::testbed::{known_scene, Known};
     use linkwright_core::{synthesize_with, MechanismChoice, MechanismType, Options, Start};
-    let mut scene = known_scene(Family::Chain(1), 5, 0, 100.0).unwrap().scene;
+    let mut scene = known_scene(Known::chain(1), 5, 0, 100.0).unwrap().scene;
     scene.mechanism = MechanismChoice::Only(MechanismType::StephensonThree);
     let six_bar = synthesize(&Problem::new(&scene).unwrap(), &Silent).unwrap().best.expect("a six-bar");
     scene.mechanism = MechanismChoice::Auto;
@@ -359,26 +359,26 @@ fn a_pose_drawn_on_an_earlier_one_is_named() {
 /// four poses) gets every family's whole search.
 #[test]
 fn the_default_choice_of_family_searches_only_the_promising_one_in_full() {
-    use linkwright_core::testbed::{known_scene, Family};
+    use linkwright_core::testbed::{known_scene, Known};
     use linkwright_core::{MechanismChoice, MechanismType, Outcome, SCREENING_DIVISOR};
     const SAMPLES: usize = 20_000;
-    let run = |family: Family, poses: usize, choice: MechanismChoice| -> Outcome {
-        let mut scene = known_scene(family, poses, 0, 100.0).unwrap().scene;
+    let run = |kind: Known, poses: usize, choice: MechanismChoice| -> Outcome {
+        let mut scene = known_scene(kind, poses, 0, 100.0).unwrap().scene;
         scene.mechanism = choice;
         scene.settings.samples = SAMPLES;
         synthesize(&Problem::new(&scene).unwrap(), &Silent).unwrap()
     };
     let families = MechanismType::ALL.len();
-    let auto = run(Family::Chain(1), 3, MechanismChoice::Auto);
+    let auto = run(Known::chain(1), 3, MechanismChoice::Auto);
     assert_eq!(auto.stats.samples, SAMPLES + (families - 1) * SAMPLES / SCREENING_DIVISOR);
     let best_alone = MechanismType::ALL
         .into_iter()
-        .filter_map(|family| run(Family::Chain(1), 3, MechanismChoice::Only(family)).best)
+        .filter_map(|family| run(Known::chain(1), 3, MechanismChoice::Only(family)).best)
         .map(|c| c.cost)
         .fold(f64::INFINITY, f64::min);
     let auto = auto.best.expect("a design").cost;
     assert!(auto <= 1.1 * best_alone, "auto {auto} against the best family's {best_alone}");
-    let hard = run(Family::WattTwoOutAndBack, 4, MechanismChoice::Auto);
+    let hard = run(Known::watt_two_out_and_back(), 4, MechanismChoice::Auto);
     assert!(hard.stats.samples >= families * SAMPLES, "{} samples", hard.stats.samples);
 }
 

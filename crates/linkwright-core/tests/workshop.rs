@@ -8,16 +8,16 @@ use linkwright_core::fab::PrintSettings;
 use linkwright_core::geom::{Point, Vec2};
 use linkwright_core::kinematics::{circle_circle, Branch, Plan, Trace};
 use linkwright_core::statics::{driving_torque, Masses, GRAVITY};
-use linkwright_core::testbed::{known_scene, Family, KnownScene};
+use linkwright_core::testbed::{known_scene, Known, KnownScene};
 use linkwright_core::workshop::{
     equilibrium, files, plan, BoltSize, LinkKind, LinkPlan, Workshop, WorkshopError, WorkshopSettings,
 };
-use linkwright_core::{Build, DesignFile, Material, Mechanism, Problem, Scene, Silent, Topology};
+use linkwright_core::{Build, DesignFile, Material, Mechanism, MechanismType, Problem, Scene, Silent, Topology};
 use std::sync::Arc;
 
 /// A known four-bar a metre across (drawn in millimetres) whose body weighs `kg`.
 fn known_four_bar(seed: u64, kg: f64) -> (KnownScene, Problem) {
-    let mut known = known_scene(Family::Chain(1), 3, seed, 1000.0).expect("a known scene");
+    let mut known = known_scene(Known::chain(1), 3, seed, 1000.0).expect("a known scene");
     known.scene.moving_bodies[0].mass_kg = Some(kg);
     let problem = Problem::new(&known.scene).expect("a valid scene");
     (known, problem)
@@ -234,9 +234,13 @@ fn a_link_force_is_the_energy_derivative_with_respect_to_its_length() {
 /// velocities), up to the sense of the travel, and the forces balance at every bolt.
 #[test]
 fn the_holding_torque_is_the_statics_driving_torque() {
-    for (family, seed) in [(Family::Chain(1), 3), (Family::Chain(2), 5), (Family::SliderCrank, 2), (Family::WattTwo, 4)]
-    {
-        let mut known = known_scene(family, 3, seed, 1000.0).unwrap();
+    for (kind, seed) in [
+        (Known::chain(1), 3),
+        (Known::chain(2), 5),
+        (Known::one(MechanismType::SliderCrank), 2),
+        (Known::one(MechanismType::WattTwo), 4),
+    ] {
+        let mut known = known_scene(kind, 3, seed, 1000.0).unwrap();
         for (k, b) in known.scene.moving_bodies.iter_mut().enumerate() {
             b.mass_kg = Some(10.0 + 5.0 * k as f64);
         }
@@ -261,12 +265,12 @@ fn the_holding_torque_is_the_statics_driving_torque() {
         for (row, &tau) in rows.iter().zip(&torque.torque_nm) {
             assert!(
                 (row.torque_nm * along - tau).abs() < 1e-6 * (1.0 + tau.abs()),
-                "{family:?}: {} against {tau}",
+                "{kind}: {} against {tau}",
                 row.torque_nm
             );
             for j in 0..plan.joint_count() {
                 let sum = row.pins.iter().filter(|p| p.joint == j).fold(Vec2::ZERO, |s, p| s + p.force_n);
-                assert!(sum.norm() < 1e-6, "{family:?}: the forces on joint {j} do not balance: {sum:?}");
+                assert!(sum.norm() < 1e-6, "{kind}: the forces on joint {j} do not balance: {sum:?}");
             }
         }
     }
@@ -663,32 +667,31 @@ fn assert_failures_are_noted(w: &Workshop) {
 /// the parts on it (in the order of their layers), and the forces at every bolt balance.
 #[test]
 fn every_family_plans_with_a_bolt_at_every_joint() {
-    for (family, seed) in [
-        (Family::Chain(1), 1),
-        (Family::Chain(2), 5),
-        (Family::SliderCrank, 2),
-        (Family::WattTwo, 4),
-        (Family::StephensonThree, 6),
+    for (kind, seed) in [
+        (Known::chain(1), 1),
+        (Known::chain(2), 5),
+        (Known::one(MechanismType::SliderCrank), 2),
+        (Known::one(MechanismType::WattTwo), 4),
+        (Known::one(MechanismType::StephensonThree), 6),
     ] {
-        let mut known = known_scene(family, 3, seed, 1000.0).unwrap();
+        let mut known = known_scene(kind, 3, seed, 1000.0).unwrap();
         for b in &mut known.scene.moving_bodies {
             b.mass_kg = Some(10.0);
         }
         let problem = Problem::new(&known.scene).unwrap();
         let w = plan(&problem, &known.design(), Material::Aluminium, &WorkshopSettings::default())
-            .unwrap_or_else(|e| panic!("{family:?}: {e}"));
+            .unwrap_or_else(|e| panic!("{kind}: {e}"));
         let m = &known.mechanism;
         for part in m.topology.parts.iter().filter(|p| p.kind == linkwright_core::PartKind::Link) {
-            let link =
-                w.links.iter().find(|l| l.name == part.name).unwrap_or_else(|| panic!("{family:?}: {}", part.name));
+            let link = w.links.iter().find(|l| l.name == part.name).unwrap_or_else(|| panic!("{kind}: {}", part.name));
             assert_eq!(link.pivot_lengths.len(), part.joints.len() * (part.joints.len() - 1) / 2);
         }
         for name in &m.topology.joint_names {
-            let bolt = w.bolts.iter().find(|b| &b.at == name).unwrap_or_else(|| panic!("{family:?}: joint {name}"));
+            let bolt = w.bolts.iter().find(|b| &b.at == name).unwrap_or_else(|| panic!("{kind}: joint {name}"));
             let parts: Vec<&str> =
                 bolt.stack.iter().filter(|s| s.item == "part").filter_map(|s| s.name.as_deref()).collect();
             let layers: Vec<u32> = parts.iter().map(|p| w.links.iter().find(|l| l.name == *p).unwrap().layer).collect();
-            assert!(layers.windows(2).all(|l| l[0] < l[1]), "{family:?} {name}: {parts:?} on layers {layers:?}");
+            assert!(layers.windows(2).all(|l| l[0] < l[1]), "{kind} {name}: {parts:?} on layers {layers:?}");
         }
         assert_failures_are_noted(&w);
     }

@@ -402,11 +402,11 @@ impl DesignFile {
     /// [`DesignFile::to_json`] writes what this reads:
     ///
     /// ```
-    /// use linkwright_core::testbed::{known_scene, Family};
+    /// use linkwright_core::testbed::{known_scene, Known};
     /// use linkwright_core::{DesignFile, Problem, Status};
     ///
     /// // A scene drawn from a known four-bar through three poses, and that four-bar as a design file.
-    /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+    /// let known = known_scene(Known::chain(1), 3, 7, 100.0)?;
     /// let problem = Problem::new(&known.scene).expect("a valid scene");
     /// let text = known.design().to_json();
     ///
@@ -442,11 +442,11 @@ impl DesignFile {
     ///
     /// ```
     /// use linkwright_core::geom::Point;
-    /// use linkwright_core::testbed::{known_scene, Family};
+    /// use linkwright_core::testbed::{known_scene, Known};
     /// use linkwright_core::Problem;
     ///
     /// // A scene drawn from a known four-bar through three poses: the four-bar passes.
-    /// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+    /// let known = known_scene(Known::chain(1), 3, 7, 100.0)?;
     /// let problem = Problem::new(&known.scene).expect("a valid scene");
     /// let mut design = known.design();
     /// assert_eq!(design.violations(&problem), vec![]);

@@ -6,7 +6,7 @@
 //! memory bounded by the file's size: the crank's travel is bounded before any motion is simulated, and
 //! the motion it simulates (to catch a linkage that cannot move) has at most one row per degree.
 
-use super::file::{DesignFile, MechanismJson, Metrics, Motion, PartKindJson, Status, DESIGN_FORMAT};
+use super::file::{DesignFile, MechanismJson, Metrics, Motion, PartJson, PartKindJson, Status, DESIGN_FORMAT};
 use crate::geom::{Point, Vec2};
 use crate::issues::IssueList;
 use crate::kinematics::Plan;
@@ -169,95 +169,123 @@ fn check_entry(
 /// `problem` is the scene it must match (its number of moving bodies), when there is one.
 fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &MechanismJson) -> Option<Mechanism> {
     let before = out.0.total();
-    let field = |f: &str| format!("{at}.{f}");
-    let joint_count = m.joints.len();
-    if joint_count == 0 || joint_count > MAX_JOINTS {
-        out.add(field("joints"), format!("has {joint_count} joints; a linkage has from 2 to {MAX_JOINTS}"));
-        return None;
-    }
-    if m.parts.is_empty() || m.parts.len() > MAX_PARTS {
-        out.add(field("parts"), format!("has {} parts; a linkage has from 3 to {MAX_PARTS}", m.parts.len()));
+    if !check_sizes(out, at, m) {
         return None;
     }
     for (name, &p) in &m.joints {
-        let f = field(&format!("joints[{name:?}]"));
+        let f = format!("{at}.joints[{name:?}]");
         out.name(&f, "joint", name);
         out.point(&f, p);
     }
-    let index: BTreeMap<&str, usize> = m.joints.keys().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
-    let joint = |out: &mut Issues, f: String, name: &str| {
-        let j = index.get(name).copied();
+    let joints = JointIndex::new(at, m);
+    let parts = check_parts(out, at, problem.map(Problem::body_count), m, &joints);
+    check_driver(out, at, m, &joints, &parts.fixed);
+    check_slider(out, at, m, &joints);
+    if out.0.total() > before || !check_mobility(out, at, m, &parts.carriers) {
+        return None;
+    }
+    let mechanism = match m.to_mechanism() {
+        Ok(mechanism) => mechanism,
+        Err(e) => {
+            out.add(at, e.to_string());
+            return None;
+        }
+    };
+    if let Err(e) = Plan::compile(&mechanism) {
+        out.add(at, format!("the linkage cannot be simulated: {e}"));
+        return None;
+    }
+    Some(mechanism)
+}
+
+/// Whether the numbers of joints and parts are within bounds; nothing else is read when they are not.
+fn check_sizes(out: &mut Issues, at: &str, m: &MechanismJson) -> bool {
+    let joint_count = m.joints.len();
+    if joint_count == 0 || joint_count > MAX_JOINTS {
+        out.add(format!("{at}.joints"), format!("has {joint_count} joints; a linkage has from 2 to {MAX_JOINTS}"));
+        return false;
+    }
+    if m.parts.is_empty() || m.parts.len() > MAX_PARTS {
+        out.add(format!("{at}.parts"), format!("has {} parts; a linkage has from 3 to {MAX_PARTS}", m.parts.len()));
+        return false;
+    }
+    true
+}
+
+/// A mechanism's joints by name, for the references of its parts, driver and slider.
+struct JointIndex<'a> {
+    /// Where the mechanism is in the file, for the messages.
+    at: &'a str,
+    /// Each joint's index: its place in the file's (sorted) joints.
+    index: BTreeMap<&'a str, usize>,
+}
+
+impl<'a> JointIndex<'a> {
+    fn new(at: &'a str, m: &'a MechanismJson) -> Self {
+        JointIndex { at, index: m.joints.keys().enumerate().map(|(i, n)| (n.as_str(), i)).collect() }
+    }
+
+    /// The joint `name`, or an issue at `field` when the mechanism has none of that name.
+    fn resolve(&self, out: &mut Issues, field: String, name: &str) -> Option<usize> {
+        let j = self.index.get(name).copied();
         if j.is_none() {
-            out.add(f, format!("names the joint {name:?}, which is not in {at}.joints; use one of its names"));
+            out.add(
+                field,
+                format!("names the joint {name:?}, which is not in {}.joints; use one of its names", self.at),
+            );
         }
         j
-    };
+    }
 
-    // Parts: references, kinds and bodies.
-    let mut carriers = vec![0usize; joint_count];
+    /// Whether `part` carries joint `j`.
+    fn carried_by(&self, part: &PartJson, j: usize) -> bool {
+        part.joints.iter().any(|n| self.index.get(n.as_str()) == Some(&j))
+    }
+}
+
+/// What the parts tell the checks after them.
+struct PartCensus {
+    /// How many parts carry each joint.
+    carriers: Vec<usize>,
+    /// The parts of kind "fixed" (a sound linkage has one).
+    fixed: Vec<usize>,
+}
+
+/// Checks the parts: their names, joint references and kinds, one ground, one part per moving body
+/// of the scene (`scene_bodies`, when there is a scene), and every joint carried.
+fn check_parts(
+    out: &mut Issues,
+    at: &str,
+    scene_bodies: Option<usize>,
+    m: &MechanismJson,
+    joints: &JointIndex,
+) -> PartCensus {
+    let mut carriers = vec![0usize; m.joints.len()];
     let mut fixed = Vec::new();
-    let scene_bodies = problem.map(Problem::body_count);
     let mut body_parts: BTreeMap<usize, usize> = BTreeMap::new();
     for (i, p) in m.parts.iter().enumerate() {
-        let pf = field(&format!("parts[{i}]"));
+        let pf = format!("{at}.parts[{i}]");
         out.name(&format!("{pf}.name"), "part", &p.name);
-        let mut seen = Vec::new();
-        for (k, name) in p.joints.iter().enumerate() {
-            if let Some(j) = joint(out, format!("{pf}.joints[{k}]"), name) {
-                if seen.contains(&j) {
-                    out.add(
-                        format!("{pf}.joints[{k}]"),
-                        format!("the part carries joint {name:?} twice; list it once"),
-                    );
-                } else {
-                    seen.push(j);
-                    carriers[j] += 1;
-                }
-            }
-        }
+        check_part_joints(out, &pf, p, joints, &mut carriers);
         match p.kind {
             PartKindJson::Fixed => fixed.push(i),
             PartKindJson::Link if p.joints.len() < 2 => {
                 out.add(format!("{pf}.joints"), "a link carries at least two joints; add one or remove the link")
             }
             PartKindJson::Link => {}
-            PartKindJson::Body => match p.body {
-                None => out.add(format!("{pf}.body"), "a body part needs \"body\": the index of its moving body"),
-                Some(b) if scene_bodies.is_some_and(|n| b >= n) => out.add(
-                    format!("{pf}.body"),
-                    format!(
-                        "is {b} but the scene has {} moving bodies (numbered from 0); the design belongs to another \
-                         scene",
-                        scene_bodies.unwrap_or(0)
-                    ),
-                ),
-                Some(b) => {
-                    if let Some(first) = body_parts.insert(b, i) {
-                        out.add(
-                            format!("{pf}.body"),
-                            format!("moving body {b} already has parts[{first}]; give each moving body one part"),
-                        );
-                    }
-                    if p.joints.len() < 2 {
-                        out.add(
-                            format!("{pf}.joints"),
-                            "a body part carries at least two joints (where links hold it)",
-                        );
-                    }
-                }
-            },
+            PartKindJson::Body => check_body_part(out, &pf, i, p, scene_bodies, &mut body_parts),
         }
     }
     if fixed.len() != 1 {
         out.add(
-            field("parts"),
+            format!("{at}.parts"),
             format!("has {} parts of kind \"fixed\"; a linkage has exactly one ground", fixed.len()),
         );
     }
     if let Some(n) = scene_bodies {
         if let Some(b) = (0..n).find(|b| !body_parts.contains_key(b)) {
             out.add(
-                field("parts"),
+                format!("{at}.parts"),
                 format!(
                     "no part carries moving body {b}, but the scene has {n} moving bodies: the design belongs to \
                      another scene, or lacks the body's part"
@@ -265,30 +293,87 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
             );
         }
     }
-    for (name, &j) in &index {
+    for (name, &j) in &joints.index {
         if carriers[j] == 0 {
-            out.add(field(&format!("joints[{name:?}]")), "no part carries this joint; remove it or add it to a part");
+            out.add(format!("{at}.joints[{name:?}]"), "no part carries this joint; remove it or add it to a part");
         }
     }
+    PartCensus { carriers, fixed }
+}
 
-    // The driver: a link turning about a ground joint.
-    let pivot = joint(out, field("driver.pivot"), &m.driver.pivot);
-    let tip = joint(out, field("driver.tip"), &m.driver.tip);
-    if let (Some(pivot), Some(tip), [ground]) = (pivot, tip, fixed.as_slice()) {
-        let carries = |p: &super::PartJson, j: usize| p.joints.iter().any(|n| index.get(n.as_str()) == Some(&j));
-        if !carries(&m.parts[*ground], pivot) {
-            out.add(field("driver.pivot"), "the crank turns about a joint of the ground; name one of its joints");
-        }
-        if carries(&m.parts[*ground], tip) {
-            out.add(field("driver.tip"), "the crank's moving end cannot be a joint of the ground; name another joint");
-        }
-        let crank = m.parts.iter().any(|p| p.kind == PartKindJson::Link && carries(p, pivot) && carries(p, tip));
-        if !crank {
-            out.add(field("driver"), "no link carries both the pivot and the tip; the crank is a link joining them");
+/// Checks the joints part `p` (at `pf`) names, each once, and counts it as a carrier of each.
+fn check_part_joints(out: &mut Issues, pf: &str, p: &PartJson, joints: &JointIndex, carriers: &mut [usize]) {
+    let mut seen = Vec::new();
+    for (k, name) in p.joints.iter().enumerate() {
+        if let Some(j) = joints.resolve(out, format!("{pf}.joints[{k}]"), name) {
+            if seen.contains(&j) {
+                out.add(format!("{pf}.joints[{k}]"), format!("the part carries joint {name:?} twice; list it once"));
+            } else {
+                seen.push(j);
+                carriers[j] += 1;
+            }
         }
     }
+}
 
-    // The slider, which a family's linkage has or has not.
+/// Checks body part `i` (at `pf`): it names a moving body of the scene that no other part carries
+/// (`body_parts`, each body's part so far) and holds it by at least two joints.
+fn check_body_part(
+    out: &mut Issues,
+    pf: &str,
+    i: usize,
+    p: &PartJson,
+    scene_bodies: Option<usize>,
+    body_parts: &mut BTreeMap<usize, usize>,
+) {
+    match p.body {
+        None => out.add(format!("{pf}.body"), "a body part needs \"body\": the index of its moving body"),
+        Some(b) if scene_bodies.is_some_and(|n| b >= n) => out.add(
+            format!("{pf}.body"),
+            format!(
+                "is {b} but the scene has {} moving bodies (numbered from 0); the design belongs to another scene",
+                scene_bodies.unwrap_or(0)
+            ),
+        ),
+        Some(b) => {
+            if let Some(first) = body_parts.insert(b, i) {
+                out.add(
+                    format!("{pf}.body"),
+                    format!("moving body {b} already has parts[{first}]; give each moving body one part"),
+                );
+            }
+            if p.joints.len() < 2 {
+                out.add(format!("{pf}.joints"), "a body part carries at least two joints (where links hold it)");
+            }
+        }
+    }
+}
+
+/// Checks the driver: a link turning about a joint of the ground (`fixed`, when there is exactly one).
+fn check_driver(out: &mut Issues, at: &str, m: &MechanismJson, joints: &JointIndex, fixed: &[usize]) {
+    let field = |f: &str| format!("{at}.{f}");
+    let pivot = joints.resolve(out, field("driver.pivot"), &m.driver.pivot);
+    let tip = joints.resolve(out, field("driver.tip"), &m.driver.tip);
+    let (Some(pivot), Some(tip), [ground]) = (pivot, tip, fixed) else { return };
+    let ground = &m.parts[*ground];
+    if !joints.carried_by(ground, pivot) {
+        out.add(field("driver.pivot"), "the crank turns about a joint of the ground; name one of its joints");
+    }
+    if joints.carried_by(ground, tip) {
+        out.add(field("driver.tip"), "the crank's moving end cannot be a joint of the ground; name another joint");
+    }
+    let crank = m
+        .parts
+        .iter()
+        .any(|p| p.kind == PartKindJson::Link && joints.carried_by(p, pivot) && joints.carried_by(p, tip));
+    if !crank {
+        out.add(field("driver"), "no link carries both the pivot and the tip; the crank is a link joining them");
+    }
+}
+
+/// Checks the slider, which a family's linkage has or has not.
+fn check_slider(out: &mut Issues, at: &str, m: &MechanismJson, joints: &JointIndex) {
+    let field = |f: &str| format!("{at}.{f}");
     let family = m.mechanism_type.family();
     let has_slider = family.topology(1).slider_joint.is_some();
     match (&m.slider, has_slider) {
@@ -305,7 +390,7 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
             out.add(field("slider"), message)
         }
         (Some(s), true) => {
-            joint(out, field("slider.joint"), &s.joint);
+            joints.resolve(out, field("slider.joint"), &s.joint);
             out.point(&field("slider.point"), s.point);
             let d = Vec2::new(s.direction[0], s.direction[1]);
             if !(d.is_finite() && d.norm() > 0.0 && d.x.abs().max(d.y.abs()) <= MAX_COORDINATE) {
@@ -317,12 +402,12 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
         }
         (None, false) => {}
     }
-    if out.0.total() > before {
-        return None;
-    }
+}
 
-    // One degree of freedom by the mobility count (Grübler): 3 per moving part, less 2 per revolute
-    // pair (a joint carried by m parts is m − 1 pairs) and 1 for the slider's pin in its line.
+/// Whether the parts and joints (`carriers`: how many parts carry each joint) give one degree of
+/// freedom by the mobility count (Grübler): 3 per moving part, less 2 per revolute pair (a joint
+/// carried by m parts is m − 1 pairs) and 1 for the slider's pin in its line.
+fn check_mobility(out: &mut Issues, at: &str, m: &MechanismJson, carriers: &[usize]) -> bool {
     let pairs: usize = carriers.iter().map(|c| c - 1).sum();
     let dof = 3 * (m.parts.len() as i64 - 1) - 2 * pairs as i64 - i64::from(m.slider.is_some());
     if dof != 1 {
@@ -331,21 +416,10 @@ fn check_mechanism(out: &mut Issues, at: &str, problem: Option<&Problem>, m: &Me
         } else {
             "a part is missing, so the linkage moves loosely: connect every part so the crank alone drives it"
         };
-        out.add(field("parts"), format!("the parts and joints give {dof} degrees of freedom, not 1; {hint}"));
-        return None;
+        out.add(format!("{at}.parts"), format!("the parts and joints give {dof} degrees of freedom, not 1; {hint}"));
+        return false;
     }
-    let mechanism = match m.to_mechanism() {
-        Ok(mechanism) => mechanism,
-        Err(e) => {
-            out.add(at, e.to_string());
-            return None;
-        }
-    };
-    if let Err(e) = Plan::compile(&mechanism) {
-        out.add(at, format!("the linkage cannot be simulated: {e}"));
-        return None;
-    }
-    Some(mechanism)
+    true
 }
 
 /// Checks the motion; returns the travel (degrees) when it is bounded.

@@ -178,11 +178,11 @@ fn strategies(faces: Faces) -> Vec<(bool, Faces)> {
 ///
 /// ```
 /// use linkwright_core::fab::{bundle, check, fabricate_design, PrintSettings, Role};
-/// use linkwright_core::testbed::{known_scene, Family};
+/// use linkwright_core::testbed::{known_scene, Known};
 /// use linkwright_core::Problem;
 ///
 /// // A known four-bar in a scene drawn in millimetres, with the default print settings.
-/// let known = known_scene(Family::Chain(1), 3, 7, 100.0)?;
+/// let known = known_scene(Known::chain(1), 3, 7, 100.0)?;
 /// let problem = Problem::new(&known.scene).expect("a valid scene");
 /// let fabrication = fabricate_design(&problem, &known.design(), &PrintSettings::default())?;
 ///

@@ -1,9 +1,14 @@
 //! Linkage families: what the engine needs to know of each to build, search, analyse and name its
-//! linkages. A new family is one more implementation of [`Family`] in this module, returned by
-//! [`MechanismType::family`] for its word in files.
+//! linkages, and to draw random ones. A new family is one more implementation of [`Family`] in this
+//! module, returned by [`MechanismType::family`] for its word in files.
 
+use super::dimensioned::{Mechanism, SliderLine};
 use super::topology::Topology;
+use crate::geom::{Point, Vec2};
 use crate::scene::MechanismType;
+use rand::{Rng, RngExt};
+use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// A family of linkages.
 pub trait Family: Sync {
@@ -30,6 +35,31 @@ pub trait Family: Sync {
     }
     /// The family's own stream of random numbers, so adding a family changes no other's samples.
     fn stream(&self) -> u64;
+    /// A random linkage of the family for `bodies` moving bodies, drawn from `rng` in a unit frame:
+    /// body centres 1.2 apart, each joint within 0.35 of its body's centre, the ground pivots near
+    /// the origin. Nothing more is asked of it: it may not assemble, or not move far (the testbed
+    /// keeps the ones that do, as known mechanisms to measure designs against).
+    fn random_linkage(&self, bodies: usize, rng: &mut dyn Rng) -> Mechanism;
+}
+
+/// In a random linkage ([`Family::random_linkage`]), the distance between consecutive body centres.
+pub(crate) const CENTRE_SPACING: f64 = 1.2;
+/// In a random linkage, how far a joint may lie from its body's centre.
+const JOINT_SPREAD: f64 = 0.35;
+
+/// A point uniformly in the disc of radius [`JOINT_SPREAD`] about `centre`.
+fn near(centre: Point, rng: &mut dyn Rng) -> Point {
+    let r = JOINT_SPREAD * rng.random::<f64>().sqrt();
+    centre + Vec2::from_angle(rng.random_range(-PI..PI)) * r
+}
+
+/// `joints` (sized for `topology`) with each named one placed; names the topology lacks are skipped.
+fn place(topology: &Topology, joints: &mut [Point], placed: impl IntoIterator<Item = (&'static str, Point)>) {
+    for (name, p) in placed {
+        if let Some(j) = topology.joint(name) {
+            joints[j] = p;
+        }
+    }
 }
 
 /// A loop of a linkage, by joint indices.
@@ -132,6 +162,31 @@ impl Family for Chain {
     fn stream(&self) -> u64 {
         0
     }
+    /// Body centres one step apart along a wandering heading, each joint near its body's centre, the
+    /// ground pivots near the origin.
+    fn random_linkage(&self, bodies: usize, rng: &mut dyn Rng) -> Mechanism {
+        let topology = Arc::new(self.topology(bodies));
+        let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+        let mut set = |name: String, p: Point| {
+            if let Some(j) = topology.joint(&name) {
+                joints[j] = p;
+            }
+        };
+        let mut centre = Point::ORIGIN;
+        let mut heading = rng.random_range(-PI..PI);
+        set("q0".into(), near(centre, rng));
+        set("r0".into(), near(centre, rng));
+        for b in 1..=bodies {
+            heading += rng.random_range(-1.2..1.2);
+            centre = centre + Vec2::from_angle(heading) * CENTRE_SPACING;
+            set(format!("p{b}"), near(centre, rng));
+            set(format!("q{b}"), near(centre, rng));
+            if b < bodies {
+                set(format!("r{b}"), near(centre, rng));
+            }
+        }
+        Mechanism { topology, joints, slider: None }
+    }
 }
 
 /// The RRRP slider-crank of paper §4.3 (see [`Topology::slider_crank`]).
@@ -163,6 +218,18 @@ impl Family for SliderCrank {
     }
     fn stream(&self) -> u64 {
         1
+    }
+    /// A crank about the origin, a rod to the slider joint, and a guide through the slider joint in
+    /// any direction.
+    fn random_linkage(&self, bodies: usize, rng: &mut dyn Rng) -> Mechanism {
+        let topology = Arc::new(self.topology(bodies));
+        let q0 = Point::ORIGIN;
+        let p1 = q0 + Vec2::from_angle(rng.random_range(-PI..PI)) * rng.random_range(0.3..0.8);
+        let q1 = p1 + Vec2::from_angle(rng.random_range(-PI..PI)) * rng.random_range(0.9..1.8);
+        let direction = Vec2::from_angle(rng.random_range(-PI..PI));
+        let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+        place(&topology, &mut joints, [("q0", q0), ("p1", p1), ("q1", q1)]);
+        Mechanism { topology, joints, slider: Some(SliderLine { point: q1, direction }) }
     }
 }
 
@@ -206,6 +273,24 @@ impl Family for WattTwo {
     fn stream(&self) -> u64 {
         2
     }
+    /// The random four-bar of [`Chain`], its input link extended to `t1` near the ground pivot `q0`,
+    /// driven by a crank about `u0` (beside the ground pivots) whose tip `u1` lies between the two.
+    fn random_linkage(&self, bodies: usize, rng: &mut dyn Rng) -> Mechanism {
+        let four_bar = Chain.random_linkage(1, rng);
+        let topology = Arc::new(self.topology(bodies));
+        let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+        for (j, name) in four_bar.topology.joint_names.iter().enumerate() {
+            if let Some(k) = topology.joint(name) {
+                joints[k] = four_bar.joints[j];
+            }
+        }
+        let q0 = four_bar.joint("q0").unwrap_or(Point::ORIGIN);
+        let u0 = q0 + Vec2::from_angle(rng.random_range(-PI..PI)) * CENTRE_SPACING;
+        let t1 = near(q0, rng);
+        let u1 = near(Point::new(0.5 * (u0.x + t1.x), 0.5 * (u0.y + t1.y)), rng);
+        place(&topology, &mut joints, [("u0", u0), ("t1", t1), ("u1", u1)]);
+        Mechanism { topology, joints, slider: None }
+    }
 }
 
 /// The Stephenson-III six-bar (see [`Topology::stephenson_three`]).
@@ -242,6 +327,29 @@ impl Family for StephensonThree {
     }
     fn stream(&self) -> u64 {
         3
+    }
+    /// The body's joints near its centre one step from the origin, its ground link's pivot `r0` near
+    /// the origin, and a small four-bar `q0 a1 b1 u0` between the two whose coupler holds the body's
+    /// `p1`.
+    fn random_linkage(&self, bodies: usize, rng: &mut dyn Rng) -> Mechanism {
+        let topology = Arc::new(self.topology(bodies));
+        let centre = Point::ORIGIN + Vec2::from_angle(rng.random_range(-PI..PI)) * CENTRE_SPACING;
+        let between = Point::new(0.5 * centre.x, 0.5 * centre.y);
+        let mut joints = vec![Point::ORIGIN; topology.joint_count()];
+        place(
+            &topology,
+            &mut joints,
+            [
+                ("r0", near(Point::ORIGIN, rng)),
+                ("q0", near(Point::ORIGIN, rng)),
+                ("u0", near(Point::ORIGIN, rng)),
+                ("a1", near(between, rng)),
+                ("b1", near(between, rng)),
+                ("p1", near(centre, rng)),
+                ("q1", near(centre, rng)),
+            ],
+        );
+        Mechanism { topology, joints, slider: None }
     }
 }
 

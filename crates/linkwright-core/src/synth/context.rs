@@ -366,24 +366,22 @@ pub(crate) fn watched_pairs(problem: &Problem, links: usize) -> Vec<Pair> {
 mod tests {
     use super::*;
     use crate::synth::testing::example;
-    use crate::testbed::Family;
+    use crate::testbed::Known;
 
     /// The joints only links carry, placed from the body's and the ground's joints, are where the
     /// simulation from the crank puts them (two implementations: the completion goes from the body
     /// back to the crank, the plan from the crank to the body), along known six-bars' travels.
     #[test]
     fn completed_joints_are_where_the_simulation_puts_them() {
-        for (family, t) in
-            [(Family::WattTwo, MechanismType::WattTwo), (Family::StephensonThree, MechanismType::StephensonThree)]
-        {
-            completed_like_simulated(family, t);
+        for t in [MechanismType::WattTwo, MechanismType::StephensonThree] {
+            completed_like_simulated(t);
         }
     }
 
-    fn completed_like_simulated(family: crate::testbed::Family, t: MechanismType) {
+    fn completed_like_simulated(t: MechanismType) {
         use crate::kinematics::Plan;
         use crate::testbed::known_scene;
-        let known = known_scene(family, 4, 3, 100.0).unwrap();
+        let known = known_scene(Known::one(t), 4, 3, 100.0).unwrap();
         let problem = Problem::new(&known.scene).unwrap();
         let ctx = Context::new(&problem, t);
         assert_eq!(ctx.completion.len(), 2);

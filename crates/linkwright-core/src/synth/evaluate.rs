@@ -197,8 +197,6 @@ fn screen(
     // this at some pose; the input poses' targets wait until every check below passes. The crank's
     // direction at each pose comes from there: for a turning tip, on either side (the tip passes from
     // one to the other where the link it drives turns back, while the crank turns on).
-    let (pivot, tip) = (ctx.topology.driver_pivot, ctx.topology.driver_tip);
-    let crank = |row: &[Point]| (row[tip] - row[pivot]).angle();
     fitted_targets.clear();
     nominal.clear();
     nominal_turned.clear();
@@ -208,90 +206,168 @@ fn screen(
             _ => ctx.target(j, joints[j], i),
         }));
         let at = &mut fitted_targets[i * n..];
-        if i == 0 {
-            nominal.push(crank(at));
-            nominal_turned.push(f64::NAN);
-            continue;
-        }
-        let mut on_own_branches = |row: &mut [Point], turn: bool| -> Result<Option<f64>, Reject> {
-            let placed = if turn { ctx.complete_turned(joints, row) } else { ctx.complete(joints, row).map(|()| true) };
-            if !placed.map_err(|_| Reject::Assembly)? {
-                return Ok(None);
-            }
-            plan.branches_of(row, branches);
-            if branches.iter().copied().eq(plan.own_branches()) {
-                Ok(Some(crank(row)))
-            } else {
-                Err(Reject::Branch)
-            }
-        };
-        row.clear();
-        if ctx.turning_tip.is_some() {
-            row.extend_from_slice(&at[..n]);
-        }
-        let own = on_own_branches(at, false);
-        let turned_tip = on_own_branches(row, true);
-        match (own, turned_tip) {
-            (Err(reject), Err(_) | Ok(None)) => return Err(reject),
-            (own, turned_tip) => {
-                nominal.push(own.ok().flatten().unwrap_or(f64::NAN));
-                nominal_turned.push(turned_tip.ok().flatten().unwrap_or(f64::NAN));
-            }
-        }
+        let (own, turned_tip) =
+            if i == 0 { (crank_angle(ctx, at), f64::NAN) } else { pose_cranks(ctx, joints, plan, at, row, branches)? };
+        nominal.push(own);
+        nominal_turned.push(turned_tip);
     }
 
-    // Order (§5.1), nominally: the crank's direction at each pose must advance one way by less than a
-    // turn. For each direction the crank may turn, its angle at each pose, one direction after the
-    // other: with the tip on its own side throughout, or else, for a turning tip, on the side the
-    // crank reaches first (the body goes out and back).
-    let mut order = |may_turn: bool| -> ([f64; 2], usize) {
-        travels.clear();
-        turned.clear();
-        let mut totals = [0.0; 2];
-        let mut count = 0;
-        for dir in [1.0, -1.0] {
-            let start = travels.len();
-            travels.push(nominal[0]);
-            turned.push(false);
-            let mut from = nominal[0];
-            for i in 1..poses {
-                let step = |to: f64| (dir * (to - from)).rem_euclid(TAU);
-                let turning = if may_turn { nominal_turned[i] } else { f64::NAN };
-                let nearest = [(nominal[i], false), (turning, true)]
-                    .into_iter()
-                    .filter(|&(to, _)| to.is_finite() && step(to) > 0.0)
-                    .min_by(|a, b| step(a.0).total_cmp(&step(b.0)));
-                let Some((to, side)) = nearest else { break };
-                travels.push(travels[travels.len() - 1] + dir * step(to));
-                turned.push(side);
-                from = to;
-            }
-            let total = (travels[travels.len() - 1] - travels[start]).abs();
-            if travels.len() - start == poses && total < TAU {
-                totals[count] = total;
-                count += 1;
-            } else {
-                travels.truncate(start);
-                turned.truncate(start);
-            }
+    let count = order(ctx, nominal, nominal_turned, travels, turned)?;
+    let first_failure = keep_closed_form_passes(ctx, plan, poses, count, travels, turned)?;
+
+    // Where every joint should be at every pose, at the input poses.
+    targets.clear();
+    for i in 0..poses {
+        targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
+    }
+
+    // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
+    let exact = exact_terms(ctx, mechanism);
+    let floor = ctx.weights.cost_of(&exact, Floor::Exact) + simulated_floor(ctx, mechanism, targets);
+    Ok(Screening { first_failure, exact, floor })
+}
+
+/// The crank's direction in the configuration `row`.
+#[inline]
+fn crank_angle(ctx: &Context, row: &[Point]) -> f64 {
+    (row[ctx.topology.driver_tip] - row[ctx.topology.driver_pivot]).angle()
+}
+
+/// The crank's direction at a pose after the first, from the joints the body motions put at `at`:
+/// with the tip on its own side, and with the turning tip turned (`row` holds that configuration);
+/// NaN where that side does not assemble. The branch reject when neither side passes.
+#[inline]
+fn pose_cranks(
+    ctx: &Context,
+    joints: &[Point],
+    plan: &Plan,
+    at: &mut [Point],
+    row: &mut Vec<Point>,
+    branches: &mut Vec<Branch>,
+) -> Result<(f64, f64), Reject> {
+    let n = ctx.topology.joint_count();
+    row.clear();
+    if ctx.turning_tip.is_some() {
+        row.extend_from_slice(&at[..n]);
+    }
+    let own = on_own_branches(ctx, joints, plan, branches, at, false);
+    let turned_tip = on_own_branches(ctx, joints, plan, branches, row, true);
+    match (own, turned_tip) {
+        (Err(reject), Err(_) | Ok(None)) => Err(reject),
+        (own, turned_tip) => {
+            Ok((own.ok().flatten().unwrap_or(f64::NAN), turned_tip.ok().flatten().unwrap_or(f64::NAN)))
         }
-        (totals, count)
-    };
-    let (mut totals, mut count) = order(false);
+    }
+}
+
+/// Completes `row` (the turning tip turned, if `turn`) and checks every dyad is on its first-pose
+/// branch there: the crank's direction if so, `None` when that side does not apply, or the reject.
+#[inline]
+fn on_own_branches(
+    ctx: &Context,
+    joints: &[Point],
+    plan: &Plan,
+    branches: &mut Vec<Branch>,
+    row: &mut [Point],
+    turn: bool,
+) -> Result<Option<f64>, Reject> {
+    let placed = if turn { ctx.complete_turned(joints, row) } else { ctx.complete(joints, row).map(|()| true) };
+    if !placed.map_err(|_| Reject::Assembly)? {
+        return Ok(None);
+    }
+    plan.branches_of(row, branches);
+    if branches.iter().copied().eq(plan.own_branches()) {
+        Ok(Some(crank_angle(ctx, row)))
+    } else {
+        Err(Reject::Branch)
+    }
+}
+
+/// Order (§5.1), nominally: the crank's direction at each pose (`nominal`, and `nominal_turned` with
+/// the turning tip turned) must advance one way by less than a turn. Leaves the crank's angle at each
+/// pose in `travels` for each direction it may turn, the shorter travel first (on a tie, turning
+/// positively), and returns how many directions there are.
+#[inline]
+fn order(
+    ctx: &Context,
+    nominal: &[f64],
+    nominal_turned: &[f64],
+    travels: &mut Vec<f64>,
+    turned: &mut Vec<bool>,
+) -> Result<usize, Reject> {
+    let poses = nominal.len();
+    let (mut totals, mut count) = travels_in_order(nominal, nominal_turned, false, travels, turned);
     if count == 0 && ctx.turning_tip.is_some() {
-        (totals, count) = order(true);
+        (totals, count) = travels_in_order(nominal, nominal_turned, true, travels, turned);
     }
     if count == 0 {
         return Err(Reject::Order);
     }
-    // The shorter travel first (on a tie, turning positively).
     if count == 2 && totals[1] < totals[0] {
         travels.rotate_left(poses);
         turned.rotate_left(poses);
     }
+    Ok(count)
+}
 
-    // A four-bar or slider-crank is judged on assembly and transmission in closed form, so travels
-    // that lock up or transmit poorly are never simulated.
+/// For each direction the crank may turn, its angle at each pose, one direction after the other, in
+/// `travels` (and in `turned` whether the tip is turned there): with the tip on its own side
+/// throughout, or else, if `may_turn`, on the side the crank reaches first (the body goes out and
+/// back). Returns each direction's total turn and how many directions pass.
+#[inline]
+fn travels_in_order(
+    nominal: &[f64],
+    nominal_turned: &[f64],
+    may_turn: bool,
+    travels: &mut Vec<f64>,
+    turned: &mut Vec<bool>,
+) -> ([f64; 2], usize) {
+    let poses = nominal.len();
+    travels.clear();
+    turned.clear();
+    let mut totals = [0.0; 2];
+    let mut count = 0;
+    for dir in [1.0, -1.0] {
+        let start = travels.len();
+        travels.push(nominal[0]);
+        turned.push(false);
+        let mut from = nominal[0];
+        for i in 1..poses {
+            let step = |to: f64| (dir * (to - from)).rem_euclid(TAU);
+            let turning = if may_turn { nominal_turned[i] } else { f64::NAN };
+            let nearest = [(nominal[i], false), (turning, true)]
+                .into_iter()
+                .filter(|&(to, _)| to.is_finite() && step(to) > 0.0)
+                .min_by(|a, b| step(a.0).total_cmp(&step(b.0)));
+            let Some((to, side)) = nearest else { break };
+            travels.push(travels[travels.len() - 1] + dir * step(to));
+            turned.push(side);
+            from = to;
+        }
+        let total = (travels[travels.len() - 1] - travels[start]).abs();
+        if travels.len() - start == poses && total < TAU {
+            totals[count] = total;
+            count += 1;
+        } else {
+            travels.truncate(start);
+            turned.truncate(start);
+        }
+    }
+    (totals, count)
+}
+
+/// A four-bar or slider-crank is judged on assembly and transmission in closed form, so travels that
+/// lock up or transmit poorly are never simulated: keeps the `count` travels that pass (in order) and
+/// returns the reject of the first that does not, or that reject when none passes.
+#[inline]
+fn keep_closed_form_passes(
+    ctx: &Context,
+    plan: &Plan,
+    poses: usize,
+    count: usize,
+    travels: &mut Vec<f64>,
+    turned: &mut Vec<bool>,
+) -> Result<Option<Reject>, Reject> {
     let mut first_failure = None;
     let mut kept = 0;
     for k in 0..count {
@@ -315,17 +391,7 @@ fn screen(
     }
     travels.truncate(kept * poses);
     turned.truncate(kept * poses);
-
-    // Where every joint should be at every pose, at the input poses.
-    targets.clear();
-    for i in 0..poses {
-        targets.extend((0..n).map(|j| ctx.target(j, joints[j], i)));
-    }
-
-    // The terms that need no simulation, and a floor under the two that do, bound the cost from below.
-    let exact = exact_terms(ctx, mechanism);
-    let floor = ctx.weights.cost_of(&exact, Floor::Exact) + simulated_floor(ctx, mechanism, targets);
-    Ok(Screening { first_failure, exact, floor })
+    Ok(first_failure)
 }
 
 /// Simulates a screened mechanism's travels, shortest first, and returns the first that passes every

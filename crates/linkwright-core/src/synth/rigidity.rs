@@ -136,6 +136,29 @@ impl FitWorkspace {
         }
         self.step.resize(n, 0.0);
     }
+
+    /// The decrease of `½|r|²` the linear model predicts for `step`: `−gᵀδ − ½|Jδ|²`.
+    #[inline]
+    fn predicted_decrease(&self) -> f64 {
+        let j_step_sq: f64 = self
+            .rows
+            .iter()
+            .map(|row| (0..row.len).map(|k| row.j[k] * self.step[row.cols[k]]).sum::<f64>().powi(2))
+            .sum();
+        -dot(&self.g, &self.step) - 0.5 * j_step_sq
+    }
+
+    /// Takes the trial point (the block's unknowns `vars` in `x`) as the current one, with its normal
+    /// equations.
+    #[inline]
+    fn take_trial(&mut self, vars: &[usize], x: &[f64]) {
+        for (k, &v) in vars.iter().enumerate() {
+            self.current[k] = x[v];
+        }
+        std::mem::swap(&mut self.a, &mut self.a_trial);
+        std::mem::swap(&mut self.g, &mut self.g_trial);
+        std::mem::swap(&mut self.rows, &mut self.rows_trial);
+    }
 }
 
 /// Stop when the normalised objective `½|r|²` is below this (normalised residuals ≈ 1e-14).
@@ -157,6 +180,88 @@ const LAMBDA_MAX: f64 = 1e20;
 const LAMBDA_START: f64 = 1e-3;
 /// Largest `2|a| / |v|` for which the geodesic acceleration is used.
 const ACCELERATION_RATIO: f64 = 0.75;
+
+/// How a block's unknowns are normalised: unknown k moves by `unit(k)·δₖ` for a normalised step δ,
+/// joints by the body size `s`, the slider angle `φ` by δ itself.
+struct Units<'a> {
+    /// The block's unknowns (global indices).
+    vars: &'a [usize],
+    /// The slider angle's global index, when the model has a slider.
+    phi: Option<usize>,
+    s: f64,
+}
+
+impl Units<'_> {
+    #[inline]
+    fn unit(&self, k: usize) -> f64 {
+        if Some(self.vars[k]) == self.phi {
+            1.0
+        } else {
+            self.s
+        }
+    }
+
+    /// Puts the block's unknowns at `base` moved by the normalised `step`.
+    #[inline]
+    fn set(&self, x: &mut [f64], base: &[f64], step: &[f64]) {
+        for (k, &v) in self.vars.iter().enumerate() {
+            x[v] = base[k] + self.unit(k) * step[k];
+        }
+    }
+
+    /// Whether a joint has moved more than [`RUNAWAY`] body sizes from the start: an infimum at
+    /// infinity (a link growing without bound towards a slider-like motion).
+    #[inline]
+    fn ran_away(&self, ws: &FitWorkspace) -> bool {
+        (0..self.vars.len())
+            .any(|k| Some(self.vars[k]) != self.phi && (ws.current[k] - ws.start[k]).abs() > RUNAWAY * self.s)
+    }
+}
+
+/// Levenberg–Marquardt's damping λ and its growth factor ν (Nielsen's update).
+struct Damping {
+    lambda: f64,
+    nu: f64,
+}
+
+impl Damping {
+    /// After a step that was not taken: damp harder, faster each time.
+    #[inline]
+    fn refuse(&mut self) {
+        self.lambda *= self.nu;
+        self.nu *= 2.0;
+    }
+
+    /// After a step taken whose gain was `rho` times the predicted one.
+    #[inline]
+    fn accept(&mut self, rho: f64) {
+        self.lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+        self.nu = 2.0;
+    }
+}
+
+/// Away from an exact solution Levenberg–Marquardt converges linearly: the fit stops once
+/// [`STALL_WINDOW`] iterations have lowered the objective by less than the fraction [`STALL_GAIN`].
+struct Stall {
+    /// The objective at the window's start, and the iteration that ends it.
+    f_window: f64,
+    window_end: usize,
+}
+
+impl Stall {
+    /// Whether the window ending by `iterations` gained too little to go on (the objective now `f`);
+    /// if not and it has ended, the next window starts.
+    #[inline]
+    fn stalled(&mut self, iterations: usize, f: f64) -> bool {
+        if iterations >= self.window_end {
+            if f > (1.0 - STALL_GAIN) * self.f_window {
+                return true;
+            }
+            (self.f_window, self.window_end) = (f, iterations + STALL_WINDOW);
+        }
+        false
+    }
+}
 
 /// One residual row: its value and its nonzero Jacobian entries.
 #[derive(Clone, Copy, Debug)]
@@ -416,102 +521,42 @@ impl RigidityModel {
         ws.current.extend(block.vars.iter().map(|&v| x[v]));
         ws.start.clear();
         ws.start.extend_from_slice(&ws.current);
-        // Unknown k moves by unit(k)·δₖ for a normalised step δ: joints by s·δ, the slider angle by δ.
-        let phi = self.slider.map(|_| self.dim() - 1);
-        let unit = |k: usize| if Some(block.vars[k]) == phi { 1.0 } else { s };
-        let set = |x: &mut [f64], base: &[f64], step: &[f64]| {
-            for (k, &v) in block.vars.iter().enumerate() {
-                x[v] = base[k] + unit(k) * step[k];
-            }
-        };
+        let units = Units { vars: &block.vars, phi: self.slider.map(|_| self.dim() - 1), s };
 
         let (mut f, mut e) = self.normal_equations(block, x, motions, s, &mut ws.rows, &mut ws.a, &mut ws.g);
         let e_start = e;
         let mut iterations = 0;
         let max_diag = (0..n).map(|i| ws.a[i * n + i]).fold(0.0, f64::max);
-        let mut lambda = LAMBDA_START * max_diag;
-        let mut nu = 2.0;
-        let (mut f_window, mut window_end) = (f, STALL_WINDOW);
-        while iterations < self.max_iterations && f > F_TINY && lambda < LAMBDA_MAX {
+        let mut damping = Damping { lambda: LAMBDA_START * max_diag, nu: 2.0 };
+        let mut stall = Stall { f_window: f, window_end: STALL_WINDOW };
+        while iterations < self.max_iterations && f > F_TINY && damping.lambda < LAMBDA_MAX {
             if ws.g.iter().fold(0.0f64, |m, v| m.max(v.abs())) <= G_TOL {
                 break;
             }
             iterations += 1;
-            lambda = lambda.max(1e-30);
-            if !cholesky_factor(n, &ws.a, lambda, &mut ws.chol, &mut ws.inv_diag) {
-                lambda *= nu;
-                nu *= 2.0;
+            damping.lambda = damping.lambda.max(1e-30);
+            if !cholesky_factor(n, &ws.a, damping.lambda, &mut ws.chol, &mut ws.inv_diag) {
+                damping.refuse();
                 continue;
             }
-            // Velocity: the damped Gauss-Newton step (A + λI) v = −g.
-            cholesky_solve(n, &ws.chol, &ws.inv_diag, &ws.g, &mut ws.v);
-            let v_norm = dot(&ws.v, &ws.v).sqrt();
-            let y_norm = (0..n).map(|k| (ws.current[k] / unit(k)).powi(2)).sum::<f64>().sqrt();
-            if !v_norm.is_finite() || v_norm <= X_TOL * (y_norm + X_TOL) {
+            if !self.geodesic_step(block, &units, x, motions, ws) {
                 break;
             }
-            ws.step.copy_from_slice(&ws.v);
-            // Geodesic acceleration: r(x + v) − r(x) − Jv = ½ r_vv (exactly, for link residuals).
-            set(x, &ws.current, &ws.v);
-            self.normalised_residuals(block, x, motions, s, &mut ws.r_trial);
-            ws.h.fill(0.0);
-            for (row, &r1) in ws.rows.iter().zip(&ws.r_trial) {
-                let jv: f64 = (0..row.len).map(|k| row.j[k] * ws.v[row.cols[k]]).sum();
-                let r_vv = 2.0 * (r1 - row.r - jv);
-                for k in 0..row.len {
-                    ws.h[row.cols[k]] += row.j[k] * r_vv;
-                }
-            }
-            cholesky_solve(n, &ws.chol, &ws.inv_diag, &ws.h, &mut ws.acc);
-            let a_norm = dot(&ws.acc, &ws.acc).sqrt();
-            if a_norm.is_finite() && 2.0 * a_norm <= ACCELERATION_RATIO * v_norm {
-                for (d, a) in ws.step.iter_mut().zip(&ws.acc) {
-                    *d += 0.5 * a;
-                }
-            }
-            set(x, &ws.current, &ws.step);
+            units.set(x, &ws.current, &ws.step);
             let (f_trial, e_trial) =
                 self.normal_equations(block, x, motions, s, &mut ws.rows_trial, &mut ws.a_trial, &mut ws.g_trial);
-            if f_trial.is_finite() && f_trial < f {
-                // Decrease predicted by the linear model: −gᵀδ − ½|Jδ|².
-                let j_step_sq: f64 = ws
-                    .rows
-                    .iter()
-                    .map(|row| (0..row.len).map(|k| row.j[k] * ws.step[row.cols[k]]).sum::<f64>().powi(2))
-                    .sum();
-                let predicted = -dot(&ws.g, &ws.step) - 0.5 * j_step_sq;
-                let rho = (f - f_trial) / predicted.max(f64::MIN_POSITIVE);
-                let small_gain = f - f_trial <= F_REL_TOL * f;
-                for (k, &v) in block.vars.iter().enumerate() {
-                    ws.current[k] = x[v];
-                }
-                std::mem::swap(&mut ws.a, &mut ws.a_trial);
-                std::mem::swap(&mut ws.g, &mut ws.g_trial);
-                std::mem::swap(&mut ws.rows, &mut ws.rows_trial);
-                f = f_trial;
-                e = e_trial;
-                lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
-                nu = 2.0;
-                if small_gain {
-                    break;
-                }
-                // Away from an exact solution Levenberg–Marquardt converges linearly; stop once ten
-                // iterations have gained less than a thousandth, or when the joints run away (an
-                // infimum at infinity: a link growing without bound towards a slider-like motion).
-                if iterations >= window_end {
-                    if f > (1.0 - STALL_GAIN) * f_window {
-                        break;
-                    }
-                    (f_window, window_end) = (f, iterations + STALL_WINDOW);
-                }
-                let runaway =
-                    |k: usize| Some(block.vars[k]) != phi && (ws.current[k] - ws.start[k]).abs() > RUNAWAY * s;
-                if (0..n).any(runaway) {
-                    break;
-                }
-            } else {
-                lambda *= nu;
-                nu *= 2.0;
+            if !(f_trial.is_finite() && f_trial < f) {
+                damping.refuse();
+                continue;
+            }
+            let rho = (f - f_trial) / ws.predicted_decrease().max(f64::MIN_POSITIVE);
+            let small_gain = f - f_trial <= F_REL_TOL * f;
+            ws.take_trial(&block.vars, x);
+            f = f_trial;
+            e = e_trial;
+            damping.accept(rho);
+            if small_gain || stall.stalled(iterations, f) || units.ran_away(ws) {
+                break;
             }
         }
         if e > e_start {
@@ -526,6 +571,48 @@ impl RigidityModel {
             x[v] = ws.current[k];
         }
         (e, iterations)
+    }
+
+    /// The next step from the current point into `ws.step`: the damped Gauss–Newton velocity
+    /// `(A + λI) v = −g` (with `A + λI` factored in `ws.chol`), plus half the geodesic acceleration
+    /// when that is small beside it. False when the velocity is negligible beside the unknowns, or not
+    /// finite: the fit has converged. Leaves `x` at the current point moved by the velocity.
+    #[inline]
+    fn geodesic_step(
+        &self,
+        block: &Block,
+        units: &Units,
+        x: &mut [f64],
+        motions: &[Vec<Rigid>],
+        ws: &mut FitWorkspace,
+    ) -> bool {
+        let n = block.vars.len();
+        cholesky_solve(n, &ws.chol, &ws.inv_diag, &ws.g, &mut ws.v);
+        let v_norm = dot(&ws.v, &ws.v).sqrt();
+        let y_norm = (0..n).map(|k| (ws.current[k] / units.unit(k)).powi(2)).sum::<f64>().sqrt();
+        if !v_norm.is_finite() || v_norm <= X_TOL * (y_norm + X_TOL) {
+            return false;
+        }
+        ws.step.copy_from_slice(&ws.v);
+        // Geodesic acceleration: r(x + v) − r(x) − Jv = ½ r_vv (exactly, for link residuals).
+        units.set(x, &ws.current, &ws.v);
+        self.normalised_residuals(block, x, motions, units.s, &mut ws.r_trial);
+        ws.h.fill(0.0);
+        for (row, &r1) in ws.rows.iter().zip(&ws.r_trial) {
+            let jv: f64 = (0..row.len).map(|k| row.j[k] * ws.v[row.cols[k]]).sum();
+            let r_vv = 2.0 * (r1 - row.r - jv);
+            for k in 0..row.len {
+                ws.h[row.cols[k]] += row.j[k] * r_vv;
+            }
+        }
+        cholesky_solve(n, &ws.chol, &ws.inv_diag, &ws.h, &mut ws.acc);
+        let a_norm = dot(&ws.acc, &ws.acc).sqrt();
+        if a_norm.is_finite() && 2.0 * a_norm <= ACCELERATION_RATIO * v_norm {
+            for (d, a) in ws.step.iter_mut().zip(&ws.acc) {
+                *d += 0.5 * a;
+            }
+        }
+        true
     }
 
     /// Number of poses in `motions`, checked against the topology.

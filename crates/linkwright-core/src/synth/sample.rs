@@ -404,8 +404,8 @@ mod tests {
     /// every linkage so built is rigid through the (perturbed) poses it was built for.
     #[test]
     fn long_chains_through_three_poses_are_built_rigid() {
-        use crate::testbed::{known_scene, Family};
-        let scene = known_scene(Family::Chain(5), 3, 0, 100.0).unwrap().scene;
+        use crate::testbed::{known_scene, Known};
+        let scene = known_scene(Known::chain(5), 3, 0, 100.0).unwrap().scene;
         let problem = Problem::new(&scene).unwrap();
         let unpolished = rigid_unpolished_constructions("chain of five", &problem, MechanismType::Chain, 3000);
         assert!(unpolished >= 10, "only {unpolished} unpolished constructions");

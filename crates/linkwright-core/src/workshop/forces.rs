@@ -323,11 +323,11 @@ fn add_pin(pins: &mut Vec<PinForce>, part: usize, joint: usize, force: Vec2) {
 /// mean of its joints.
 ///
 /// ```
-/// use linkwright_core::testbed::{known_scene, Family};
+/// use linkwright_core::testbed::{known_scene, Known};
 /// use linkwright_core::workshop::equilibrium;
 /// use linkwright_core::{kinematics::{Plan, Trace}, Problem};
 ///
-/// let known = known_scene(Family::Chain(1), 3, 7, 1000.0)?;
+/// let known = known_scene(Known::chain(1), 3, 7, 1000.0)?;
 /// let problem = Problem::new(&known.scene).expect("a valid scene");
 /// let plan = Plan::compile(&known.mechanism)?;
 /// let mut trace = Trace::new(plan.joint_count());

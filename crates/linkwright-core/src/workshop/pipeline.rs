@@ -44,12 +44,12 @@ const LINK_ROUNDS: usize = 12;
 /// and the assembly steps. The design must be valid and pass its check against the scene.
 ///
 /// ```
-/// use linkwright_core::testbed::{known_scene, Family};
+/// use linkwright_core::testbed::{known_scene, Known};
 /// use linkwright_core::workshop::{files, plan, WorkshopSettings};
 /// use linkwright_core::{Material, Problem};
 ///
 /// // A known four-bar drawn a metre across, its body weighing 20 kg, built in steel.
-/// let mut known = known_scene(Family::Chain(1), 3, 7, 1000.0)?;
+/// let mut known = known_scene(Known::chain(1), 3, 7, 1000.0)?;
 /// known.scene.moving_bodies[0].mass_kg = Some(20.0);
 /// let problem = Problem::new(&known.scene).expect("a valid scene");
 /// let workshop = plan(&problem, &known.design(), Material::Steel, &WorkshopSettings::default())?;

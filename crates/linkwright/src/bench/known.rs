@@ -6,8 +6,8 @@
 use crate::failure::Failure;
 use crate::files::{make_subfolder, write_below};
 use linkwright_core::analysis::{analyze, AnalysisOptions, MotionAnalysis, Which};
-use linkwright_core::testbed::{known_scene, Family};
-use linkwright_core::{synthesize, DesignFile, Problem, Scene, Silent, Status};
+use linkwright_core::testbed::{known_scene, Course, Known};
+use linkwright_core::{synthesize, DesignFile, MechanismType, Problem, Scene, Silent, Status};
 
 use serde::Serialize;
 use std::path::Path;
@@ -23,32 +23,32 @@ const SCENE_SCALE: f64 = 100.0;
 
 /// Families and pose counts: every pose count up to where a chain of that many bodies still has few
 /// enough poses to be matched in reasonable time.
-fn grid(quick: bool) -> (Vec<(Family, Vec<usize>)>, Vec<u64>) {
+fn grid(quick: bool) -> (Vec<(Known, Vec<usize>)>, Vec<u64>) {
     if quick {
         let grid = vec![
-            (Family::Chain(1), vec![2, 5, 9]),
-            (Family::Chain(2), vec![2, 4]),
-            (Family::Chain(3), vec![3]),
-            (Family::Chain(4), vec![2]),
-            (Family::Chain(6), vec![2]),
-            (Family::SliderCrank, vec![2, 4]),
-            (Family::WattTwo, vec![3, 7]),
-            (Family::WattTwoOutAndBack, vec![4, 7]),
-            (Family::StephensonThree, vec![3, 7]),
+            (Known::chain(1), vec![2, 5, 9]),
+            (Known::chain(2), vec![2, 4]),
+            (Known::chain(3), vec![3]),
+            (Known::chain(4), vec![2]),
+            (Known::chain(6), vec![2]),
+            (Known::one(MechanismType::SliderCrank), vec![2, 4]),
+            (Known::one(MechanismType::WattTwo), vec![3, 7]),
+            (Known::watt_two_out_and_back(), vec![4, 7]),
+            (Known::one(MechanismType::StephensonThree), vec![3, 7]),
         ];
         return (grid, vec![0]);
     }
     let grid = vec![
-        (Family::Chain(1), (2..=10).collect()),
-        (Family::Chain(2), (2..=6).collect()),
-        (Family::Chain(3), (2..=4).collect()),
-        (Family::Chain(4), (2..=3).collect()),
-        (Family::Chain(5), (2..=3).collect()),
-        (Family::Chain(6), (2..=3).collect()),
-        (Family::SliderCrank, (2..=5).collect()),
-        (Family::WattTwo, (2..=10).collect()),
-        (Family::WattTwoOutAndBack, (3..=10).collect()),
-        (Family::StephensonThree, (2..=10).collect()),
+        (Known::chain(1), (2..=10).collect()),
+        (Known::chain(2), (2..=6).collect()),
+        (Known::chain(3), (2..=4).collect()),
+        (Known::chain(4), (2..=3).collect()),
+        (Known::chain(5), (2..=3).collect()),
+        (Known::chain(6), (2..=3).collect()),
+        (Known::one(MechanismType::SliderCrank), (2..=5).collect()),
+        (Known::one(MechanismType::WattTwo), (2..=10).collect()),
+        (Known::watt_two_out_and_back(), (3..=10).collect()),
+        (Known::one(MechanismType::StephensonThree), (2..=10).collect()),
     ];
     (grid, vec![0, 1, 2])
 }
@@ -162,22 +162,22 @@ pub fn bench_known(
     }
     let (grid, scene_seeds) = grid(quick);
     let mut rows = Vec::new();
-    for (family, counts) in &grid {
+    for &(kind, ref counts) in &grid {
         for &scene_seed in &scene_seeds {
             for &poses in counts {
-                let known = known_scene(*family, poses, scene_seed, SCENE_SCALE)
-                    .map_err(|e| Failure::Input(format!("error: {family}, {poses} poses, seed {scene_seed}: {e}")))?;
+                let known = known_scene(kind, poses, scene_seed, SCENE_SCALE)
+                    .map_err(|e| Failure::Input(format!("error: {kind}, {poses} poses, seed {scene_seed}: {e}")))?;
                 let mut problem = Problem::new(&known.scene).map_err(|issues| {
                     Failure::Input(format!("error: a testbed scene does not validate: {issues:?}"))
                 })?;
                 problem.settings.seed = seed;
                 let (design, violations) = run(&problem, pool);
                 if let Some(dir) = save {
-                    let name = match family {
-                        Family::WattTwoOutAndBack => "watt_two_out_and_back",
-                        _ => family.name(),
+                    let name = match kind.course() {
+                        Course::OneWay => kind.mechanism_type().id(),
+                        Course::OutAndBack => "watt_two_out_and_back",
                     };
-                    let stem = format!("{name}_k{}_n{poses}_seed{scene_seed}", family.body_count());
+                    let stem = format!("{name}_k{}_n{poses}_seed{scene_seed}", kind.bodies());
                     write_below(dir, &format!("{stem}.json"), known.scene.to_json().as_bytes())?;
                     write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
                 }
@@ -187,9 +187,9 @@ pub fn bench_known(
                 let last = analysis.as_ref().map(|a| pose_errors(&problem, a, n - 1..n));
                 let d = problem.bodies.iter().map(|b| b.size).fold(f64::INFINITY, f64::min);
                 let row = Row {
-                    family: family.name(),
-                    label: family.to_string(),
-                    bodies: family.body_count(),
+                    family: kind.mechanism_type().id(),
+                    label: kind.to_string(),
+                    bodies: kind.bodies(),
                     poses,
                     scene_seed,
                     valid: design.status == Status::Ok && violations.is_empty(),
@@ -215,7 +215,7 @@ pub fn bench_known(
     }
     let families: Vec<Summary> = grid
         .iter()
-        .map(|(family, _)| summarize(family.to_string(), rows.iter().filter(|r| r.label == family.to_string())))
+        .map(|(kind, _)| summarize(kind.to_string(), rows.iter().filter(|r| r.label == kind.to_string())))
         .collect();
     let overall = summarize("all".to_string(), rows.iter());
     let nine_pose = nine_pose(seed, pool)?;
