@@ -40,7 +40,7 @@ use serde::Serialize;
 use std::path::PathBuf;
 
 #[derive(Args, Debug)]
-pub struct BenchArgs {
+pub(crate) struct BenchArgs {
     /// Scene files to time (default: the paper's Table-1 objects, bundled).
     scenes: Vec<PathBuf>,
     /// Runs per scene; the table shows medians.
@@ -163,7 +163,7 @@ struct Row {
     cost: Option<f64>,
 }
 
-pub fn bench(args: BenchArgs) -> Result<(), Failure> {
+pub(crate) fn bench(args: BenchArgs) -> Result<(), Failure> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()

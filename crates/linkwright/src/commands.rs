@@ -19,7 +19,7 @@ use linkwright_core::{
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
-pub struct DesignArgs {
+pub(crate) struct DesignArgs {
     /// The scene file (scene/1).
     scene: PathBuf,
     /// Output directory (created if needed). Default: the scene file's name without .json, under out/ (out/k1_table for k1_table.json).
@@ -80,7 +80,7 @@ impl Observer for Bar {
     }
 }
 
-pub fn design(args: DesignArgs) -> Result<(), Failure> {
+pub(crate) fn design(args: DesignArgs) -> Result<(), Failure> {
     // The command line's settings are part of the scene that is validated (its limits bound the work).
     let (_, problem) = read_problem_with(&args.scene, |scene| {
         if let Some(seed) = args.seed {
@@ -338,7 +338,7 @@ fn kind_name(m: &linkwright_core::MechanismJson) -> String {
     m.mechanism_type.linkage_label(bodies)
 }
 
-pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
+pub(crate) fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
     let (_, problem) = read_problem(scene)?;
     let file = read_valid_design(design, &problem)?;
     let violations = file.violations(&problem);
@@ -372,7 +372,7 @@ pub fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failure> {
 /// megabytes of text for the usual linkages.
 const MAX_SIMULATE_STEPS: usize = 20_000;
 
-pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure> {
+pub(crate) fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure> {
     if steps > MAX_SIMULATE_STEPS {
         return Err(Failure::Input(format!(
             "error: --steps: {steps} is more than {MAX_SIMULATE_STEPS}; ask for fewer"
@@ -407,7 +407,7 @@ pub fn simulate(scene: &Path, design: &Path, steps: usize) -> Result<(), Failure
 
 /// `analyze`: the torque the crank needs along the design's motion, and the springs that balance it,
 /// as a table or JSON.
-pub fn analyze(
+pub(crate) fn analyze(
     scene: &Path,
     design: &Path,
     json: bool,

@@ -17,7 +17,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
-pub struct FabricateArgs {
+pub(crate) struct FabricateArgs {
     /// The scene file (scene/1).
     scene: PathBuf,
     /// The design file (design/1).
@@ -41,7 +41,7 @@ pub struct FabricateArgs {
 }
 
 /// Reads print settings, or the defaults.
-pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
+pub(crate) fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
     let Some(path) = path else { return Ok(PrintSettings::default()) };
     let text = read_text(path)?;
     let settings =
@@ -57,7 +57,7 @@ pub fn read_settings(path: Option<&Path>) -> Result<PrintSettings, Failure> {
     Ok(settings)
 }
 
-pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
+pub(crate) fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
     let (_, mut problem) = read_problem(&args.scene)?;
     if let Some(build) = args.build {
         problem.build = build;
@@ -70,7 +70,7 @@ pub fn fabricate(args: FabricateArgs) -> Result<(), Failure> {
 }
 
 /// Fabricates `design` into `out_dir` and returns a one-line summary.
-pub fn run(
+pub(crate) fn run(
     problem: &Problem,
     design: &DesignFile,
     settings: &PrintSettings,
@@ -166,7 +166,7 @@ pub fn run(
 /// part's and plate's file, the files every fabrication writes, then `fabrication.json` itself and the
 /// `parts` folder if that leaves it empty), so a folder never holds the parts of two fabrications.
 /// Only paths of the shapes a fabrication writes are removed; nothing else in the folder is touched.
-pub fn remove_previous(dir: &Path) -> Result<(), Failure> {
+pub(crate) fn remove_previous(dir: &Path) -> Result<(), Failure> {
     let manifest = dir.join("fabrication.json");
     let Ok(text) = read_text(&manifest) else { return Ok(()) };
     let report: Value = serde_json::from_str(&text).unwrap_or(Value::Null);

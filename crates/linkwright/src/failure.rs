@@ -4,7 +4,7 @@ use crate::terminal;
 use std::process::ExitCode;
 
 /// Exit codes: 0 done (a `no_solution` design included), 1 a check found violations, 2 bad input.
-pub enum Failure {
+pub(crate) enum Failure {
     /// The person's input is unusable; the message says what to change.
     Input(String),
     /// `check` found violations (already printed).
@@ -13,7 +13,7 @@ pub enum Failure {
 
 impl Failure {
     /// Says what is wrong (violations were printed already) and gives the exit code.
-    pub fn exit(self) -> ExitCode {
+    pub(crate) fn exit(self) -> ExitCode {
         match self {
             Failure::Violations => ExitCode::from(1),
             Failure::Input(message) => {

@@ -17,11 +17,11 @@ use std::time::{SystemTime, UNIX_EPOCH};
 /// limits (256 joints and parts, 100 alternatives) and a scene at its (2,000 vertices, 20 poses per
 /// body) written with generous indentation; the server takes 2 MiB. 64 MiB leaves room for files
 /// another program pads or annotates, and still parses in about a second.
-pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+pub(crate) const MAX_INPUT_BYTES: u64 = 64 << 20;
 
 /// The text of an input file (a scene, a design, print settings, a manifest), read through a cap of
 /// [`MAX_INPUT_BYTES`] whatever its size says: a device such as `/dev/zero` or a pipe has none.
-pub fn read_text(path: &Path) -> Result<String, Failure> {
+pub(crate) fn read_text(path: &Path) -> Result<String, Failure> {
     let cannot = |e: std::io::Error| Failure::Input(format!("error: cannot read {}: {e}", path.display()));
     let mut bytes = Vec::new();
     File::open(path).and_then(|file| file.take(MAX_INPUT_BYTES + 1).read_to_end(&mut bytes)).map_err(cannot)?;
@@ -44,17 +44,17 @@ pub fn read_text(path: &Path) -> Result<String, Failure> {
 
 /// A file that does not parse: where and why, the field path and message escaped (they quote the
 /// file's keys and values).
-pub fn parse_failure(path: &Path, field: &str, message: &str) -> Failure {
+pub(crate) fn parse_failure(path: &Path, field: &str, message: &str) -> Failure {
     Failure::Input(format!("error: {}: {}: {}", path.display(), escaped(field), escaped(message)))
 }
 
 /// Reads and validates a scene; warnings go to stderr, errors become one message listing them all.
-pub fn read_problem(path: &Path) -> Result<(Scene, Problem), Failure> {
+pub(crate) fn read_problem(path: &Path) -> Result<(Scene, Problem), Failure> {
     read_problem_with(path, |_| {})
 }
 
 /// [`read_problem`] with `edit` applied to the scene before it is validated.
-pub fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(Scene, Problem), Failure> {
+pub(crate) fn read_problem_with(path: &Path, edit: impl FnOnce(&mut Scene)) -> Result<(Scene, Problem), Failure> {
     let text = read_text(path)?;
     let mut scene = scene_of(&text).map_err(|e| parse_failure(path, &e.path, &e.message))?;
     edit(&mut scene);
@@ -100,14 +100,14 @@ fn scene_of(text: &str) -> Result<Scene, linkwright_core::ParseError> {
 
 /// Reads a design file, without checking it against a scene (for a warm start, which keeps only its
 /// usable mechanisms).
-pub fn read_design(path: &Path) -> Result<DesignFile, Failure> {
+pub(crate) fn read_design(path: &Path) -> Result<DesignFile, Failure> {
     let text = read_text(path)?;
     DesignFile::from_json(&text).map_err(|e| parse_failure(path, &e.path, &e.message))
 }
 
 /// Reads a design file and validates it against the scene's problem; every problem becomes one line
 /// of the message.
-pub fn read_valid_design(path: &Path, problem: &Problem) -> Result<DesignFile, Failure> {
+pub(crate) fn read_valid_design(path: &Path, problem: &Problem) -> Result<DesignFile, Failure> {
     let design = read_design(path)?;
     let issues = design.validate(problem);
     if issues.is_empty() {
@@ -127,7 +127,7 @@ pub fn read_valid_design(path: &Path, problem: &Problem) -> Result<DesignFile, F
 /// nobody can predict and is created only if nothing is at that name (no file, no symbolic link), so
 /// nothing planted in the folder can redirect the write; the rename replaces whatever is at `path`
 /// (a symbolic link there is replaced, not followed).
-pub fn write_atomically(path: &Path, contents: &[u8]) -> Result<(), Failure> {
+pub(crate) fn write_atomically(path: &Path, contents: &[u8]) -> Result<(), Failure> {
     let fail = |e: std::io::Error| Failure::Input(format!("error: cannot write {}: {e}", path.display()));
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -170,7 +170,7 @@ fn unpredictable(attempt: u32) -> u64 {
 }
 
 /// Removes the file at `path` if there is one (a symbolic link is removed, not followed).
-pub fn remove_if_present(path: &Path) -> Result<(), Failure> {
+pub(crate) fn remove_if_present(path: &Path) -> Result<(), Failure> {
     match std::fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
             Err(Failure::Input(format!("error: cannot remove {} (left from an earlier run): {e}", path.display())))
@@ -236,18 +236,18 @@ fn subfolder(root: &Path, relative: &str, create: bool) -> Result<Option<PathBuf
 }
 
 /// Makes `root/relative` a real folder (see [`subfolder`]) and returns its path.
-pub fn make_subfolder(root: &Path, relative: &str) -> Result<PathBuf, Failure> {
+pub(crate) fn make_subfolder(root: &Path, relative: &str) -> Result<PathBuf, Failure> {
     Ok(subfolder(root, relative, true)?.unwrap_or_else(|| root.join(relative)))
 }
 
 /// `root/relative` if it is a real folder (see [`subfolder`]; a link there is removed).
-pub fn existing_subfolder(root: &Path, relative: &str) -> Result<Option<PathBuf>, Failure> {
+pub(crate) fn existing_subfolder(root: &Path, relative: &str) -> Result<Option<PathBuf>, Failure> {
     subfolder(root, relative, false)
 }
 
 /// Refuses, as the bug it would be, any of `paths` (relative to the output folder) that would leave
 /// it: the library names its files safely. Checked before a run removes or writes anything.
-pub fn check_output_paths<'a>(mut paths: impl Iterator<Item = &'a str>) -> Result<(), Failure> {
+pub(crate) fn check_output_paths<'a>(mut paths: impl Iterator<Item = &'a str>) -> Result<(), Failure> {
     match paths.find(|path| !is_safe_relative_path(path)) {
         Some(path) => {
             Err(Failure::Input(format!("error: internal error: unsafe output path {path:?}; please report it")))
@@ -264,14 +264,14 @@ fn split(relative: &str) -> Result<(&str, &str), Failure> {
 
 /// Writes `contents` to `root/relative` atomically ([`write_atomically`]), its folders made real
 /// ([`make_subfolder`]).
-pub fn write_below(root: &Path, relative: &str, contents: &[u8]) -> Result<(), Failure> {
+pub(crate) fn write_below(root: &Path, relative: &str, contents: &[u8]) -> Result<(), Failure> {
     let (folder, name) = split(relative)?;
     write_atomically(&make_subfolder(root, folder)?.join(name), contents)
 }
 
 /// Removes the file at `root/relative` if there is one in a real folder ([`existing_subfolder`]): a
 /// file seen through a planted link is someone else's.
-pub fn remove_below(root: &Path, relative: &str) -> Result<(), Failure> {
+pub(crate) fn remove_below(root: &Path, relative: &str) -> Result<(), Failure> {
     let (folder, name) = split(relative)?;
     match existing_subfolder(root, folder)? {
         Some(dir) => remove_if_present(&dir.join(name)),
@@ -280,7 +280,7 @@ pub fn remove_below(root: &Path, relative: &str) -> Result<(), Failure> {
 }
 
 /// Removes the real folder `root/relative` if it is empty; left in place when it holds anything.
-pub fn remove_folder_if_empty(root: &Path, relative: &str) -> Result<(), Failure> {
+pub(crate) fn remove_folder_if_empty(root: &Path, relative: &str) -> Result<(), Failure> {
     if let Some(dir) = existing_subfolder(root, relative)? {
         let _ = std::fs::remove_dir(dir);
     }

@@ -1,6 +1,9 @@
 //! `linkwright`: the command-line shell around linkwright-core. It reads and writes files, shows
 //! progress and maps outcomes to exit codes; every computation lives in the library.
 
+// A binary exports nothing: its items say `pub(crate)` or less.
+#![warn(unreachable_pub)]
+
 mod bench;
 mod commands;
 mod fabricate;

@@ -14,7 +14,7 @@ use cap::Cap;
 static ALLOCATOR: Cap<mimalloc::MiMalloc> = Cap::new(mimalloc::MiMalloc, usize::MAX);
 
 /// The heap bytes the process holds now (as asked of the allocator, without its own overhead).
-pub fn live_bytes() -> usize {
+pub(crate) fn live_bytes() -> usize {
     ALLOCATOR.allocated()
 }
 

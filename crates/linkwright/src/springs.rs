@@ -9,13 +9,13 @@ use linkwright_core::statics::{Masses, Torque};
 use linkwright_core::{DesignFile, Problem, Silent, Units};
 
 /// Steps of the crank's travel the torque is given at.
-pub const ANALYZE_STEPS: usize = 180;
+pub(crate) const ANALYZE_STEPS: usize = 180;
 
 /// The torque the crank needs along the design's motion (its printed model's parts with `settings`
 /// at the design's scale, or a full-size build's real masses), and the springs of either kind that
 /// lower its peak (what `analyze` reports). The error says what is wrong, naming `scene` or `design`
 /// (how the caller calls them).
-pub fn counterbalanced(
+pub(crate) fn counterbalanced(
     (scene, problem): (&str, &Problem),
     (design_name, design): (&str, &DesignFile),
     settings: &PrintSettings,
@@ -36,7 +36,7 @@ pub fn counterbalanced(
 
 /// A spring as a person buys and fits it: the stock rate and free length (millimetres of the thing
 /// built: a model's for a printed model), and where its ends hang in the drawing.
-pub fn spring_words(spring: &Spring, units: &Units) -> String {
+pub(crate) fn spring_words(spring: &Spring, units: &Units) -> String {
     match spring {
         Spring::Extension { anchors, rate_n_per_mm, free_length_mm, length_range_mm, force_range_n, .. } => {
             let [a, b] = anchors;

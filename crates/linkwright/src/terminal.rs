@@ -4,7 +4,7 @@
 
 /// `text` with every control character escaped as Rust writes it (`\u{1b}`, `\n`, `\r`), so one
 /// quoted field or message stays on its own line and moves nothing.
-pub fn escaped(text: &str) -> String {
+pub(crate) fn escaped(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         if c.is_control() {
@@ -18,17 +18,17 @@ pub fn escaped(text: &str) -> String {
 
 /// `text` escaped line by line: the line breaks between the lines the CLI writes are kept, every
 /// other control character is escaped ([`escaped`]).
-pub fn lines(text: &str) -> String {
+pub(crate) fn lines(text: &str) -> String {
     text.split('\n').map(escaped).collect::<Vec<_>>().join("\n")
 }
 
 /// Prints `text` on stdout, with a line break, escaped ([`lines`]).
-pub fn say(text: &str) {
+pub(crate) fn say(text: &str) {
     println!("{}", lines(text));
 }
 
 /// Prints `text` on stderr, with a line break, escaped ([`lines`]).
-pub fn warn(text: &str) {
+pub(crate) fn warn(text: &str) {
     eprintln!("{}", lines(text));
 }
 

@@ -14,7 +14,7 @@ use std::path::Path;
 /// `springs` in its bill of materials) and writes
 /// its files into `out_dir` (created if needed), each atomically; what an earlier plan wrote there is
 /// removed first. Returns a one-line summary, with a line per note the plan has.
-pub fn write(
+pub(crate) fn write(
     problem: &Problem,
     design: &DesignFile,
     material: Material,

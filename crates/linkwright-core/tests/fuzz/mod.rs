@@ -11,18 +11,18 @@ use std::time::{Duration, Instant};
 
 /// The most one case may take: the formats' limits bound the work of everything a valid input
 /// reaches, and a case takes well under a second in release builds.
-pub const CASE_BOUND: Duration = Duration::from_secs(60);
+pub(crate) const CASE_BOUND: Duration = Duration::from_secs(60);
 
 /// How long to fuzz and from which seed: `LINKWRIGHT_FUZZ_SECONDS` (default 15, the CI budget) and
 /// `LINKWRIGHT_FUZZ_SEED` (default 0).
-pub fn budget() -> (Duration, u64) {
+pub(crate) fn budget() -> (Duration, u64) {
     let number = |name: &str, default: u64| std::env::var(name).ok().and_then(|s| s.parse().ok()).unwrap_or(default);
     (Duration::from_secs(number("LINKWRIGHT_FUZZ_SECONDS", 15)), number("LINKWRIGHT_FUZZ_SEED", 0))
 }
 
 /// Runs `case` on a thread of its own: its result, or its failure (a panic, or running past
 /// [`CASE_BOUND`]; the worker is then left running, and the failing test's process ends with it).
-pub fn bounded<T: Send + 'static>(case: impl FnOnce() -> T + Send + 'static) -> Result<T, String> {
+pub(crate) fn bounded<T: Send + 'static>(case: impl FnOnce() -> T + Send + 'static) -> Result<T, String> {
     let (done, finished) = mpsc::channel();
     let started = Instant::now();
     let worker = std::thread::spawn(move || {
@@ -40,7 +40,7 @@ pub fn bounded<T: Send + 'static>(case: impl FnOnce() -> T + Send + 'static) -> 
 }
 
 /// Writes a failing input to `target/tmp/fuzz-failures/NAME`; returns its path.
-pub fn keep_failure(name: &str, text: &str) -> PathBuf {
+pub(crate) fn keep_failure(name: &str, text: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failures");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(name);
@@ -49,13 +49,13 @@ pub fn keep_failure(name: &str, text: &str) -> PathBuf {
 }
 
 /// SplitMix64: small, fast and good enough to choose mutations; the seed alone replays a case.
-pub struct Rng(u64);
+pub(crate) struct Rng(u64);
 
 impl Rng {
-    pub fn new(seed: u64) -> Rng {
+    pub(crate) fn new(seed: u64) -> Rng {
         Rng(seed)
     }
-    pub fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -63,10 +63,10 @@ impl Rng {
         z ^ (z >> 31)
     }
     /// A number in `0..n` (`n` > 0).
-    pub fn below(&mut self, n: usize) -> usize {
+    pub(crate) fn below(&mut self, n: usize) -> usize {
         (self.next() % n as u64) as usize
     }
-    pub fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+    pub(crate) fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
         &items[self.below(items.len())]
     }
 }
@@ -112,7 +112,7 @@ fn at<'a>(value: &'a mut Value, path: &[Step]) -> &'a mut Value {
 }
 
 /// One random edit of one random node of `doc`.
-pub fn mutate_value(doc: &mut Value, rng: &mut Rng) {
+pub(crate) fn mutate_value(doc: &mut Value, rng: &mut Rng) {
     let mut all = Vec::new();
     paths(doc, &mut Vec::new(), &mut all);
     let path = rng.pick(&all).clone();
@@ -199,7 +199,7 @@ pub fn mutate_value(doc: &mut Value, rng: &mut Rng) {
 
 /// A mutated copy of `text`: mostly edits of its JSON structure, sometimes of its bytes (which the
 /// parser must refuse cleanly).
-pub fn mutate(text: &str, rng: &mut Rng) -> String {
+pub(crate) fn mutate(text: &str, rng: &mut Rng) -> String {
     if rng.below(8) == 0 {
         let mut bytes = text.as_bytes().to_vec();
         for _ in 0..=rng.below(4) {
@@ -225,7 +225,7 @@ pub fn mutate(text: &str, rng: &mut Rng) -> String {
 /// Where `answer` holds a number that was not finite: serde writes NaN and infinities as `null`, so
 /// a null in an array that also holds numbers (a point, a row of torques) is one. The path of the
 /// first such value, if any. A lone numeric field written as null is not caught here.
-pub fn non_finite(answer: &Value) -> Option<String> {
+pub(crate) fn non_finite(answer: &Value) -> Option<String> {
     fn walk(v: &Value, path: &mut String) -> Option<String> {
         match v {
             Value::Array(items) => {

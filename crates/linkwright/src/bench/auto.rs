@@ -31,7 +31,12 @@ struct Row {
     worst_family_rel_d: Option<f64>,
 }
 
-pub fn bench_auto(scenes: &[PathBuf], repeat: usize, pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
+pub(super) fn bench_auto(
+    scenes: &[PathBuf],
+    repeat: usize,
+    pool: &rayon::ThreadPool,
+    json: bool,
+) -> Result<(), Failure> {
     if scenes.is_empty() {
         return Err(Failure::Input("error: --auto: name the scene files to time (examples/*.json)".into()));
     }

@@ -150,7 +150,7 @@ fn run(problem: &Problem, pool: &rayon::ThreadPool) -> (DesignFile, Vec<String>)
     (design, violations)
 }
 
-pub fn bench_known(
+pub(super) fn bench_known(
     quick: bool,
     seed: u64,
     save: Option<&Path>,

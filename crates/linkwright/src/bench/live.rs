@@ -32,7 +32,7 @@ struct Row {
     seconds_p90: f64,
 }
 
-pub fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
+pub(super) fn bench_live(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
     if scenes.is_empty() {
         return Err(Failure::Input("error: --live: name the scene files to drag a pose of (examples/*.json)".into()));
     }

@@ -35,7 +35,7 @@ struct Row {
     seconds_design: f64,
 }
 
-pub fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
+pub(super) fn bench_sizes(scenes: &[PathBuf], pool: &rayon::ThreadPool, json: bool) -> Result<(), Failure> {
     if scenes.is_empty() {
         return Err(Failure::Input("error: --sizes: name the scene files to measure (examples/*.json)".into()));
     }

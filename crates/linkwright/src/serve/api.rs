@@ -31,11 +31,11 @@ use std::sync::Arc;
 use std::time::Duration;
 use tokio::sync::mpsc;
 
-pub use super::connections::MAX_BODY;
+pub(super) use super::connections::MAX_BODY;
 
 /// What every handler shares.
 #[derive(Clone)]
-pub struct AppState {
+pub(crate) struct AppState {
     pub jobs: Arc<Jobs>,
     /// Fabrications kept for download.
     pub bundles: Arc<Bundles>,
@@ -45,7 +45,7 @@ pub struct AppState {
 }
 
 impl AppState {
-    pub fn new(jobs: Jobs, loopback_only: bool) -> AppState {
+    pub(crate) fn new(jobs: Jobs, loopback_only: bool) -> AppState {
         AppState {
             jobs: Arc::new(jobs),
             bundles: Arc::new(Bundles::new(BundleLimits::default())),
@@ -57,7 +57,7 @@ impl AppState {
 
 /// Who asks: the `X-Linkwright-Client` header the app sends (one id per browser tab), or else the
 /// peer's address. One heavy job per client.
-pub struct Client(pub String);
+pub(super) struct Client(pub String);
 
 impl<S: Send + Sync> FromRequestParts<S> for Client {
     type Rejection = Infallible;
@@ -77,12 +77,12 @@ impl<S: Send + Sync> FromRequestParts<S> for Client {
 }
 
 /// `GET /api/examples`: the gallery.
-pub async fn examples(State(state): State<AppState>) -> Json<Vec<ExampleSummary>> {
+pub(super) async fn examples(State(state): State<AppState>) -> Json<Vec<ExampleSummary>> {
     Json(state.examples.as_ref().clone())
 }
 
 /// `GET /api/examples/{name}`: one example scene, as its file.
-pub async fn example(name: Result<Path<String>, PathRejection>) -> Result<Response, ApiError> {
+pub(super) async fn example(name: Result<Path<String>, PathRejection>) -> Result<Response, ApiError> {
     let Path(name) = name.map_err(|e| ApiError::bad_request(e.body_text()))?;
     let text = example_text(&name)
         .ok_or_else(|| ApiError::not_found(format!("no example called \"{name}\"; GET /api/examples lists them")))?;
@@ -92,7 +92,7 @@ pub async fn example(name: Result<Path<String>, PathRejection>) -> Result<Respon
 /// `GET /api/families`: the mechanism families the engine designs, in the order an automatic choice
 /// tries them: each one's `id` (the scene's `mechanism` word), `label`, a menu `description` and
 /// `max_bodies` (null: any number of moving bodies).
-pub async fn families() -> Json<Value> {
+pub(super) async fn families() -> Json<Value> {
     Json(Value::Array(
         MechanismType::ALL
             .iter()
@@ -104,7 +104,7 @@ pub async fn families() -> Json<Value> {
 }
 
 /// `GET /api/status`: the job table and the limits.
-pub async fn status(State(state): State<AppState>) -> Json<Value> {
+pub(super) async fn status(State(state): State<AppState>) -> Json<Value> {
     let jobs = &state.jobs;
     let limits = jobs.limits();
     Json(json!({
@@ -286,7 +286,7 @@ pub(super) struct Compound {
 }
 
 impl Compound {
-    pub fn parse(text: &str) -> Result<Compound, ApiError> {
+    pub(super) fn parse(text: &str) -> Result<Compound, ApiError> {
         let value: Value = serde_json::from_str(text)
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let Value::Object(fields) = value else {
@@ -312,7 +312,7 @@ impl Compound {
     }
 
     /// `alternative`: absent or null for the design itself, an index into its alternatives otherwise.
-    pub fn which(&self) -> Result<Which, ApiError> {
+    pub(super) fn which(&self) -> Result<Which, ApiError> {
         match self.fields.get("alternative") {
             None | Some(Value::Null) => Ok(Which::Best),
             Some(v) => v.as_u64().and_then(|i| usize::try_from(i).ok()).map(Which::Alternative).ok_or_else(|| {
@@ -323,7 +323,7 @@ impl Compound {
     }
 
     /// An optional yes-or-no option (absent or null: no).
-    pub fn flag(&self, name: &str) -> Result<bool, ApiError> {
+    pub(super) fn flag(&self, name: &str) -> Result<bool, ApiError> {
         flag(&self.fields, name)
     }
 
@@ -365,7 +365,7 @@ fn unreplayable(what: &str, e: &AnalysisError) -> ApiError {
 
 /// `POST /api/design`: scene/1 (or `{scene, from}`) in, design/1 out (a `no_solution` design is a 200
 /// too).
-pub async fn design(
+pub(super) async fn design(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -409,7 +409,7 @@ impl Note {
 
 /// `POST /api/design/stream`: the same job as `/api/design`, answered as server-sent events. Closing
 /// the connection cancels the job.
-pub async fn design_stream(
+pub(super) async fn design_stream(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -483,7 +483,7 @@ fn ended_note(end: JobEnd, deadline: Duration) -> Note {
 }
 
 /// `POST /api/check`: `{scene, design}` in, `{ok, violations}` out.
-pub async fn check(
+pub(super) async fn check(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -495,7 +495,7 @@ pub async fn check(
 }
 
 /// `POST /api/simulate`: `{scene, design, alternative?, steps?}` in, the motion analysis out.
-pub async fn simulate(
+pub(super) async fn simulate(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -517,7 +517,7 @@ pub async fn simulate(
 /// build's real masses: the scene's `mass_kg`, `material` and `thickness`), the
 /// counterbalance springs and the torque with them, at the rows of `/api/simulate`'s frames for the
 /// same `steps`.
-pub async fn balance(
+pub(super) async fn balance(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -559,7 +559,7 @@ pub(super) fn counterbalanced(
 /// those joints moved (first-pose places), re-derived ([`DesignFile::with_joints_moved`]), its
 /// violations and its motion analysis out; or, when the moved linkage no longer makes the motion,
 /// which check it fails and what to do.
-pub async fn edit(
+pub(super) async fn edit(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -633,7 +633,7 @@ fn rejected_words(reject: Reject) -> (&'static str, &'static str) {
 
 /// `POST /api/render`: `{scene, design, alternative?, kind: "design" | "animation", seconds?}` in,
 /// the picture (SVG) out, as a download.
-pub async fn render(
+pub(super) async fn render(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,

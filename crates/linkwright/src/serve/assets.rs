@@ -19,7 +19,7 @@ struct Examples;
 
 /// One entry of the example gallery.
 #[derive(Clone, Debug, Serialize)]
-pub struct ExampleSummary {
+pub(crate) struct ExampleSummary {
     /// The name to fetch it by (`GET /api/examples/NAME`).
     pub name: String,
     /// The scene's own name.
@@ -33,7 +33,7 @@ pub struct ExampleSummary {
 }
 
 /// The gallery, sorted by name (examples that do not parse are left out: a test keeps them parsing).
-pub fn example_summaries() -> Vec<ExampleSummary> {
+pub(super) fn example_summaries() -> Vec<ExampleSummary> {
     let mut out: Vec<ExampleSummary> = Examples::iter()
         .filter_map(|file| {
             let name = file.strip_suffix(".json")?.to_string();
@@ -53,7 +53,7 @@ pub fn example_summaries() -> Vec<ExampleSummary> {
 }
 
 /// The text of example `name` (a plain file stem: no slashes, no dots).
-pub fn example_text(name: &str) -> Option<String> {
+pub(super) fn example_text(name: &str) -> Option<String> {
     let plain = !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
     if !plain {
         return None;
@@ -77,7 +77,7 @@ fn content_type(path: &str) -> &'static str {
 }
 
 /// Serves an embedded front-end file (`/` is `index.html`), with an ETag so reloads are cheap.
-pub async fn asset(uri: Uri, headers: HeaderMap) -> Response {
+pub(super) async fn asset(uri: Uri, headers: HeaderMap) -> Response {
     let path = uri.path().trim_start_matches('/');
     if path.starts_with("api/") || path == "api" {
         return ApiError::not_found(format!("no API endpoint {}; see docs/api.md", uri.path())).into_response();

@@ -12,11 +12,11 @@ use std::sync::{Arc, Mutex};
 
 /// The name of the zip of every file, beside the bundle's own files (none of which sits at the top
 /// level under this name).
-pub const ZIP_NAME: &str = "fabrication.zip";
+pub(super) const ZIP_NAME: &str = "fabrication.zip";
 
 /// How much the store keeps.
 #[derive(Clone, Copy, Debug)]
-pub struct Limits {
+pub(crate) struct Limits {
     /// Bundles kept. Default 8.
     pub count: usize,
     /// Bytes kept, over every bundle's files and zip. Default 256 MiB. The newest bundle is kept even
@@ -32,7 +32,7 @@ impl Default for Limits {
 
 /// One fabrication's downloads.
 #[derive(Debug)]
-pub struct Stored {
+pub(crate) struct Stored {
     /// File-name-safe name of the scene, for the zip's download name.
     pub scene: String,
     /// `(relative path, contents)`, in the bundle's order.
@@ -42,7 +42,7 @@ pub struct Stored {
 
 impl Stored {
     /// The bundle's files and their zip.
-    pub fn new(scene: String, files: Vec<(String, Vec<u8>)>) -> Result<Stored, String> {
+    pub(crate) fn new(scene: String, files: Vec<(String, Vec<u8>)>) -> Result<Stored, String> {
         let zip = zip_of(&files).map_err(|e| format!("cannot write the zip of the files: {e}"))?;
         let files = files.into_iter().map(|(path, bytes)| (path, Bytes::from(bytes))).collect();
         Ok(Stored { scene, files, zip: Bytes::from(zip) })
@@ -53,7 +53,7 @@ impl Stored {
     }
 
     /// The file at `path` (or the zip), with the name to save it under.
-    pub fn file(&self, path: &str) -> Option<(String, Bytes)> {
+    pub(crate) fn file(&self, path: &str) -> Option<(String, Bytes)> {
         if path == ZIP_NAME {
             return Some((format!("{}-fabrication.zip", self.scene), self.zip.clone()));
         }
@@ -80,7 +80,7 @@ fn zip_of(files: &[(String, Vec<u8>)]) -> zip::result::ZipResult<Vec<u8>> {
 }
 
 /// The media type of a bundle file, by extension.
-pub fn media_type(path: &str) -> &'static str {
+pub(super) fn media_type(path: &str) -> &'static str {
     match path.rsplit('.').next().unwrap_or("") {
         "stl" => "model/stl",
         "3mf" => "model/3mf",
@@ -94,7 +94,7 @@ pub fn media_type(path: &str) -> &'static str {
 
 /// The store.
 #[derive(Debug)]
-pub struct Bundles {
+pub(crate) struct Bundles {
     limits: Limits,
     kept: Mutex<VecDeque<(String, Arc<Stored>)>>,
     counter: AtomicU64,
@@ -103,16 +103,16 @@ pub struct Bundles {
 }
 
 impl Bundles {
-    pub fn new(limits: Limits) -> Bundles {
+    pub(crate) fn new(limits: Limits) -> Bundles {
         Bundles { limits, kept: Mutex::default(), counter: AtomicU64::new(0), keys: RandomState::new() }
     }
 
-    pub fn limits(&self) -> Limits {
+    pub(crate) fn limits(&self) -> Limits {
         self.limits
     }
 
     /// Keeps `stored`, forgetting the oldest bundles beyond the limits; returns its id and itself.
-    pub fn insert(&self, stored: Stored) -> (String, Arc<Stored>) {
+    pub(crate) fn insert(&self, stored: Stored) -> (String, Arc<Stored>) {
         let n = self.counter.fetch_add(1, Ordering::Relaxed);
         let id = format!("{:016x}{n:x}", self.keys.hash_one(n));
         // A poisoned lock only means another request panicked mid-insert; the queue is still whole.
@@ -129,7 +129,7 @@ impl Bundles {
     }
 
     /// The bundle `id`, while it is kept.
-    pub fn get(&self, id: &str) -> Option<Arc<Stored>> {
+    pub(crate) fn get(&self, id: &str) -> Option<Arc<Stored>> {
         let kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
         kept.iter().find(|(k, _)| k == id).map(|(_, s)| s.clone())
     }

@@ -24,29 +24,29 @@ use tokio_io_timeout::TimeoutStream;
 use tower::ServiceExt;
 
 /// Largest request body accepted, bytes (the largest bundled scene is about 20 kB).
-pub const MAX_BODY: usize = 2 * 1024 * 1024;
+pub(super) const MAX_BODY: usize = 2 * 1024 * 1024;
 
 /// Connections served at once; more wait in the kernel's backlog until one closes. A browser opens
 /// at most six to one server, so 256 is room for dozens of tabs and scripts while staying far below the
 /// usual limit of 1024 open files a process has.
-pub const MAX_CONNECTIONS: usize = 256;
+pub(super) const MAX_CONNECTIONS: usize = 256;
 
 /// How long a request's head (request line and headers) may take to arrive, counted from the moment
 /// the server waits for it: on a new connection, and after each answer on a kept-alive one. A client on
 /// this computer or a local network sends its head in milliseconds; 10 s tolerates a very slow one and
 /// closes a connection that says nothing (an idle keep-alive, a half-sent head) soon. Browsers open a
 /// new connection when a kept-alive one was closed.
-pub const HEADER_READ_TIMEOUT: Duration = Duration::from_secs(10);
+pub(super) const HEADER_READ_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// How long a request's whole body may take to arrive once its head has. The largest body allowed
 /// (2 MiB) arrives in this time even at 100 kB/s; a client that stops halfway gets a 408 and its
 /// connection is closed.
-pub const BODY_READ_TIMEOUT: Duration = Duration::from_secs(30);
+pub(super) const BODY_READ_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// How long a write to a client may wait for the client to read. The answer stays in memory until
 /// it is written, and the largest (a simulation, about 5 MB) leaves in well under a second on any
 /// local link; a client that reads nothing for 30 s is not reading, and its connection is closed.
-pub const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
+pub(super) const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// Pause after a failed `accept` (out of file descriptors, say), so the loop waits for a connection to
 /// close instead of spinning.
@@ -54,7 +54,7 @@ const ACCEPT_RETRY: Duration = Duration::from_millis(100);
 
 /// Serves `app` on `listener` until the future is dropped. Each connection runs in its own task with
 /// its peer's address as `ConnectInfo`, as `axum::serve` would give it.
-pub async fn serve(listener: TcpListener, app: Router) {
+pub(super) async fn serve(listener: TcpListener, app: Router) {
     let open = Arc::new(Semaphore::new(MAX_CONNECTIONS));
     loop {
         let Ok(permit) = open.clone().acquire_owned().await else { return };
@@ -91,7 +91,7 @@ pub async fn serve(listener: TcpListener, app: Router) {
 /// than [`MAX_BODY`] bytes (413), refuses one that turns out larger while it arrives (413), and gives
 /// up on one that has not arrived whole within [`BODY_READ_TIMEOUT`] (408). These answers close the
 /// connection, since the rest of the body is never read.
-pub async fn read_body(request: Request, next: Next) -> Response {
+pub(super) async fn read_body(request: Request, next: Next) -> Response {
     let announced = request
         .headers()
         .get(header::CONTENT_LENGTH)

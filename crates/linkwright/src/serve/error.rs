@@ -9,7 +9,7 @@ use serde::Serialize;
 
 /// One finding about a request, naming the field (a path such as `scene.moving_bodies[0].poses`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct IssueJson {
+pub(crate) struct IssueJson {
     pub field: String,
     pub message: String,
     /// `error` or `warning`.
@@ -18,7 +18,7 @@ pub struct IssueJson {
 
 /// An error answer.
 #[derive(Clone, Debug, Serialize)]
-pub struct ApiError {
+pub(crate) struct ApiError {
     #[serde(skip)]
     pub status: StatusCode,
     pub error: String,
@@ -32,37 +32,37 @@ pub struct ApiError {
 }
 
 impl ApiError {
-    pub fn new(status: StatusCode, error: impl Into<String>) -> ApiError {
+    pub(crate) fn new(status: StatusCode, error: impl Into<String>) -> ApiError {
         ApiError { status, error: error.into(), issues: Vec::new(), more_issues: 0, retry_after: None }
     }
-    pub fn bad_request(error: impl Into<String>) -> ApiError {
+    pub(crate) fn bad_request(error: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::BAD_REQUEST, error)
     }
-    pub fn not_found(error: impl Into<String>) -> ApiError {
+    pub(crate) fn not_found(error: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::NOT_FOUND, error)
     }
-    pub fn unprocessable(error: impl Into<String>) -> ApiError {
+    pub(crate) fn unprocessable(error: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, error)
     }
     /// One issue at `field`.
-    pub fn with_issue(mut self, field: impl Into<String>, message: impl Into<String>) -> ApiError {
+    pub(crate) fn with_issue(mut self, field: impl Into<String>, message: impl Into<String>) -> ApiError {
         self.issues.push(IssueJson { field: field.into(), message: message.into(), severity: Severity::Error });
         self
     }
-    pub fn retry_after(mut self, seconds: u32) -> ApiError {
+    pub(crate) fn retry_after(mut self, seconds: u32) -> ApiError {
         self.retry_after = Some(seconds);
         self
     }
 
     /// A document that is not what the field needs (bad JSON, a missing field, a wrong type).
     /// `prefix` is the request field the document sits in (`scene`, `design`), or empty.
-    pub fn parse(what: &str, prefix: &str, path: &str, message: &str) -> ApiError {
+    pub(crate) fn parse(what: &str, prefix: &str, path: &str, message: &str) -> ApiError {
         let field = join_field(prefix, path);
         ApiError::bad_request(format!("{what} cannot be read: {field}: {message}")).with_issue(field, message)
     }
 
     /// A scene that fails validation: every listed issue, errors and warnings, and how many more.
-    pub fn invalid_scene(prefix: &str, issues: &IssueList<Issue>) -> ApiError {
+    pub(crate) fn invalid_scene(prefix: &str, issues: &IssueList<Issue>) -> ApiError {
         let errors = issues.iter().filter(|i| i.severity == Severity::Error).count();
         let first = issues.iter().find(|i| i.severity == Severity::Error);
         let summary = match first {
@@ -88,7 +88,7 @@ impl ApiError {
 
     /// A list of problems at fields under `prefix` (a design's, print settings'), with `error` the
     /// answer's text.
-    pub fn listed<T>(
+    pub(crate) fn listed<T>(
         mut self,
         issues: &IssueList<T>,
         field: impl Fn(&T) -> String,
@@ -106,12 +106,12 @@ fn is_zero(n: &usize) -> bool {
 }
 
 /// An issue of the library, its field placed under `prefix`.
-pub fn issue_json(prefix: &str, i: &Issue) -> IssueJson {
+pub(super) fn issue_json(prefix: &str, i: &Issue) -> IssueJson {
     IssueJson { field: join_field(prefix, &i.field), message: i.message.clone(), severity: i.severity }
 }
 
 /// `path` placed under the request field `prefix` (`scene` + `moving_bodies[0]`, `alternatives` + `[2]`).
-pub fn join_field(prefix: &str, path: &str) -> String {
+pub(super) fn join_field(prefix: &str, path: &str) -> String {
     match (prefix.is_empty(), path.is_empty() || path == "." || path == "?") {
         (true, true) => ".".to_string(),
         (true, false) => path.to_string(),

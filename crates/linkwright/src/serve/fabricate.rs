@@ -194,7 +194,7 @@ struct Made {
 
 /// The answer of `POST /api/fabricate`.
 #[derive(Serialize)]
-pub struct Answer {
+pub(super) struct Answer {
     /// Names the stored files: `GET /api/fabricate/{id}/{name}`.
     id: String,
     /// Which design was fabricated: 0 the design itself, k its `alternatives[k - 1]`.
@@ -228,7 +228,7 @@ struct FileEntry {
 /// `POST /api/fabricate`: `{scene, design, settings?, alternative?, springs?}` in; the report, the files
 /// to download and the 3D preview out (with `springs: true`, the parts carry hooks for the extension
 /// springs that balance them, and `balance` says which).
-pub async fn fabricate(
+pub(super) async fn fabricate(
     State(state): State<AppState>,
     Client(client): Client,
     body: Result<Bytes, BytesRejection>,
@@ -261,7 +261,7 @@ pub async fn fabricate(
 
 /// `GET /api/fabricate/{id}/{path}`: one file of a kept fabrication (or `fabrication.zip`), as a
 /// download.
-pub async fn download(
+pub(super) async fn download(
     State(state): State<AppState>,
     at: Result<Path<(String, String)>, PathRejection>,
 ) -> Result<Response, ApiError> {
@@ -284,6 +284,6 @@ pub async fn download(
 }
 
 /// `GET /api/fabricate/settings`: the default print settings, millimetres.
-pub async fn default_settings() -> Json<PrintSettings> {
+pub(super) async fn default_settings() -> Json<PrintSettings> {
     Json(PrintSettings::default())
 }

@@ -17,7 +17,7 @@ use tokio::sync::{oneshot, Notify, OwnedMutexGuard, OwnedSemaphorePermit, Semaph
 
 /// Why a job should stop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StopReason {
+pub(crate) enum StopReason {
     /// The client closed the connection (or the server is shutting down).
     ClientGone,
     /// The same client started a newer job.
@@ -31,7 +31,7 @@ pub enum StopReason {
 /// A job's stop flag, shared by the request, the worker and the job table. The worker polls it
 /// ([`StopFlag::should_stop`]); a job still waiting in line is woken by it.
 #[derive(Debug)]
-pub struct StopFlag {
+pub(crate) struct StopFlag {
     code: AtomicU8,
     stopped: Notify,
     /// The heap bytes past which the job is stopped ([`Limits::memory`]).
@@ -46,13 +46,13 @@ impl Default for StopFlag {
 
 impl StopFlag {
     /// A flag whose job stops when the heap passes `memory` bytes.
-    pub fn with_memory_limit(memory: usize) -> StopFlag {
+    pub(crate) fn with_memory_limit(memory: usize) -> StopFlag {
         StopFlag { code: AtomicU8::new(Self::GO), stopped: Notify::new(), memory }
     }
 
     /// True when the job should stop: it was asked to, or the server's heap is past its limit (which
     /// then stops it).
-    pub fn should_stop(&self) -> bool {
+    pub(crate) fn should_stop(&self) -> bool {
         if self.reason().is_none() && crate::memory::live_bytes() > self.memory {
             self.stop(StopReason::Memory);
         }
@@ -66,7 +66,7 @@ impl StopFlag {
     const MEMORY: u8 = 4;
 
     /// Asks the job to stop; the first reason given is kept.
-    pub fn stop(&self, reason: StopReason) {
+    pub(crate) fn stop(&self, reason: StopReason) {
         let code = match reason {
             StopReason::ClientGone => Self::GONE,
             StopReason::Superseded => Self::SUPERSEDED,
@@ -77,7 +77,7 @@ impl StopFlag {
             self.stopped.notify_waiters();
         }
     }
-    pub fn reason(&self) -> Option<StopReason> {
+    pub(crate) fn reason(&self) -> Option<StopReason> {
         match self.code.load(Ordering::SeqCst) {
             Self::GONE => Some(StopReason::ClientGone),
             Self::SUPERSEDED => Some(StopReason::Superseded),
@@ -91,7 +91,7 @@ impl StopFlag {
 /// Sets its flag when dropped: held by whatever lives exactly as long as the client's interest (the
 /// request's future, the event stream), so a closed connection stops the job.
 #[derive(Debug)]
-pub struct StopOnDrop(pub Arc<StopFlag>);
+pub(super) struct StopOnDrop(pub Arc<StopFlag>);
 
 impl Drop for StopOnDrop {
     fn drop(&mut self) {
@@ -102,7 +102,7 @@ impl Drop for StopOnDrop {
 /// What a job does. A client has at most one job of each kind running: a fabrication does not stop
 /// its design.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Kind {
+pub(crate) enum Kind {
     Design,
     Fabrication,
     /// A check, a simulation or a picture of a design: short, so none of them replaces another; the
@@ -120,7 +120,7 @@ impl Kind {
 
 /// Limits of the job table.
 #[derive(Clone, Copy, Debug)]
-pub struct Limits {
+pub(crate) struct Limits {
     /// Jobs running at once. Default 2.
     pub running: usize,
     /// Jobs waiting for a free slot; more are refused with 503. Default 4.
@@ -146,7 +146,7 @@ impl Default for Limits {
 
 /// How a job ended without its result.
 #[derive(Debug, PartialEq, Eq)]
-pub enum JobEnd {
+pub(crate) enum JobEnd {
     /// It was stopped (see [`StopFlag`]), before it started or while it ran.
     Stopped(StopReason),
     /// It waited [`Limits::deadline`] in line without getting a slot.
@@ -162,7 +162,7 @@ struct ClientSlot {
 }
 
 /// The job table.
-pub struct Jobs {
+pub(crate) struct Jobs {
     limits: Limits,
     slots: Arc<Semaphore>,
     waiting: Arc<AtomicUsize>,
@@ -176,7 +176,7 @@ pub struct Jobs {
 
 /// The work of a job as the answers name it, with what to change when it runs out of time.
 #[derive(Clone, Copy, Debug)]
-pub struct Work {
+pub(crate) struct Work {
     /// `design`, `fabrication`, ...
     pub noun: &'static str,
     /// What to change when it takes longer than the deadline.
@@ -184,31 +184,32 @@ pub struct Work {
 }
 
 impl Work {
-    pub const DESIGN: Work = Work {
+    pub(crate) const DESIGN: Work = Work {
         noun: "design",
         advice: "ask for less (fewer settings.samples, fewer poses or moving bodies), check that the scene's \
                  units and sizes are what you meant, or run `linkwright design` on the command line, which \
                  has no time limit",
     };
-    pub const FABRICATION: Work = Work {
+    pub(crate) const FABRICATION: Work = Work {
         noun: "fabrication",
         advice: "check that the scene's units and sizes and the print settings are what you meant, or run \
                  `linkwright fabricate` on the command line, which has no time limit",
     };
-    pub const CHECK: Work = Work { noun: "check", advice: "check that the scene's units and sizes are what you meant" };
-    pub const SIMULATION: Work = Work {
+    pub(crate) const CHECK: Work =
+        Work { noun: "check", advice: "check that the scene's units and sizes are what you meant" };
+    pub(crate) const SIMULATION: Work = Work {
         noun: "simulation",
         advice: "ask for fewer steps, and check that the scene's units and sizes are what you meant",
     };
-    pub const BALANCE: Work = Work {
+    pub(crate) const BALANCE: Work = Work {
         noun: "spring search",
         advice: "ask for fewer steps, or run `linkwright analyze` on the command line, which has no time limit",
     };
-    pub const PICTURE: Work =
+    pub(crate) const PICTURE: Work =
         Work { noun: "picture", advice: "check that the scene's units and sizes are what you meant" };
 
     /// The answer to this work when its job ended without a result.
-    pub fn error(self, end: JobEnd, deadline: Duration) -> ApiError {
+    pub(crate) fn error(self, end: JobEnd, deadline: Duration) -> ApiError {
         let seconds = deadline.as_secs_f64();
         match end {
             JobEnd::Stopped(StopReason::Superseded) => ApiError::new(
@@ -249,7 +250,7 @@ impl Work {
 }
 
 /// Admission to the queue: the job's flag and its place in line.
-pub struct Ticket {
+pub(crate) struct Ticket {
     pub flag: Arc<StopFlag>,
     client_lock: Arc<tokio::sync::Mutex<()>>,
     slots: Arc<Semaphore>,
@@ -265,13 +266,13 @@ impl Drop for WaitingGuard {
 }
 
 /// A running job's hold on its slots; dropping it frees them.
-pub struct Running {
+pub(crate) struct Running {
     _client: OwnedMutexGuard<()>,
     _slot: OwnedSemaphorePermit,
 }
 
 impl Jobs {
-    pub fn new(limits: Limits, pool: rayon::ThreadPool) -> Jobs {
+    pub(crate) fn new(limits: Limits, pool: rayon::ThreadPool) -> Jobs {
         Jobs {
             limits,
             slots: Arc::new(Semaphore::new(limits.running.max(1))),
@@ -283,25 +284,25 @@ impl Jobs {
         }
     }
 
-    pub fn limits(&self) -> Limits {
+    pub(crate) fn limits(&self) -> Limits {
         self.limits
     }
     /// Jobs running now.
-    pub fn running(&self) -> usize {
+    pub(crate) fn running(&self) -> usize {
         self.limits.running.max(1) - self.slots.available_permits()
     }
     /// Jobs waiting for a slot.
-    pub fn waiting(&self) -> usize {
+    pub(crate) fn waiting(&self) -> usize {
         self.waiting.load(Ordering::SeqCst)
     }
     /// True when the heap is past [`Limits::memory`].
-    pub fn short_of_memory(&self) -> bool {
+    pub(crate) fn short_of_memory(&self) -> bool {
         crate::memory::live_bytes() > self.limits.memory
     }
 
     /// Admits a `kind` job of `client`: stops the client's earlier job of that kind (it is superseded)
     /// and refuses with 503 when the queue is full.
-    pub fn admit(&self, kind: Kind, client: &str) -> Result<Ticket, ApiError> {
+    pub(crate) fn admit(&self, kind: Kind, client: &str) -> Result<Ticket, ApiError> {
         let busy = || {
             ApiError::new(
                 StatusCode::SERVICE_UNAVAILABLE,
@@ -348,7 +349,7 @@ impl Jobs {
     }
 
     /// Requests being read and validated now.
-    pub fn reading(&self) -> usize {
+    pub(crate) fn reading(&self) -> usize {
         self.limits.running.max(1) - self.reading.available_permits()
     }
 
@@ -357,7 +358,7 @@ impl Jobs {
     /// other request. At most [`Limits::running`] requests are read at once (each holds its place until
     /// its computation ends, even when the request gave up), and a request waits and reads at most the
     /// deadline. Bad input is answered from here, without waiting in the job queue.
-    pub async fn read<T: Send + 'static>(
+    pub(crate) async fn read<T: Send + 'static>(
         &self,
         read: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
     ) -> Result<T, ApiError> {
@@ -398,7 +399,7 @@ impl Jobs {
     /// its slot so the pool is never asked for more than the limits allow, and its result is dropped.
     /// The wait also ends at once when the flag is set for another reason (the client went away or
     /// replaced the job): nobody wants the answer any more.
-    pub async fn execute<T: Send + 'static>(
+    pub(crate) async fn execute<T: Send + 'static>(
         &self,
         running: Running,
         flag: Arc<StopFlag>,
@@ -436,7 +437,7 @@ impl Jobs {
     /// A whole job for a plain request: admitted (or refused), waiting its turn (at most the deadline),
     /// then [`Jobs::execute`]; `what` names the work in the answers. The job stops when the returned
     /// future is dropped (the client hung up).
-    pub async fn run<T: Send + 'static>(
+    pub(crate) async fn run<T: Send + 'static>(
         &self,
         kind: Kind,
         client: &str,
@@ -460,7 +461,7 @@ impl Jobs {
     }
 
     /// Stops every job (at shutdown).
-    pub fn stop_all(&self) {
+    pub(crate) fn stop_all(&self) {
         if let Ok(all) = self.all.lock() {
             for flag in all.iter().filter_map(|w| w.upgrade()) {
                 flag.stop(StopReason::ClientGone);
@@ -471,13 +472,13 @@ impl Jobs {
 
 impl Ticket {
     /// True when a slot is free and the client has no job running, so [`Ticket::start`] will not wait.
-    pub fn can_start_now(&self) -> bool {
+    pub(crate) fn can_start_now(&self) -> bool {
         self.slots.available_permits() > 0 && self.client_lock.try_lock().is_ok()
     }
 
     /// Waits for the client's earlier job to end and for a free slot. `None` when the job is stopped
     /// before it starts (its client went away or replaced it), which frees its place in line at once.
-    pub async fn start(self) -> Option<Running> {
+    pub(crate) async fn start(self) -> Option<Running> {
         let stopped = self.flag.stopped.notified();
         tokio::pin!(stopped);
         // Registered before the flag is read, so a stop between the two is not missed.
@@ -502,7 +503,7 @@ impl Ticket {
     }
 
     /// [`Ticket::start`], waiting at most `wait`.
-    pub async fn start_within(self, wait: Duration) -> Result<Running, JobEnd> {
+    pub(crate) async fn start_within(self, wait: Duration) -> Result<Running, JobEnd> {
         let flag = self.flag.clone();
         match tokio::time::timeout(wait, self.start()).await {
             Ok(Some(running)) => Ok(running),
@@ -514,7 +515,7 @@ impl Ticket {
 
 /// The observer of a running synthesis: forwards progress (dropping reports when the receiver lags)
 /// and answers `cancelled` from the job's flag.
-pub struct JobObserver<F: Fn(&Progress) + Sync> {
+pub(super) struct JobObserver<F: Fn(&Progress) + Sync> {
     pub flag: Arc<StopFlag>,
     pub on_progress: F,
 }

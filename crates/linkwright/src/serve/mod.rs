@@ -28,7 +28,7 @@ use api::AppState;
 use jobs::{Jobs, Limits};
 
 #[derive(Args, Debug)]
-pub struct ServeArgs {
+pub(crate) struct ServeArgs {
     /// Address to listen on. The default serves this computer only; 0.0.0.0 serves the network.
     #[arg(long, default_value = "127.0.0.1")]
     host: String,
@@ -51,7 +51,7 @@ pub struct ServeArgs {
 }
 
 /// The app: API routes, the embedded front-end, limits and security headers.
-pub fn router(state: AppState) -> Router {
+pub(crate) fn router(state: AppState) -> Router {
     Router::new()
         .route("/api/examples", get(api::examples))
         .route("/api/examples/{name}", get(api::example))
@@ -134,7 +134,7 @@ async fn security_headers(mut response: Response) -> Response {
     response
 }
 
-pub fn serve(args: ServeArgs) -> Result<(), Failure> {
+pub(crate) fn serve(args: ServeArgs) -> Result<(), Failure> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .thread_name(|i| format!("linkwright-design-{i}"))

@@ -12,7 +12,7 @@ const PER_DEG: f64 = 1000.0;
 
 /// The preview of one fabrication.
 #[derive(Clone, Debug, Serialize)]
-pub struct Preview {
+pub(super) struct Preview {
     /// Always `"mm"`.
     pub units: &'static str,
     pub parts: Vec<PartMesh>,
@@ -29,7 +29,7 @@ pub struct Preview {
 
 /// A counterbalance spring: a coil between its two hooks, along its axis.
 #[derive(Clone, Debug, Serialize)]
-pub struct SpringPreview {
+pub(super) struct SpringPreview {
     /// Each hook as `[carrier, x, y]`: the carrier it rides on (an index into each row of
     /// [`Preview::poses`]) and its place in that carrier's frame, mm.
     pub hooks: [[f64; 3]; 2],
@@ -41,7 +41,7 @@ pub struct SpringPreview {
 
 /// One part's mesh in its carrier's frame, at its assembled height (z = 0 is the bodies' front face).
 #[derive(Clone, Debug, Serialize)]
-pub struct PartMesh {
+pub(super) struct PartMesh {
     pub name: String,
     pub role: Role,
     pub face: Face,
@@ -64,7 +64,7 @@ fn round(v: f64, per: f64) -> f64 {
 }
 
 /// The preview of `fab`.
-pub fn preview(fab: &Fabrication) -> Preview {
+pub(super) fn preview(fab: &Fabrication) -> Preview {
     let mm = fab.dims.mm_per_unit;
     let parts = fab
         .parts

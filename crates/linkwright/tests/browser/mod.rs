@@ -27,14 +27,14 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-pub type Result<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
+pub(crate) type Result<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
 
-pub const WIDTH: u32 = 1400;
-pub const HEIGHT: u32 = 860;
+pub(crate) const WIDTH: u32 = 1400;
+pub(crate) const HEIGHT: u32 = 860;
 
 /// The browser to drive: `$LINKWRIGHT_CHROMIUM` or Debian's `/usr/bin/chromium`; `Err` names the path
 /// that is missing.
-pub fn chromium() -> std::result::Result<PathBuf, PathBuf> {
+pub(crate) fn chromium() -> std::result::Result<PathBuf, PathBuf> {
     let path =
         std::env::var_os("LINKWRIGHT_CHROMIUM").map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
     if path.is_file() {
@@ -44,7 +44,7 @@ pub fn chromium() -> std::result::Result<PathBuf, PathBuf> {
     }
 }
 
-pub fn temp_dir(name: &str) -> PathBuf {
+pub(crate) fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("linkwright-e2e-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a temporary directory");
@@ -52,18 +52,18 @@ pub fn temp_dir(name: &str) -> PathBuf {
 }
 
 /// Evaluates `js` in the page and returns its JSON value.
-pub async fn eval(page: &Page, js: &str) -> Result<Value> {
+pub(crate) async fn eval(page: &Page, js: &str) -> Result<Value> {
     Ok(page.evaluate(js).await?.into_value::<Value>().unwrap_or(Value::Null))
 }
 
 /// Waits until the page has drawn its latest change (two animation frames).
-pub async fn settle(page: &Page) -> Result<()> {
+pub(crate) async fn settle(page: &Page) -> Result<()> {
     eval(page, "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))").await?;
     Ok(())
 }
 
 /// Waits until `js` evaluates to true.
-pub async fn until(page: &Page, js: &str, within: Duration) -> Result<()> {
+pub(crate) async fn until(page: &Page, js: &str, within: Duration) -> Result<()> {
     let start = Instant::now();
     loop {
         if eval(page, js).await? == Value::Bool(true) {
@@ -78,7 +78,7 @@ pub async fn until(page: &Page, js: &str, within: Duration) -> Result<()> {
 
 /// Clicks the element `selector` as soon as it is there. The click is dispatched in the page, because
 /// panels are rebuilt on every change and a node found a moment earlier may be gone.
-pub async fn click(page: &Page, selector: &str) -> Result<()> {
+pub(crate) async fn click(page: &Page, selector: &str) -> Result<()> {
     let js = format!(
         "(() => {{ const e = document.querySelector({}); if (!e || e.disabled) return false; e.click(); return true; }})()",
         serde_json::to_string(selector)?
@@ -87,7 +87,7 @@ pub async fn click(page: &Page, selector: &str) -> Result<()> {
     settle(page).await
 }
 
-pub async fn mouse(page: &Page, kind: DispatchMouseEventType, x: f64, y: f64, buttons: i64) -> Result<()> {
+pub(crate) async fn mouse(page: &Page, kind: DispatchMouseEventType, x: f64, y: f64, buttons: i64) -> Result<()> {
     let mut event = DispatchMouseEventParams::builder().r#type(kind.clone()).x(x).y(y).buttons(buttons);
     if kind != DispatchMouseEventType::MouseMoved {
         event = event.button(MouseButton::Left).click_count(1);
@@ -97,7 +97,7 @@ pub async fn mouse(page: &Page, kind: DispatchMouseEventType, x: f64, y: f64, bu
 }
 
 /// Presses at `from`, moves in steps to `to`, releases: a drag with the left button.
-pub async fn drag(page: &Page, from: (f64, f64), to: (f64, f64)) -> Result<()> {
+pub(crate) async fn drag(page: &Page, from: (f64, f64), to: (f64, f64)) -> Result<()> {
     mouse(page, DispatchMouseEventType::MouseMoved, from.0, from.1, 0).await?;
     mouse(page, DispatchMouseEventType::MousePressed, from.0, from.1, 1).await?;
     for i in 1..=8 {
@@ -110,7 +110,7 @@ pub async fn drag(page: &Page, from: (f64, f64), to: (f64, f64)) -> Result<()> {
 }
 
 /// A click with the left button at a page position.
-pub async fn tap(page: &Page, p: (f64, f64)) -> Result<()> {
+pub(crate) async fn tap(page: &Page, p: (f64, f64)) -> Result<()> {
     mouse(page, DispatchMouseEventType::MouseMoved, p.0, p.1, 0).await?;
     mouse(page, DispatchMouseEventType::MousePressed, p.0, p.1, 1).await?;
     mouse(page, DispatchMouseEventType::MouseReleased, p.0, p.1, 0).await?;
@@ -118,7 +118,7 @@ pub async fn tap(page: &Page, p: (f64, f64)) -> Result<()> {
 }
 
 /// A key press with modifiers (2 = Ctrl, 8 = Shift).
-pub async fn key(page: &Page, key: &str, code: &str, key_code: i64, modifiers: i64) -> Result<()> {
+pub(crate) async fn key(page: &Page, key: &str, code: &str, key_code: i64, modifiers: i64) -> Result<()> {
     for kind in [DispatchKeyEventType::RawKeyDown, DispatchKeyEventType::KeyUp] {
         let event = DispatchKeyEventParams::builder()
             .r#type(kind)
@@ -134,7 +134,7 @@ pub async fn key(page: &Page, key: &str, code: &str, key_code: i64, modifiers: i
 
 /// A key pressed as a keyboard does it, with the character it types (`"\r"` for Enter, `" "` for
 /// Space), so that a focused button is pressed by it as by a person.
-pub async fn press(page: &Page, key: &str, code: &str, key_code: i64, text: &str) -> Result<()> {
+pub(crate) async fn press(page: &Page, key: &str, code: &str, key_code: i64, text: &str) -> Result<()> {
     let down = DispatchKeyEventParams::builder()
         .r#type(DispatchKeyEventType::KeyDown)
         .key(key)
@@ -155,7 +155,7 @@ pub async fn press(page: &Page, key: &str, code: &str, key_code: i64, text: &str
 
 /// Types `text` into the field `selector` as a person does: clicks into it, selects what it holds
 /// (Ctrl+A), types over it and leaves it with Tab (the change a field reports then).
-pub async fn type_into(page: &Page, selector: &str, text: &str) -> Result<()> {
+pub(crate) async fn type_into(page: &Page, selector: &str, text: &str) -> Result<()> {
     let js = format!(
         "(() => {{ const e = document.querySelector({}); if (!e) return false; e.scrollIntoView({{block: 'center'}}); \
          const r = e.getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2]; }})()",
@@ -175,33 +175,33 @@ pub async fn type_into(page: &Page, selector: &str, text: &str) -> Result<()> {
 }
 
 /// Enter on whatever has the focus.
-pub async fn press_enter(page: &Page) -> Result<()> {
+pub(crate) async fn press_enter(page: &Page) -> Result<()> {
     press(page, "Enter", "Enter", 13, "\r").await
 }
 
 /// Space on whatever has the focus.
-pub async fn press_space(page: &Page) -> Result<()> {
+pub(crate) async fn press_space(page: &Page) -> Result<()> {
     press(page, " ", "Space", 32, " ").await
 }
 
 /// Ctrl+Z.
-pub async fn undo(page: &Page) -> Result<()> {
+pub(crate) async fn undo(page: &Page) -> Result<()> {
     key(page, "z", "KeyZ", 90, 2).await
 }
 
 /// Ctrl+Shift+Z.
-pub async fn redo(page: &Page) -> Result<()> {
+pub(crate) async fn redo(page: &Page) -> Result<()> {
     key(page, "Z", "KeyZ", 90, 2 | 8).await
 }
 
 /// Panics unless page positions `a` and `b` are the same to half a pixel.
-pub fn assert_same_place(a: (f64, f64), b: (f64, f64)) {
+pub(crate) fn assert_same_place(a: (f64, f64), b: (f64, f64)) {
     assert!((a.0 - b.0).abs() < 0.5 && (a.1 - b.1).abs() < 0.5, "{a:?} moved to {b:?}");
 }
 
 /// The widest text the control at `selector` shows (a menu's entries, a field's value) and the width
 /// of the box it has for it, in pixels.
-pub async fn text_and_room(page: &Page, selector: &str) -> Result<(f64, f64)> {
+pub(crate) async fn text_and_room(page: &Page, selector: &str) -> Result<(f64, f64)> {
     let js = format!(
         "(() => {{ const e = document.querySelector('{selector}'); \
          const g = document.createElement('canvas').getContext('2d'); g.font = getComputedStyle(e).font; \
@@ -213,21 +213,21 @@ pub async fn text_and_room(page: &Page, selector: &str) -> Result<(f64, f64)> {
 }
 
 /// The screen position of world point (x, y) on the canvas.
-pub async fn at(page: &Page, x: f64, y: f64) -> Result<(f64, f64)> {
+pub(crate) async fn at(page: &Page, x: f64, y: f64) -> Result<(f64, f64)> {
     let v = eval(page, &format!("window.linkwright.screenOf([{x}, {y}])")).await?;
     Ok((v[0].as_f64().ok_or("no x")?, v[1].as_f64().ok_or("no y")?))
 }
 
-pub async fn scene(page: &Page) -> Result<Value> {
+pub(crate) async fn scene(page: &Page) -> Result<Value> {
     eval(page, "JSON.parse(JSON.stringify(window.linkwright.store.scene))").await
 }
 
 /// The numbers of a JSON array (integers and floats alike).
-pub fn floats(v: &Value) -> Vec<f64> {
+pub(crate) fn floats(v: &Value) -> Vec<f64> {
     v.as_array().map(|a| a.iter().filter_map(Value::as_f64).collect()).unwrap_or_default()
 }
 
-pub async fn screenshot(page: &Page, dir: Option<&Path>, name: &str) -> Result<()> {
+pub(crate) async fn screenshot(page: &Page, dir: Option<&Path>, name: &str) -> Result<()> {
     if let Some(dir) = dir {
         let png = page.screenshot(ScreenshotParams::builder().format(CaptureScreenshotFormat::Png).build()).await?;
         std::fs::write(dir.join(name), png)?;
@@ -237,7 +237,7 @@ pub async fn screenshot(page: &Page, dir: Option<&Path>, name: &str) -> Result<(
 
 /// A browser on the app, served by a server of its own: its page, where downloads go, where
 /// screenshots go (if anywhere).
-pub struct App {
+pub(crate) struct App {
     pub page: Page,
     pub server: Server,
     pub downloads: PathBuf,
@@ -253,7 +253,7 @@ pub struct App {
 impl App {
     /// Starts a server and a browser on a blank page (`name` names the test in messages and scratch
     /// folders); `None` when Chromium is missing outside CI (the test is then skipped, with a message).
-    pub async fn launch(name: &'static str) -> Result<Option<App>> {
+    pub(crate) async fn launch(name: &'static str) -> Result<Option<App>> {
         let chrome = match chromium() {
             Ok(path) => path,
             Err(missing) if std::env::var("CI").is_ok_and(|v| v == "true") => {
@@ -314,14 +314,14 @@ impl App {
     }
 
     /// Opens the app and waits until it is ready.
-    pub async fn open(&self) -> Result<()> {
+    pub(crate) async fn open(&self) -> Result<()> {
         self.page.goto(self.server.url.as_str()).await?;
         until(&self.page, "document.body.dataset.ready === 'true'", Duration::from_secs(10)).await
     }
 
     /// Closes the browser and gives `outcome`, then fails if the page threw anywhere in the session.
     /// On a failure the page as it was is pictured in the temporary folder.
-    pub async fn finish(mut self, outcome: Result<()>) -> Result<()> {
+    pub(crate) async fn finish(mut self, outcome: Result<()>) -> Result<()> {
         if outcome.is_err() {
             let picture = std::env::temp_dir().join(format!("linkwright-{}-failure.png", self.name));
             if let Ok(png) = self.page.screenshot(ScreenshotParams::builder().build()).await {
@@ -343,7 +343,7 @@ impl App {
 }
 
 /// The page's size as a window of `width` × `height` pixels.
-pub async fn window_size(page: &Page, width: u32, height: u32) -> Result<()> {
+pub(crate) async fn window_size(page: &Page, width: u32, height: u32) -> Result<()> {
     page.execute(SetDeviceMetricsOverrideParams::new(width, height, 1.0, false)).await?;
     settle(page).await
 }
@@ -351,7 +351,7 @@ pub async fn window_size(page: &Page, width: u32, height: u32) -> Result<()> {
 /// Elements of the side panel's tab `tab` that stick out of it sideways (`.tab` scrolls only
 /// up and down), as `tag.class` names; none when it fits. The shapes inside a picture are not
 /// counted (the picture cuts them), the picture is.
-pub async fn overflowing(page: &Page, tab: &str) -> Result<Vec<String>> {
+pub(crate) async fn overflowing(page: &Page, tab: &str) -> Result<Vec<String>> {
     let js = format!(
         "(() => {{ const t = document.getElementById('tab-{tab}'), box = t.getBoundingClientRect(); \
          const out = [...t.querySelectorAll('*')].filter((e) => !e.ownerSVGElement).filter((e) => {{ const r = e.getBoundingClientRect(); \
@@ -368,7 +368,7 @@ pub async fn overflowing(page: &Page, tab: &str) -> Result<Vec<String>> {
 /// header, the toolbars, the player, the tabs or the tab shown (where its own scrolling shows it)
 /// outside the window or covered by something else, the player sticking out of the drawing. Empty
 /// when everything fits.
-pub async fn layout_problems(page: &Page) -> Result<Vec<String>> {
+pub(crate) async fn layout_problems(page: &Page) -> Result<Vec<String>> {
     let js = r#"(() => {
       const out = [], W = innerWidth, H = innerHeight, root = document.documentElement;
       if (root.scrollWidth > W) out.push(`the page scrolls sideways: ${root.scrollWidth} > ${W}`);
@@ -405,7 +405,7 @@ pub async fn layout_problems(page: &Page) -> Result<Vec<String>> {
     Ok(serde_json::from_value(eval(page, js).await?)?)
 }
 
-pub async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<PathBuf> {
+pub(crate) async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result<PathBuf> {
     let start = Instant::now();
     loop {
         if let Some(found) = std::fs::read_dir(dir)?
@@ -422,7 +422,7 @@ pub async fn wait_for_file(dir: &Path, suffix: &str, within: Duration) -> Result
 }
 
 /// Chooses `file` in the file input `selector`, as a person does in the file dialog.
-pub async fn choose_file(page: &Page, selector: &str, file: &Path) -> Result<()> {
+pub(crate) async fn choose_file(page: &Page, selector: &str, file: &Path) -> Result<()> {
     let input = page.find_element(selector).await?;
     let params = SetFileInputFilesParams::builder()
         .files(vec![file.to_string_lossy().into_owned()])
@@ -434,7 +434,7 @@ pub async fn choose_file(page: &Page, selector: &str, file: &Path) -> Result<()>
 
 /// Answers "Open the example" when the app asks before an example replaces unsaved changes (it asks
 /// at once, when the example is chosen).
-pub async fn replace_if_asked(page: &Page) -> Result<()> {
+pub(crate) async fn replace_if_asked(page: &Page) -> Result<()> {
     let js = "(() => { const d = document.getElementById('replace'); \
               if (d.open) document.getElementById('btn-replace').click(); return true; })()";
     eval(page, js).await?;
@@ -442,7 +442,7 @@ pub async fn replace_if_asked(page: &Page) -> Result<()> {
 }
 
 /// Designs the scene shown with a quick search (5,000 samples, Settings) and waits for it to play.
-pub async fn design_quickly(page: &Page) -> Result<()> {
+pub(crate) async fn design_quickly(page: &Page) -> Result<()> {
     click(page, "[data-tab=settings]").await?;
     click(page, "button[title='5000 samples']").await?;
     click(page, "#btn-design").await?;
@@ -451,7 +451,7 @@ pub async fn design_quickly(page: &Page) -> Result<()> {
 
 /// Picks the design's thumbnail `which` (`best`, or an alternative's index) in the Result tab and
 /// waits for its motion.
-pub async fn pick_design(page: &Page, which: &str) -> Result<()> {
+pub(crate) async fn pick_design(page: &Page, which: &str) -> Result<()> {
     click(page, &format!("#tab-result .thumb[data-which='{which}']")).await?;
     let shown = if which == "best" { "null".to_string() } else { which.to_string() };
     let js =

@@ -7,12 +7,12 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
 
 /// Runs `linkwright` with `args` and waits for it.
-pub fn linkwright(args: &[&str]) -> Output {
+pub(crate) fn linkwright(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_linkwright")).args(args).output().expect("the binary runs")
 }
 
 /// An empty scratch folder of this test file's own (named after the test binary and `name`).
-pub fn workdir(name: &str) -> PathBuf {
+pub(crate) fn workdir(name: &str) -> PathBuf {
     let dir =
         std::env::temp_dir().join(format!("linkwright-{}-{}-{name}", env!("CARGO_CRATE_NAME"), std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -21,24 +21,24 @@ pub fn workdir(name: &str) -> PathBuf {
 }
 
 /// The path of a bundled example.
-pub fn example(name: &str) -> String {
+pub(crate) fn example(name: &str) -> String {
     format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))
 }
 
 /// Output bytes as text.
-pub fn text(bytes: &[u8]) -> String {
+pub(crate) fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
 /// `linkwright serve` on a free port of 127.0.0.1, stopped (by its own pid) when dropped.
-pub struct Server {
+pub(crate) struct Server {
     child: Child,
     /// The base URL, ending in `/`.
     pub url: String,
 }
 
 impl Server {
-    pub fn start(extra: &[&str]) -> Server {
+    pub(crate) fn start(extra: &[&str]) -> Server {
         let child = Command::new(env!("CARGO_BIN_EXE_linkwright"))
             .args(["serve", "--port", "0", "--threads", "2"])
             .args(extra)
@@ -50,7 +50,7 @@ impl Server {
     }
 
     /// The server `child` runs, its standard output piped.
-    pub fn from_child(mut child: Child) -> Server {
+    pub(crate) fn from_child(mut child: Child) -> Server {
         let stdout = child.stdout.take().expect("piped stdout");
         let mut lines = BufReader::new(stdout).lines();
         let first = lines.next().and_then(Result::ok).unwrap_or_default();
@@ -64,13 +64,13 @@ impl Server {
         Server { child, url }
     }
 
-    pub fn at(&self, path: &str) -> String {
+    pub(crate) fn at(&self, path: &str) -> String {
         format!("{}{}", self.url, path.trim_start_matches('/'))
     }
 
     /// A field of the server process's `/proc/PID/status` in KiB (`VmRSS`, `VmHWM`); `None` where
     /// there is no /proc.
-    pub fn memory_kib(&self, field: &str) -> Option<u64> {
+    pub(crate) fn memory_kib(&self, field: &str) -> Option<u64> {
         let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).ok()?;
         let line = status.lines().find(|l| l.starts_with(field))?;
         line.split_whitespace().nth(1)?.parse().ok()
@@ -85,12 +85,12 @@ impl Drop for Server {
 }
 
 /// A bundled example's text.
-pub fn example_text(name: &str) -> String {
+pub(crate) fn example_text(name: &str) -> String {
     std::fs::read_to_string(format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"))).expect("the example")
 }
 
 /// The garbage truck with a small, seeded search (a design in a second or two).
-pub fn quick_garbage_truck(samples: u64, seed: u64) -> serde_json::Value {
+pub(crate) fn quick_garbage_truck(samples: u64, seed: u64) -> serde_json::Value {
     let mut scene: serde_json::Value = serde_json::from_str(&example_text("k1_garbage_truck")).unwrap();
     scene["settings"] = serde_json::json!({"samples": samples, "seed": seed});
     scene
@@ -98,7 +98,7 @@ pub fn quick_garbage_truck(samples: u64, seed: u64) -> serde_json::Value {
 
 /// Runs `linkwright design` on the bundled garbage truck with a small budget (3,000 samples) into
 /// `out`, with `extra` arguments.
-pub fn design_truck(out: &std::path::Path, extra: &[&str]) -> Output {
+pub(crate) fn design_truck(out: &std::path::Path, extra: &[&str]) -> Output {
     let (scene, out) = (example("k1_garbage_truck"), out.to_str().expect("a UTF-8 path").to_string());
     let mut args = vec!["design", scene.as_str(), "-o", out.as_str(), "--samples", "3000"];
     args.extend_from_slice(extra);
