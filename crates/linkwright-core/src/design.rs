@@ -8,4 +8,5 @@ pub use file::{
     Alternative, BuildRecord, DesignError, DesignFile, DesignParseError, DriverJson, EditError, MechanismJson, Metrics,
     Motion, PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
 };
-pub use validate::{DesignIssue, MAX_TRAVEL_DEG};
+pub use validate::DesignIssue;
+pub(crate) use validate::MAX_TRAVEL_DEG;

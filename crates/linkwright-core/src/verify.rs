@@ -27,7 +27,7 @@ const STEP_DEG: f64 = 0.5;
 
 /// A travel of the driver, degrees, unwrapped: from `start` to `end`, passing pose i at `poses[i]`.
 #[derive(Clone, Copy, Debug)]
-pub struct Travel<'a> {
+pub(crate) struct Travel<'a> {
     pub start: f64,
     pub end: f64,
     pub poses: &'a [f64],
@@ -35,7 +35,11 @@ pub struct Travel<'a> {
 
 /// Every violated hard constraint of `mechanism` moving along `travel` (empty when it is sound), and
 /// the accuracy at the pose angles when the linkage assembles there.
-pub fn verify_travel(problem: &Problem, mechanism: &Mechanism, travel: Travel) -> (Vec<Violation>, Option<Accuracy>) {
+pub(crate) fn verify_travel(
+    problem: &Problem,
+    mechanism: &Mechanism,
+    travel: Travel,
+) -> (Vec<Violation>, Option<Accuracy>) {
     let mut out = Vec::new();
     let Some(plan) = check_linkage(problem, mechanism, &mut out) else { return (out, None) };
     if !check_order(problem, mechanism, travel, &mut out) {
@@ -224,13 +228,13 @@ fn pose_accuracy(
 /// E_acc of a design, recomputed: the mean squared miss of the body-carried joints over the poses
 /// (paper eq. 10) and that of the bodies' outline vertices; the engine's E_acc is their sum.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Accuracy {
+pub(crate) struct Accuracy {
     pub joints: f64,
     pub outlines: f64,
 }
 
 impl Accuracy {
-    pub fn total(&self) -> f64 {
+    pub(crate) fn total(&self) -> f64 {
         self.joints + self.outlines
     }
 }

@@ -5,7 +5,7 @@ use std::borrow::Cow;
 /// Escapes text for XML content and attribute values (`&`, `<`, `>`, `"`, `'`), and drops the
 /// characters XML 1.0 forbids even escaped (the C0 controls but tab, line feed and carriage return,
 /// and U+FFFE, U+FFFF), so a name holding them still gives a well-formed document.
-pub fn escape(text: &str) -> Cow<'_, str> {
+pub(crate) fn escape(text: &str) -> Cow<'_, str> {
     // A byte scan: every character escaped or dropped is ASCII or starts with the byte 0xEF (U+F000 to
     // U+FFFF), and UTF-8 never uses ASCII bytes inside others.
     let special = |b: u8| {

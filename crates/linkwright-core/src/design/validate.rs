@@ -31,22 +31,22 @@ impl std::fmt::Display for DesignIssue {
 
 /// Largest coordinate accepted: ten times the scenes' bound (a linkage may reach beyond the drawing,
 /// never this far), which keeps every product (areas, squared lengths) far from overflow.
-pub const MAX_COORDINATE: f64 = 10.0 * crate::scene::limits::MAX_COORDINATE;
+pub(crate) const MAX_COORDINATE: f64 = 10.0 * crate::scene::limits::MAX_COORDINATE;
 /// The crank's travel from the first pose to the last is less than this, degrees. A one-degree-of-freedom
 /// linkage driven by a crank is back in the same configuration after a full turn, so every motion
 /// through poses in order fits within one turn; more could only repeat configurations. It also bounds
 /// what a travel costs to simulate: at the fabrication's 1° steps, at most 361 rows.
-pub const MAX_TRAVEL_DEG: f64 = 360.0;
+pub(crate) const MAX_TRAVEL_DEG: f64 = 360.0;
 /// Largest crank angle accepted, degrees. The engine writes the start as the crank's direction in
 /// (−180°, 180°] and a travel under a turn, so every angle it writes is within ±540°.
-pub const MAX_CRANK_DEG: f64 = 720.0;
+pub(crate) const MAX_CRANK_DEG: f64 = 720.0;
 /// Most joints and parts of one mechanism. The engine's chain for K bodies has 3K + 1 joints and 2K + 2
 /// parts; a scene with dozens of moving bodies is already far past anything drawable.
-pub const MAX_JOINTS: usize = 256;
-pub const MAX_PARTS: usize = 256;
+pub(crate) const MAX_JOINTS: usize = 256;
+pub(crate) const MAX_PARTS: usize = 256;
 /// Most alternatives in one file (the engine writes at most 10); each
 /// is simulated when the file is validated.
-pub const MAX_ALTERNATIVES: usize = 100;
+pub(crate) const MAX_ALTERNATIVES: usize = 100;
 /// Part lengths may drift along the simulated motion by this fraction of the linkage's size before
 /// the part counts as deformed (the solver's rounding over 360 steps is some 10⁻¹² of it).
 const RIGIDITY_TOLERANCE: f64 = 1e-6;

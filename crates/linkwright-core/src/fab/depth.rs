@@ -170,7 +170,7 @@ pub struct Ordering {
 }
 
 /// Records every constraint along the motion `trace` (paper §7.2: a 2D kinematic simulation).
-pub fn record(layout: &Layout, trace: &Trace) -> Recorded {
+pub(crate) fn record(layout: &Layout, trace: &Trace) -> Recorded {
     let mut recording = Recording::new(layout);
     for r in 0..trace.len() {
         let row = trace.row(r);
@@ -443,7 +443,7 @@ pub(crate) enum NoOrdering {
 /// Solves the ordering, minimising the layers: the smallest layer count is found by asking the
 /// solver for each count from a lower bound upwards, so the first satisfiable count is proven optimal.
 /// With [`Faces::Auto`], one face is tried first and both faces only when one face has no ordering.
-pub fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> Result<Ordering, NoOrdering> {
+pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> Result<Ordering, NoOrdering> {
     let m = layout.members.len();
     if m == 0 {
         // Nothing to hang beyond: each spring on the front face, one level each.
@@ -492,7 +492,7 @@ pub fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) 
 }
 
 /// Whether any ordering exists with the faces allowed (no minimisation).
-pub fn feasible(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> bool {
+pub(crate) fn feasible(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> bool {
     let m = layout.members.len() as i32;
     let attempts: &[bool] = match faces {
         Faces::One => &[false],

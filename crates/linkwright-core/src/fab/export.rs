@@ -9,7 +9,7 @@ use std::io::{self, Write};
 
 /// Writes `mesh` as a binary STL (80-byte header, triangle count, per triangle its unit normal and
 /// three vertices as little-endian f32, and a zero attribute).
-pub fn write_stl(mesh: &Mesh, scale: f64, header: &str, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_stl(mesh: &Mesh, scale: f64, header: &str, w: &mut impl Write) -> io::Result<()> {
     let mut head = [0u8; 80];
     for (k, b) in header.bytes().take(80).enumerate() {
         head[k] = b;
@@ -37,7 +37,7 @@ pub fn write_stl(mesh: &Mesh, scale: f64, header: &str, w: &mut impl Write) -> i
 }
 
 /// The binary STL of `mesh` as bytes.
-pub fn stl_bytes(mesh: &Mesh, scale: f64, header: &str) -> Vec<u8> {
+pub(crate) fn stl_bytes(mesh: &Mesh, scale: f64, header: &str) -> Vec<u8> {
     let mut out = Vec::new();
     write_stl(mesh, scale, header, &mut out).expect("writing to memory never fails");
     out
@@ -48,7 +48,7 @@ fn xml_escape(s: &str) -> std::borrow::Cow<'_, str> {
 }
 
 /// The 3MF model XML of named objects (each a mesh already in place), millimetres.
-pub fn three_mf_model(title: &str, objects: &[(String, &Mesh)], scale: f64) -> String {
+pub(crate) fn three_mf_model(title: &str, objects: &[(String, &Mesh)], scale: f64) -> String {
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     s.push_str(
@@ -90,7 +90,7 @@ const CONTENT_TYPES: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types 
 const RELS: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n";
 
 /// A 3MF package (zip) of named objects, each mesh already in place, millimetres.
-pub fn three_mf(title: &str, objects: &[(String, &Mesh)], scale: f64) -> Result<Vec<u8>, io::Error> {
+pub(crate) fn three_mf(title: &str, objects: &[(String, &Mesh)], scale: f64) -> Result<Vec<u8>, io::Error> {
     use zip::write::SimpleFileOptions;
     let mut z = zip::ZipWriter::new(io::Cursor::new(Vec::new()));
     let opts = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
@@ -107,7 +107,7 @@ pub fn three_mf(title: &str, objects: &[(String, &Mesh)], scale: f64) -> Result<
 }
 
 /// A named planar profile: its outline first, then its holes.
-pub struct Profile<'a> {
+pub(crate) struct Profile<'a> {
     pub name: &'a str,
     pub contours: &'a [Vec<Point>],
 }
@@ -139,7 +139,7 @@ fn sheet_layout(profiles: &[Profile], scale: f64, width: f64, gap: f64) -> (Vec<
 
 /// Every profile on one SVG sheet (millimetres, y up in the parts' frames, flipped for SVG), each with
 /// its name; holes cut by the even-odd rule.
-pub fn profiles_svg(profiles: &[Profile], scale: f64) -> String {
+pub(crate) fn profiles_svg(profiles: &[Profile], scale: f64) -> String {
     let (places, w, h) = sheet_layout(profiles, scale, 600.0, 8.0);
     let mut s = String::new();
     let _ = writeln!(
@@ -170,7 +170,7 @@ pub fn profiles_svg(profiles: &[Profile], scale: f64) -> String {
 
 /// Every profile as closed polylines in an ASCII DXF (R12), millimetres, one layer per part, placed
 /// as on the SVG sheet.
-pub fn profiles_dxf(profiles: &[Profile], scale: f64) -> String {
+pub(crate) fn profiles_dxf(profiles: &[Profile], scale: f64) -> String {
     let (places, _, h) = sheet_layout(profiles, scale, 600.0, 8.0);
     let mut s = String::new();
     let mut pair = |code: i32, value: &str| {

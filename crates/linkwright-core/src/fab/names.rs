@@ -4,13 +4,13 @@
 
 /// Longest file name stem, in characters (leaving room for a suffix and the extension in the 255
 /// bytes file systems allow).
-pub const MAX_FILE_STEM: usize = 64;
+pub(crate) const MAX_FILE_STEM: usize = 64;
 
 /// A name every file system takes, inside the folder it is joined to: ASCII letters, digits, `.`, `_`,
 /// `-` and space are kept, every other character becomes `_`; no run of dots (so never `..`), no dot,
 /// space or `_` at either end (no hidden files, nothing Windows trims), at most [`MAX_FILE_STEM`]
 /// characters, and `part` when nothing is left.
-pub fn safe_file_name(name: &str) -> String {
+pub(crate) fn safe_file_name(name: &str) -> String {
     let mut out = String::with_capacity(name.len().min(MAX_FILE_STEM));
     for c in name.chars() {
         let c = if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-' | ' ') { c } else { '_' };
@@ -43,7 +43,7 @@ fn is_reserved_on_windows(stem: &str) -> bool {
 
 /// [`safe_file_name`] of each name, made unique ignoring case (as macOS and Windows compare file
 /// names): a name already taken gets `-2`, `-3`, … A name that is already safe and unique is kept.
-pub fn file_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
+pub(crate) fn file_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
     let mut taken = std::collections::HashSet::new();
     let mut out = Vec::new();
     for name in names {

@@ -158,7 +158,7 @@ impl Spec {
 }
 
 /// Builds every part. `layer_z(k)` heights follow paper eq. 20 ([`Dims::layer_bottom`]).
-pub fn build(
+pub(crate) fn build(
     shapes: &SceneShapes,
     layout: &Layout,
     ordering: &Ordering,

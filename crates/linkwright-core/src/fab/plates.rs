@@ -8,7 +8,7 @@ use serde::Serialize;
 
 /// A part placed on a plate: its index, and the turn (degrees) and offset (mm) applied to its print mesh.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Placement {
+pub(crate) struct Placement {
     pub part: usize,
     pub turn_deg: f64,
     pub offset_mm: [f64; 2],
@@ -18,13 +18,13 @@ pub struct Placement {
 
 /// One print bed's worth of parts.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct Plate {
+pub(crate) struct Plate {
     pub placements: Vec<Placement>,
 }
 
 /// The plates, and the parts too large for the bed in any turn.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct Plates {
+pub(crate) struct Plates {
     pub plates: Vec<Plate>,
     pub oversized: Vec<usize>,
 }
@@ -38,7 +38,7 @@ fn footprint(pts: &[Point], turn: f64) -> (f64, f64, Point) {
 }
 
 /// Whether a part whose outline has these points (millimetres) fits the bed in some turn.
-pub fn fits_bed(points_mm: &[Point], bed: &Bed) -> bool {
+pub(crate) fn fits_bed(points_mm: &[Point], bed: &Bed) -> bool {
     misfit(points_mm, 0.0, bed).is_none()
 }
 
@@ -57,7 +57,7 @@ pub struct Misfit {
 /// `None` when the part fits the bed in some turn, else what it would take. The part is the convex
 /// hull of discs of radius `grow_mm` around `core_mm` (a link or connector: its joints and post; a body:
 /// its outline with `grow_mm` 0).
-pub fn misfit(core_mm: &[Point], grow_mm: f64, bed: &Bed) -> Option<Misfit> {
+pub(crate) fn misfit(core_mm: &[Point], grow_mm: f64, bed: &Bed) -> Option<Misfit> {
     let hull = super::shapes::convex_hull(core_mm);
     let (w_max, d_max) = (bed.width - 2.0 * bed.margin, bed.depth - 2.0 * bed.margin);
     let g = 2.0 * grow_mm;
@@ -84,7 +84,7 @@ pub fn misfit(core_mm: &[Point], grow_mm: f64, bed: &Bed) -> Option<Misfit> {
 }
 
 /// The direction of the long side of the smallest box around the points.
-pub fn long_axis(points: &[Point]) -> Vec2 {
+pub(crate) fn long_axis(points: &[Point]) -> Vec2 {
     let hull = super::shapes::convex_hull(points);
     let mut best = (f64::INFINITY, Vec2::new(1.0, 0.0));
     for step in 0..180 {
@@ -100,7 +100,7 @@ pub fn long_axis(points: &[Point]) -> Vec2 {
 }
 
 /// Packs the print meshes (millimetres after `scale`) of `parts` onto beds.
-pub fn pack(meshes: &[&Mesh], scale: f64, bed: &Bed) -> Plates {
+pub(crate) fn pack(meshes: &[&Mesh], scale: f64, bed: &Bed) -> Plates {
     let (w_max, d_max) = (bed.width - 2.0 * bed.margin, bed.depth - 2.0 * bed.margin);
     let mut items: Vec<(usize, f64, f64, f64, Point)> = Vec::new();
     let mut oversized = Vec::new();
@@ -173,7 +173,7 @@ fn place(k: usize, turn: f64, w: f64, d: f64, min: Point, x: f64, y: f64, bed: &
 }
 
 /// The print mesh of a placement in bed coordinates (mm).
-pub fn placed_mesh(mesh: &Mesh, scale: f64, p: &Placement) -> Mesh {
+pub(crate) fn placed_mesh(mesh: &Mesh, scale: f64, p: &Placement) -> Mesh {
     let r = Rigid::new(p.turn_deg.to_radians(), Vec2::new(p.offset_mm[0], p.offset_mm[1]));
     mesh.mapped(
         |v| {

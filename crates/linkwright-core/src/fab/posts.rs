@@ -21,7 +21,7 @@ use i_overlay::float::simplify::SimplifyShape;
 /// of the fixed bodies), each body's outline, and the sizes. Build it once and reuse it for many
 /// mechanisms (the print check does, for every candidate).
 #[derive(Clone, Debug)]
-pub struct SceneShapes {
+pub(crate) struct SceneShapes {
     /// The union of the fixed bodies: one region per connected piece.
     pub ground: Vec<Region>,
     /// Each moving body's outline in its own frame, as a region.
@@ -33,7 +33,7 @@ pub struct SceneShapes {
 }
 
 impl SceneShapes {
-    pub fn new(problem: &Problem, dims: Dims) -> SceneShapes {
+    pub(crate) fn new(problem: &Problem, dims: Dims) -> SceneShapes {
         let contours: Vec<Vec<[f64; 2]>> = problem
             .fixed
             .iter()
@@ -80,7 +80,7 @@ impl SceneShapes {
 
     /// The regions of carrier `k` (0 the ground, `1 + b` moving body `b`) that can hold posts and pins,
     /// in the carrier's frame (empty for the ground of a scene without fixed bodies).
-    pub fn carrier_regions(&self, k: usize) -> &[Region] {
+    pub(crate) fn carrier_regions(&self, k: usize) -> &[Region] {
         match k {
             0 => &self.ground,
             _ => std::slice::from_ref(&self.bodies[k - 1]),
@@ -89,7 +89,7 @@ impl SceneShapes {
 }
 
 /// A pillar already standing on a carrier: position and radius.
-pub type Pillar = (Point, f64);
+pub(crate) type Pillar = (Point, f64);
 
 /// A pad fused to a carrier's outline in the bodies' plane, carrying a post.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,7 +104,7 @@ pub struct Pad {
 
 /// Where a post stands.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Site {
+pub(crate) struct Site {
     pub at: Point,
     /// The pad fused to the body there, when the body is too thin.
     pub pad: Option<f64>,
@@ -112,7 +112,7 @@ pub struct Site {
 
 /// Why no post place was found.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Refusal {
+pub(crate) enum Refusal {
     /// The carrier has no place for a post nor a side for a pad.
     NoRoom,
     /// Every pad place enters another body along the motion; the first crank angle (degrees) seen.
@@ -120,7 +120,7 @@ pub enum Refusal {
 }
 
 /// The preferences among valid places, strictest first.
-pub struct Rules<'a> {
+pub(crate) struct Rules<'a> {
     /// Whether a place keeps the connectors of one carrier off each other's posts at strictness
     /// `level` (2: neither covers the other, 1: not both, 0: anything).
     pub clear: &'a dyn Fn(Point, u8) -> bool,
@@ -129,7 +129,7 @@ pub struct Rules<'a> {
 }
 
 /// What a post must reach and avoid on one carrier.
-pub struct Query<'a> {
+pub(crate) struct Query<'a> {
     /// The carrier's regions, carrier frame.
     pub regions: &'a [Region],
     /// The joint (both ends equal) or the guide's slot, carrier frame: the post stays `min_reach` from it.
@@ -172,7 +172,7 @@ impl Query<'_> {
 }
 
 /// The place of a post of collar radius `dims.post_collar_radius`, after the module's order.
-pub fn place(q: &Query, rules: &Rules, dims: &Dims) -> Result<Site, Refusal> {
+pub(crate) fn place(q: &Query, rules: &Rules, dims: &Dims) -> Result<Site, Refusal> {
     let collar = dims.post_collar_radius;
     // The paper's place first: the boundary point nearest the target pushed in, when it is good.
     let mid = q.target.0.lerp(q.target.1, 0.5);
@@ -346,13 +346,13 @@ fn pad_places(q: &Query, radius: f64, collar: f64) -> Vec<Point> {
 /// centres of pads fused to the sides (reaching `2 · wall` to all the way into the body from each
 /// boundary sample, bulging out on that side, and on the middle line).
 #[derive(Clone, Debug, Default)]
-pub struct ThinSites {
+pub(crate) struct ThinSites {
     pub middle: Vec<(Point, f64)>,
     pub pads: Vec<Point>,
 }
 
 impl ThinSites {
-    pub fn new(regions: &[Region], dims: &Dims) -> ThinSites {
+    pub(crate) fn new(regions: &[Region], dims: &Dims) -> ThinSites {
         let depth = dims.post_flush_depth();
         let radius = dims.post_depth();
         let mut out = ThinSites::default();
@@ -390,7 +390,12 @@ fn nearest_apart(mut found: Vec<(f64, Point)>, spacing: f64, limit: usize) -> Ve
 /// Where the foot of a frame stands (a scene without a fixed body): the place nearest the frame's
 /// points `core`, a post's reach from each, where no body or pad comes (`hit`), preferring places no
 /// link sweeps over; `None` when there is none within a few post depths.
-pub fn foot(core: &[Point], dims: &Dims, swept: &dyn Fn(Point) -> bool, hit: &dyn Fn(Point) -> bool) -> Option<Point> {
+pub(crate) fn foot(
+    core: &[Point],
+    dims: &Dims,
+    swept: &dyn Fn(Point) -> bool,
+    hit: &dyn Fn(Point) -> bool,
+) -> Option<Point> {
     let reach = dims.boss_radius + dims.post_collar_radius + dims.wall;
     let step = dims.post_depth();
     let mut found: Vec<(f64, Point)> = Vec::new();
@@ -426,14 +431,14 @@ pub fn foot(core: &[Point], dims: &Dims, swept: &dyn Fn(Point) -> bool, hit: &dy
 
 /// Every rigid carrier's pose (the ground, then each moving body) at every row of a motion, both ways,
 /// computed once for the pad tests of one layout.
-pub struct Poses {
+pub(crate) struct Poses {
     /// `[row][carrier]`: carrier to world, world to carrier.
     rows: Vec<Vec<(Rigid, Rigid)>>,
     thetas: Vec<f64>,
 }
 
 impl Poses {
-    pub fn new(frames: &BodyFrames, trace: &Trace) -> Poses {
+    pub(crate) fn new(frames: &BodyFrames, trace: &Trace) -> Poses {
         let rows = (0..trace.len())
             .map(|r| {
                 let row = trace.row(r);
@@ -450,7 +455,14 @@ impl Poses {
 /// The crank angle (degrees) of the first row where a disc of `radius` at `at` on carrier `c` (0 the
 /// ground, `1 + b` body `b`) enters another carrier's region or pad, or `None`. The disc is exact (a
 /// pad's outline lies inside it).
-pub fn pad_hit(shapes: &SceneShapes, poses: &Poses, c: usize, at: Point, radius: f64, pads: &[Pad]) -> Option<f64> {
+pub(crate) fn pad_hit(
+    shapes: &SceneShapes,
+    poses: &Poses,
+    c: usize,
+    at: Point,
+    radius: f64,
+    pads: &[Pad],
+) -> Option<f64> {
     let tol = 1e-3 * radius;
     let carriers = 1 + shapes.bodies.len();
     let boxes: Vec<Option<crate::geom::Aabb>> = (0..carriers)

@@ -155,12 +155,12 @@ pub struct ConstraintReport {
 }
 
 /// Mass in grams of `volume_mm3` with the settings' density and fill.
-pub fn mass_g(fab: &Fabrication, volume_mm3: f64) -> f64 {
+pub(crate) fn mass_g(fab: &Fabrication, volume_mm3: f64) -> f64 {
     volume_mm3 / 1000.0 * fab.settings.density * fab.settings.fill_fraction
 }
 
 /// The report of a fabrication, its plates (files named `plate_N.3mf`) and its checks.
-pub fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report {
+pub(crate) fn report(fab: &Fabrication, plates: &Plates, checks: CheckReport) -> Report {
     let s = fab.dims.mm_per_unit;
     let parts: Vec<PartReport> = fab
         .parts

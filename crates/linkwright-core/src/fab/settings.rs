@@ -124,7 +124,7 @@ enum Scope {
 
 /// The values a setting may take, inclusive, and its unit.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Range {
+pub(crate) struct Range {
     /// The least value.
     pub lo: f64,
     /// The greatest value.
@@ -149,7 +149,7 @@ impl Range {
     ///
     /// Together they keep every volume, mass, torque and spring rate derived from them finite and
     /// every mesh non-degenerate: `body_thickness: 1e308` once gave NaN grams and infinite vertices.
-    pub fn of(field: &str) -> Range {
+    pub(crate) fn of(field: &str) -> Range {
         let mm = |lo, hi| Range { lo, hi, unit: "mm" };
         match field {
             "axial_gap" | "radial_clearance" | "snap_cap.lip" => mm(0.01, 5.0),
@@ -167,7 +167,7 @@ impl Range {
     /// The range of a length setting derived for a full-size build: its bodies are up to a metre
     /// thick and it has no bed (a million millimetres stands for none); a thousandth of a millimetre
     /// and a kilometre still keep every product finite. Other settings keep their range.
-    pub fn any_build(self) -> Range {
+    pub(crate) fn any_build(self) -> Range {
         match self.unit {
             "mm" => Range { lo: self.lo.min(1e-3), hi: 1e6, unit: self.unit },
             _ => self,

@@ -4,7 +4,7 @@
 use crate::geom::{point_segment_distance, segments_cross, Point, Vec2};
 
 /// The convex hull of `points`, counter-clockwise, without collinear points (Andrew's monotone chain).
-pub fn convex_hull(points: &[Point]) -> Vec<Point> {
+pub(crate) fn convex_hull(points: &[Point]) -> Vec<Point> {
     let mut pts: Vec<Point> = points.iter().copied().filter(|p| p.is_finite()).collect();
     pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     pts.dedup_by(|a, b| a.distance(*b) <= 1e-12);
@@ -34,7 +34,7 @@ pub fn convex_hull(points: &[Point]) -> Vec<Point> {
 
 /// The outline of the convex hull of discs of radius `r` around `centres`, counter-clockwise, with
 /// every vertex on one of the circles (so the outline lies inside the exact rounded shape).
-pub fn rounded_outline(centres: &[Point], r: f64, segments: usize) -> Vec<Point> {
+pub(crate) fn rounded_outline(centres: &[Point], r: f64, segments: usize) -> Vec<Point> {
     let mut samples = Vec::with_capacity(centres.len() * segments);
     for &c in centres {
         for i in 0..segments {
@@ -46,18 +46,18 @@ pub fn rounded_outline(centres: &[Point], r: f64, segments: usize) -> Vec<Point>
 }
 
 /// A circle as a polygon of `segments` vertices on it, counter-clockwise from angle 0.
-pub fn circle(c: Point, r: f64, segments: usize) -> Vec<Point> {
+pub(crate) fn circle(c: Point, r: f64, segments: usize) -> Vec<Point> {
     (0..segments).map(|i| c + Vec2::from_angle(std::f64::consts::TAU * i as f64 / segments as f64) * r).collect()
 }
 
 /// A stadium (rounded slot) around the segment `a`–`b`, counter-clockwise, vertices on its arcs.
-pub fn stadium(a: Point, b: Point, r: f64, segments: usize) -> Vec<Point> {
+pub(crate) fn stadium(a: Point, b: Point, r: f64, segments: usize) -> Vec<Point> {
     rounded_outline(&[a, b], r, segments)
 }
 
 /// Distance between two convex point sets given by their vertices (a point, a segment or a convex
 /// polygon in any order of up to a few vertices): 0 when they overlap.
-pub fn core_distance(a: &[Point], b: &[Point]) -> f64 {
+pub(crate) fn core_distance(a: &[Point], b: &[Point]) -> f64 {
     if a.is_empty() || b.is_empty() {
         return f64::INFINITY;
     }
@@ -129,7 +129,7 @@ fn small_ccw<'a>(p: &[Point], buf: &'a mut [Point; 3]) -> &'a [Point] {
 }
 
 /// Distance from a point to a convex core (0 inside).
-pub fn point_core_distance(p: Point, core: &[Point]) -> f64 {
+pub(crate) fn point_core_distance(p: Point, core: &[Point]) -> f64 {
     core_distance(&[p], core)
 }
 
@@ -140,12 +140,12 @@ fn inside_convex(ccw: &[Point], p: Point) -> bool {
 
 /// A region: outer contours and holes together, read with the even-odd rule.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Region {
+pub(crate) struct Region {
     pub contours: Vec<Vec<Point>>,
 }
 
 impl Region {
-    pub fn contains(&self, p: Point) -> bool {
+    pub(crate) fn contains(&self, p: Point) -> bool {
         // Even-odd over every contour's edges at once.
         let mut inside = false;
         for c in &self.contours {
@@ -160,7 +160,7 @@ impl Region {
         inside
     }
     /// Distance from `p` to the nearest boundary, positive inside and negative outside.
-    pub fn depth(&self, p: Point) -> f64 {
+    pub(crate) fn depth(&self, p: Point) -> f64 {
         let d = self.boundary_distance(p);
         if self.contains(p) {
             d
@@ -169,14 +169,14 @@ impl Region {
         }
     }
     /// Whether `p` lies inside, at least `d` from the boundary (stops at the first edge too close).
-    pub fn deeper_than(&self, p: Point, d: f64) -> bool {
+    pub(crate) fn deeper_than(&self, p: Point, d: f64) -> bool {
         self.contains(p)
             && self.contours.iter().all(|c| {
                 let n = c.len();
                 (0..n).all(|i| point_segment_distance(p, c[i], c[(i + 1) % n]) >= d)
             })
     }
-    pub fn boundary_distance(&self, p: Point) -> f64 {
+    pub(crate) fn boundary_distance(&self, p: Point) -> f64 {
         let mut d = f64::INFINITY;
         for c in &self.contours {
             let n = c.len();
@@ -187,7 +187,7 @@ impl Region {
         d
     }
     /// The boundary point nearest to `p` and the unit normal pointing into the region there.
-    pub fn nearest_boundary(&self, p: Point) -> Option<(Point, Vec2)> {
+    pub(crate) fn nearest_boundary(&self, p: Point) -> Option<(Point, Vec2)> {
         let mut best: Option<(f64, Point, Point, Point)> = None;
         for c in &self.contours {
             let n = c.len();
@@ -213,14 +213,14 @@ impl Region {
         let inward = if self.contains(q + n * eps) { n } else { -n };
         Some((q, inward))
     }
-    pub fn aabb(&self) -> Option<crate::geom::Aabb> {
+    pub(crate) fn aabb(&self) -> Option<crate::geom::Aabb> {
         crate::geom::Aabb::around(self.contours.iter().flatten().copied())
     }
 }
 
 /// `subject` combined with `clip` by `rule`, both read even-odd: the pieces of positive area, each its
 /// outline then its holes.
-pub fn overlay(
+pub(crate) fn overlay(
     subject: &[Vec<Point>],
     clip: &[Vec<Point>],
     rule: i_overlay::core::overlay_rule::OverlayRule,
@@ -241,7 +241,7 @@ pub fn overlay(
 /// piece when the union falls apart, which pads touching the region never make it do). Pockets the
 /// discs close off outside the region (two pads meeting beside a thin bar) are filled: only what
 /// remains of the region's own holes stays open.
-pub fn union_with_discs(contours: &[Vec<Point>], discs: &[(Point, f64)], segments: usize) -> Vec<Vec<Point>> {
+pub(crate) fn union_with_discs(contours: &[Vec<Point>], discs: &[(Point, f64)], segments: usize) -> Vec<Vec<Point>> {
     use i_overlay::core::fill_rule::FillRule;
     use i_overlay::core::overlay_rule::OverlayRule;
     use i_overlay::float::simplify::SimplifyShape;

@@ -134,7 +134,7 @@ fn carrier_name(fab: &Fabrication, carrier: usize, at: Option<Point>, face: Face
 
 /// The sheet as SVG: the side view (x along the world, height up, exaggerated ×`zoom` for legibility)
 /// and the numbered steps.
-pub fn assembly_svg(fab: &Fabrication) -> String {
+pub(crate) fn assembly_svg(fab: &Fabrication) -> String {
     let s_mm = fab.dims.mm_per_unit;
     let mut poses: Vec<Rigid> = Vec::new();
     fab.layout.carrier_poses(fab.trace.row(0), &mut poses);

@@ -20,7 +20,7 @@ pub struct Mesh {
 /// Why a slab could not be meshed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("cannot mesh {0}")]
-pub struct MeshError(pub String);
+pub(crate) struct MeshError(pub String);
 
 impl Mesh {
     fn add(&mut self, p: [f64; 3]) -> u32 {
@@ -99,7 +99,7 @@ impl Mesh {
 
 /// The cross-section of a feature at one height.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum RingShape {
+pub(crate) enum RingShape {
     /// A circle of this radius.
     Circle(f64),
     /// A square of this half side, corners on the axes (a diamond in the part's frame).
@@ -110,7 +110,7 @@ pub enum RingShape {
 
 /// One ring of a feature's profile.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ring {
+pub(crate) struct Ring {
     pub z: f64,
     pub shape: RingShape,
 }
@@ -120,23 +120,23 @@ pub struct Ring {
 /// ring on the slab's bottom face and ends with one on its top face; a stud starts with its apex and
 /// ends with a ring on the top face.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Feature {
+pub(crate) struct Feature {
     pub centre: Point,
     pub rings: Vec<Ring>,
 }
 
 impl Feature {
     /// A plain round hole of radius `r` through the slab `z0..z1`.
-    pub fn hole(centre: Point, r: f64, z0: f64, z1: f64) -> Feature {
+    pub(crate) fn hole(centre: Point, r: f64, z0: f64, z1: f64) -> Feature {
         Feature { centre, rings: vec![ring(z0, RingShape::Circle(r)), ring(z1, RingShape::Circle(r))] }
     }
     /// A square socket through the slab.
-    pub fn socket(centre: Point, half: f64, z0: f64, z1: f64) -> Feature {
+    pub(crate) fn socket(centre: Point, half: f64, z0: f64, z1: f64) -> Feature {
         Feature { centre, rings: vec![ring(z0, RingShape::Square(half)), ring(z1, RingShape::Square(half))] }
     }
     /// A round hole through the slab and through a boss of radius `rb` standing on the top face up
     /// to `top`.
-    pub fn bossed_hole(centre: Point, r: f64, rb: f64, z0: f64, z1: f64, top: f64) -> Feature {
+    pub(crate) fn bossed_hole(centre: Point, r: f64, rb: f64, z0: f64, z1: f64, top: f64) -> Feature {
         let rings = vec![
             ring(z0, RingShape::Circle(r)),
             ring(top, RingShape::Circle(r)),
@@ -148,7 +148,13 @@ impl Feature {
     /// A stud standing on the top face at `z1`, given bottom-up as `(height, shape)` steps: each step
     /// is the cross-section from its height to the next step's. The last step rises to `top`, tapering
     /// to `tip` when given (a snap cap's lead-in), and is closed by a flat top.
-    pub fn stud(centre: Point, z1: f64, steps: &[(f64, RingShape)], top: f64, tip: Option<RingShape>) -> Feature {
+    pub(crate) fn stud(
+        centre: Point,
+        z1: f64,
+        steps: &[(f64, RingShape)],
+        top: f64,
+        tip: Option<RingShape>,
+    ) -> Feature {
         // Bottom-up rings: at each step's height the previous shape, then the new one.
         let mut up: Vec<Ring> = Vec::new();
         let mut prev: Option<RingShape> = None;
@@ -201,13 +207,13 @@ fn ring_points(c: Point, shape: RingShape, segments: usize) -> Vec<(Point, f64)>
 }
 
 /// The planar points of a ring (for profiles and hole outlines).
-pub fn ring_outline(c: Point, shape: RingShape, segments: usize) -> Vec<Point> {
+pub(crate) fn ring_outline(c: Point, shape: RingShape, segments: usize) -> Vec<Point> {
     ring_points(c, shape, segments).into_iter().map(|(p, _)| p).collect()
 }
 
 /// A slab: `outline` (any winding) with contour `holes`, between `z0` and `z1`, with features.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Slab {
+pub(crate) struct Slab {
     pub outline: Vec<Point>,
     pub holes: Vec<Vec<Point>>,
     pub z0: f64,
@@ -220,7 +226,7 @@ pub struct Slab {
 
 /// The ring without repeated or collinear vertices (the triangulator drops those, which would leave
 /// the walls' vertices out of the faces and the mesh open).
-pub fn clean_ring(pts: &[Point]) -> Vec<Point> {
+pub(crate) fn clean_ring(pts: &[Point]) -> Vec<Point> {
     let mut out: Vec<Point> = pts.to_vec();
     loop {
         let n = out.len();
@@ -247,7 +253,7 @@ fn signed_area(p: &[Point]) -> f64 {
 
 impl Slab {
     /// The closed mesh of the slab and its features.
-    pub fn mesh(&self, segments: usize) -> Result<Mesh, MeshError> {
+    pub(crate) fn mesh(&self, segments: usize) -> Result<Mesh, MeshError> {
         if self.outline.len() < 3 || self.z1 <= self.z0 {
             return Err(MeshError("an empty or flat slab".into()));
         }

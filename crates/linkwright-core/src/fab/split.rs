@@ -9,14 +9,14 @@ use crate::geom::{Point, Rigid, Vec2};
 use i_overlay::core::overlay_rule::OverlayRule;
 
 /// A region as contours: outline first, then holes.
-pub type Contours = Vec<Vec<Point>>;
+pub(crate) type Contours = Vec<Vec<Point>>;
 /// A disc to keep cuts away from: centre and radius.
 type Disc = (Point, f64);
 
 /// Splits `region` into pieces for which `fits` holds, cutting across direction `along` (unit), clear
 /// of the discs `keep_clear` (centre, radius); a piece still too large the other way is cut again
 /// across its own long side (clear of the dovetails already made). `None` when no cut placement works.
-pub fn split(
+pub(crate) fn split(
     region: &Contours,
     along: Vec2,
     keep_clear: &[Disc],

@@ -19,7 +19,7 @@ pub use vector::{Point, Vec2};
 #[cfg(test)]
 pub(crate) mod testing {
     /// The one approximate-equality helper of the crate's tests.
-    pub fn assert_close(a: f64, b: f64, tol: f64) {
+    pub(crate) fn assert_close(a: f64, b: f64, tol: f64) {
         assert!((a - b).abs() <= tol, "{a} != {b} (tolerance {tol})");
     }
 }

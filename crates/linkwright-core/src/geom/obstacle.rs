@@ -34,7 +34,7 @@ const CHAIN: usize = 4;
 
 /// A fixed polygon and the contact tolerance, prepared for fast tests of moving outlines against it.
 #[derive(Clone, Debug)]
-pub struct Obstacle {
+pub(crate) struct Obstacle {
     vertices: Vec<Point>,
     tol: f64,
     bounds: Aabb,
@@ -74,7 +74,7 @@ enum Region {
 
 impl Obstacle {
     /// Prepares the polygon `vertices` (in order, either winding) for tests with contact tolerance `tol`.
-    pub fn new(vertices: &[Point], tol: f64) -> Obstacle {
+    pub(crate) fn new(vertices: &[Point], tol: f64) -> Obstacle {
         let n = vertices.len();
         let edges: Vec<(Point, Point)> = (0..n).map(|i| (vertices[i], vertices[(i + 1) % n])).collect();
         let edge_boxes: Vec<Aabb> = edges.iter().map(|&(a, b)| segment_box(a, b)).collect();
@@ -168,18 +168,18 @@ impl Obstacle {
 
     /// The polygon's vertices, as given.
     #[cfg(test)]
-    pub fn vertices(&self) -> &[Point] {
+    pub(crate) fn vertices(&self) -> &[Point] {
         &self.vertices
     }
     /// The polygon's bounding box.
-    pub fn bounds(&self) -> Aabb {
+    pub(crate) fn bounds(&self) -> Aabb {
         self.bounds
     }
 
     /// Whether `mover` (a closed outline, or a segment when it has two points) penetrates the obstacle
     /// deeper than the contact tolerance: [`penetrates_unchecked`](super::penetrates_unchecked)`(mover,
     /// vertices, tol)`, exactly.
-    pub fn penetrated_by(&self, mover: &[Point]) -> bool {
+    pub(crate) fn penetrated_by(&self, mover: &[Point]) -> bool {
         let Some(mover_box) = Aabb::around(mover.iter().copied()) else { return false };
         self.edges_cross(mover) || self.mover_points_inside(mover) || self.probes_inside(mover, &mover_box, |_| None)
     }
@@ -190,7 +190,7 @@ impl Obstacle {
     /// into the mover's frame, wherever the grid decides it; only points near the mover's boundary
     /// are tested against its edges. The grid's margins, far above the rounding of that change of
     /// frame, keep the answers those of the brute force.
-    pub fn penetrated_by_shape(&self, mover: &[Point], shape: &Obstacle, pose: &Isometry) -> bool {
+    pub(crate) fn penetrated_by_shape(&self, mover: &[Point], shape: &Obstacle, pose: &Isometry) -> bool {
         let Some(mover_box) = Aabb::around(mover.iter().copied()) else { return false };
         let to_shape = pose.inverse();
         self.edges_cross(mover)
@@ -210,7 +210,7 @@ impl Obstacle {
     ///
     /// Both keep a margin of 1e-8 of the coordinates, far above the rounding of the placements and of
     /// the brute force's expressions.
-    pub fn penetration_within(&self, mover: &[Point], reach: f64) -> Option<bool> {
+    pub(crate) fn penetration_within(&self, mover: &[Point], reach: f64) -> Option<bool> {
         let obstacle = &self.vertices[..];
         if mover.len() < 3 || obstacle.len() < 3 || reach.is_nan() || reach < 0.0 {
             return None;
@@ -267,7 +267,7 @@ impl Obstacle {
     /// points) and of the obstacle: [`outline_distance`](super::outline_distance)`(mover, vertices)`,
     /// up to rounding (both skip pairs whose boxes are no nearer than the best distance so far, and
     /// they meet the pairs in different orders).
-    pub fn boundary_distance(&self, mover: &[Point]) -> f64 {
+    pub(crate) fn boundary_distance(&self, mover: &[Point]) -> f64 {
         // As in `outline_distance`, a two-point outline has one edge.
         let edge_count = |n: usize| if n == 2 { 1 } else { n };
         let obstacle_edges = edge_count(self.vertices.len());
@@ -345,7 +345,7 @@ impl Obstacle {
     /// Whether `p` lies inside, farther than the tolerance from the boundary, when its cell of the grid
     /// decides it for every point near it (within the slack); `None` near the boundary. With a
     /// tolerance of 0, whether `p` lies inside, as the even-odd test answers, where the grid decides.
-    pub fn decided_deep(&self, p: Point) -> Option<bool> {
+    pub(crate) fn decided_deep(&self, p: Point) -> Option<bool> {
         match self.regions[self.grid.cell_of(p)] {
             Region::Inside => Some(true),
             Region::Outside => Some(false),

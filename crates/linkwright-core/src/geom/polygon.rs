@@ -366,7 +366,7 @@ impl Polygon {
 
 /// The body of [`Polygon::penetrates`] on raw vertex lists (a two-point list is a segment), for callers
 /// that keep transformed vertices in reused buffers and have already compared bounding boxes.
-pub fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
+pub(crate) fn penetrates_unchecked(a: &[Point], b: &[Point], tol: f64) -> bool {
     let (na, nb) = (a.len(), b.len());
     let (Some(box_a), Some(box_b)) = (Aabb::around(a.iter().copied()), Aabb::around(b.iter().copied())) else {
         return false;

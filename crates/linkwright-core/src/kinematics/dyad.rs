@@ -106,7 +106,13 @@ pub fn circle_circle_branch(a: Point, b: Point, p: Point) -> Branch {
 }
 
 /// The point at distance `r` from `c` on the line through `origin` with unit `direction`.
-pub fn circle_line(c: Point, r: f64, origin: Point, direction: Vec2, branch: Branch) -> Result<Point, DyadError> {
+pub(crate) fn circle_line(
+    c: Point,
+    r: f64,
+    origin: Point,
+    direction: Vec2,
+    branch: Branch,
+) -> Result<Point, DyadError> {
     let w = c - origin;
     let foot = w.dot(direction);
     let off_sq = w.norm_sq() - foot * foot;
@@ -118,7 +124,7 @@ pub fn circle_line(c: Point, r: f64, origin: Point, direction: Vec2, branch: Bra
 }
 
 /// Which branch `p` (on the line) is on, relative to the circle centre `c`.
-pub fn circle_line_branch(c: Point, origin: Point, direction: Vec2, p: Point) -> Branch {
+pub(crate) fn circle_line_branch(c: Point, origin: Point, direction: Vec2, p: Point) -> Branch {
     if (p - origin).dot(direction) >= (c - origin).dot(direction) {
         Branch::Positive
     } else {
@@ -128,7 +134,7 @@ pub fn circle_line_branch(c: Point, origin: Point, direction: Vec2, p: Point) ->
 
 /// The sine of the angle between `u` and `v`, which is the sine of its transmission margin: it orders
 /// margins as they do (the margin lies in [0, π/2]) without an inverse trigonometric function per step.
-pub fn transmission_sine(u: Vec2, v: Vec2) -> f64 {
+pub(crate) fn transmission_sine(u: Vec2, v: Vec2) -> f64 {
     let norms = (u.norm_sq() * v.norm_sq()).sqrt();
     if norms > 0.0 {
         (u.cross(v).abs() / norms).min(1.0)

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 use std::fmt::Write;
 
 /// Most configurations (frames) one way; the file stays small and the motion smooth.
-pub const MAX_FRAMES: usize = 180;
+pub(crate) const MAX_FRAMES: usize = 180;
 
 /// The shortest time one way, seconds.
 const MIN_SECONDS: f64 = 0.1;

@@ -10,7 +10,7 @@ use super::svg::{close, Element};
 use crate::geom::{Point, Polygon, Vec2};
 
 /// Opens the document: root, title, style sheet, hatch pattern, white background.
-pub fn open_document(sheet: &Sheet, out: &mut String) {
+pub(crate) fn open_document(sheet: &Sheet, out: &mut String) {
     let (w, h) = sheet.size();
     let n = &sheet.num;
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
@@ -53,12 +53,12 @@ pub fn open_document(sheet: &Sheet, out: &mut String) {
 }
 
 /// Opens the group the world layers go in: world coordinates, y up.
-pub fn open_world(sheet: &Sheet, out: &mut String) {
+pub(crate) fn open_world(sheet: &Sheet, out: &mut String) {
     Element::new("g").attr("transform", sheet.world_transform()).open(out);
 }
 
 /// Writes a polygon with the given class and optional colour.
-pub fn polygon(sheet: &Sheet, poly: &Polygon, class: &str, colour: Option<&str>, out: &mut String) {
+pub(crate) fn polygon(sheet: &Sheet, poly: &Polygon, class: &str, colour: Option<&str>, out: &mut String) {
     Element::new("polygon")
         .attr("class", class)
         .attr_opt("fill", colour)
@@ -68,7 +68,7 @@ pub fn polygon(sheet: &Sheet, poly: &Polygon, class: &str, colour: Option<&str>,
 }
 
 /// The linkage region (dashed), the avoid regions (hatched) and the fixed bodies (grey).
-pub fn backdrop(sheet: &Sheet, out: &mut String) {
+pub(crate) fn backdrop(sheet: &Sheet, out: &mut String) {
     let problem = sheet.input.problem;
     polygon(sheet, &problem.region, "region", None, out);
     for a in &problem.avoid {
@@ -80,7 +80,7 @@ pub fn backdrop(sheet: &Sheet, out: &mut String) {
 }
 
 /// Every moving body at each of its input poses, translucent (numbers come with [`pose_numbers`]).
-pub fn onion_skins(sheet: &Sheet, out: &mut String) {
+pub(crate) fn onion_skins(sheet: &Sheet, out: &mut String) {
     for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
         for pose in &body.poses {
             polygon(sheet, &body.outline.transformed(pose), "pose", Some(Style::body_colour(b)), out);
@@ -89,7 +89,7 @@ pub fn onion_skins(sheet: &Sheet, out: &mut String) {
 }
 
 /// One thin polyline per moving joint through the sampled configurations.
-pub fn joint_paths(sheet: &Sheet, out: &mut String) {
+pub(crate) fn joint_paths(sheet: &Sheet, out: &mut String) {
     if sheet.input.trace.is_empty() {
         return;
     }
@@ -103,7 +103,7 @@ pub fn joint_paths(sheet: &Sheet, out: &mut String) {
 }
 
 /// The slot the slider joint runs in, between its extreme positions.
-pub fn slider_guide(sheet: &Sheet, out: &mut String) {
+pub(crate) fn slider_guide(sheet: &Sheet, out: &mut String) {
     let Some((a, b)) = sheet.guide() else { return };
     for class in ["guide", "guide-core"] {
         let n = &sheet.num;
@@ -118,7 +118,7 @@ pub fn slider_guide(sheet: &Sheet, out: &mut String) {
 }
 
 /// A ground symbol under every joint carried by the ground: a triangle standing on a hatched base.
-pub fn ground_symbols(sheet: &Sheet, out: &mut String) {
+pub(crate) fn ground_symbols(sheet: &Sheet, out: &mut String) {
     let h = sheet.style.joint * 2.2;
     let n = &sheet.num;
     for &j in sheet.topology().fixed_joints() {
@@ -145,7 +145,7 @@ pub fn ground_symbols(sheet: &Sheet, out: &mut String) {
 }
 
 /// A label at world point `p`, written in picture coordinates (call outside the world group).
-pub fn label(sheet: &Sheet, p: Point, text: &str, class: &str, colour: Option<&str>, out: &mut String) {
+pub(crate) fn label(sheet: &Sheet, p: Point, text: &str, class: &str, colour: Option<&str>, out: &mut String) {
     let (x, y) = sheet.screen(p);
     Element::new("text")
         .attr("class", class)
@@ -157,7 +157,7 @@ pub fn label(sheet: &Sheet, p: Point, text: &str, class: &str, colour: Option<&s
 }
 
 /// The number of every input pose (1-based, as a person counts) at the centroid of the body there.
-pub fn pose_numbers(sheet: &Sheet, out: &mut String) {
+pub(crate) fn pose_numbers(sheet: &Sheet, out: &mut String) {
     let font = sheet.style.font;
     for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
         for (i, pose) in body.poses.iter().enumerate() {
@@ -169,7 +169,7 @@ pub fn pose_numbers(sheet: &Sheet, out: &mut String) {
 }
 
 /// The title band: scene name, mechanism line, and the legend (body colours, then the sheet's notes).
-pub fn title(sheet: &Sheet, out: &mut String) {
+pub(crate) fn title(sheet: &Sheet, out: &mut String) {
     let k = sheet.pixels_per_unit();
     let s = &sheet.style;
     let x = s.margin * 0.5 * k;
@@ -201,7 +201,7 @@ pub fn title(sheet: &Sheet, out: &mut String) {
 }
 
 /// The lines under the drawing ([`Sheet::with_footer`]).
-pub fn footer(sheet: &Sheet, out: &mut String) {
+pub(crate) fn footer(sheet: &Sheet, out: &mut String) {
     let k = sheet.pixels_per_unit();
     let x = sheet.style.margin * 0.5 * k;
     let top = sheet.band + sheet.world.height();
@@ -214,7 +214,7 @@ pub fn footer(sheet: &Sheet, out: &mut String) {
 /// Part `part` (a link) with its joints at `joints`: a thick line for a binary link (red for the
 /// crank), a filled triangle or polygon for a ternary one. Returned unwritten, so the animation can add
 /// children.
-pub fn link(sheet: &Sheet, part: usize, joints: &[Point]) -> Element {
+pub(crate) fn link(sheet: &Sheet, part: usize, joints: &[Point]) -> Element {
     let n = &sheet.num;
     let carried = &sheet.topology().parts[part].joints;
     if let [a, b] = carried[..] {
@@ -231,7 +231,7 @@ pub fn link(sheet: &Sheet, part: usize, joints: &[Point]) -> Element {
 }
 
 /// A joint circle at `p`, returned unwritten.
-pub fn joint(sheet: &Sheet, p: Point) -> Element {
+pub(crate) fn joint(sheet: &Sheet, p: Point) -> Element {
     let n = &sheet.num;
     Element::new("circle")
         .attr("class", "joint")
@@ -241,7 +241,7 @@ pub fn joint(sheet: &Sheet, p: Point) -> Element {
 }
 
 /// A body's joints joined (a line for two, a polygon for more), in whatever frame `joints` are given.
-pub fn bracket(sheet: &Sheet, joints: &[Point], colour: &str, out: &mut String) {
+pub(crate) fn bracket(sheet: &Sheet, joints: &[Point], colour: &str, out: &mut String) {
     if joints.len() < 2 {
         return;
     }
@@ -255,7 +255,7 @@ pub fn bracket(sheet: &Sheet, joints: &[Point], colour: &str, out: &mut String) 
 }
 
 /// The block that slides on the guide, centred on the origin of the current frame, along `direction`.
-pub fn slider_block(sheet: &Sheet, direction: Vec2) -> Element {
+pub(crate) fn slider_block(sheet: &Sheet, direction: Vec2) -> Element {
     let n = &sheet.num;
     let (w, h) = (sheet.style.joint * 4.4, sheet.style.joint * 2.8);
     Element::new("rect")

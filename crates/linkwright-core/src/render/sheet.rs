@@ -8,7 +8,7 @@ use crate::kinematics::BodyFrames;
 use crate::mechanism::{PartKind, Topology};
 
 /// A drawing in the making: the input and everything derived from it once.
-pub struct Sheet<'a> {
+pub(crate) struct Sheet<'a> {
     pub input: &'a RenderInput<'a>,
     pub style: Style,
     /// Formats lengths (about 10⁻⁴ of the scale).
@@ -30,14 +30,14 @@ pub struct Sheet<'a> {
 }
 
 /// The text lines of the title band.
-pub struct Title {
+pub(crate) struct Title {
     pub name: String,
     pub subtitle: String,
 }
 
 impl<'a> Sheet<'a> {
     /// Prepares a drawing that samples at most `max_rows` trace rows, with `notes` in its legend.
-    pub fn new(input: &'a RenderInput<'a>, max_rows: usize, notes: &'static [&'static str]) -> Sheet<'a> {
+    pub(crate) fn new(input: &'a RenderInput<'a>, max_rows: usize, notes: &'static [&'static str]) -> Sheet<'a> {
         let problem = input.problem;
         let style = Style::for_scale(problem.scale);
         let num = Num::resolving(1e-4 * problem.scale);
@@ -62,7 +62,7 @@ impl<'a> Sheet<'a> {
 
     /// The sheet with `groups` of text under the drawing: each group starts a line and wraps at the
     /// sheet's width, its items spaced apart.
-    pub fn with_footer(mut self, groups: Vec<Vec<String>>) -> Sheet<'a> {
+    pub(crate) fn with_footer(mut self, groups: Vec<Vec<String>>) -> Sheet<'a> {
         let font = self.style.font;
         let room = self.width - self.style.margin;
         let gap = "   ";
@@ -82,7 +82,7 @@ impl<'a> Sheet<'a> {
     }
 
     /// Height of the text under the drawing, drawing units.
-    pub fn footer_height(&self) -> f64 {
+    pub(crate) fn footer_height(&self) -> f64 {
         if self.footer.is_empty() {
             0.0
         } else {
@@ -91,7 +91,7 @@ impl<'a> Sheet<'a> {
     }
 
     /// The joints in trace row `s` (the first-pose joints when the trace is empty).
-    pub fn row(&self, s: usize) -> &[Point] {
+    pub(crate) fn row(&self, s: usize) -> &[Point] {
         if self.input.trace.is_empty() {
             &self.input.mechanism.joints
         } else {
@@ -100,18 +100,18 @@ impl<'a> Sheet<'a> {
     }
 
     /// Every row of the trace (not only the sampled ones).
-    pub fn all_rows(&self) -> impl Iterator<Item = &[Point]> + '_ {
+    pub(crate) fn all_rows(&self) -> impl Iterator<Item = &[Point]> + '_ {
         let n = self.input.trace.len().max(1);
         (0..n).map(move |s| self.row(s))
     }
 
-    pub fn topology(&self) -> &Topology {
+    pub(crate) fn topology(&self) -> &Topology {
         &self.input.mechanism.topology
     }
 
     /// Body `b`'s `body_to_world` in configuration `row`; bodies the mechanism does not carry stay at
     /// their first pose.
-    pub fn body_pose(&self, b: usize, row: &[Point]) -> Rigid {
+    pub(crate) fn body_pose(&self, b: usize, row: &[Point]) -> Rigid {
         if b < self.body_frames.body_count() {
             self.body_frames.pose(b, row)
         } else {
@@ -120,26 +120,26 @@ impl<'a> Sheet<'a> {
     }
 
     /// The valid `pose_steps` entries, with the pose index each belongs to.
-    pub fn pose_steps(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+    pub(crate) fn pose_steps(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         let n = self.input.trace.len();
         self.input.pose_steps.iter().copied().enumerate().filter(move |&(_, s)| s < n)
     }
 
     /// True when part `part` is the crank: the link that carries both driver joints.
-    pub fn is_crank(&self, part: usize) -> bool {
+    pub(crate) fn is_crank(&self, part: usize) -> bool {
         let t = self.topology();
         let p = &t.parts[part];
         p.kind == PartKind::Link && p.joints.contains(&t.driver_pivot) && p.joints.contains(&t.driver_tip)
     }
 
     /// Joints that move (not carried by the ground).
-    pub fn moving_joints(&self) -> Vec<usize> {
+    pub(crate) fn moving_joints(&self) -> Vec<usize> {
         let fixed = self.topology().fixed_joints();
         (0..self.topology().joint_count()).filter(|j| !fixed.contains(j)).collect()
     }
 
     /// The slider guide's ends: the extreme positions of the slider joint along its line.
-    pub fn guide(&self) -> Option<(Point, Point)> {
+    pub(crate) fn guide(&self) -> Option<(Point, Point)> {
         let line = self.input.mechanism.slider?;
         let j = self.topology().slider_joint?;
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -153,7 +153,7 @@ impl<'a> Sheet<'a> {
     }
 
     /// The scene name and a line about the mechanism.
-    pub fn title(&self) -> Title {
+    pub(crate) fn title(&self) -> Title {
         let problem = self.input.problem;
         let name = if problem.name.trim().is_empty() { "untitled scene".to_string() } else { problem.name.clone() };
         let mut subtitle = self.topology().mechanism_type.linkage_label(self.topology().body_count);
@@ -166,17 +166,17 @@ impl<'a> Sheet<'a> {
     }
 
     /// Rough width of `chars` characters at font size `font` (no font metrics here).
-    pub fn text_width(chars: usize, font: f64) -> f64 {
+    pub(crate) fn text_width(chars: usize, font: f64) -> f64 {
         chars as f64 * font * 0.56
     }
 
     /// Height of one legend line.
-    pub fn line_height(&self) -> f64 {
+    pub(crate) fn line_height(&self) -> f64 {
         self.style.font * 1.4
     }
 
     /// The legend entries: `(colour, label)`, the bodies' colours then the notes (colour `None`).
-    pub fn legend(&self) -> Vec<(Option<&'static str>, String)> {
+    pub(crate) fn legend(&self) -> Vec<(Option<&'static str>, String)> {
         let bodies = self.input.problem.bodies.iter().enumerate();
         let mut items: Vec<_> = bodies.map(|(b, body)| (Some(Style::body_colour(b)), body.name.clone())).collect();
         items.extend(self.notes.iter().map(|n| (None, n.to_string())));
@@ -184,12 +184,12 @@ impl<'a> Sheet<'a> {
     }
 
     /// Side of a legend colour swatch.
-    pub fn swatch(&self) -> f64 {
+    pub(crate) fn swatch(&self) -> f64 {
         self.style.font * 0.8
     }
 
     /// How far the legend entry `(colour, label)` advances the pen.
-    pub fn legend_advance(&self, colour: Option<&str>, label: &str) -> f64 {
+    pub(crate) fn legend_advance(&self, colour: Option<&str>, label: &str) -> f64 {
         let swatch = if colour.is_some() { self.swatch() * 1.4 } else { 0.0 };
         swatch + Self::text_width(label.chars().count(), self.style.font) + self.style.font * 1.2
     }
@@ -246,7 +246,7 @@ impl<'a> Sheet<'a> {
     }
 
     /// Pixels per drawing unit: the longer side of the picture is [`PIXELS`] wide.
-    pub fn pixels_per_unit(&self) -> f64 {
+    pub(crate) fn pixels_per_unit(&self) -> f64 {
         PIXELS / self.width.max(self.height())
     }
 
@@ -256,13 +256,13 @@ impl<'a> Sheet<'a> {
     }
 
     /// The picture's size in pixels (its view box is `0 0 width height`).
-    pub fn size(&self) -> (f64, f64) {
+    pub(crate) fn size(&self) -> (f64, f64) {
         let k = self.pixels_per_unit();
         (self.width * k, self.height() * k)
     }
 
     /// The world point `p` in picture coordinates (pixels, y down).
-    pub fn screen(&self, p: Point) -> (f64, f64) {
+    pub(crate) fn screen(&self, p: Point) -> (f64, f64) {
         let k = self.pixels_per_unit();
         ((p.x - self.world.min.x) * k, (self.world.max.y + self.band - p.y) * k)
     }
@@ -270,7 +270,7 @@ impl<'a> Sheet<'a> {
     /// The transform from world coordinates to picture coordinates, as an SVG `transform`. Text is
     /// written in picture coordinates instead, so it stays upright and its sizes are plain pixels (tiny
     /// font sizes in drawing units render badly in some viewers).
-    pub fn world_transform(&self) -> String {
+    pub(crate) fn world_transform(&self) -> String {
         let k = self.pixels_per_unit();
         let (tx, ty) = self.screen(Point::ORIGIN);
         let n = Num::with_decimals(6);
@@ -279,13 +279,13 @@ impl<'a> Sheet<'a> {
 }
 
 /// The longest side of the picture, pixels.
-pub const PIXELS: f64 = 1000.0;
+pub(crate) const PIXELS: f64 = 1000.0;
 
 /// Formats picture coordinates (pixels).
-pub const SCREEN: Num = Num::with_decimals(2);
+pub(crate) const SCREEN: Num = Num::with_decimals(2);
 
 /// At most `max` indices spread evenly over `0..len`, always with the first and the last.
-pub fn sample(len: usize, max: usize) -> Vec<usize> {
+pub(crate) fn sample(len: usize, max: usize) -> Vec<usize> {
     let max = max.max(2);
     if len <= max {
         return (0..len).collect();

@@ -12,7 +12,7 @@ const PATH_COLOURS: [&str; 8] =
 
 /// Every size used in a drawing, in drawing units.
 #[derive(Clone, Copy, Debug)]
-pub struct Style {
+pub(crate) struct Style {
     /// Thin strokes: outlines, joint paths.
     pub thin: f64,
     /// Width of a binary link.
@@ -33,7 +33,7 @@ pub struct Style {
 
 impl Style {
     /// Sizes for a scene whose drawn extent has diagonal `scale`.
-    pub fn for_scale(scale: f64) -> Style {
+    pub(crate) fn for_scale(scale: f64) -> Style {
         let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
         Style {
             thin: 0.0022 * s,
@@ -47,23 +47,23 @@ impl Style {
         }
     }
 
-    pub fn body_colour(body: usize) -> &'static str {
+    pub(crate) fn body_colour(body: usize) -> &'static str {
         BODY_COLOURS[body % BODY_COLOURS.len()]
     }
     /// The body's colour darkened, for text that must read on the body's own fill.
-    pub fn body_text_colour(body: usize) -> String {
+    pub(crate) fn body_text_colour(body: usize) -> String {
         let hex = Self::body_colour(body);
         let channel =
             |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_or(0, |c| (f64::from(c) * 0.6).round() as u8);
         format!("#{:02x}{:02x}{:02x}", channel(1), channel(3), channel(5))
     }
-    pub fn path_colour(joint: usize) -> &'static str {
+    pub(crate) fn path_colour(joint: usize) -> &'static str {
         PATH_COLOURS[joint % PATH_COLOURS.len()]
     }
 
     /// The `<style>` sheet shared by both drawings (its class names are what the tests count). Lengths
     /// are in drawing units, except text, which is written in pixels (`pixels` per drawing unit).
-    pub fn css(&self, num: &Num, pixels: f64) -> String {
+    pub(crate) fn css(&self, num: &Num, pixels: f64) -> String {
         // In SVG a CSS px is one user unit of the element's coordinate system; font sizes need the unit.
         let f = |v: f64| format!("{}px", num.f(v));
         let px = |v: f64| format!("{}px", Num::with_decimals(2).f(v * pixels));

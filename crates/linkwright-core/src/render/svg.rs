@@ -6,21 +6,21 @@ use std::fmt::Write;
 
 /// Writes numbers with a fixed number of decimals, trailing zeros dropped (`1.50` → `1.5`, `-0` → `0`).
 #[derive(Clone, Copy, Debug)]
-pub struct Num {
+pub(crate) struct Num {
     decimals: usize,
 }
 
 impl Num {
     /// Enough decimals to resolve `resolution` (a positive length or angle), at most 9.
-    pub fn resolving(resolution: f64) -> Num {
+    pub(crate) fn resolving(resolution: f64) -> Num {
         let d = if resolution.is_finite() && resolution > 0.0 { (-resolution.log10()).ceil() } else { 3.0 };
         Num { decimals: d.clamp(0.0, 9.0) as usize }
     }
-    pub const fn with_decimals(decimals: usize) -> Num {
+    pub(crate) const fn with_decimals(decimals: usize) -> Num {
         Num { decimals }
     }
     /// Appends `v` to `out`.
-    pub fn put(&self, out: &mut String, v: f64) {
+    pub(crate) fn put(&self, out: &mut String, v: f64) {
         match self.units(v) {
             Some(units) => self.put_units(out, v.is_sign_negative(), units),
             None => self.put_exact(out, v),
@@ -103,19 +103,19 @@ impl Num {
         }
     }
     /// `v` as text.
-    pub fn f(&self, v: f64) -> String {
+    pub(crate) fn f(&self, v: f64) -> String {
         let mut s = String::new();
         self.put(&mut s, v);
         s
     }
     /// Appends `x,y`.
-    pub fn put_point(&self, out: &mut String, p: Point) {
+    pub(crate) fn put_point(&self, out: &mut String, p: Point) {
         self.put(out, p.x);
         out.push(',');
         self.put(out, p.y);
     }
     /// Points as an SVG `points` list: `x,y x,y ...`.
-    pub fn points(&self, points: impl IntoIterator<Item = Point>) -> String {
+    pub(crate) fn points(&self, points: impl IntoIterator<Item = Point>) -> String {
         let mut s = String::new();
         for (i, p) in points.into_iter().enumerate() {
             if i > 0 {
@@ -151,20 +151,20 @@ impl Write for Escaping<'_> {
 
 /// One element being written: `Element::new("circle").attr("r", 2).empty(&mut out)`.
 #[must_use = "an element is only written by empty, open or text"]
-pub struct Element {
+pub(crate) struct Element {
     tag: &'static str,
     head: String,
 }
 
 impl Element {
-    pub fn new(tag: &'static str) -> Element {
+    pub(crate) fn new(tag: &'static str) -> Element {
         let mut head = String::with_capacity(64);
         head.push('<');
         head.push_str(tag);
         Element { tag, head }
     }
     /// Adds `name="value"`, escaping the value.
-    pub fn attr(mut self, name: &str, value: impl std::fmt::Display) -> Element {
+    pub(crate) fn attr(mut self, name: &str, value: impl std::fmt::Display) -> Element {
         self.head.push(' ');
         self.head.push_str(name);
         self.head.push_str("=\"");
@@ -173,24 +173,24 @@ impl Element {
         self
     }
     /// Adds the attribute only when `value` is `Some`.
-    pub fn attr_opt(self, name: &str, value: Option<impl std::fmt::Display>) -> Element {
+    pub(crate) fn attr_opt(self, name: &str, value: Option<impl std::fmt::Display>) -> Element {
         match value {
             Some(v) => self.attr(name, v),
             None => self,
         }
     }
     /// Writes `<tag .../>`.
-    pub fn empty(self, out: &mut String) {
+    pub(crate) fn empty(self, out: &mut String) {
         out.push_str(&self.head);
         out.push_str("/>\n");
     }
     /// Writes `<tag ...>`; the caller writes the children and [`close`]s it.
-    pub fn open(self, out: &mut String) {
+    pub(crate) fn open(self, out: &mut String) {
         out.push_str(&self.head);
         out.push_str(">\n");
     }
     /// Writes `<tag ...>text</tag>` with the text escaped.
-    pub fn text(self, text: &str, out: &mut String) {
+    pub(crate) fn text(self, text: &str, out: &mut String) {
         out.push_str(&self.head);
         out.push('>');
         out.push_str(&escape(text));
@@ -199,7 +199,7 @@ impl Element {
 }
 
 /// Writes `</tag>`.
-pub fn close(out: &mut String, tag: &str) {
+pub(crate) fn close(out: &mut String, tag: &str) {
     let _ = writeln!(out, "</{tag}>");
 }
 

@@ -12,7 +12,8 @@ pub use file::{
     FixedBody, MechanismChoice, MechanismType, MovingBody, ParseError, Scene, Settings, Weights, SCENE_FORMAT,
 };
 pub(crate) use problem::repeated_pose_words;
-pub use problem::{MovingBodyProblem, PoseMiss, Problem, CONTACT_FRACTION};
+pub(crate) use problem::CONTACT_FRACTION;
+pub use problem::{MovingBodyProblem, PoseMiss, Problem};
 pub use units::{Units, UnitsParseError};
 pub(crate) use validate::name_problems;
 pub use validate::{limits, validate, Issue, Severity};

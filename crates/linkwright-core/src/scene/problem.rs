@@ -7,7 +7,7 @@ use crate::geom::{Aabb, Point, Polygon, Rigid};
 use crate::issues::IssueList;
 
 /// Penetration depth, as a fraction of the smallest body size, below which bodies only touch.
-pub const CONTACT_FRACTION: f64 = 1e-3;
+pub(crate) const CONTACT_FRACTION: f64 = 1e-3;
 
 /// One moving body, ready for the engine.
 #[derive(Clone, Debug)]

@@ -35,7 +35,7 @@ const MAX_DEPTH: u32 = 4;
 /// penetration the sweep finds too (the sweep skips a row only where no point can have moved far
 /// enough to penetrate), so the probes change no verdict; for a linkage that collides in more than
 /// one way, they may change which reject is reported.
-pub fn check_collisions(ctx: &Context, candidate: &Candidate, buffers: &mut SweepBuffers) -> Result<(), Reject> {
+pub(crate) fn check_collisions(ctx: &Context, candidate: &Candidate, buffers: &mut SweepBuffers) -> Result<(), Reject> {
     let frames = BodyFrames::new(&candidate.mechanism, &ctx.first_poses);
     let sweep = Sweep { ctx, frames: &frames, plan: &candidate.plan };
     probe(&sweep, &candidate.trace, buffers)?;
@@ -226,7 +226,7 @@ struct Midpoint {
 
 /// The sweep's buffers, reused from candidate to candidate.
 #[derive(Debug, Default)]
-pub struct SweepBuffers {
+pub(crate) struct SweepBuffers {
     reaches: Vec<BodyReach>,
     /// Each body's frame at the last row seen.
     frames_at: Vec<Option<Frame>>,

@@ -132,7 +132,7 @@ impl Piece {
 
 /// The closed-form constructions of one topology, built once.
 #[derive(Clone, Debug)]
-pub struct Constructor {
+pub(crate) struct Constructor {
     pieces: Vec<Piece>,
     /// The moving body carrying each joint, `None` for the ground.
     carriers: Vec<Option<usize>>,
@@ -155,7 +155,7 @@ pub struct Constructor {
 
 /// What a constructed block must meet.
 #[derive(Clone, Copy, Debug)]
-pub struct Tolerances {
+pub(crate) struct Tolerances {
     /// How far a projected link's length may stray from pose to pose (a length).
     pub projection: f64,
     /// The largest relative deviation a polished block may keep (see
@@ -173,11 +173,11 @@ pub struct Tolerances {
 
 /// Fits the block holding a joint (the second argument) in `x` and returns its relative deviation;
 /// a quick fit (the third argument) gives up sooner, where another draw is cheaper than a slow fit.
-pub type Polish<'a> = dyn FnMut(&mut [f64], usize, bool) -> f64 + 'a;
+pub(crate) type Polish<'a> = dyn FnMut(&mut [f64], usize, bool) -> f64 + 'a;
 
 /// Reusable buffers of [`Constructor::construct`].
 #[derive(Clone, Debug, Default)]
-pub struct ConstructScratch {
+pub(crate) struct ConstructScratch {
     lines: Vec<Line>,
     /// The slider's direction, when the topology has one.
     slider_direction: Option<Vec2>,
@@ -188,7 +188,7 @@ pub struct ConstructScratch {
 impl ConstructScratch {
     /// The unit direction of the last construction's slider (`None` without a slider): its angle
     /// is left out of the parameter vector, since only a fit reads it there.
-    pub fn slider_direction(&self) -> Option<Vec2> {
+    pub(crate) fn slider_direction(&self) -> Option<Vec2> {
         self.slider_direction
     }
 }
@@ -201,7 +201,7 @@ struct Line {
 }
 
 /// Where to draw joints and which solved joints to keep.
-pub struct Region<'a> {
+pub(crate) struct Region<'a> {
     /// Draws a point of the linkage region.
     pub draw: &'a mut dyn FnMut(&mut Xoshiro256PlusPlus) -> Point,
     /// The region's bounding box.
@@ -223,7 +223,7 @@ impl Region<'_> {
 
 impl Constructor {
     /// The constructions for `topology`: one per link, and one for the slider.
-    pub fn new(topology: &Topology, tolerances: Tolerances) -> Self {
+    pub(crate) fn new(topology: &Topology, tolerances: Tolerances) -> Self {
         let mut carriers = vec![None; topology.joint_count()];
         for part in &topology.parts {
             if let PartKind::Body(b) = part.kind {
@@ -304,7 +304,7 @@ impl Constructor {
     /// The same constructions with the joints `pins` (index, place) put at their places: a block
     /// holding one is built as usual, then those joints are moved to their pins and the fit
     /// ([`Polish`], which must hold them there) finds the others.
-    pub fn with_pins(mut self, pins: &[(usize, Point)]) -> Self {
+    pub(crate) fn with_pins(mut self, pins: &[(usize, Point)]) -> Self {
         for &(j, p) in pins {
             self.pins[j] = Some(p);
         }
@@ -326,7 +326,7 @@ impl Constructor {
     /// again instead made defect-free chains of five or six bodies as rare as the product of each
     /// loop's chance (none in 10⁶ samples of a five-body chain through two poses). Any other block
     /// with a defect ends the sample.
-    pub fn construct(
+    pub(crate) fn construct(
         &self,
         x: &mut [f64],
         motions: &[Vec<Rigid>],

@@ -13,31 +13,31 @@ use std::sync::Arc;
 /// Fraction of the smallest body size d below which two joints of one part count as too close to
 /// build (a pin and its hole need room). Paper §7 fixes link widths in absolute units; we keep every
 /// threshold relative to the drawing.
-pub const MIN_JOINT_SPACING: f64 = 0.2;
+pub(crate) const MIN_JOINT_SPACING: f64 = 0.2;
 /// The crank step of every simulation, radians (paper §8.3: 1°).
-pub const CRANK_STEP: f64 = std::f64::consts::PI / 180.0;
+pub(crate) const CRANK_STEP: f64 = std::f64::consts::PI / 180.0;
 /// How far past the last pose's nominal crank angle the search for the configuration closest to it
 /// may look, radians.
-pub const END_SEARCH: f64 = 10.0 * std::f64::consts::PI / 180.0;
+pub(crate) const END_SEARCH: f64 = 10.0 * std::f64::consts::PI / 180.0;
 /// A fit is accepted when no link length (nor the slider's line) deviates across the perturbed poses
 /// by more than this fraction of the body size d: scale-free, so any drawing unit works.
-pub const ACCEPT_DEVIATION: f64 = 0.05;
+pub(crate) const ACCEPT_DEVIATION: f64 = 0.05;
 /// The same bound when the motion has more poses than the linkage type can hit exactly
 /// ([`crate::mechanism::Topology::max_exact_poses`]): fits then end at a residual, and the linkage
 /// built from their first-pose joints is simulated and charged by E_acc (paper §4.2), so the gate only
 /// keeps out fits that are far from any linkage.
-pub const OVERDETERMINED_DEVIATION: f64 = 0.5;
+pub(crate) const OVERDETERMINED_DEVIATION: f64 = 0.5;
 /// The first and last poses are where the object rests, and a scene may mark intermediate poses that
 /// must be hit as well (`Problem::must_hit`): a linkage is kept rigid through them to this fraction of
 /// d (its links' lengths at those poses), which puts the body there to well under 0.5% of d.
-pub const END_DEVIATION: f64 = 1e-5;
+pub(crate) const END_DEVIATION: f64 = 1e-5;
 /// The same bound when every pose must be hit exactly (`pose_tolerance` 0).
-pub const EXACT_DEVIATION: f64 = 1e-8;
+pub(crate) const EXACT_DEVIATION: f64 = 1e-8;
 /// A design's bodies pass each must-hit pose (the last, where they come to rest, among them) within
 /// this fraction of their size d, and within [`MUST_HIT_ANGLE_DEG`]: the closed lid closes.
-pub const MUST_HIT_POSITION: f64 = 0.005;
+pub(crate) const MUST_HIT_POSITION: f64 = 0.005;
 /// The angle a design may miss a must-hit pose by, degrees.
-pub const MUST_HIT_ANGLE_DEG: f64 = 0.5;
+pub(crate) const MUST_HIT_ANGLE_DEG: f64 = 0.5;
 
 /// The factor on the pose noise of long chains (four bodies or more, [`crate::mechanism::Family::long_chain`]). Every body's
 /// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
@@ -47,11 +47,11 @@ pub const MUST_HIT_ANGLE_DEG: f64 = 0.5;
 /// on 7 of 9 scenes at the paper's 0.5·d, worst pose error up to 0.67·d; with this factor on 9 of 9,
 /// worst 0.12·d. Shorter chains gain nothing from it (K = 2 and 3 through three poses: costs higher
 /// on three of six scenes at a factor of 0.44).
-pub const LONG_CHAIN_NOISE: f64 = 0.1;
+pub(crate) const LONG_CHAIN_NOISE: f64 = 0.1;
 
 /// Per-topology precomputation for one problem.
 #[derive(Debug)]
-pub struct Context<'a> {
+pub(crate) struct Context<'a> {
     pub problem: &'a Problem,
     pub topology: Arc<Topology>,
     /// The moving body that carries each joint, `None` for ground joints.
@@ -124,7 +124,7 @@ pub struct Context<'a> {
 }
 
 impl<'a> Context<'a> {
-    pub fn new(problem: &'a Problem, mechanism_type: MechanismType) -> Context<'a> {
+    pub(crate) fn new(problem: &'a Problem, mechanism_type: MechanismType) -> Context<'a> {
         let family = mechanism_type.family();
         let topology = Arc::new(family.topology(problem.body_count()));
         let mut carriers = vec![None; topology.joint_count()];
@@ -213,7 +213,7 @@ impl<'a> Context<'a> {
     }
 
     /// Puts the pinned joints at their places in parameter vector `x` (joint coordinates first).
-    pub fn pin(&self, x: &mut [f64]) {
+    pub(crate) fn pin(&self, x: &mut [f64]) {
         for &(j, p) in &self.pins {
             (x[2 * j], x[2 * j + 1]) = (p.x, p.y);
         }
@@ -221,20 +221,20 @@ impl<'a> Context<'a> {
 
     /// Places the joints carried by links only in `row` ([`complete`]), from `first`, the joints at
     /// the first pose.
-    pub fn complete(&self, first: &[Point], row: &mut [Point]) -> Result<(), DyadError> {
+    pub(crate) fn complete(&self, first: &[Point], row: &mut [Point]) -> Result<(), DyadError> {
         complete(&self.completion, first, row)
     }
 
     /// [`Context::complete`] with the turning tip on its other side: where it is once the link it
     /// drives has turned back. `Ok(false)` (and `row` untouched) when the topology has no turning tip.
-    pub fn complete_turned(&self, first: &[Point], row: &mut [Point]) -> Result<bool, DyadError> {
+    pub(crate) fn complete_turned(&self, first: &[Point], row: &mut [Point]) -> Result<bool, DyadError> {
         let Some((tip, ..)) = self.turning_tip else { return Ok(false) };
         complete_turning(&self.completion, first, row, Some(tip)).map(|()| true)
     }
 
     /// Whether the turning tip is in `row` on the other side than in `first` (the joints at the first
     /// pose): the link it drives has turned back. False without a turning tip.
-    pub fn tip_turned(&self, first: &[Point], row: &[Point]) -> bool {
+    pub(crate) fn tip_turned(&self, first: &[Point], row: &[Point]) -> bool {
         self.turning_tip.is_some_and(|(tip, a, b)| {
             let side = |r: &[Point]| -> Branch { circle_circle_branch(r[a], r[b], r[tip]) };
             side(first) != side(row)
@@ -243,17 +243,17 @@ impl<'a> Context<'a> {
 
     /// This context for a run whose joints of one part must also be at least `spacing` apart (a
     /// length): the print check's pins need room, so samples closer than that are never drawn.
-    pub fn spaced_at_least(self, spacing: f64) -> Self {
+    pub(crate) fn spaced_at_least(self, spacing: f64) -> Self {
         Context { min_spacing: self.min_spacing.max(spacing), ..self }
     }
 
     /// This context with its pose noise scaled by `factor`.
-    pub fn perturbed_less(self, factor: f64) -> Self {
+    pub(crate) fn perturbed_less(self, factor: f64) -> Self {
         Context { noise_scale: self.noise_scale * factor, ..self }
     }
 
     /// The largest accepted rigidity deviation of a fit (relative to d).
-    pub fn accepted_deviation(&self) -> f64 {
+    pub(crate) fn accepted_deviation(&self) -> f64 {
         if self.exact {
             EXACT_DEVIATION
         } else if self.overdetermined {
@@ -266,7 +266,7 @@ impl<'a> Context<'a> {
     /// Moves parameter vector `x` (a particle filter's proposal, say) to a nearby linkage this run may
     /// keep: one that hits every input pose when the run is exact, else one that reaches the end poses
     /// ([`Context::through_must_hit_poses`]). False when there is none nearby.
-    pub fn project(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
+    pub(crate) fn project(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
         if self.exact {
             let deviation = self.rigidity.fit(x, &self.motions, self.body_size, fit).max_relative_deviation;
             deviation <= EXACT_DEVIATION && !self.rigidity.mirrored(x, &self.motions, self.body_size)
@@ -279,7 +279,7 @@ impl<'a> Context<'a> {
     /// first, the last and those the scene marks; `END_DEVIATION`) with no ternary link turned over, so
     /// its bodies reach them; false when no such linkage is near. Two poses leave a link one equation
     /// to meet, so from a start close to rigid the fit ends close by.
-    pub fn through_must_hit_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
+    pub(crate) fn through_must_hit_poses(&self, x: &mut [f64], fit: &mut super::rigidity::FitWorkspace) -> bool {
         if self.rigidity.relative_deviation(x, &self.must_hit_motions, self.body_size) > END_DEVIATION {
             let deviation = self.rigidity.fit(x, &self.must_hit_motions, self.body_size, fit).max_relative_deviation;
             if deviation > END_DEVIATION {
@@ -294,7 +294,7 @@ impl<'a> Context<'a> {
     /// chord of the turn). The squares of the three numbers sum to the mean squared miss of the
     /// outline's vertices, in closed form: a vertex at mean point c plus u misses by the mean point's
     /// miss plus the turn's (R − I)·u, the u average out, and |(R − I)·u| = 2·|sin(Δθ/2)|·|u|.
-    pub fn outline_miss(&self, b: usize, i: usize, reached: &Isometry) -> [f64; 3] {
+    pub(crate) fn outline_miss(&self, b: usize, i: usize, reached: &Isometry) -> [f64; 3] {
         let OutlineMoments { mean, spread, .. } = self.outlines[b];
         let wanted = self.problem.bodies[b].poses[i].isometry();
         let shift = reached.apply(mean) - wanted.apply(mean);
@@ -305,7 +305,7 @@ impl<'a> Context<'a> {
     }
 
     /// Where joint `j`, at `p` in the first pose, should be at pose `i` (it rides on its carrier).
-    pub fn target(&self, j: usize, p: Point, i: usize) -> Point {
+    pub(crate) fn target(&self, j: usize, p: Point, i: usize) -> Point {
         match self.carriers[j] {
             Some(b) => self.motions[b][i].apply(p),
             None => p,
@@ -315,7 +315,7 @@ impl<'a> Context<'a> {
 
 /// What the accuracy's outline part needs of one moving body, once per scene.
 #[derive(Clone, Debug)]
-pub struct OutlineMoments {
+pub(crate) struct OutlineMoments {
     /// The mean of the outline's vertices, in the body's frame.
     pub mean: Point,
     /// The same point at the first pose, in the world.

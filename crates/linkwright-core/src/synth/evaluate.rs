@@ -87,7 +87,7 @@ impl Candidate {
 
 /// Reusable buffers, one per worker thread.
 #[derive(Debug, Default)]
-pub struct Scratch {
+pub(crate) struct Scratch {
     coarse: Trace,
     /// The configuration at each pose, and the sweep's rows between consecutive poses.
     pose_positions: Vec<Point>,
@@ -119,7 +119,7 @@ pub struct Scratch {
 /// flip at the unperturbed poses while the simulated motion still passes them closely. Without it
 /// (particle filter proposals) the input poses are used. Accuracy and the pose search always use the
 /// input poses.
-pub fn evaluate(
+pub(crate) fn evaluate(
     ctx: &Context,
     mechanism: Mechanism,
     fitted: Option<&[Vec<crate::geom::Rigid>]>,
@@ -148,7 +148,7 @@ struct Screening {
 
 /// A floor under the cost [`evaluate`] would give `mechanism`, from the checks that need no
 /// simulation, or the reject one of those checks gives (`evaluate` gives the same reject).
-pub fn cost_floor(
+pub(crate) fn cost_floor(
     ctx: &Context,
     mechanism: &Mechanism,
     fitted: Option<&[Vec<crate::geom::Rigid>]>,

@@ -10,20 +10,22 @@ mod pfo;
 mod pipeline;
 pub(crate) mod random;
 mod refine;
-pub mod rigidity;
+pub(crate) mod rigidity;
 mod sample;
 mod scratch_pool;
 mod terms;
 mod workspace;
 
-pub use collision::{check_collisions, SweepBuffers};
-pub use context::Context;
-pub use evaluate::{evaluate, Candidate, Reject, Scratch};
+pub(crate) use collision::{check_collisions, SweepBuffers};
+pub(crate) use context::Context;
+pub(crate) use evaluate::{evaluate, Scratch};
+pub use evaluate::{Candidate, Reject};
 pub use pipeline::{
     assess, synthesize, synthesize_with, Acceptance, Cancelled, Observer, Options, Outcome, Progress, RunStats, Silent,
     Stage, Start, FOLLOW_COST_SLACK, SCREENING_DIVISOR, SWITCH_COST_FACTOR, WARM_SAMPLES,
 };
-pub use terms::{transmission_shortfall, CostWeights, SoftTerms, Term};
+pub(crate) use terms::CostWeights;
+pub use terms::{transmission_shortfall, SoftTerms, Term};
 
 /// Fixtures shared by the synthesis unit tests.
 #[cfg(test)]
@@ -34,13 +36,13 @@ pub(crate) mod testing {
     use crate::scene::{Problem, Scene};
 
     /// A bundled example scene, as a problem.
-    pub fn example(name: &str) -> Problem {
+    pub(crate) fn example(name: &str) -> Problem {
         let path = format!("{}/../../examples/{name}.json", env!("CARGO_MANIFEST_DIR"));
         Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
     }
 
     /// The defect-free candidates among samples `samples` under `seed`, in sample order.
-    pub fn defect_free<'a>(
+    pub(crate) fn defect_free<'a>(
         ctx: &'a Context,
         sampler: &'a Sampler,
         seed: u64,

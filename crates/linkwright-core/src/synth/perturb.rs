@@ -31,7 +31,7 @@ const UNDECIDED: u8 = 3;
 
 /// The cells of every perturbed pose of every moving body.
 #[derive(Debug)]
-pub struct PerturbationCells {
+pub(crate) struct PerturbationCells {
     /// `grids[b * poses + i]`: body b's cells at pose i, for the perturbed poses.
     grids: Vec<Option<CellGrid>>,
     poses: usize,
@@ -80,7 +80,7 @@ impl Axis {
 
 /// What a cell says of a perturbation against one fixed body.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
+pub(crate) enum Verdict {
     Clear,
     Penetrated,
     /// The exact test must decide.
@@ -89,7 +89,7 @@ pub enum Verdict {
 
 impl PerturbationCells {
     /// Empty cells for the perturbed poses of `ctx` (none when poses are not perturbed).
-    pub fn new(ctx: &Context) -> Self {
+    pub(crate) fn new(ctx: &Context) -> Self {
         let problem = ctx.problem;
         let poses = problem.pose_count;
         let settings = &problem.settings;
@@ -118,7 +118,7 @@ impl PerturbationCells {
 
     /// The verdict against fixed body `k` of body `b` at pose `i` perturbed by `shift` and `turn`
     /// (the pose `Rigid::new(input.angle() + turn, input.translation() + shift)`).
-    pub fn verdict(&self, ctx: &Context, b: usize, i: usize, shift: Vec2, turn: f64, k: usize) -> Verdict {
+    pub(crate) fn verdict(&self, ctx: &Context, b: usize, i: usize, shift: Vec2, turn: f64, k: usize) -> Verdict {
         let Some(grid) = &self.grids[b * self.poses + i] else { return Verdict::Undecided };
         let [x, y, t] = grid.axes;
         let (Some(ix), Some(iy), Some(it)) = (x.index(shift.x), y.index(shift.y), t.index(turn)) else {

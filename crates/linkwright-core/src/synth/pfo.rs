@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 
 /// The particle filter's constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FilterOptions {
+pub(crate) struct FilterOptions {
     /// Particles kept after each resampling (paper: 100).
     pub particles: usize,
     /// Iterations (paper: 20).

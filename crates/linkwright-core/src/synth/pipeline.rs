@@ -50,7 +50,7 @@ const COLLISION_CHUNK: usize = 128;
 /// At most this many chunks are swept in one parallel batch.
 const COLLISION_BATCH_CHUNKS: usize = 8;
 /// At most this many alternatives are reported.
-pub const MAX_ALTERNATIVES: usize = 10;
+pub(crate) const MAX_ALTERNATIVES: usize = 10;
 /// Two designs of one family are distinct when some joint differs by more than this fraction of d.
 const DISTINCT: f64 = 0.25;
 
@@ -152,7 +152,7 @@ pub struct Outcome {
 
 /// The families a scene asks for: those its mechanism choice allows for its number of moving bodies
 /// that have a joint of every pinned joint's name.
-pub fn families(problem: &Problem) -> Vec<MechanismType> {
+pub(crate) fn families(problem: &Problem) -> Vec<MechanismType> {
     chosen_families(problem).into_iter().filter(|&family| pinned_joints_missing(problem, family).is_empty()).collect()
 }
 

@@ -7,7 +7,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// Independent streams of one run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stream {
+pub(crate) enum Stream {
     /// Candidate sample `index`, for the mechanism family `family`.
     Sample { family: u64 },
     /// The particle filter's perturbation of particle `index` at iteration `iteration`.
@@ -17,7 +17,7 @@ pub enum Stream {
 }
 
 /// The generator of `stream`, item `index`, under `seed`.
-pub fn rng(seed: u64, stream: Stream, index: u64) -> Xoshiro256PlusPlus {
+pub(crate) fn rng(seed: u64, stream: Stream, index: u64) -> Xoshiro256PlusPlus {
     let (tag, a, b) = match stream {
         Stream::Sample { family } => (1, family, 0),
         Stream::Perturb { family, iteration } => (2, family, iteration),
@@ -38,7 +38,7 @@ pub(crate) fn splitmix(x: u64) -> u64 {
 }
 
 /// A standard normal draw.
-pub fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
+pub(crate) fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
     StandardNormal.sample(rng)
 }
 

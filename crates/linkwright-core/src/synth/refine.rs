@@ -24,7 +24,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// The refinement's constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RefineOptions {
+pub(crate) struct RefineOptions {
     /// Levenberg–Marquardt iterations (each one Jacobian).
     pub iterations: usize,
     /// Forward-difference step for joint coordinates, as a fraction of d.
@@ -42,7 +42,7 @@ impl Default for RefineOptions {
 /// How far a refinement may take a design from the one a person is looking at: no joint farther than
 /// `reach` from where it is in `shown` (or than it was at the start, when that is farther).
 #[derive(Clone, Copy, Debug)]
-pub struct Leash<'a> {
+pub(crate) struct Leash<'a> {
     pub shown: &'a Mechanism,
     pub reach: f64,
 }
@@ -95,7 +95,7 @@ fn judge(ctx: &Context, x: &mut [f64], scratch: &mut Scratch) -> Option<Candidat
 /// `start` refined to a nearby local optimum of the cost, every hard constraint kept, and within the
 /// `leash` if any; `start` itself when no step improves it. Deterministic: no randomness, and the
 /// same arithmetic on any thread.
-pub fn refine_design(
+pub(crate) fn refine_design(
     ctx: &Context,
     start: &Candidate,
     options: &RefineOptions,

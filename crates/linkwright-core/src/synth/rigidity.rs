@@ -46,7 +46,7 @@ use crate::mechanism::{PartKind, Topology};
 
 /// How far turning a ternary link over may move a joint, as a fraction of the body size, before the
 /// link counts as mirrored ([`RigidityModel::mirrored`]): the precision the end poses are reached with.
-pub const FLIP_TOLERANCE: f64 = 0.05;
+pub(crate) const FLIP_TOLERANCE: f64 = 0.05;
 
 /// What carries a joint from pose to pose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,7 +70,7 @@ struct Block {
 
 /// The rigidity energy of one topology, built once and evaluated for any joints and body motions.
 #[derive(Clone, Debug)]
-pub struct RigidityModel {
+pub(crate) struct RigidityModel {
     carriers: Vec<Carrier>,
     pairs: Vec<(usize, usize)>,
     slider: Option<usize>,
@@ -103,7 +103,7 @@ pub struct Fit {
 /// Reusable buffers for [`RigidityModel::fit`]; after the first fit of a given size, fitting allocates
 /// nothing.
 #[derive(Clone, Debug, Default)]
-pub struct FitWorkspace {
+pub(crate) struct FitWorkspace {
     /// Normalised residual rows (block-local columns), normal matrix `JᵀJ` (row-major, n × n) and
     /// gradient `Jᵀr` at the current point, and the same at the trial point.
     rows: Vec<Row>,
@@ -281,7 +281,7 @@ impl RigidityModel {
     ///
     /// # Panics
     /// If a joint is carried by more than one of the ground and the moving bodies.
-    pub fn new(topology: &Topology) -> Self {
+    pub(crate) fn new(topology: &Topology) -> Self {
         let joint_count = topology.joint_count();
         let mut carriers = vec![None; joint_count];
         for part in &topology.parts {
@@ -374,7 +374,7 @@ impl RigidityModel {
 
     /// The same model with the joints `pinned` held where the parameter vector has them: their
     /// coordinates are no unknowns of any fit (their residuals stay, their columns go).
-    pub fn with_pinned(mut self, pinned: &[usize]) -> Self {
+    pub(crate) fn with_pinned(mut self, pinned: &[usize]) -> Self {
         for block in &mut self.blocks {
             block.vars.retain(|&v| v >= 2 * self.carriers.len() || !pinned.contains(&(v / 2)));
         }
@@ -388,32 +388,32 @@ impl RigidityModel {
     }
 
     /// The same model with another iteration limit per block for [`RigidityModel::fit`] (default 100).
-    pub fn with_max_iterations(mut self, max_iterations: usize) -> Self {
+    pub(crate) fn with_max_iterations(mut self, max_iterations: usize) -> Self {
         self.max_iterations = max_iterations;
         self
     }
 
     /// Number of unknowns: 2 per joint, plus the slider angle for the slider-crank.
-    pub fn dim(&self) -> usize {
+    pub(crate) fn dim(&self) -> usize {
         2 * self.carriers.len() + usize::from(self.slider.is_some())
     }
 
     /// Number of residuals for `poses` poses.
     #[cfg(test)]
-    pub fn residual_count(&self, poses: usize) -> usize {
+    pub(crate) fn residual_count(&self, poses: usize) -> usize {
         (self.pairs.len() + usize::from(self.slider.is_some())) * poses.saturating_sub(1)
     }
 
     /// The residuals of eq. 4–5 (world units), pair-major then slider, poses 1..N within each.
     #[cfg(test)]
-    pub fn residuals(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut Vec<f64>) {
+    pub(crate) fn residuals(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut Vec<f64>) {
         out.clear();
         self.for_each_row::<false>(&self.pairs, self.slider.is_some(), x, motions, |row| out.push(row.r));
     }
 
     /// `E_rigid = Σ r²` (world units).
     #[cfg(test)]
-    pub fn energy(&self, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
+    pub(crate) fn energy(&self, x: &[f64], motions: &[Vec<Rigid>]) -> f64 {
         let mut e = 0.0;
         self.for_each_row::<false>(&self.pairs, self.slider.is_some(), x, motions, |row| e += row.r * row.r);
         e
@@ -421,7 +421,7 @@ impl RigidityModel {
 
     /// The analytic gradient of [`RigidityModel::energy`], `2 Jᵀ r`.
     #[cfg(test)]
-    pub fn gradient(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut [f64]) {
+    pub(crate) fn gradient(&self, x: &[f64], motions: &[Vec<Rigid>], out: &mut [f64]) {
         assert_eq!(out.len(), self.dim(), "gradient buffer has the wrong length");
         out.fill(0.0);
         self.for_each_row::<true>(&self.pairs, self.slider.is_some(), x, motions, |row| {
@@ -437,14 +437,14 @@ impl RigidityModel {
     ///
     /// The energy never increases from the start. With non-finite inputs `x` is left unchanged and the
     /// fit reports infinite energy and deviation.
-    pub fn fit(&self, x: &mut [f64], motions: &[Vec<Rigid>], scale: f64, ws: &mut FitWorkspace) -> Fit {
+    pub(crate) fn fit(&self, x: &mut [f64], motions: &[Vec<Rigid>], scale: f64, ws: &mut FitWorkspace) -> Fit {
         self.fit_where(x, motions, scale, ws, |_| true)
     }
 
     /// [`RigidityModel::fit`] on the blocks that hold a joint for which `polish` is true (indexed like
     /// the joints); the other blocks are kept as they are (a constructed exact solution, say) and only
     /// enter the reported energy and deviation.
-    pub fn fit_where(
+    pub(crate) fn fit_where(
         &self,
         x: &mut [f64],
         motions: &[Vec<Rigid>],
@@ -481,7 +481,7 @@ impl RigidityModel {
     /// [`RigidityModel::fit`] on the one block that holds `joint`, the others left as they are: the
     /// block's own [`Fit::max_relative_deviation`] (its other joints and, for the slider, its angle
     /// must be in `x`; the rest of `x` is not read). Infinite for non-finite inputs.
-    pub fn fit_block_of(
+    pub(crate) fn fit_block_of(
         &self,
         joint: usize,
         x: &mut [f64],
@@ -771,7 +771,7 @@ impl RigidityModel {
 
     /// [`Fit::max_relative_deviation`] of `x` as it stands (no fit), the only figure the sampler reads
     /// of a linkage its construction made exact: infinite for non-finite inputs, as a fit reports.
-    pub fn relative_deviation(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> f64 {
+    pub(crate) fn relative_deviation(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> f64 {
         let s = usable_scale(scale);
         if !self.finite(x, motions) {
             return f64::INFINITY;
@@ -787,7 +787,7 @@ impl RigidityModel {
     /// driven by such links). (Checked apart from the energy, whose length residuals cannot see it: a
     /// signed-area residual would be redundant with them at every solution and make the fit's normal
     /// equations singular.)
-    pub fn mirrored(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> bool {
+    pub(crate) fn mirrored(&self, x: &[f64], motions: &[Vec<Rigid>], scale: f64) -> bool {
         let poses = self.poses(motions);
         let tolerance = FLIP_TOLERANCE * usable_scale(scale);
         self.triangles.iter().any(|&t| {

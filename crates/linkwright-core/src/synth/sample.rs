@@ -13,7 +13,7 @@ use rand::RngExt;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// σ of the jitter around a previous design's joints in a warm start, as a fraction of d.
-pub const WARM_JITTER: f64 = 0.05;
+pub(crate) const WARM_JITTER: f64 = 0.05;
 /// A construction left unpolished is accepted without measuring its deviation, so its links keep
 /// their lengths to this fraction of the deviation a sample may have. Projecting further, to rounding,
 /// took one more step in six (the folding table: 2.6% of its instructions).
@@ -28,7 +28,7 @@ const PERTURB_TRIES: usize = 5;
 
 /// Draws candidate mechanisms for one context.
 #[derive(Debug)]
-pub struct Sampler<'c, 'p> {
+pub(crate) struct Sampler<'c, 'p> {
     ctx: &'c Context<'p>,
     region_box: Aabb,
     /// The linkage region with no tolerance, whose grid places most drawn points at once.
@@ -45,7 +45,7 @@ pub struct Sampler<'c, 'p> {
 
 /// Buffers one worker reuses across samples.
 #[derive(Debug, Default)]
-pub struct SampleScratch {
+pub(crate) struct SampleScratch {
     motions: Vec<Vec<Rigid>>,
     x: Vec<f64>,
     fit: FitWorkspace,
@@ -59,11 +59,11 @@ pub struct SampleScratch {
 
 impl SampleScratch {
     /// The perturbed motions of the last sample: `motions()[b][i]` carries body b from pose 0 to pose i.
-    pub fn motions(&self) -> &[Vec<Rigid>] {
+    pub(crate) fn motions(&self) -> &[Vec<Rigid>] {
         &self.motions
     }
     /// The last sample [`Sampler::draw`] accepted.
-    pub fn mechanism(&self) -> &Mechanism {
+    pub(crate) fn mechanism(&self) -> &Mechanism {
         self.mechanism.as_ref().expect("a sample was drawn")
     }
 }
@@ -72,7 +72,7 @@ impl SampleScratch {
 /// joints are jittered, and whether it is fitted to perturbed poses like any sample or to the poses
 /// as drawn ([`Near::exact`]: the least change that makes that design rigid through the poses now).
 #[derive(Clone, Copy, Debug)]
-pub struct Near<'a> {
+pub(crate) struct Near<'a> {
     pub start: &'a [f64],
     /// The jitter of each joint, a fraction of d ([`WARM_JITTER`] for a warm start).
     pub jitter: f64,
@@ -82,17 +82,17 @@ pub struct Near<'a> {
 
 impl<'a> Near<'a> {
     /// Fitted as it is, through the poses as drawn.
-    pub fn exact(start: &'a [f64]) -> Self {
+    pub(crate) fn exact(start: &'a [f64]) -> Self {
         Near { start, jitter: 0.0, perturbed: false }
     }
     /// Jittered by [`WARM_JITTER`]·d and fitted to perturbed poses, as a warm start's samples are.
-    pub fn warm(start: &'a [f64]) -> Self {
+    pub(crate) fn warm(start: &'a [f64]) -> Self {
         Near { start, jitter: WARM_JITTER, perturbed: true }
     }
 }
 
 impl<'c, 'p> Sampler<'c, 'p> {
-    pub fn new(ctx: &'c Context<'p>, family: u64) -> Self {
+    pub(crate) fn new(ctx: &'c Context<'p>, family: u64) -> Self {
         Sampler {
             region_box: ctx.problem.region.aabb(),
             region_grid: Obstacle::new(ctx.problem.region.vertices(), 0.0),
@@ -123,7 +123,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
     /// where the poses allow it, the rest fitted from the constructed start. With `near`, every joint
     /// starts from that parameter vector (a previous design's, see [`x_from_mechanism`]) jittered as
     /// `near` says, and the whole linkage is fitted.
-    pub fn draw(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> bool {
+    pub(crate) fn draw(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> bool {
         let ctx = self.ctx;
         let mut rng = rng(seed, Stream::Sample { family: self.family }, index);
         if near.is_some_and(|n| !n.perturbed) {
@@ -192,7 +192,13 @@ impl<'c, 'p> Sampler<'c, 'p> {
 
     /// [`Sampler::draw`], as an owned mechanism (`None` when the fit failed).
     #[cfg(test)]
-    pub fn sample(&self, seed: u64, index: u64, near: Option<Near>, scratch: &mut SampleScratch) -> Option<Mechanism> {
+    pub(crate) fn sample(
+        &self,
+        seed: u64,
+        index: u64,
+        near: Option<Near>,
+        scratch: &mut SampleScratch,
+    ) -> Option<Mechanism> {
         self.draw(seed, index, near, scratch).then(|| scratch.mechanism().clone())
     }
 
@@ -305,7 +311,7 @@ impl<'c, 'p> Sampler<'c, 'p> {
 }
 
 /// The mechanism of a parameter vector: joint coordinates, then the slider's angle if there is one.
-pub fn mechanism_from_x(ctx: &Context, x: &[f64]) -> Mechanism {
+pub(crate) fn mechanism_from_x(ctx: &Context, x: &[f64]) -> Mechanism {
     let mut m = empty_mechanism(ctx);
     mechanism_into_x(ctx, x, None, &mut m);
     m
@@ -330,7 +336,7 @@ fn mechanism_into_x(ctx: &Context, x: &[f64], direction: Option<Vec2>, m: &mut M
 }
 
 /// The parameter vector of a mechanism (inverse of [`mechanism_from_x`]).
-pub fn x_from_mechanism(m: &Mechanism, out: &mut Vec<f64>) {
+pub(crate) fn x_from_mechanism(m: &Mechanism, out: &mut Vec<f64>) {
     out.clear();
     for p in &m.joints {
         out.extend([p.x, p.y]);

@@ -28,7 +28,7 @@ impl<T> std::fmt::Debug for ScratchPool<T> {
 
 impl<T: Default> ScratchPool<T> {
     /// A scratch of the pool (a new one when all are in use), back in the pool when dropped.
-    pub fn take(&self) -> Pooled<'_, T> {
+    pub(crate) fn take(&self) -> Pooled<'_, T> {
         // The lock is held only to push or pop, which cannot panic: a poisoned lock still holds a
         // consistent list.
         let item = self.spare.lock().unwrap_or_else(PoisonError::into_inner).pop().unwrap_or_default();

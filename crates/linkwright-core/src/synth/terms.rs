@@ -115,17 +115,17 @@ per_term!(SoftTerms);
 /// ([`Term::length_power`]), so a weight means the same at any drawing scale (d: the smallest
 /// moving body's size).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CostWeights([f64; Term::ALL.len()]);
+pub(crate) struct CostWeights([f64; Term::ALL.len()]);
 per_term!(CostWeights);
 
 impl CostWeights {
     /// The factors of the scene's `weights` for a drawing whose body size is `body_size`.
-    pub fn new(weights: &Weights, body_size: f64) -> CostWeights {
+    pub(crate) fn new(weights: &Weights, body_size: f64) -> CostWeights {
         CostWeights(Term::ALL.map(|t| t.scene_weight(weights) / body_size.powi(t.length_power())))
     }
 
     /// The weighted sum of the soft terms (eq. 14, scale-free).
-    pub fn cost(&self, soft: &SoftTerms) -> f64 {
+    pub(crate) fn cost(&self, soft: &SoftTerms) -> f64 {
         Term::ALL.iter().map(|&t| self[t] * soft[t]).sum()
     }
 

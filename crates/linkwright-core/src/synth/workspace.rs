@@ -9,7 +9,7 @@ use super::scratch_pool::ScratchPool;
 
 /// One worker's buffers for judging candidates.
 #[derive(Debug, Default)]
-pub struct Buffers {
+pub(crate) struct Buffers {
     pub evaluation: Scratch,
     pub sweep: SweepBuffers,
 }

@@ -83,7 +83,7 @@ pub(crate) struct Demand {
 
 impl Demand {
     /// The larger of the two, load by load (the sizing keeps every load it has seen).
-    pub fn max(&self, other: &Demand) -> Demand {
+    pub(crate) fn max(&self, other: &Demand) -> Demand {
         let edges = self
             .edges
             .iter()
@@ -156,13 +156,13 @@ impl Rule<'_> {
     /// The distance between a bracket's two fixing bolts in a bracket `w` wide: each an edge
     /// distance from its side, as far apart as the width allows (the farther, the less the moment
     /// loads them).
-    pub fn fixing_spacing(&self, w: f64) -> f64 {
+    pub(crate) fn fixing_spacing(&self, w: f64) -> f64 {
         w - 2.0 * self.values.edge_mm(self.fixing)
     }
 
     /// The shear on each of a bracket's two fixing bolts in a bracket `w` wide, N (no safety factor):
     /// half the force, and the moment over their spacing.
-    pub fn fixing_shear(&self, b: &Bending, w: f64) -> f64 {
+    pub(crate) fn fixing_shear(&self, b: &Bending, w: f64) -> f64 {
         0.5 * b.axial_n + b.moment_nm * 1000.0 / self.fixing_spacing(w).max(1e-9)
     }
 
@@ -245,7 +245,7 @@ impl Rule<'_> {
     }
 
     /// Every inequality at width `w` and thickness `t`.
-    pub fn checks(&self, demand: &Demand, w: f64, t: f64) -> Vec<Check> {
+    pub(crate) fn checks(&self, demand: &Demand, w: f64, t: f64) -> Vec<Check> {
         let (v, bolt, s) = (self.values, self.bolt, self.factor);
         let d0 = bolt.hole_mm;
         let mut out = vec![
@@ -288,7 +288,7 @@ impl Rule<'_> {
     /// The thinnest stock (and the width it needs) on which every inequality holds; when none does,
     /// the thickest stock at the width it needs, or at its width-to-thickness limit when no width
     /// will do (its failing checks say what is short).
-    pub fn size(&self, demand: &Demand) -> Section {
+    pub(crate) fn size(&self, demand: &Demand) -> Section {
         let v = self.values;
         let stocks = v.thicknesses_mm;
         let mut why_not: Option<String> = None;

@@ -43,7 +43,7 @@ pub(crate) fn side(face: Face) -> usize {
 impl Stack {
     /// The layers of `parts`, a washer of `bolt` apart except where `gaps` (per face, under layer
     /// k + 1 at index k) asks for more.
-    pub fn new(parts: &[Layered], bolt: &BoltSpec, gaps: &[Vec<f64>; 2]) -> Stack {
+    pub(crate) fn new(parts: &[Layered], bolt: &BoltSpec, gaps: &[Vec<f64>; 2]) -> Stack {
         let mut thickness: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         for p in parts {
             let layers = &mut thickness[side(p.face)];
@@ -61,12 +61,12 @@ impl Stack {
 
     /// The room a bolt's end needs under a part passing over it, mm: a washer, the nut and two
     /// threads, and a washer's thickness to spare.
-    pub fn gap(bolt: &BoltSpec) -> f64 {
+    pub(crate) fn gap(bolt: &BoltSpec) -> f64 {
         2.0 * bolt.washer_mm + bolt.nut_mm + 2.0 * bolt.pitch_mm
     }
 
     /// How far layer `k` of `face` starts from the bodies' face, mm.
-    pub fn layer_start(&self, face: Face, k: u32) -> f64 {
+    pub(crate) fn layer_start(&self, face: Face, k: u32) -> f64 {
         let f = side(face);
         let k = k.max(1) as usize;
         let below: f64 = self.thickness[f].iter().take(k - 1).sum();
@@ -75,7 +75,7 @@ impl Stack {
     }
 
     /// Every layer, front face first, from the bodies outwards.
-    pub fn layers(&self, parts: &[Layered]) -> Vec<LayerPlan> {
+    pub(crate) fn layers(&self, parts: &[Layered]) -> Vec<LayerPlan> {
         let mut out = Vec::new();
         for face in [Face::Front, Face::Back] {
             for (i, &t) in self.thickness[side(face)].iter().enumerate() {
@@ -94,7 +94,7 @@ impl Stack {
 
     /// What `bolt` passes through, from under its head to the nut: the body (name and thickness)
     /// when it stands in one, then `parts` (all on one face), innermost first.
-    pub fn bolt(&self, bolt: &BoltSpec, body: Option<(&str, f64)>, parts: &[&Layered]) -> Vec<StackItem> {
+    pub(crate) fn bolt(&self, bolt: &BoltSpec, body: Option<(&str, f64)>, parts: &[&Layered]) -> Vec<StackItem> {
         let mut sorted: Vec<&Layered> = parts.to_vec();
         sorted.sort_by_key(|p| p.layer);
         let washer = || StackItem { item: "washer", name: None, thickness_mm: bolt.washer_mm };
@@ -124,7 +124,7 @@ impl Stack {
 
     /// The length a bolt needs through `stack` (then its nut, and two threads beyond it), and the
     /// standard length to buy, mm.
-    pub fn bolt_length(stack: &[StackItem], bolt: &BoltSpec) -> (f64, f64) {
+    pub(crate) fn bolt_length(stack: &[StackItem], bolt: &BoltSpec) -> (f64, f64) {
         let grip: f64 = stack.iter().map(|s| s.thickness_mm).sum();
         let needed = grip + bolt.nut_mm + 2.0 * bolt.pitch_mm;
         (needed, BoltSpec::standard_length(needed))
