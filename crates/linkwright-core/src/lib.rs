@@ -16,8 +16,12 @@
 //!
 //! Namespaces hold what a flat root would crowd: [`geom`] (points, vectors, rigid transforms,
 //! polygons), [`kinematics`] (a mechanism compiled into dyad steps and solved along its crank),
-//! [`analysis`], [`fab`], [`testbed`] (scenes made from known mechanisms, for measuring designs) and
-//! [`kernels`] (the synthesis's inner loops, for benchmarks).
+//! [`analysis`], [`fab`] (printed parts), [`statics`] (the crank's torque against gravity),
+//! [`balance`] (counterbalance springs), [`hooked`] (those springs' hooks on the printed parts),
+//! [`workshop`] (the full-size build), [`testbed`] (scenes made from known mechanisms, for measuring
+//! designs) and [`kernels`] (the synthesis's inner loops, for benchmarks). Everything `pub` is
+//! reachable from this root (the `unreachable_pub` lint holds it): the re-exports below are the
+//! surface, each namespace its own.
 //!
 //! # Example
 //!
