@@ -1,7 +1,5 @@
 //! Why a design cannot be fabricated: [`FabError`], whose every message says what to change.
 
-use super::layout::HookRefusal;
-
 /// Why a design cannot be fabricated; every message says what to change.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FabError {
@@ -132,4 +130,17 @@ fn joined_list<T: std::fmt::Display>(list: &crate::IssueList<T>) -> String {
         0 => joined(list.iter()),
         more => format!("{}; and {more} more", joined(list.iter())),
     }
+}
+
+/// Why a spring's anchor has no hook.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HookRefusal {
+    /// The design has no part of that name.
+    NoSuchPart,
+    /// The point is not a finite number.
+    NotFinite,
+    /// On a link, too close to one of its joints for a hook beside the joint's pin (and not on it).
+    BesideJoint,
+    /// No place on the body for the post of a bracket reaching the anchor.
+    NoRoom,
 }

@@ -3,9 +3,9 @@
 use super::depth;
 use super::error::FabError;
 use super::layout::Layout;
-use super::pipeline::{motion_trace, Travel};
 use super::posts::SceneShapes;
 use super::settings::{Bed, Dims, Faces, PrintSettings};
+use super::travel::{motion_trace, Travel};
 use crate::kinematics::Trace;
 use crate::mechanism::Mechanism;
 use crate::scene::Problem;

@@ -3,7 +3,7 @@
 //! rides on, where connector posts stand on the bodies ([`super::posts`]), and which joints are pins
 //! fused straight onto a body, and where the hooks of counterbalance springs stand ([`Hook`]).
 
-use super::error::FabError;
+use super::error::{FabError, HookRefusal};
 use super::plates::{self, Misfit};
 use super::posts::{self, Pad, Pillar, SceneShapes};
 use super::settings::{Bed, Dims};
@@ -77,19 +77,6 @@ pub struct Hook {
     pub at: Point,
     /// What it stands on.
     pub base: HookBase,
-}
-
-/// Why a spring's anchor has no hook.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HookRefusal {
-    /// The design has no part of that name.
-    NoSuchPart,
-    /// The point is not a finite number.
-    NotFinite,
-    /// On a link, too close to one of its joints for a hook beside the joint's pin (and not on it).
-    BesideJoint,
-    /// No place on the body for the post of a bracket reaching the anchor.
-    NoRoom,
 }
 
 /// The slot a slider's pin runs in.

@@ -48,21 +48,21 @@ mod shapes;
 mod sheet;
 mod solid;
 mod split;
+mod travel;
 
 pub use build::{model_scale, BuildPlan, SizeNote, AUTO_RETRIES, PIN_SPACINGS_PER_REGION};
 pub use bundle::{assembled_meshes, bundle, Bundle, FIXED_FILES};
 pub use check::{check, CheckReport};
 pub use depth::{violations as ordering_violations, Constraint, Face, Ordering, PillarRef, Recorded};
-pub use error::FabError;
+pub use error::{FabError, HookRefusal};
 pub use fabrication::{Fabrication, Timings};
 pub use feasibility::FeasibilityCheck;
-pub use layout::{Anchor, BodyPin, Carrier, Hook, HookBase, HookRefusal, Layout, Member, MemberKind, Slot, SpringEnds};
+pub use layout::{Anchor, BodyPin, Carrier, Hook, HookBase, Layout, Member, MemberKind, Slot, SpringEnds};
 pub use names::{is_safe_relative_path, sanitize};
 pub use parts::{Heights, HoleSeat, Part, PinSeat, Prism, Role, SlotSeat};
 pub(crate) use pipeline::checked_design;
 pub use pipeline::{
-    fabricate, fabricate_design, fabricate_design_or_alternative, fabricate_design_with_springs, motion_trace, Chosen,
-    Travel,
+    fabricate, fabricate_design, fabricate_design_or_alternative, fabricate_design_with_springs, Chosen,
 };
 pub use plates::Misfit;
 pub use posts::Pad;
@@ -73,3 +73,4 @@ pub use report::{
 pub use settings::{Bed, Dims, Faces, PrintSettings, SettingsIssue, SnapCap};
 pub use sheet::steps as assembly_steps;
 pub use solid::Mesh;
+pub use travel::{motion_trace, Travel};

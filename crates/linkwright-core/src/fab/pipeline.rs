@@ -1,4 +1,4 @@
-//! The fabrication pipeline: a design's motion, its layout tried strategy by strategy until the
+//! The fabrication pipeline: a design's layout tried strategy by strategy until the
 //! depth ordering is solved, and its parts built ([`fabricate`]); a design file checked against its
 //! scene first ([`fabricate_design`]), and one of its alternatives when the design itself cannot be
 //! made ([`fabricate_design_or_alternative`]).
@@ -12,37 +12,11 @@ use super::names;
 use super::parts;
 use super::posts::SceneShapes;
 use super::settings::{Dims, Faces, PrintSettings};
-use crate::kinematics::{Plan, Trace};
+use super::travel::{motion_trace, Travel};
+use crate::kinematics::Trace;
 use crate::mechanism::Mechanism;
 use crate::scene::Problem;
 use std::time::Instant;
-
-/// The crank's travel of a design, radians.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Travel {
-    /// The driver's angle at the first pose.
-    pub start: f64,
-    /// The driver's angle at the last pose.
-    pub end: f64,
-}
-
-/// The motion at crank steps of at most 1° (the paper's simulation step). A travel of a full turn or
-/// more is refused before anything is allocated for it (the limit [`crate::DesignFile::validate`]
-/// applies).
-pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabError> {
-    let turn = crate::design::MAX_TRAVEL_DEG.to_radians();
-    if !(travel.start.is_finite() && travel.end.is_finite() && (travel.end - travel.start).abs() < turn) {
-        return Err(FabError::Motion(format!(
-            "the crank's travel from {:.1}° to {:.1}° must be finite and less than a full turn",
-            travel.start.to_degrees(),
-            travel.end.to_degrees()
-        )));
-    }
-    let plan = Plan::compile(mechanism).map_err(|e| FabError::Motion(e.to_string()))?;
-    let mut trace = Trace::new(plan.joint_count());
-    trace.sweep(&plan, travel.start, travel.end, 1f64.to_radians()).map_err(|e| FabError::Motion(e.to_string()))?;
-    Ok(trace)
-}
 
 /// Fabricates `mechanism` moving through `travel` in the scene of `problem`, a model at `scale` of
 /// the drawing (in the scene's units), with a hook at both ends of each of `springs` (the
