@@ -667,8 +667,11 @@ mod tests {
         assert_close(joints + outline, metrics.accuracy, 1e-9 * (1.0 + metrics.accuracy));
         // The first pose is where the joints are given: hit exactly.
         assert!(a.poses[0].joint_rms < 1e-9 && a.poses[0].bodies[0].max_vertex < 1e-9);
-        // Frames are coarser than the engine's travel, so their margin is never below the design's.
-        assert!(a.min_transmission_deg >= metrics.min_transmission_deg - 1e-9);
+        // Frames are coarser than the engine's 1° rows but not among them: between two rows the angle
+        // can dip under the rows' smallest by a second-order amount of the step (0.002° on this design,
+        // whose smallest angle sits at a smooth minimum), never by more.
+        let (frames, rows) = (a.min_transmission_deg, metrics.min_transmission_deg);
+        assert!(frames >= rows - 0.01, "frames {frames}°, rows {rows}°");
         // The four-bar's one loop, its links measured on the file's joints: frame q0–r0, input q0–p1,
         // coupler p1–q1 and output r0–q1 (a slider-crank's would be its crank, rod and the pivot's
         // offset from the slider's line).
