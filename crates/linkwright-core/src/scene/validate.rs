@@ -569,22 +569,23 @@ const MAX_JOINT_NAME: usize = 8;
 
 /// The soft-cost weights must be usable factors of a sum, and not all zero (then every design ties).
 fn check_weights(w: &Weights, out: &mut Issues) {
+    let defaults = Weights::default();
     let all = [
-        ("accuracy", w.accuracy),
-        ("smoothness", w.smoothness),
-        ("location", w.location),
-        ("size", w.size),
-        ("transmission", w.transmission),
+        ("accuracy", w.accuracy, defaults.accuracy),
+        ("smoothness", w.smoothness, defaults.smoothness),
+        ("location", w.location, defaults.location),
+        ("size", w.size, defaults.size),
+        ("transmission", w.transmission, defaults.transmission),
     ];
-    for (name, v) in all {
+    for (name, v, default) in all {
         if !v.is_finite() || v < 0.0 {
             out.error(
                 format!("weights.{name}"),
-                format!("is {v}; a weight must be a finite number ≥ 0 (default 1, location 10)"),
+                format!("is {v}; a weight must be a finite number ≥ 0 (default {default})"),
             );
         }
     }
-    if all.iter().all(|&(_, v)| v == 0.0) {
+    if all.iter().all(|&(_, v, _)| v == 0.0) {
         out.error("weights", "all the weights are 0, so every design would cost the same; make at least one positive");
     }
     out.unknown_fields("weights.", &w.extra);
@@ -1155,7 +1156,7 @@ mod tests {
         let mut s = scene();
         s.weights.accuracy = -1.0;
         s.weights.size = f64::NAN;
-        assert_error(&s, "weights.accuracy", "must be a finite number ≥ 0");
+        assert_error(&s, "weights.accuracy", "must be a finite number ≥ 0 (default 10000)");
         assert_error(&s, "weights.size", "must be a finite number ≥ 0");
         let mut s = scene();
         let w = &mut s.weights;
