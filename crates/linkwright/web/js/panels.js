@@ -155,7 +155,8 @@ const WEIGHTS = [
 ];
 
 /**
- * A log-scale slider (0.01 to 10,000) with a number field beside it.
+ * A log-scale slider (0.01 to 1,000,000: the accuracy's default, 10,000, is not its end) with a number
+ * field beside it.
  * @param {Store} store
  * @param {keyof Weights} key
  * @param {string} label
@@ -168,7 +169,7 @@ function weightControl(store, key, label, help) {
   /** @type {(v: number) => void} */
   const commit = (v) => store.edit(`weight ${key}`, (s) => { s.weights[key] = v; });
   const slider = html('input', {
-    type: 'range', min: -2, max: 4, step: 0.05, value: String(pos), 'data-key': `ws-${key}`, 'aria-label': `${label} weight`,
+    type: 'range', min: -2, max: 6, step: 0.05, value: String(pos), 'data-key': `ws-${key}`, 'aria-label': `${label} weight`,
     oninput: (e) => { field.value = String(tidy(10 ** Number(e.currentTarget.value), 3)); },
     onchange: (e) => commit(tidy(10 ** Number(e.currentTarget.value), 3)),
   });
