@@ -34,7 +34,7 @@ use crate::kinematics::Trace;
 use pumpkin_conflict_resolvers::resolvers::ResolutionResolver;
 use pumpkin_core::proof::ConstraintTag;
 use pumpkin_core::results::{ProblemSolution, SatisfactionResult};
-use pumpkin_core::termination::TimeBudget;
+use pumpkin_core::termination::TerminationCondition;
 use pumpkin_core::variables::{DomainId, Literal};
 use pumpkin_core::Solver;
 use serde::Serialize;
@@ -436,14 +436,26 @@ impl Recorded {
 pub(crate) enum NoOrdering {
     /// Proven: no ordering exists with the faces allowed.
     Infeasible,
-    /// The solver ran out of its time budget.
+    /// The solver used its whole step budget without an answer.
     TimedOut,
 }
+
+/// The solver's budget for [`feasible`], in solver steps (one propagation and decision, or one
+/// conflict). Counted in steps rather than seconds so that whether a candidate passes the print check
+/// does not depend on the machine's load, and the same scene and seed give the same design. The bundled
+/// examples and the reference scenes need at most 309 steps for any candidate (about 60–100 µs a step);
+/// the budget is several times that, so a hard candidate costs at most a fraction of a second.
+pub(crate) const FEASIBILITY_STEPS: u64 = 2_000;
+
+/// The solver's budget for [`solve`] when fabricating, in solver steps: the layer count is minimised
+/// there and a design is fabricated once, so it may take seconds.
+pub(crate) const FABRICATION_STEPS: u64 = 200_000;
 
 /// Solves the ordering, minimising the layers: the smallest layer count is found by asking the
 /// solver for each count from a lower bound upwards, so the first satisfiable count is proven optimal.
 /// With [`Faces::Auto`], one face is tried first and both faces only when one face has no ordering.
-pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> Result<Ordering, NoOrdering> {
+/// `steps` bounds the solver's steps over all of these questions together.
+pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, steps: u64) -> Result<Ordering, NoOrdering> {
     let m = layout.members.len();
     if m == 0 {
         // Nothing to hang beyond: each spring on the front face, one level each.
@@ -451,8 +463,7 @@ pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s
         let (spring_face, spring_level) = (vec![Face::Front; springs], (0..springs as u32).collect());
         return Ok(Ordering { face: vec![], layer: vec![], spring_face, spring_level, layers: 0, optimal: true });
     }
-    let started = std::time::Instant::now();
-    let remaining = || (budget_s - started.elapsed().as_secs_f64()).max(0.001);
+    let mut budget = StepBudget { left: steps };
     let lower = layout.joint_members.iter().map(Vec::len).max().unwrap_or(1).max(1) as i32;
     let attempts: &[bool] = match faces {
         Faces::One => &[false],
@@ -462,7 +473,7 @@ pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s
     let mut timed_out = false;
     for &two in attempts {
         // Feasibility first (with as many layers as members, which any ordering can be compressed to).
-        match solve_with(layout, recorded, two, m as i32, remaining()) {
+        match solve_with(layout, recorded, two, m as i32, &mut budget) {
             Outcome::Unsat => continue,
             Outcome::Unknown => {
                 timed_out = true;
@@ -471,7 +482,7 @@ pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s
             Outcome::Sat(mut best) => {
                 let mut optimal = true;
                 for upper in lower..best.layers as i32 {
-                    match solve_with(layout, recorded, two, upper, remaining()) {
+                    match solve_with(layout, recorded, two, upper, &mut budget) {
                         Outcome::Sat(o) => {
                             best = o;
                             break;
@@ -492,13 +503,14 @@ pub(crate) fn solve(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s
 }
 
 /// Whether any ordering exists with the faces allowed (no minimisation).
-pub(crate) fn feasible(layout: &Layout, recorded: &Recorded, faces: Faces, budget_s: f64) -> bool {
+pub(crate) fn feasible(layout: &Layout, recorded: &Recorded, faces: Faces, steps: u64) -> bool {
     let m = layout.members.len() as i32;
     let attempts: &[bool] = match faces {
         Faces::One => &[false],
         Faces::Both | Faces::Auto => &[true],
     };
-    attempts.iter().any(|&two| matches!(solve_with(layout, recorded, two, m.max(1), budget_s), Outcome::Sat(_)))
+    let mut budget = StepBudget { left: steps };
+    attempts.iter().any(|&two| matches!(solve_with(layout, recorded, two, m.max(1), &mut budget), Outcome::Sat(_)))
 }
 
 enum Outcome {
@@ -509,14 +521,32 @@ enum Outcome {
 
 /// One satisfaction problem: every member on a layer in `1..=upper`, on one face or (with `two`) on
 /// either face.
-fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budget_s: f64) -> Outcome {
+fn solve_with(layout: &Layout, recorded: &Recorded, two: bool, upper: i32, budget: &mut StepBudget) -> Outcome {
     let mut model = Model::new(layout, two, upper);
     for &c in recorded.constraints.keys() {
         if model.impose(c).is_err() {
             return Outcome::Unsat;
         }
     }
-    model.satisfy(budget_s)
+    model.satisfy(budget)
+}
+
+/// Stops the solver after a number of its steps, shared by the questions of one [`solve`].
+struct StepBudget {
+    left: u64,
+}
+
+impl TerminationCondition for StepBudget {
+    fn should_stop(&mut self) -> bool {
+        // Polled once per step of the solver's search loop.
+        match self.left.checked_sub(1) {
+            Some(left) => {
+                self.left = left;
+                false
+            }
+            None => true,
+        }
+    }
 }
 
 /// A satisfaction problem being built: a layer and a face for every member, a face and a level
@@ -718,13 +748,12 @@ impl<'a> Model<'a> {
         Ok(())
     }
 
-    /// Asks the solver, within `budget_s` seconds, for every member's layer and face and every
-    /// spring's face and level.
-    fn satisfy(mut self, budget_s: f64) -> Outcome {
+    /// Asks the solver, within the steps left in `budget`, for every member's layer and face and
+    /// every spring's face and level.
+    fn satisfy(mut self, budget: &mut StepBudget) -> Outcome {
         let mut brancher = self.solver.default_brancher();
-        let mut termination = TimeBudget::starting_now(std::time::Duration::from_secs_f64(budget_s));
         let mut resolver = ResolutionResolver::default();
-        let result = self.solver.satisfy(&mut brancher, &mut termination, &mut resolver);
+        let result = self.solver.satisfy(&mut brancher, budget, &mut resolver);
         match result {
             SatisfactionResult::Satisfiable(s) => {
                 let sol = s.solution();
@@ -850,5 +879,33 @@ impl From<NoOrdering> for FabError {
             NoOrdering::Infeasible => FabError::NoOrdering,
             NoOrdering::TimedOut => FabError::OrderingTimedOut,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fab::posts::SceneShapes;
+    use crate::fab::settings::{Dims, PrintSettings};
+    use crate::statics::tests::parallelogram;
+
+    /// Whether an ordering is found depends on the solver's steps alone, never on the clock: the
+    /// smallest budget that finds one finds the same one every time, and one step fewer never does.
+    #[test]
+    fn the_ordering_depends_on_the_step_budget_not_on_time() {
+        let (problem, mechanism, _, trace) = parallelogram();
+        let shapes = SceneShapes::new(&problem, Dims::new(&PrintSettings::default(), 1.0));
+        let layout = Layout::new(&shapes, &mechanism, &trace, true, &[]).unwrap();
+        let recorded = record(&layout, &trace);
+        assert!(layout.members.len() >= 3, "the links, and a connector for each body");
+        assert_eq!(solve(&layout, &recorded, Faces::One, 0), Err(NoOrdering::TimedOut));
+        let enough = (1..FEASIBILITY_STEPS).find(|&n| solve(&layout, &recorded, Faces::One, n).is_ok()).unwrap();
+        let first = solve(&layout, &recorded, Faces::One, enough).unwrap();
+        for _ in 0..10 {
+            assert_eq!(solve(&layout, &recorded, Faces::One, enough).as_ref(), Ok(&first));
+            assert_eq!(solve(&layout, &recorded, Faces::One, enough - 1), Err(NoOrdering::TimedOut));
+        }
+        assert!(violations(&layout, &recorded, &first).is_empty());
+        assert!(feasible(&layout, &recorded, Faces::One, FEASIBILITY_STEPS));
     }
 }

@@ -29,8 +29,12 @@ pub enum FabError {
     )]
     /// No depth ordering satisfies every constraint recorded along the motion.
     NoOrdering,
-    /// The depth-ordering solver ran out of its time budget.
-    #[error("the depth-ordering solver ran out of time; try again or allow both faces")]
+    /// The depth-ordering solver used its whole step budget without finding an ordering or proving
+    /// that none exists.
+    #[error(
+        "the depth-ordering solver gave up before finding an ordering of the links or proving that none \
+         exists; choose another design (an alternative) or allow both faces with \"faces\": \"both\""
+    )]
     OrderingTimedOut,
     #[error(
         "{body} is too thin for the connector post of joint {joint}, and every pad fused to its side near the \

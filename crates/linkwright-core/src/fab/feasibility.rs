@@ -78,7 +78,8 @@ impl FeasibilityCheck {
                     let pinned = layout.body_pins.iter().any(Option::is_some);
                     if !misfits.is_empty() {
                         (layout.off_bed_error(&misfits, &self.bed), pinned)
-                    } else if depth::feasible(&layout, &depth::record(&layout, trace), faces, 0.05) {
+                    } else if depth::feasible(&layout, &depth::record(&layout, trace), faces, depth::FEASIBILITY_STEPS)
+                    {
                         return Ok(());
                     } else {
                         (FabError::NoOrdering, pinned)

@@ -113,7 +113,7 @@ fn ordered_layout(
             }
         };
         let t1 = Instant::now();
-        let solved = depth::solve(layout, recorded, faces, 20.0);
+        let solved = depth::solve(layout, recorded, faces, depth::FABRICATION_STEPS);
         ordering_s += t1.elapsed().as_secs_f64();
         match solved {
             Ok(o) if layout.off_bed(&settings.bed).is_empty() => {
