@@ -23,8 +23,14 @@ use std::time::Instant;
 /// hitting something, where linkages fitted closer to the drawn poses pass (reference scenes: the
 /// three-pose power shovel and the peg in its hole get a design this way).
 const RETRY_NOISE: f64 = 0.1;
-/// Mixed into the seed of the search that follows a design far from the poses.
+/// Mixed into the seed of the search that follows a design far from the poses, or one that passes
+/// close to a dead point.
 const FAR_RETRY_STREAM: u64 = 0x6661_7200;
+/// A design whose smallest transmission angle is under this (or under the scene's comfortable angle,
+/// when that is lower) runs close to a dead point: when the transmission has a weight, a cold run
+/// searches once more, as for a design far from the poses, and keeps the cheaper. The comfortable
+/// angle is what the cost aims at; this is where a design is poor enough to be worth a second search.
+const POOR_TRANSMISSION_DEG: f64 = 15.0;
 /// Samples drawn between two progress reports (and cancellation checks).
 const CHUNK: usize = 2048;
 /// Samples simulated between two updates of the bar a sample's cost floor must pass.
@@ -380,10 +386,15 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         let closer: Vec<Context> = contexts.into_iter().map(|ctx| ctx.perturbed_less(RETRY_NOISE)).collect();
         picked = design_round(problem, options, &closer, &workspaces, &mut run)?;
     }
-    // A design far from the poses is not what was asked for: a cold run searches once more, from
-    // other samples, and keeps what is closest.
+    // A design far from the poses is not what was asked for, and one near a dead point not what a
+    // mechanic would build: a cold run searches once more, from other samples, and keeps what is
+    // closest, then cheapest.
     let far = |c: &Candidate| far_from_pose(problem, &pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows));
-    if matches!(options.start, Start::Cold) && picked.first().is_some_and(|c| far(c).is_some()) {
+    let poor = |c: &Candidate| {
+        let poor_deg = POOR_TRANSMISSION_DEG.min(problem.settings.comfortable_transmission_deg);
+        problem.weights.transmission > 0.0 && c.trace.least_transmission(&c.plan).1 < poor_deg.to_radians().sin()
+    };
+    if matches!(options.start, Start::Cold) && picked.first().is_some_and(|c| far(c).is_some() || poor(c)) {
         let mut reseeded = problem.clone();
         reseeded.settings.seed = splitmix(problem.settings.seed ^ FAR_RETRY_STREAM);
         let again = family_contexts(&reseeded, &families, options);
