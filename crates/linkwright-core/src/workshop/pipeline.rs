@@ -29,7 +29,9 @@ use super::sizing::{Bending, Check, Demand, EdgeLoad, Rule, Section};
 use super::stack::{Layered, Stack};
 use super::standards::{BoltSize, BoltSpec, MaterialValues};
 use crate::design::DesignFile;
-use crate::fab::{Bed, Carrier, FabError, Fabrication, Face, Faces, MemberKind, PrintSettings, SnapCap, Travel};
+use crate::fab::{
+    Bed, Carrier, FabError, Fabrication, Face, Faces, Layout, MemberKind, PrintSettings, SnapCap, Travel,
+};
 use crate::geom::{point_segment_distance, Point, Rigid, Vec2};
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, PartKind};
@@ -582,10 +584,39 @@ impl<'a> Context<'a> {
         bolt: &BoltSpec,
     ) -> (Vec<String>, [Vec<f64>; 2]) {
         let layout = &fab.layout;
-        let (face, layer) = (&fab.ordering.face, &fab.ordering.layer);
-        let n = layout.members.len();
-        // Every member's half width as cut, scene units.
-        let radius: Vec<f64> = (0..n)
+        let radius = self.cut_radii(layout, links, fixed);
+        let clearance = 0.5 * (bolt.hole_mm - bolt.diameter_mm) / self.mm;
+        let columns = self.columns(fab, fixed, bolt);
+        let mut gaps = head_gaps(fab, fixed, &columns);
+        let mut found: BTreeMap<String, f64> = BTreeMap::new();
+        let mut poses: Vec<Rigid> = Vec::new();
+        let mut cores: Vec<Vec<Point>> = layout.members.iter().map(|m| m.core.clone()).collect();
+        for r in 0..self.trace.len() {
+            let row = self.trace.row(r);
+            let deg = self.trace.thetas[r].to_degrees();
+            layout.carrier_poses(row, &mut poses);
+            for (i, m) in layout.members.iter().enumerate() {
+                for (k, &c) in m.core.iter().enumerate() {
+                    cores[i][k] = poses[m.carrier].apply(c);
+                }
+            }
+            // A meeting is told once, at the first row where it happens.
+            let mut note = |text: String| {
+                found.entry(text).or_insert(deg);
+            };
+            let parts = PartsAt { fab, cores: &cores, radius: &radius, clearance };
+            parts.overlaps(r == 0, &mut note);
+            parts.crossings(&columns, row, &poses, &mut gaps, &mut note);
+        }
+        let conflicts = found.into_iter().map(|(what, deg)| format!("{what} (first at crank {deg:.1}°)")).collect();
+        (conflicts, gaps)
+    }
+
+    /// Every layout member's half width as cut, scene units: a link's from its section, a bracket's
+    /// (or the guide's, or the frame's) from its own sizing, zero for a member with neither. The
+    /// clearance checks test the members' cores this far apart.
+    fn cut_radii(&self, layout: &Layout, links: &LinkSizing, fixed: &[FixedPart]) -> Vec<f64> {
+        (0..layout.members.len())
             .map(|i| {
                 let width = match layout.carriers[layout.members[i].carrier] {
                     Carrier::Link(k) => links.sections[k].as_ref().map(|(_, s)| s.width_mm),
@@ -593,24 +624,16 @@ impl<'a> Context<'a> {
                 };
                 0.5 * width.unwrap_or(0.0) / self.mm
             })
-            .collect();
-        let clearance = 0.5 * (bolt.hole_mm - bolt.diameter_mm) / self.mm;
-        // A bolt's column: where, on which face, from which layer to which (0 is the body), and the
-        // room its end needs.
-        struct Column {
-            what: String,
-            carrier: usize,
-            at: Point,
-            joint: Option<usize>,
-            face: Face,
-            from: u32,
-            to: u32,
-            own: Vec<usize>,
-            /// The washer's radius, scene units.
-            reach: f64,
-            /// The room its end needs beyond the parts it holds, mm.
-            end_mm: f64,
-        }
+            .collect()
+    }
+
+    /// Every column a part must not cross, or must leave room over for its end: each joint's bolt
+    /// (from the body it stands in, or from its innermost part, to its outermost), each bracket's
+    /// stand-off block (from the body up to the bracket) and the bracket's fixing bolts (their nuts on
+    /// top of it).
+    fn columns(&self, fab: &Fabrication, fixed: &[FixedPart], bolt: &BoltSpec) -> Vec<Column> {
+        let layout = &fab.layout;
+        let (face, layer) = (&fab.ordering.face, &fab.ordering.layer);
         let mut columns: Vec<Column> = Vec::new();
         for (j, members) in layout.joint_members.iter().enumerate() {
             let Some(&first) = members.first() else { continue };
@@ -662,72 +685,7 @@ impl<'a> Context<'a> {
                 });
             }
         }
-        let layers_on = |f: Face| fab.ordering.layers_on(f) as usize;
-        let mut gaps: [Vec<f64>; 2] = [vec![0.0; layers_on(Face::Front)], vec![0.0; layers_on(Face::Back)]];
-        // Heads of bolts through a body stand out of its other face: the joints' standing in one, and
-        // the brackets' fixing bolts.
-        let through = columns.iter().filter(|c| c.from == 0 && c.end_mm > 0.0).map(|c| (c.face, c.end_mm));
-        let fixing =
-            fixed.iter().filter(|f| !f.fixings.is_empty()).map(|f| (face[f.member], Stack::gap(&f.fixing_bolt)));
-        for (on, end_mm) in through.chain(fixing).collect::<Vec<_>>() {
-            let other = super::stack::side(if on == Face::Front { Face::Back } else { Face::Front });
-            if let Some(g) = gaps[other].first_mut() {
-                *g = g.max(end_mm);
-            }
-        }
-        let mut found: BTreeMap<String, f64> = BTreeMap::new();
-        let mut poses: Vec<Rigid> = Vec::new();
-        let mut cores: Vec<Vec<Point>> = layout.members.iter().map(|m| m.core.clone()).collect();
-        for r in 0..self.trace.len() {
-            let row = self.trace.row(r);
-            let deg = self.trace.thetas[r].to_degrees();
-            layout.carrier_poses(row, &mut poses);
-            for (i, m) in layout.members.iter().enumerate() {
-                for (k, &c) in m.core.iter().enumerate() {
-                    cores[i][k] = poses[m.carrier].apply(c);
-                }
-            }
-            let mut note = |text: String| {
-                found.entry(text).or_insert(deg);
-            };
-            for a in 0..n {
-                for b in a + 1..n {
-                    let same_carrier = layout.members[a].carrier == layout.members[b].carrier;
-                    if face[a] != face[b] || layer[a] != layer[b] || (same_carrier && r > 0) {
-                        continue;
-                    }
-                    if core_distance(&cores[a], &cores[b]) < radius[a] + radius[b] + clearance {
-                        note(format!("{} and {} overlap on one layer", layout.members[a].name, layout.members[b].name));
-                    }
-                }
-            }
-            for c in &columns {
-                let at = match c.joint {
-                    Some(j) => row[j],
-                    None => poses[c.carrier].apply(c.at),
-                };
-                for i in 0..n {
-                    if c.own.contains(&i) || face[i] != c.face {
-                        continue;
-                    }
-                    if core_distance(&cores[i], &[at]) >= radius[i] + c.reach + clearance {
-                        continue;
-                    }
-                    let side = super::stack::side(c.face);
-                    if layer[i] > c.to {
-                        // Over the nut.
-                        gaps[side][c.to as usize] = gaps[side][c.to as usize].max(c.end_mm);
-                    } else if layer[i] < c.from {
-                        // Under the head.
-                        gaps[side][c.from as usize - 1] = gaps[side][c.from as usize - 1].max(c.end_mm);
-                    } else if layer[i] > c.from || c.from == 0 {
-                        note(format!("{} crosses {}", layout.members[i].name, c.what));
-                    }
-                }
-            }
-        }
-        let conflicts = found.into_iter().map(|(what, deg)| format!("{what} (first at crank {deg:.1}°)")).collect();
-        (conflicts, gaps)
+        columns
     }
 
     /// The name of what a layout carrier is.
@@ -1322,6 +1280,123 @@ impl<'a> Context<'a> {
                 .into(),
         );
         out
+    }
+}
+
+/// Something standing across the layers that parts must not cross: a bolt, or a bracket's stand-off
+/// block. Where it stands, on which face, from which layer to which (0 is the body), and the room
+/// its end needs.
+struct Column {
+    /// What it is, in the notes' words.
+    what: String,
+    /// The layout carrier it stands on, when it is not a joint's bolt.
+    carrier: usize,
+    /// Where it stands in its carrier's frame, when it is not a joint's bolt.
+    at: Point,
+    /// The joint whose bolt it is; such a column stands where the joint is.
+    joint: Option<usize>,
+    face: Face,
+    from: u32,
+    to: u32,
+    /// The members it holds, which do not cross it.
+    own: Vec<usize>,
+    /// How far it reaches from its centre (a washer's radius, or the block's half width), scene units.
+    reach: f64,
+    /// The room its end needs beyond the parts it holds, mm.
+    end_mm: f64,
+}
+
+/// The gaps between layers the bolts' heads need before any part moves, per face from the bodies
+/// outwards: heads of bolts through a body stand out of its other face, so the gap next to the
+/// bodies on that face holds them. Every other gap starts at zero.
+fn head_gaps(fab: &Fabrication, fixed: &[FixedPart], columns: &[Column]) -> [Vec<f64>; 2] {
+    let face = &fab.ordering.face;
+    let layers_on = |f: Face| fab.ordering.layers_on(f) as usize;
+    let mut gaps: [Vec<f64>; 2] = [vec![0.0; layers_on(Face::Front)], vec![0.0; layers_on(Face::Back)]];
+    // The joints' bolts standing in a body, and the brackets' fixing bolts.
+    let through = columns.iter().filter(|c| c.from == 0 && c.end_mm > 0.0).map(|c| (c.face, c.end_mm));
+    let fixing = fixed.iter().filter(|f| !f.fixings.is_empty()).map(|f| (face[f.member], Stack::gap(&f.fixing_bolt)));
+    for (on, end_mm) in through.chain(fixing).collect::<Vec<_>>() {
+        let other = super::stack::side(if on == Face::Front { Face::Back } else { Face::Front });
+        if let Some(g) = gaps[other].first_mut() {
+            *g = g.max(end_mm);
+        }
+    }
+    gaps
+}
+
+/// The layout's members as cut, placed at one row of the motion: what the clearance checks test
+/// against each other and against the columns.
+struct PartsAt<'a> {
+    fab: &'a Fabrication,
+    /// Every member's core at this row, scene units.
+    cores: &'a [Vec<Point>],
+    /// Every member's half width as cut, scene units.
+    radius: &'a [f64],
+    /// The bolt holes' radial clearance, scene units: the play a part has about its bolt, so the
+    /// margin two things must keep apart not to touch.
+    clearance: f64,
+}
+
+impl PartsAt<'_> {
+    /// Notes every two members on one layer of one face whose outlines overlap. Members on one
+    /// carrier keep their places against each other along the motion, so they are only tested at
+    /// the first row.
+    fn overlaps(&self, first_row: bool, note: &mut impl FnMut(String)) {
+        let layout = &self.fab.layout;
+        let (face, layer) = (&self.fab.ordering.face, &self.fab.ordering.layer);
+        let n = layout.members.len();
+        for a in 0..n {
+            for b in a + 1..n {
+                let same_carrier = layout.members[a].carrier == layout.members[b].carrier;
+                if face[a] != face[b] || layer[a] != layer[b] || (same_carrier && !first_row) {
+                    continue;
+                }
+                if core_distance(&self.cores[a], &self.cores[b]) < self.radius[a] + self.radius[b] + self.clearance {
+                    note(format!("{} and {} overlap on one layer", layout.members[a].name, layout.members[b].name));
+                }
+            }
+        }
+    }
+
+    /// Tests every member on a column's face that passes over the column at this row (`row` the
+    /// joints, `poses` the carriers): beyond its outermost layer, the gap over that layer must hold
+    /// the column's end (the nut); under its innermost, the gap under that one (the head); between
+    /// the layers it joins, the member crosses it, which is noted.
+    fn crossings(
+        &self,
+        columns: &[Column],
+        row: &[Point],
+        poses: &[Rigid],
+        gaps: &mut [Vec<f64>; 2],
+        note: &mut impl FnMut(String),
+    ) {
+        let layout = &self.fab.layout;
+        let (face, layer) = (&self.fab.ordering.face, &self.fab.ordering.layer);
+        for c in columns {
+            let at = match c.joint {
+                Some(j) => row[j],
+                None => poses[c.carrier].apply(c.at),
+            };
+            for i in 0..layout.members.len() {
+                if c.own.contains(&i) || face[i] != c.face {
+                    continue;
+                }
+                if core_distance(&self.cores[i], &[at]) >= self.radius[i] + c.reach + self.clearance {
+                    continue;
+                }
+                let side = super::stack::side(c.face);
+                if layer[i] > c.to {
+                    // Over the nut.
+                    gaps[side][c.to as usize] = gaps[side][c.to as usize].max(c.end_mm);
+                } else if layer[i] < c.from {
+                    // Under the head.
+                    gaps[side][c.from as usize - 1] = gaps[side][c.from as usize - 1].max(c.end_mm);
+                } else if layer[i] > c.from || c.from == 0 {
+                    note(format!("{} crosses {}", layout.members[i].name, c.what));
+                }
+            }
+        }
     }
 }
 
