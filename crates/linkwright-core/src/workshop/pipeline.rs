@@ -29,7 +29,9 @@ use super::sizing::{Bending, Check, Demand, EdgeLoad, Rule, Section};
 use super::stack::{Layered, Stack};
 use super::standards::{BoltSize, BoltSpec, MaterialValues};
 use crate::design::DesignFile;
-use crate::fab::{Bed, Carrier, FabError, Fabrication, Face, Faces, MemberKind, PrintSettings, SnapCap, Travel};
+use crate::fab::{
+    Bed, Carrier, FabError, Fabrication, Face, Faces, Layout, Member, MemberKind, PrintSettings, SnapCap, Travel,
+};
 use crate::geom::{point_segment_distance, Point, Rigid, Vec2};
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, PartKind};
@@ -582,10 +584,39 @@ impl<'a> Context<'a> {
         bolt: &BoltSpec,
     ) -> (Vec<String>, [Vec<f64>; 2]) {
         let layout = &fab.layout;
-        let (face, layer) = (&fab.ordering.face, &fab.ordering.layer);
-        let n = layout.members.len();
-        // Every member's half width as cut, scene units.
-        let radius: Vec<f64> = (0..n)
+        let radius = self.cut_radii(layout, links, fixed);
+        let clearance = 0.5 * (bolt.hole_mm - bolt.diameter_mm) / self.mm;
+        let columns = self.columns(fab, fixed, bolt);
+        let mut gaps = head_gaps(fab, fixed, &columns);
+        let mut found: BTreeMap<String, f64> = BTreeMap::new();
+        let mut poses: Vec<Rigid> = Vec::new();
+        let mut cores: Vec<Vec<Point>> = layout.members.iter().map(|m| m.core.clone()).collect();
+        for r in 0..self.trace.len() {
+            let row = self.trace.row(r);
+            let deg = self.trace.thetas[r].to_degrees();
+            layout.carrier_poses(row, &mut poses);
+            for (i, m) in layout.members.iter().enumerate() {
+                for (k, &c) in m.core.iter().enumerate() {
+                    cores[i][k] = poses[m.carrier].apply(c);
+                }
+            }
+            // A meeting is told once, at the first row where it happens.
+            let mut note = |text: String| {
+                found.entry(text).or_insert(deg);
+            };
+            let parts = PartsAt { fab, cores: &cores, radius: &radius, clearance };
+            parts.overlaps(r == 0, &mut note);
+            parts.crossings(&columns, row, &poses, &mut gaps, &mut note);
+        }
+        let conflicts = found.into_iter().map(|(what, deg)| format!("{what} (first at crank {deg:.1}°)")).collect();
+        (conflicts, gaps)
+    }
+
+    /// Every layout member's half width as cut, scene units: a link's from its section, a bracket's
+    /// (or the guide's, or the frame's) from its own sizing, zero for a member with neither. The
+    /// clearance checks test the members' cores this far apart.
+    fn cut_radii(&self, layout: &Layout, links: &LinkSizing, fixed: &[FixedPart]) -> Vec<f64> {
+        (0..layout.members.len())
             .map(|i| {
                 let width = match layout.carriers[layout.members[i].carrier] {
                     Carrier::Link(k) => links.sections[k].as_ref().map(|(_, s)| s.width_mm),
@@ -593,24 +624,16 @@ impl<'a> Context<'a> {
                 };
                 0.5 * width.unwrap_or(0.0) / self.mm
             })
-            .collect();
-        let clearance = 0.5 * (bolt.hole_mm - bolt.diameter_mm) / self.mm;
-        // A bolt's column: where, on which face, from which layer to which (0 is the body), and the
-        // room its end needs.
-        struct Column {
-            what: String,
-            carrier: usize,
-            at: Point,
-            joint: Option<usize>,
-            face: Face,
-            from: u32,
-            to: u32,
-            own: Vec<usize>,
-            /// The washer's radius, scene units.
-            reach: f64,
-            /// The room its end needs beyond the parts it holds, mm.
-            end_mm: f64,
-        }
+            .collect()
+    }
+
+    /// Every column a part must not cross, or must leave room over for its end: each joint's bolt
+    /// (from the body it stands in, or from its innermost part, to its outermost), each bracket's
+    /// stand-off block (from the body up to the bracket) and the bracket's fixing bolts (their nuts on
+    /// top of it).
+    fn columns(&self, fab: &Fabrication, fixed: &[FixedPart], bolt: &BoltSpec) -> Vec<Column> {
+        let layout = &fab.layout;
+        let (face, layer) = (&fab.ordering.face, &fab.ordering.layer);
         let mut columns: Vec<Column> = Vec::new();
         for (j, members) in layout.joint_members.iter().enumerate() {
             let Some(&first) = members.first() else { continue };
@@ -662,72 +685,7 @@ impl<'a> Context<'a> {
                 });
             }
         }
-        let layers_on = |f: Face| fab.ordering.layers_on(f) as usize;
-        let mut gaps: [Vec<f64>; 2] = [vec![0.0; layers_on(Face::Front)], vec![0.0; layers_on(Face::Back)]];
-        // Heads of bolts through a body stand out of its other face: the joints' standing in one, and
-        // the brackets' fixing bolts.
-        let through = columns.iter().filter(|c| c.from == 0 && c.end_mm > 0.0).map(|c| (c.face, c.end_mm));
-        let fixing =
-            fixed.iter().filter(|f| !f.fixings.is_empty()).map(|f| (face[f.member], Stack::gap(&f.fixing_bolt)));
-        for (on, end_mm) in through.chain(fixing).collect::<Vec<_>>() {
-            let other = super::stack::side(if on == Face::Front { Face::Back } else { Face::Front });
-            if let Some(g) = gaps[other].first_mut() {
-                *g = g.max(end_mm);
-            }
-        }
-        let mut found: BTreeMap<String, f64> = BTreeMap::new();
-        let mut poses: Vec<Rigid> = Vec::new();
-        let mut cores: Vec<Vec<Point>> = layout.members.iter().map(|m| m.core.clone()).collect();
-        for r in 0..self.trace.len() {
-            let row = self.trace.row(r);
-            let deg = self.trace.thetas[r].to_degrees();
-            layout.carrier_poses(row, &mut poses);
-            for (i, m) in layout.members.iter().enumerate() {
-                for (k, &c) in m.core.iter().enumerate() {
-                    cores[i][k] = poses[m.carrier].apply(c);
-                }
-            }
-            let mut note = |text: String| {
-                found.entry(text).or_insert(deg);
-            };
-            for a in 0..n {
-                for b in a + 1..n {
-                    let same_carrier = layout.members[a].carrier == layout.members[b].carrier;
-                    if face[a] != face[b] || layer[a] != layer[b] || (same_carrier && r > 0) {
-                        continue;
-                    }
-                    if core_distance(&cores[a], &cores[b]) < radius[a] + radius[b] + clearance {
-                        note(format!("{} and {} overlap on one layer", layout.members[a].name, layout.members[b].name));
-                    }
-                }
-            }
-            for c in &columns {
-                let at = match c.joint {
-                    Some(j) => row[j],
-                    None => poses[c.carrier].apply(c.at),
-                };
-                for i in 0..n {
-                    if c.own.contains(&i) || face[i] != c.face {
-                        continue;
-                    }
-                    if core_distance(&cores[i], &[at]) >= radius[i] + c.reach + clearance {
-                        continue;
-                    }
-                    let side = super::stack::side(c.face);
-                    if layer[i] > c.to {
-                        // Over the nut.
-                        gaps[side][c.to as usize] = gaps[side][c.to as usize].max(c.end_mm);
-                    } else if layer[i] < c.from {
-                        // Under the head.
-                        gaps[side][c.from as usize - 1] = gaps[side][c.from as usize - 1].max(c.end_mm);
-                    } else if layer[i] > c.from || c.from == 0 {
-                        note(format!("{} crosses {}", layout.members[i].name, c.what));
-                    }
-                }
-            }
-        }
-        let conflicts = found.into_iter().map(|(what, deg)| format!("{what} (first at crank {deg:.1}°)")).collect();
-        (conflicts, gaps)
+        columns
     }
 
     /// The name of what a layout carrier is.
@@ -747,7 +705,9 @@ impl<'a> Context<'a> {
         }
     }
 
-    /// Everything together.
+    /// Everything together: every part's plan, the layer stack, the bolts (each joint's, then the
+    /// brackets' fixings), the notes and the tables a workshop works from. `notes` are the layout's
+    /// (what meets along the motion); the bolts', the parts' checks' and the build's own follow.
     fn assemble(
         &self,
         links: &LinkSizing,
@@ -757,98 +717,9 @@ impl<'a> Context<'a> {
         mut notes: Vec<String>,
     ) -> Workshop {
         let layout = &fab.layout;
-        let topo = &self.mechanism.topology;
         let bolt = links.bolt.spec();
-        let d0 = bolt.hole_mm;
-        let factor = self.settings.safety_factor;
-        let mut plans: Vec<LinkPlan> = Vec::new();
-        for (i, m) in layout.members.iter().enumerate() {
-            let (kind, demand, section, fixings, fixing_bolt, fixing_shear, on) =
-                match (m.kind, layout.carriers[m.carrier]) {
-                    (MemberKind::Link, Carrier::Link(k)) => {
-                        let Some((demand, section)) = &links.sections[k] else { continue };
-                        (LinkKind::Link, demand, section, &[][..], None, 0.0, None)
-                    }
-                    (MemberKind::Connector | MemberKind::Guide | MemberKind::Frame, carrier) => {
-                        let Some(f) = fixed.iter().find(|f| f.member == i) else { continue };
-                        let kind = match m.kind {
-                            MemberKind::Connector => LinkKind::Bracket,
-                            MemberKind::Guide => LinkKind::Guide,
-                            _ => LinkKind::Frame,
-                        };
-                        let fixing_bolt = (!f.fixings.is_empty()).then_some(f.fixing_bolt);
-                        (
-                            kind,
-                            &f.demand,
-                            &f.section,
-                            &f.fixings[..],
-                            fixing_bolt,
-                            f.fixing_shear_n,
-                            Some(self.carrier_name(carrier)),
-                        )
-                    }
-                    _ => continue,
-                };
-            let mut holes: Vec<Hole> = Vec::new();
-            let mut centres: Vec<(String, Point)> = Vec::new();
-            for &j in &m.joints {
-                if let Some(p) = m.joint_at(j) {
-                    let centre = scaled(p, self.mm);
-                    holes.push(Hole::Round { centre, diameter_mm: d0, purpose: self.joint_name(j) });
-                    centres.push((self.joint_name(j), centre));
-                }
-            }
-            if let Some(slot) = m.slot {
-                holes.push(Hole::Slot {
-                    ends: [scaled(slot.ends.0, self.mm), scaled(slot.ends.1, self.mm)],
-                    width_mm: d0,
-                });
-            }
-            for (&p, spec) in fixings.iter().zip(std::iter::repeat(fixing_bolt.unwrap_or(bolt))) {
-                holes.push(Hole::Round {
-                    centre: scaled(p, self.mm),
-                    diameter_mm: spec.hole_mm,
-                    purpose: "fixing".into(),
-                });
-            }
-            let core: Vec<Point> = m.core.iter().map(|&p| scaled(p, self.mm)).collect();
-            let outline = Outline::new(&core, 0.5 * section.width_mm, holes);
-            let mut pivot_lengths = Vec::new();
-            for (a, (na, pa)) in centres.iter().enumerate() {
-                for (nb, pb) in &centres[a + 1..] {
-                    pivot_lengths.push(PivotLength { joints: [na.clone(), nb.clone()], length_mm: pa.distance(*pb) });
-                }
-            }
-            let (_, size_mm) = outline.bounds();
-            let bending = demand.bending.as_ref();
-            plans.push(LinkPlan {
-                name: m.name.clone(),
-                kind,
-                on,
-                joints: m.joints.iter().map(|&j| self.joint_name(j)).collect(),
-                pivot_lengths,
-                width_mm: section.width_mm,
-                thickness_mm: section.thickness_mm,
-                hole_mm: d0,
-                fixing_bolt: fixing_bolt.map(|b| b.size),
-                face: fab.ordering.face[i],
-                layer: fab.ordering.layer[i],
-                mass_kg: outline.area_mm2() * section.thickness_mm * self.values.density_kg_m3 * 1e-9,
-                size_mm,
-                loads: LinkLoads {
-                    tension_n: demand.edges.iter().map(|e| e.tension_n).fold(0.0, f64::max),
-                    compression_n: demand.edges.iter().map(|e| e.compression_n).fold(0.0, f64::max),
-                    hole_n: demand.hole_n,
-                    moment_nm: bending.map_or(0.0, |b| b.moment_nm),
-                    axial_n: bending.map_or(0.0, |b| b.axial_n),
-                    fixing_shear_n: fixing_shear,
-                },
-                checks: section.checks.clone(),
-                thinner_fails: section.thinner_fails.clone(),
-                outline,
-                profile_file: profile_file(section.thickness_mm, "dxf"),
-            });
-        }
+        let mut plans: Vec<LinkPlan> =
+            (0..layout.members.len()).filter_map(|i| self.part_plan(links, fab, fixed, i, &bolt)).collect();
         let layered: Vec<Layered> = plans
             .iter()
             .map(|p| Layered { name: p.name.clone(), face: p.face, layer: p.layer, thickness_mm: p.thickness_mm })
@@ -860,176 +731,334 @@ impl<'a> Context<'a> {
             .enumerate()
             .filter_map(|(i, m)| plans.iter().position(|p| p.name == m.name).map(|k| (i, k)))
             .collect();
-        // The topology part whose force a member passes to its bolts: a link its own, a bracket (or
-        // the guide, or the frame) its carrier's.
-        let member_part = |i: usize| match layout.carriers[layout.members[i].carrier] {
-            Carrier::Link(k) => Some(k),
-            carrier => self.carrier_part(carrier),
-        };
-        // The bolts: each joint's through its parts (and its body), then the brackets' fixings.
-        let mut bolts: Vec<JointPlan> = Vec::new();
-        let mut joints: Vec<usize> = (0..topo.joint_count()).filter(|&j| !layout.joint_members[j].is_empty()).collect();
-        // Innermost parts first: the order they are put together in.
-        joints.sort_by_key(|&j| layout.joint_members[j].iter().map(|&i| fab.ordering.layer[i]).min().unwrap_or(0));
-        for j in joints {
-            let mut members: Vec<usize> =
-                layout.joint_members[j].iter().copied().filter(|i| by_member.contains_key(i)).collect();
-            members.sort_by_key(|&i| fab.ordering.layer[i]);
-            let parts: Vec<&Layered> = members.iter().map(|i| &layered[by_member[i]]).collect();
-            let Some(face) = parts.first().map(|p| p.face) else { continue };
-            let body = layout.body_pins[j].map(|pin| layout.carriers[pin.carrier]);
-            let named = body.map(|c| (self.carrier_name(c), self.carrier_stock(c).0));
-            let stack_items = stack.bolt(&bolt, named.as_ref().map(|(n, t)| (n.as_str(), *t)), &parts);
-            let (needed_mm, length_mm) = Stack::bolt_length(&stack_items, &bolt);
-            // What presses on the bolt, in the stack's order.
-            let pressing: Vec<Option<usize>> =
-                body.map(|c| self.carrier_part(c)).into_iter().chain(members.iter().map(|&i| member_part(i))).collect();
-            let (shear_n, moment_nm) = bolt_loads(
-                &stack_items,
-                |r, k| pressing[k].map_or(Vec2::ZERO, |part| links.rows[r].pin_force(part, j)),
-                links.rows.len(),
-            );
-            bolts.push(JointPlan {
-                at: self.joint_name(j),
-                count: 1,
-                bolt: bolt.size,
-                face,
-                stack: stack_items,
-                needed_mm,
-                length_mm,
-                shear_n,
-                moment_nm,
-                checks: bolt_checks(&bolt, factor, shear_n, moment_nm),
-            });
-            // The bolt bears on the body it stands in.
-            if let Some(carrier @ Carrier::Body(_)) = body {
-                if let Some(part) = self.carrier_part(carrier) {
-                    let force = links.rows.iter().map(|r| r.pin_force(part, j).norm()).fold(0.0, f64::max);
-                    let (t, material) = self.carrier_stock(carrier);
-                    let holds = MaterialValues::of(material).bearing_mpa(&bolt) * bolt.diameter_mm * t;
-                    if factor * force > holds {
-                        notes.push(format!(
-                            "The bolt at {} bears {:.0} N on {} ({} mm of {}); with the safety factor that is more than \
-                             the {:.0} N it holds: reinforce around the hole (a plate on each side).",
-                            self.joint_name(j),
-                            force,
-                            self.carrier_name(carrier),
-                            number(t),
-                            material.id(),
-                            holds
-                        ));
-                    }
-                }
+        let laid = Laid { fab, links, bolt, layered, stack, by_member };
+        let mut bolts = self.joint_bolts(&laid, &mut notes);
+        let fixings = self.fixing_bolts(&laid, fixed, &mut plans, &mut notes);
+        bolts.extend(fixings);
+        notes.extend(failed_check_notes(&bolts, &plans));
+        notes.extend(self.assumption_notes(layout, fixed, &bolts));
+        let (peak_torque_nm, peak_torque_crank_deg) = peak_torque(&links.rows);
+        notes.extend(self.holding_note(peak_torque_nm, peak_torque_crank_deg));
+        let masses = self.part_masses(links);
+        let cut_list = self.cut_list(&plans);
+        let bill_of_materials = self.bill_of_materials(&plans, &bolts);
+        let steps = self.steps(&plans, &bolts, &laid.stack.layers(&laid.layered), &bolt);
+        Workshop {
+            linkwright: WORKSHOP_FORMAT,
+            scene: self.problem.name.clone(),
+            material: self.values.material,
+            values: self.values.clone(),
+            settings: self.settings.clone(),
+            bolt,
+            masses,
+            peak_torque_nm,
+            peak_torque_crank_deg,
+            files: file_names(&plans),
+            layers: laid.stack.layers(&laid.layered),
+            links: plans,
+            bolts,
+            cut_list,
+            bill_of_materials,
+            steps,
+            notes,
+        }
+    }
+
+    /// Layout member `i`'s plan as cut: its outline and holes, the pivot-to-pivot lengths between
+    /// its joints' holes, its stock, layer and loads. `None` for a member the workshop does not cut
+    /// (a link without a section, a bracket without a sizing, a member of any other kind).
+    fn part_plan(
+        &self,
+        links: &LinkSizing,
+        fab: &Fabrication,
+        fixed: &[FixedPart],
+        i: usize,
+        bolt: &BoltSpec,
+    ) -> Option<LinkPlan> {
+        let m = &fab.layout.members[i];
+        let sized = self.part_sizing(links, &fab.layout, fixed, i)?;
+        let (outline, centres) = self.part_outline(m, &sized, bolt);
+        let (demand, section) = (sized.demand, sized.section);
+        let (_, size_mm) = outline.bounds();
+        let bending = demand.bending.as_ref();
+        Some(LinkPlan {
+            name: m.name.clone(),
+            kind: sized.kind,
+            on: sized.on,
+            joints: m.joints.iter().map(|&j| self.joint_name(j)).collect(),
+            pivot_lengths: pivot_lengths(&centres),
+            width_mm: section.width_mm,
+            thickness_mm: section.thickness_mm,
+            hole_mm: bolt.hole_mm,
+            fixing_bolt: sized.fixing_bolt.map(|b| b.size),
+            face: fab.ordering.face[i],
+            layer: fab.ordering.layer[i],
+            mass_kg: outline.area_mm2() * section.thickness_mm * self.values.density_kg_m3 * 1e-9,
+            size_mm,
+            loads: LinkLoads {
+                tension_n: demand.edges.iter().map(|e| e.tension_n).fold(0.0, f64::max),
+                compression_n: demand.edges.iter().map(|e| e.compression_n).fold(0.0, f64::max),
+                hole_n: demand.hole_n,
+                moment_nm: bending.map_or(0.0, |b| b.moment_nm),
+                axial_n: bending.map_or(0.0, |b| b.axial_n),
+                fixing_shear_n: sized.fixing_shear_n,
+            },
+            checks: section.checks.clone(),
+            thinner_fails: section.thinner_fails.clone(),
+            outline,
+            profile_file: profile_file(section.thickness_mm, "dxf"),
+        })
+    }
+
+    /// What layout member `i` is sized with: a link its section from the link sizing, a bracket
+    /// (or the guide, or the frame) its own sizing with its fixing bolts and what it is fixed to.
+    /// `None` for a member with neither.
+    fn part_sizing<'s>(
+        &self,
+        links: &'s LinkSizing,
+        layout: &Layout,
+        fixed: &'s [FixedPart],
+        i: usize,
+    ) -> Option<PartSizing<'s>> {
+        let m = &layout.members[i];
+        match (m.kind, layout.carriers[m.carrier]) {
+            (MemberKind::Link, Carrier::Link(k)) => {
+                let (demand, section) = links.sections[k].as_ref()?;
+                Some(PartSizing {
+                    kind: LinkKind::Link,
+                    demand,
+                    section,
+                    fixings: &[],
+                    fixing_bolt: None,
+                    fixing_shear_n: 0.0,
+                    on: None,
+                })
+            }
+            (MemberKind::Connector | MemberKind::Guide | MemberKind::Frame, carrier) => {
+                let f = fixed.iter().find(|f| f.member == i)?;
+                let kind = match m.kind {
+                    MemberKind::Connector => LinkKind::Bracket,
+                    MemberKind::Guide => LinkKind::Guide,
+                    _ => LinkKind::Frame,
+                };
+                Some(PartSizing {
+                    kind,
+                    demand: &f.demand,
+                    section: &f.section,
+                    fixings: &f.fixings[..],
+                    fixing_bolt: (!f.fixings.is_empty()).then_some(f.fixing_bolt),
+                    fixing_shear_n: f.fixing_shear_n,
+                    on: Some(self.carrier_name(carrier)),
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// A part's outline as cut, millimetres: its core widened to its section's half width, with a
+    /// clearance hole at each joint it turns on, its slot, and its fixing bolts' holes. Also the
+    /// joints' hole centres by joint name, which its pivot lengths are measured between.
+    fn part_outline(&self, m: &Member, sized: &PartSizing<'_>, bolt: &BoltSpec) -> (Outline, Vec<(String, Point)>) {
+        let d0 = bolt.hole_mm;
+        let mut holes: Vec<Hole> = Vec::new();
+        let mut centres: Vec<(String, Point)> = Vec::new();
+        for &j in &m.joints {
+            if let Some(p) = m.joint_at(j) {
+                let centre = scaled(p, self.mm);
+                holes.push(Hole::Round { centre, diameter_mm: d0, purpose: self.joint_name(j) });
+                centres.push((self.joint_name(j), centre));
             }
         }
+        if let Some(slot) = m.slot {
+            holes.push(Hole::Slot { ends: [scaled(slot.ends.0, self.mm), scaled(slot.ends.1, self.mm)], width_mm: d0 });
+        }
+        for (&p, spec) in sized.fixings.iter().zip(std::iter::repeat(sized.fixing_bolt.unwrap_or(*bolt))) {
+            holes.push(Hole::Round { centre: scaled(p, self.mm), diameter_mm: spec.hole_mm, purpose: "fixing".into() });
+        }
+        let core: Vec<Point> = m.core.iter().map(|&p| scaled(p, self.mm)).collect();
+        (Outline::new(&core, 0.5 * sized.section.width_mm, holes), centres)
+    }
+
+    /// The topology part whose force a layout member passes to its bolts: a link its own, a bracket
+    /// (or the guide, or the frame) its carrier's.
+    fn member_part(&self, layout: &Layout, i: usize) -> Option<usize> {
+        match layout.carriers[layout.members[i].carrier] {
+            Carrier::Link(k) => Some(k),
+            carrier => self.carrier_part(carrier),
+        }
+    }
+
+    /// The joints' bolts, innermost parts first (the order they are put together in), each through
+    /// its parts and the body it stands in. A bolt bearing harder on that body than the body holds
+    /// adds a note to `notes`.
+    fn joint_bolts(&self, laid: &Laid<'_>, notes: &mut Vec<String>) -> Vec<JointPlan> {
+        let layout = &laid.fab.layout;
+        let mut bolts: Vec<JointPlan> = Vec::new();
+        let mut joints: Vec<usize> =
+            (0..self.mechanism.topology.joint_count()).filter(|&j| !layout.joint_members[j].is_empty()).collect();
+        joints.sort_by_key(|&j| layout.joint_members[j].iter().map(|&i| laid.fab.ordering.layer[i]).min().unwrap_or(0));
+        for j in joints {
+            let Some(plan) = self.joint_bolt(laid, j) else { continue };
+            bolts.push(plan);
+            notes.extend(self.bearing_note(laid, j));
+        }
+        bolts
+    }
+
+    /// Joint `j`'s bolt: its stack from the body it stands in (if any) through its planned parts,
+    /// innermost first, its length, and its shear and bending from the forces of what presses on
+    /// it along the motion. `None` when no planned part turns on the joint.
+    fn joint_bolt(&self, laid: &Laid<'_>, j: usize) -> Option<JointPlan> {
+        let layout = &laid.fab.layout;
+        let (bolt, links) = (&laid.bolt, laid.links);
+        let mut members: Vec<usize> =
+            layout.joint_members[j].iter().copied().filter(|i| laid.by_member.contains_key(i)).collect();
+        members.sort_by_key(|&i| laid.fab.ordering.layer[i]);
+        let parts: Vec<&Layered> = members.iter().map(|i| &laid.layered[laid.by_member[i]]).collect();
+        let face = parts.first().map(|p| p.face)?;
+        let body = layout.body_pins[j].map(|pin| layout.carriers[pin.carrier]);
+        let named = body.map(|c| (self.carrier_name(c), self.carrier_stock(c).0));
+        let stack_items = laid.stack.bolt(bolt, named.as_ref().map(|(n, t)| (n.as_str(), *t)), &parts);
+        let (needed_mm, length_mm) = Stack::bolt_length(&stack_items, bolt);
+        // What presses on the bolt, in the stack's order.
+        let pressing: Vec<Option<usize>> = body
+            .map(|c| self.carrier_part(c))
+            .into_iter()
+            .chain(members.iter().map(|&i| self.member_part(layout, i)))
+            .collect();
+        let (shear_n, moment_nm) = bolt_loads(
+            &stack_items,
+            |r, k| pressing[k].map_or(Vec2::ZERO, |part| links.rows[r].pin_force(part, j)),
+            links.rows.len(),
+        );
+        Some(JointPlan {
+            at: self.joint_name(j),
+            count: 1,
+            bolt: bolt.size,
+            face,
+            stack: stack_items,
+            needed_mm,
+            length_mm,
+            shear_n,
+            moment_nm,
+            checks: bolt_checks(bolt, self.settings.safety_factor, shear_n, moment_nm),
+        })
+    }
+
+    /// The note when joint `j`'s bolt bears on the body it stands in harder than that body's stock
+    /// holds with the safety factor: the body needs reinforcing there. `None` when it holds, or the
+    /// bolt stands in no moving body.
+    fn bearing_note(&self, laid: &Laid<'_>, j: usize) -> Option<String> {
+        let layout = &laid.fab.layout;
+        let bolt = &laid.bolt;
+        let carrier = layout.body_pins[j].map(|pin| layout.carriers[pin.carrier])?;
+        if !matches!(carrier, Carrier::Body(_)) {
+            return None;
+        }
+        let part = self.carrier_part(carrier)?;
+        let force = laid.links.rows.iter().map(|r| r.pin_force(part, j).norm()).fold(0.0, f64::max);
+        let (t, material) = self.carrier_stock(carrier);
+        let holds = MaterialValues::of(material).bearing_mpa(bolt) * bolt.diameter_mm * t;
+        (self.settings.safety_factor * force > holds).then(|| {
+            format!(
+                "The bolt at {} bears {:.0} N on {} ({} mm of {}); with the safety factor that is more than \
+                 the {:.0} N it holds: reinforce around the hole (a plate on each side).",
+                self.joint_name(j),
+                force,
+                self.carrier_name(carrier),
+                number(t),
+                material.id(),
+                holds
+            )
+        })
+    }
+
+    /// The brackets' (and the guide's, and the frame's) fixing bolts: two through each and the body
+    /// it is fixed to, checked in shear and tension. A stand-off block under a bracket's post end
+    /// adds its bending check to the bracket's plan in `plans`; fixing bolts outside the body as
+    /// drawn add a note to `notes`.
+    fn fixing_bolts(
+        &self,
+        laid: &Laid<'_>,
+        fixed: &[FixedPart],
+        plans: &mut [LinkPlan],
+        notes: &mut Vec<String>,
+    ) -> Vec<JointPlan> {
+        let layout = &laid.fab.layout;
+        let factor = self.settings.safety_factor;
+        let mut bolts: Vec<JointPlan> = Vec::new();
         for f in fixed.iter().filter(|f| !f.fixings.is_empty()) {
             let m = &layout.members[f.member];
-            let Some(&k) = by_member.get(&f.member) else { continue };
+            let Some(&k) = laid.by_member.get(&f.member) else { continue };
             let carrier = layout.carriers[m.carrier];
             let (t, _) = self.carrier_stock(carrier);
             let name = self.carrier_name(carrier);
-            let mut stack_items = stack.bolt(&f.fixing_bolt, Some((&name, t)), &[&layered[k]]);
-            // Off the body's face, the bracket stands on a block under its post end, clamped by the
-            // bolts: they do not bend across it, and the block carries the bracket's load to the body.
-            let mut stand_off = 0.0;
-            for item in stack_items.iter_mut().filter(|i| i.item == "spacer") {
-                item.item = "block";
-                item.name = Some(format!("{} stand-off", f.name));
-                stand_off = item.thickness_mm;
-            }
+            let part = &laid.layered[k];
+            let (stack_items, stand_off) = fixing_stack(&laid.stack, f, (name.as_str(), t), part);
             let (needed_mm, length_mm) = Stack::bolt_length(&stack_items, &f.fixing_bolt);
             let spec = &f.fixing_bolt;
             let resultant = f.demand.bending.as_ref().map_or(0.0, |b| b.axial_n);
             // The force at the bracket's middle, a block's height and half the body off the body's
             // middle, tips the bracket about the block's edge: one bolt, an edge distance from that
             // edge, holds it in tension.
-            let lever = stand_off + 0.5 * (t + layered[k].thickness_mm);
+            let lever = stand_off + 0.5 * (t + part.thickness_mm);
             let tension = resultant * lever / self.values.edge_mm(spec);
             let share = f.fixing_shear_n;
-            let checks = vec![
-                Check::new("bolt shear", factor * share, spec.shear_strength_n(), "N"),
-                Check::new("bolt tension", factor * tension, spec.tension_strength_n(), "N"),
-                Check::new(
-                    "bolt shear and tension",
-                    factor * (share / spec.shear_strength_n() + tension / (1.4 * spec.tension_strength_n())),
-                    1.0,
-                    "",
-                ),
-            ];
             if stand_off > 0.0 {
-                // The block: a disc as wide as the bracket, bent by the force over its height.
-                let width = plans[k].width_mm;
-                let modulus = std::f64::consts::PI * width.powi(3) / 32.0;
-                let block = Check::new(
-                    "stand-off bending",
-                    factor * resultant * (stand_off + 0.5 * layered[k].thickness_mm) / modulus,
-                    self.values.tension_mpa,
-                    "MPa",
-                );
+                let block = self.stand_off_check(plans[k].width_mm, resultant, stand_off, part.thickness_mm);
                 plans[k].checks.push(block);
             }
             bolts.push(JointPlan {
                 at: format!("{}{FIXING}", f.name),
                 count: 2,
                 bolt: spec.size,
-                face: layered[k].face,
+                face: part.face,
                 stack: stack_items,
                 needed_mm,
                 length_mm,
                 shear_n: share,
                 moment_nm: 0.0,
-                checks,
+                checks: fixing_checks(spec, factor, share, tension),
             });
-            // The fixing holes lie inside the body the bracket is fixed to.
-            let inside = |p: Point| match carrier {
-                Carrier::Body(b) => self.problem.bodies[b].outline.contains(p),
-                _ => self.problem.fixed.iter().any(|poly| poly.contains(p)),
-            };
-            if !f.fixings.iter().all(|&p| inside(p)) {
-                notes.push(format!(
-                    "A fixing bolt of {} lies outside {} as drawn: fix the bracket where the body is, or extend the body \
-                     under it.",
-                    f.name, name
-                ));
-            }
+            notes.extend(self.fixings_outside_note(f, carrier, &name));
         }
-        for b in &bolts {
-            for c in b.checks.iter().filter(|c| !c.ok) {
-                notes.push(format!(
-                    "The {} bolt{} at {}: {} does not hold ({:.0} {} against {:.0} {}): bring its parts closer together \
-                     (fewer layers between them) or choose a larger bolt.",
-                    b.bolt,
-                    if b.count > 1 { "s" } else { "" },
-                    b.at,
-                    c.rule,
-                    c.demand,
-                    c.unit,
-                    c.capacity,
-                    c.unit
-                ));
-            }
-        }
-        for p in &plans {
-            for c in p.checks.iter().filter(|c| !c.ok) {
-                notes.push(format!(
-                    "{}: {} does not hold ({:.0} {} against {:.0} {}) even at the thickest stock ({} mm): {}.",
-                    p.name,
-                    c.rule,
-                    c.demand,
-                    c.unit,
-                    c.capacity,
-                    c.unit,
-                    number(p.thickness_mm),
-                    match p.kind {
-                        LinkKind::Link => "choose a stronger material, a lighter load or a design with shorter links",
-                        _ => {
-                            "draw the body it is fixed to reaching nearer its joint (a shorter bracket), or choose a \
-                             stronger material"
-                        }
-                    }
-                ));
-            }
-        }
+        bolts
+    }
+
+    /// The stand-off block's check under a bracket `width` mm wide and `thickness_mm` thick: a disc
+    /// as wide as the bracket, bent by the bracket's force (`resultant`, N) over the block's height
+    /// (`stand_off`, mm) and half the bracket.
+    fn stand_off_check(&self, width: f64, resultant: f64, stand_off: f64, thickness_mm: f64) -> Check {
+        let modulus = std::f64::consts::PI * width.powi(3) / 32.0;
+        Check::new(
+            "stand-off bending",
+            self.settings.safety_factor * resultant * (stand_off + 0.5 * thickness_mm) / modulus,
+            self.values.tension_mpa,
+            "MPa",
+        )
+    }
+
+    /// The note when a fixing bolt of `f` lies outside what it is fixed to (`carrier`, called
+    /// `name`) as drawn, where it would hold nothing. `None` when every one lies inside.
+    fn fixings_outside_note(&self, f: &FixedPart, carrier: Carrier, name: &str) -> Option<String> {
+        let inside = |p: Point| match carrier {
+            Carrier::Body(b) => self.problem.bodies[b].outline.contains(p),
+            _ => self.problem.fixed.iter().any(|poly| poly.contains(p)),
+        };
+        (!f.fixings.iter().all(|&p| inside(p))).then(|| {
+            format!(
+                "A fixing bolt of {} lies outside {} as drawn: fix the bracket where the body is, or extend the body \
+                 under it.",
+                f.name, name
+            )
+        })
+    }
+
+    /// What the plan takes for granted and the workshop must see to: the fixed bodies taken as
+    /// panels of the settings' thickness (when anything is bolted to them), bolts too long to be
+    /// standard, and counterbalance springs left out of the loads.
+    fn assumption_notes(&self, layout: &Layout, fixed: &[FixedPart], bolts: &[JointPlan]) -> Vec<String> {
+        let mut notes = Vec::new();
         if layout.body_pins.iter().flatten().any(|pin| layout.carriers[pin.carrier] == Carrier::Ground)
             || fixed.iter().any(|f| layout.carriers[layout.members[f.member].carrier] == Carrier::Ground)
         {
@@ -1053,22 +1082,27 @@ impl<'a> Context<'a> {
                     .into(),
             );
         }
-        let (peak_row, peak_torque_nm) = links
-            .rows
-            .iter()
-            .enumerate()
-            .map(|(r, row)| (r, row.torque_nm.abs()))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .unwrap_or((0, 0.0));
-        let peak_torque_crank_deg = links.rows.get(peak_row).map_or(0.0, |r| r.crank_deg);
-        if let Some(crank) = self.crank {
-            notes.push(format!(
+        notes
+    }
+
+    /// The note on the torque that holds the linkage at its crank (`peak_torque_nm` at its peak, at
+    /// `peak_torque_crank_deg`), which something must supply. `None` without a crank.
+    fn holding_note(&self, peak_torque_nm: f64, peak_torque_crank_deg: f64) -> Option<String> {
+        let parts = &self.mechanism.topology.parts;
+        self.crank.map(|crank| {
+            format!(
                 "The linkage is held at the {} with up to {:.1} N·m (at crank {:.1}°): the torque a lock, a motor or the \
                  counterbalance springs must supply; the {} is sized to carry it as bending at its pivot.",
-                topo.parts[crank].name, peak_torque_nm, peak_torque_crank_deg, topo.parts[crank].name
-            ));
-        }
-        let masses: Vec<PartMass> = topo
+                parts[crank].name, peak_torque_nm, peak_torque_crank_deg, parts[crank].name
+            )
+        })
+    }
+
+    /// Every moving part's mass as sized, with where it comes from: a body's as the scene gives it
+    /// (or its stock, or the default), a link's from its section.
+    fn part_masses(&self, links: &LinkSizing) -> Vec<PartMass> {
+        self.mechanism
+            .topology
             .parts
             .iter()
             .enumerate()
@@ -1079,29 +1113,7 @@ impl<'a> Context<'a> {
                 }
                 PartKind::Link => Some(PartMass { part: p.name.clone(), kg: links.masses[k], source: "sized" }),
             })
-            .collect();
-        let cut_list = self.cut_list(&plans);
-        let bill_of_materials = self.bill_of_materials(&plans, &bolts);
-        let steps = self.steps(&plans, &bolts, &stack.layers(&layered), &bolt);
-        Workshop {
-            linkwright: WORKSHOP_FORMAT,
-            scene: self.problem.name.clone(),
-            material: self.values.material,
-            values: self.values.clone(),
-            settings: self.settings.clone(),
-            bolt,
-            masses,
-            peak_torque_nm,
-            peak_torque_crank_deg,
-            files: file_names(&plans),
-            layers: stack.layers(&layered),
-            links: plans,
-            bolts,
-            cut_list,
-            bill_of_materials,
-            steps,
-            notes,
-        }
+            .collect()
     }
 
     /// Identical parts (kind, stock, width, pivot lengths and holes alike to 0.1 mm) on one line.
@@ -1323,6 +1335,256 @@ impl<'a> Context<'a> {
         );
         out
     }
+}
+
+/// Something standing across the layers that parts must not cross: a bolt, or a bracket's stand-off
+/// block. Where it stands, on which face, from which layer to which (0 is the body), and the room
+/// its end needs.
+struct Column {
+    /// What it is, in the notes' words.
+    what: String,
+    /// The layout carrier it stands on, when it is not a joint's bolt.
+    carrier: usize,
+    /// Where it stands in its carrier's frame, when it is not a joint's bolt.
+    at: Point,
+    /// The joint whose bolt it is; such a column stands where the joint is.
+    joint: Option<usize>,
+    face: Face,
+    from: u32,
+    to: u32,
+    /// The members it holds, which do not cross it.
+    own: Vec<usize>,
+    /// How far it reaches from its centre (a washer's radius, or the block's half width), scene units.
+    reach: f64,
+    /// The room its end needs beyond the parts it holds, mm.
+    end_mm: f64,
+}
+
+/// The gaps between layers the bolts' heads need before any part moves, per face from the bodies
+/// outwards: heads of bolts through a body stand out of its other face, so the gap next to the
+/// bodies on that face holds them. Every other gap starts at zero.
+fn head_gaps(fab: &Fabrication, fixed: &[FixedPart], columns: &[Column]) -> [Vec<f64>; 2] {
+    let face = &fab.ordering.face;
+    let layers_on = |f: Face| fab.ordering.layers_on(f) as usize;
+    let mut gaps: [Vec<f64>; 2] = [vec![0.0; layers_on(Face::Front)], vec![0.0; layers_on(Face::Back)]];
+    // The joints' bolts standing in a body, and the brackets' fixing bolts.
+    let through = columns.iter().filter(|c| c.from == 0 && c.end_mm > 0.0).map(|c| (c.face, c.end_mm));
+    let fixing = fixed.iter().filter(|f| !f.fixings.is_empty()).map(|f| (face[f.member], Stack::gap(&f.fixing_bolt)));
+    for (on, end_mm) in through.chain(fixing).collect::<Vec<_>>() {
+        let other = super::stack::side(if on == Face::Front { Face::Back } else { Face::Front });
+        if let Some(g) = gaps[other].first_mut() {
+            *g = g.max(end_mm);
+        }
+    }
+    gaps
+}
+
+/// The layout's members as cut, placed at one row of the motion: what the clearance checks test
+/// against each other and against the columns.
+struct PartsAt<'a> {
+    fab: &'a Fabrication,
+    /// Every member's core at this row, scene units.
+    cores: &'a [Vec<Point>],
+    /// Every member's half width as cut, scene units.
+    radius: &'a [f64],
+    /// The bolt holes' radial clearance, scene units: the play a part has about its bolt, so the
+    /// margin two things must keep apart not to touch.
+    clearance: f64,
+}
+
+impl PartsAt<'_> {
+    /// Notes every two members on one layer of one face whose outlines overlap. Members on one
+    /// carrier keep their places against each other along the motion, so they are only tested at
+    /// the first row.
+    fn overlaps(&self, first_row: bool, note: &mut impl FnMut(String)) {
+        let layout = &self.fab.layout;
+        let (face, layer) = (&self.fab.ordering.face, &self.fab.ordering.layer);
+        let n = layout.members.len();
+        for a in 0..n {
+            for b in a + 1..n {
+                let same_carrier = layout.members[a].carrier == layout.members[b].carrier;
+                if face[a] != face[b] || layer[a] != layer[b] || (same_carrier && !first_row) {
+                    continue;
+                }
+                if core_distance(&self.cores[a], &self.cores[b]) < self.radius[a] + self.radius[b] + self.clearance {
+                    note(format!("{} and {} overlap on one layer", layout.members[a].name, layout.members[b].name));
+                }
+            }
+        }
+    }
+
+    /// Tests every member on a column's face that passes over the column at this row (`row` the
+    /// joints, `poses` the carriers): beyond its outermost layer, the gap over that layer must hold
+    /// the column's end (the nut); under its innermost, the gap under that one (the head); between
+    /// the layers it joins, the member crosses it, which is noted.
+    fn crossings(
+        &self,
+        columns: &[Column],
+        row: &[Point],
+        poses: &[Rigid],
+        gaps: &mut [Vec<f64>; 2],
+        note: &mut impl FnMut(String),
+    ) {
+        let layout = &self.fab.layout;
+        let (face, layer) = (&self.fab.ordering.face, &self.fab.ordering.layer);
+        for c in columns {
+            let at = match c.joint {
+                Some(j) => row[j],
+                None => poses[c.carrier].apply(c.at),
+            };
+            for i in 0..layout.members.len() {
+                if c.own.contains(&i) || face[i] != c.face {
+                    continue;
+                }
+                if core_distance(&self.cores[i], &[at]) >= self.radius[i] + c.reach + self.clearance {
+                    continue;
+                }
+                let side = super::stack::side(c.face);
+                if layer[i] > c.to {
+                    // Over the nut.
+                    gaps[side][c.to as usize] = gaps[side][c.to as usize].max(c.end_mm);
+                } else if layer[i] < c.from {
+                    // Under the head.
+                    gaps[side][c.from as usize - 1] = gaps[side][c.from as usize - 1].max(c.end_mm);
+                } else if layer[i] > c.from || c.from == 0 {
+                    note(format!("{} crosses {}", layout.members[i].name, c.what));
+                }
+            }
+        }
+    }
+}
+
+/// What a cut part is sized with: its kind, peak loads and section, and for a bracket (or the
+/// guide, or the frame) the bolts fixing it and what it is fixed to.
+struct PartSizing<'s> {
+    kind: LinkKind,
+    demand: &'s Demand,
+    section: &'s Section,
+    /// The fixing bolts' centres, carrier frame, scene units (none for a link).
+    fixings: &'s [Point],
+    /// The fixing bolts' size, when there are any.
+    fixing_bolt: Option<BoltSpec>,
+    /// The largest shear on one fixing bolt, N.
+    fixing_shear_n: f64,
+    /// The name of what it is fixed to (none for a link).
+    on: Option<String>,
+}
+
+/// The planned parts on their layers: what the bolts through them are planned from.
+struct Laid<'a> {
+    fab: &'a Fabrication,
+    links: &'a LinkSizing,
+    /// The joints' bolt.
+    bolt: BoltSpec,
+    /// Every planned part on its layer, in the plans' order.
+    layered: Vec<Layered>,
+    stack: Stack,
+    /// Per layout member that has a plan, its index among the plans.
+    by_member: BTreeMap<usize, usize>,
+}
+
+/// The distance between every two of a part's joint holes (`centres`, by joint name), in the order
+/// the joints are listed: what a workshop marks out before it drills.
+fn pivot_lengths(centres: &[(String, Point)]) -> Vec<PivotLength> {
+    let mut out = Vec::new();
+    for (a, (na, pa)) in centres.iter().enumerate() {
+        for (nb, pb) in &centres[a + 1..] {
+            out.push(PivotLength { joints: [na.clone(), nb.clone()], length_mm: pa.distance(*pb) });
+        }
+    }
+    out
+}
+
+/// A fixing bolt's stack through the body `f` is fixed to (`body`: its name and thickness, mm) and
+/// `f` itself (`part`), with the stand-off block's height (mm, zero when the bracket lies on the
+/// body). Off the body's face the bracket stands on a block under its post end, clamped by the
+/// bolts: they do not bend across it, and the block carries the bracket's load to the body, so the
+/// spacer the stack puts there is that block.
+fn fixing_stack(
+    stack: &Stack,
+    f: &FixedPart,
+    body: (&str, f64),
+    part: &Layered,
+) -> (Vec<super::report::StackItem>, f64) {
+    let mut stack_items = stack.bolt(&f.fixing_bolt, Some(body), &[part]);
+    let mut stand_off = 0.0;
+    for item in stack_items.iter_mut().filter(|i| i.item == "spacer") {
+        item.item = "block";
+        item.name = Some(format!("{} stand-off", f.name));
+        stand_off = item.thickness_mm;
+    }
+    (stack_items, stand_off)
+}
+
+/// A fixing bolt's checks, `factor` the safety factor: its share of the bracket's force in shear,
+/// the tension that keeps the bracket from tipping, and the two together.
+fn fixing_checks(spec: &BoltSpec, factor: f64, share: f64, tension: f64) -> Vec<Check> {
+    vec![
+        Check::new("bolt shear", factor * share, spec.shear_strength_n(), "N"),
+        Check::new("bolt tension", factor * tension, spec.tension_strength_n(), "N"),
+        Check::new(
+            "bolt shear and tension",
+            factor * (share / spec.shear_strength_n() + tension / (1.4 * spec.tension_strength_n())),
+            1.0,
+            "",
+        ),
+    ]
+}
+
+/// A note for every check that does not hold: the bolts' first, then the parts', each with what
+/// to change.
+fn failed_check_notes(bolts: &[JointPlan], plans: &[LinkPlan]) -> Vec<String> {
+    let mut notes = Vec::new();
+    for b in bolts {
+        for c in b.checks.iter().filter(|c| !c.ok) {
+            notes.push(format!(
+                "The {} bolt{} at {}: {} does not hold ({:.0} {} against {:.0} {}): bring its parts closer together \
+                 (fewer layers between them) or choose a larger bolt.",
+                b.bolt,
+                if b.count > 1 { "s" } else { "" },
+                b.at,
+                c.rule,
+                c.demand,
+                c.unit,
+                c.capacity,
+                c.unit
+            ));
+        }
+    }
+    for p in plans {
+        for c in p.checks.iter().filter(|c| !c.ok) {
+            notes.push(format!(
+                "{}: {} does not hold ({:.0} {} against {:.0} {}) even at the thickest stock ({} mm): {}.",
+                p.name,
+                c.rule,
+                c.demand,
+                c.unit,
+                c.capacity,
+                c.unit,
+                number(p.thickness_mm),
+                match p.kind {
+                    LinkKind::Link => "choose a stronger material, a lighter load or a design with shorter links",
+                    _ => {
+                        "draw the body it is fixed to reaching nearer its joint (a shorter bracket), or choose a \
+                         stronger material"
+                    }
+                }
+            ));
+        }
+    }
+    notes
+}
+
+/// The largest torque holding the linkage at its crank along `rows`, N·m, and the crank angle at
+/// that peak, degrees (the last such row on a tie; both zero without rows).
+fn peak_torque(rows: &[RowForces]) -> (f64, f64) {
+    let (peak_row, peak_torque_nm) = rows
+        .iter()
+        .enumerate()
+        .map(|(r, row)| (r, row.torque_nm.abs()))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((0, 0.0));
+    (peak_torque_nm, rows.get(peak_row).map_or(0.0, |r| r.crank_deg))
 }
 
 /// The largest shear across a bolt and the largest bending moment in it along the motion: the
