@@ -23,13 +23,21 @@ use std::time::Instant;
 /// hitting something, where linkages fitted closer to the drawn poses pass (reference scenes: the
 /// three-pose power shovel and the peg in its hole get a design this way).
 const RETRY_NOISE: f64 = 0.1;
-/// Mixed into the seed of the search that follows a design far from the poses, or one that passes
-/// close to a dead point.
+/// Mixed into the seed of the second search a cold run makes when its first found no design or a
+/// poor one ([`worth_another_search`]).
 const FAR_RETRY_STREAM: u64 = 0x6661_7200;
+/// A design that misses some pose by more than this fraction of its body's size d, or by more than
+/// [`LOOSE_ANGLE_DEG`], is worth a second search from other samples: one seed's search can settle on
+/// a linkage well off the poses where another finds one through them (a known Stephenson-III through
+/// five poses: 0.10·d on seed 0, 0.006–0.04·d on seeds 1–3; `linkwright bench --known --save DIR`,
+/// then `linkwright design DIR/stephenson_iii_k1_n5_seed0.json --seed S`).
+const LOOSE_POSITION_REL_D: f64 = 0.05;
+/// See [`LOOSE_POSITION_REL_D`].
+const LOOSE_ANGLE_DEG: f64 = 2.0;
 /// A design whose smallest transmission angle is under this (or under the scene's comfortable angle,
-/// when that is lower) runs close to a dead point: when the transmission has a weight, a cold run
-/// searches once more, as for a design far from the poses, and keeps the cheaper. The comfortable
-/// angle is what the cost aims at; this is where a design is poor enough to be worth a second search.
+/// when that is lower) runs close to a dead point, and is worth a second search when the
+/// transmission has a weight. The comfortable angle is what the cost aims at; this is where a design
+/// is poor enough to be worth the time.
 const POOR_TRANSMISSION_DEG: f64 = 15.0;
 /// Samples drawn between two progress reports (and cancellation checks).
 const CHUNK: usize = 2048;
@@ -390,11 +398,7 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     // mechanic would build: a cold run searches once more, from other samples, and keeps what is
     // closest, then cheapest.
     let far = |c: &Candidate| far_from_pose(problem, &pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows));
-    let poor = |c: &Candidate| {
-        let poor_deg = POOR_TRANSMISSION_DEG.min(problem.settings.comfortable_transmission_deg);
-        problem.weights.transmission > 0.0 && c.trace.least_transmission(&c.plan).1 < poor_deg.to_radians().sin()
-    };
-    if matches!(options.start, Start::Cold) && picked.first().is_some_and(|c| far(c).is_some() || poor(c)) {
+    if matches!(options.start, Start::Cold) && worth_another_search(problem, picked.first()) {
         let mut reseeded = problem.clone();
         reseeded.settings.seed = splitmix(problem.settings.seed ^ FAR_RETRY_STREAM);
         let again = family_contexts(&reseeded, &families, options);
@@ -421,6 +425,21 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let best = picked.next();
     let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
     Ok(Outcome { best, alternatives: picked.collect(), stats, reason, unbuildable })
+}
+
+/// Whether a cold run's best design (`None`: no design) is worth a second search from other samples:
+/// none was found, or it misses a pose by more than [`LOOSE_POSITION_REL_D`] or
+/// [`LOOSE_ANGLE_DEG`], or it passes within [`POOR_TRANSMISSION_DEG`] of a dead point.
+fn worth_another_search(problem: &Problem, best: Option<&Candidate>) -> bool {
+    let Some(c) = best else { return true };
+    let loose = pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows)
+        .iter()
+        .flatten()
+        .any(|m| m.position_rel_d > LOOSE_POSITION_REL_D || m.angle_deg > LOOSE_ANGLE_DEG);
+    let poor_deg = POOR_TRANSMISSION_DEG.min(problem.settings.comfortable_transmission_deg);
+    let poor =
+        problem.weights.transmission > 0.0 && c.trace.least_transmission(&c.plan).1 < poor_deg.to_radians().sin();
+    loose || poor
 }
 
 /// Puts first, of `designs` (cheapest first) costing at most [`FOLLOW_COST_SLACK`] more than the
