@@ -153,8 +153,8 @@ const SECOND_SPRING_GAIN: f64 = 0.1;
 /// Rounds of choosing each of two springs again against the other.
 const PAIR_ROUNDS: usize = 3;
 /// Moving parts whose best single spring starts a search for a pair: the parts' best single springs
-/// can lower the peak alike while only some leave room for a second (the folding table's crank and
-/// top both 41% alone, 41% and 69% with a second).
+/// can lower the peak alike while only some leave room for a second, so the pair search starts from
+/// more than the best one.
 const PAIR_SEEDS: usize = 2;
 /// Extension springs checked for clearance, cheapest first, before giving up on that kind.
 const CLEARANCE_TRIES: usize = 400;

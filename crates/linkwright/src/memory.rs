@@ -7,9 +7,11 @@ use cap::Cap;
 /// mimalloc rather than the system allocator. A design run keeps a few thousand candidate travels (tens
 /// of megabytes) alive at once; glibc's per-thread heaps grow in small steps, each page faulted and
 /// zeroed on its own, while mimalloc commits its arena in large pages. The folding table's whole run
-/// (`hyperfine -N --warmup 3 --runs 30 'linkwright design SCENE -o /tmp/out --no-print-check --threads
-/// 2'`) went from 149 to 113 ms, 8,900 page faults to 270; designs are unchanged. No limit is set on
-/// the count: past one, an allocation would fail and abort the process.
+/// faults about 300 pages with it, 8,900 with glibc's (`perf stat -e page-faults linkwright design
+/// SCENE -o /tmp/out --no-print-check --threads 2`), and the Table-1 scenes' whole runs are 3–13%
+/// shorter (`hyperfine -N --warmup 3 --runs 20` on that command, docs/performance.md); the designs
+/// are the same. No limit is set on the count: past one, an allocation would fail and abort the
+/// process.
 #[global_allocator]
 static ALLOCATOR: Cap<mimalloc::MiMalloc> = Cap::new(mimalloc::MiMalloc, usize::MAX);
 

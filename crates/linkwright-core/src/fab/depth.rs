@@ -442,9 +442,9 @@ pub(crate) enum NoOrdering {
 
 /// The solver's budget for [`feasible`], in solver steps (one propagation and decision, or one
 /// conflict). Counted in steps rather than seconds so that whether a candidate passes the print check
-/// does not depend on the machine's load, and the same scene and seed give the same design. The bundled
-/// examples and the reference scenes need at most 309 steps for any candidate (about 60–100 µs a step);
-/// the budget is several times that, so a hard candidate costs at most a fraction of a second.
+/// does not depend on the machine's load, and the same scene and seed give the same design. The budget
+/// is several times what any candidate of the bundled examples and the reference scenes needs, and
+/// small enough that a candidate which uses it all costs at most a fraction of a second.
 pub(crate) const FEASIBILITY_STEPS: u64 = 2_000;
 
 /// The solver's budget for [`solve`] when fabricating, in solver steps: the layer count is minimised

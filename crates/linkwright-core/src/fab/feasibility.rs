@@ -16,9 +16,10 @@ use crate::scene::Problem;
 /// sweep, and pads against the other bodies on bodies too thin for a post), checks that every link,
 /// connector, guide and frame fits the print bed, records the constraints over the rows (about
 /// `rows × members²` distances between cores of at most three points) and asks the solver for any
-/// ordering, with pins fused to bodies and then with connectors everywhere. Measured in release builds
-/// on the engine's designs: 0.8–0.9 ms per candidate (wall chair, car roof), 2.7 ms on the car K=3, so
-/// run it after the collision check (see `docs/fabrication.md`).
+/// ordering, with pins fused to bodies and then with connectors everywhere. A candidate costs
+/// 0.2–2 ms, ten to a hundred times its collision sweep (`cargo bench -p linkwright-core --bench
+/// kernels`, `printability_check` against `collision_sweep`), so run it after the collision check
+/// (see `docs/fabrication.md`).
 #[derive(Clone, Debug)]
 pub struct FeasibilityCheck {
     shapes: SceneShapes,
@@ -52,7 +53,7 @@ impl FeasibilityCheck {
     /// [`crate::synth::Candidate::trace`]), has connectors that fit, members that fit the bed and a
     /// depth ordering; what it accepts, [`fabricate`](super::pipeline::fabricate) over that travel
     /// builds with every member on the bed (it may refuse a design whose ordering the solver does not
-    /// find within 50 ms).
+    /// find within its step budget, `depth::FEASIBILITY_STEPS`).
     pub fn check(&self, mechanism: &Mechanism, trace: &Trace) -> bool {
         self.diagnose(mechanism, trace).is_ok()
     }

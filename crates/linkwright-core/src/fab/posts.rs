@@ -273,8 +273,8 @@ fn grid_places(q: &Query, depth: f64, radius: f64, limit: usize) -> Vec<Point> {
 }
 
 /// Most boundary samples of one region: 20 m of outline at the default post spacing (about 1 mm), far
-/// beyond any printable body, while a drawing a kilometre across (the scene format's bound) still
-/// costs a fraction of a second instead of minutes and gigabytes.
+/// beyond any printable body, so that the samples of a drawing a kilometre across (the scene format's
+/// bound), and the pad and post tests over them, cost no more than those of a 20 m outline.
 const MAX_BOUNDARY_SAMPLES: f64 = 20_000.0;
 
 /// Samples of every contour every `spacing` (wider where the outline is longer than

@@ -148,7 +148,8 @@ impl Range {
     /// - 8 to 512 segments per circle.
     ///
     /// Together they keep every volume, mass, torque and spring rate derived from them finite and
-    /// every mesh non-degenerate: `body_thickness: 1e308` once gave NaN grams and infinite vertices.
+    /// every mesh non-degenerate: without them, `body_thickness: 1e308` gives NaN grams and infinite
+    /// vertices.
     pub(crate) fn of(field: &str) -> Range {
         let mm = |lo, hi| Range { lo, hi, unit: "mm" };
         match field {

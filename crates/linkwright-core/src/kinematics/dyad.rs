@@ -47,8 +47,8 @@ pub enum DyadError {
 ///
 /// In units of `b − a`: the foot of the joint on the centres' line is `t·(b − a)` from `a`, and its
 /// offset across `k·(b − a)`, so one division and one square root give the point. This is the
-/// simulation's innermost step; computed with the distance `|b − a|` itself, it took three divisions
-/// and two square roots.
+/// simulation's innermost step; computed with the distance `|b − a|` itself, it would take three
+/// divisions and two square roots.
 ///
 /// # Examples
 ///

@@ -379,15 +379,18 @@ impl Plan {
     /// Solves every row of `rows` (rows of `joint_count` points, each with its crank placed by
     /// [`Plan::place_crank`]), step after step across all rows: the arithmetic of
     /// [`Plan::solve_towards`], so the same points, without matching every step anew for every row:
-    /// the simulation's sweeps are most of its rows, and solving them so took 3–5% fewer instructions
-    /// over a whole synthesis of the folding table, sofa bed and bulldozer. On failure, the first row
-    /// that cannot assemble, in row order, with the step and the reason [`Plan::solve_towards`] gives;
-    /// the rows before it are solved.
+    /// the simulation's sweeps are most of its rows, and solving them so takes 3–5% fewer instructions
+    /// than row by row over a whole synthesis of the folding table, sofa bed and bulldozer
+    /// (`valgrind --tool=callgrind linkwright design SCENE --threads 1 --no-print-check` on their
+    /// examples, each scene's `"mechanism"` as in Table 1 of docs/performance.md). On failure, the
+    /// first row that cannot assemble, in row order, with the step and the reason
+    /// [`Plan::solve_towards`] gives; the rows before it are solved.
     pub fn solve_rows(&self, rows: &mut [Point]) -> Result<(), (usize, usize, DyadError)> {
         let n = self.joint_count;
         for (i, step) in self.steps.iter().enumerate() {
             // Matched once per step, so that the loop over rows is a straight line: `step.solve` in
-            // the loop, matching per row, took 1.2–1.7% more of a synthesis' instructions.
+            // the loop, matching per row, costs 1.2–1.7% more of a synthesis' instructions (the
+            // callgrind runs above).
             let failed = match *step {
                 Step::Dyad { joint, a, ra, b, rb, branch } => first_failure(rows, n, |row| {
                     row[joint] = circle_circle(row[a], ra, row[b], rb, branch)?;

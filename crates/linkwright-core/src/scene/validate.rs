@@ -43,8 +43,9 @@ impl std::fmt::Display for Issue {
 
 /// The limits of what a scene may ask for, in one place (documented in `docs/formats.md`, their
 /// measured worst case in `docs/security.md`). Each is far beyond what a person draws: the 64 reference
-/// scenes reach at most 39 vertices in one outline and 128 in all, 6 fixed and 8 moving bodies, 6 poses,
-/// 2 avoid regions, coordinates of 355 and a drawing 66 times as large as its smallest moving body.
+/// scenes (`crates/linkwright-core/tests/fixtures/reference-scenes/`) reach at most 39 vertices in one
+/// outline and 128 in all, 6 fixed and 8 moving bodies, 6 poses, 2 avoid regions, coordinates of 355
+/// and a drawing 66 times as large as its smallest moving body.
 /// Together they bound the time and memory of every stage, whatever a file says.
 pub mod limits {
     /// Largest coordinate accepted, in scene units: a kilometre-scale object is surely a unit
@@ -80,15 +81,16 @@ pub mod limits {
     /// Most `settings.iterations`.
     pub const MAX_ITERATIONS: usize = 200;
     /// Samples times moving bodies times poses: every sample is fitted through every pose of every
-    /// body, and beyond the exact poses a fit iterates to its least-squares optimum, about 3 µs per
-    /// body and pose on one core (`linkwright design` of eight bodies through twenty poses at 10⁶
-    /// samples took nine minutes on two). Ten million keeps the sampling within a minute, and lets
-    /// every reference scene run at the paper's 100,000 samples.
+    /// body, and beyond the exact poses a fit iterates to its least-squares optimum, a few
+    /// microseconds per body and pose on one core. Ten million keeps the sampling within about a
+    /// minute per family searched on two cores (eight bodies through twenty poses at 62,500 samples:
+    /// `stats.seconds.sampling` of `linkwright design SCENE --threads 2`), and lets every reference
+    /// scene run at the paper's 100,000 samples.
     pub const MAX_SAMPLE_POSES: usize = 10_000_000;
     /// Shortest `gravity` vector. Gravity is a direction (its strength is always standard gravity),
     /// so `[0, -1]`, `[0, -9.81]` (m/s²) and `[0, -9810]` (mm/s²) all mean down; a length outside
     /// 10⁻³ to 10⁴ is a typo or a hostile number, and bounding it keeps its normalisation exact
-    /// (`[1e-200, -1e-200]` once gave NaN torques, `[1e160, -1e160]` none at all).
+    /// (unbounded, `[1e-200, -1e-200]` gives NaN torques and `[1e160, -1e160]` none at all).
     pub const MIN_GRAVITY: f64 = 1e-3;
     /// Longest `gravity` vector (see [`MIN_GRAVITY`]).
     pub const MAX_GRAVITY: f64 = 1e4;
@@ -103,8 +105,10 @@ use limits::*;
 /// Bodies closer than this fraction of the smaller body size d *touch* (a warning), bodies reaching into
 /// each other deeper than it *overlap* (an error). Hand-drawn scenes put bodies in contact with some
 /// slack: of the 64 reference scenes none overlaps at any pose, and the closest contacts leave gaps of
-/// 0.7% to 1.8% of d (0.2 to 2 mm). 2% of d (0.2 mm for the smallest reference bodies, 1.5 mm for a
-/// 75 mm one) forgives sub-millimetre drawing imprecision, while an overlap of 5% of d is refused.
+/// 0.7% to 1.8% of d (0.2 to 2 mm: the touch warnings of `linkwright design SCENE --samples 1` on
+/// `crates/linkwright-core/tests/fixtures/reference-scenes/*.json`). 2% of d (0.2 mm for the smallest
+/// reference bodies, 1.5 mm for a 75 mm one) forgives sub-millimetre drawing imprecision, while an
+/// overlap of 5% of d is refused.
 const TOUCH_FRACTION: f64 = 0.02;
 const MAX_POSE_TOLERANCE: f64 = 10.0;
 const MAX_ANGLE_TOLERANCE_DEG: f64 = 90.0;

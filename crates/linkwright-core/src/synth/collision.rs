@@ -20,11 +20,13 @@ use crate::kinematics::{BodyFrames, Plan, Trace};
 
 /// Margin on a motion bound: a point's path over a short interval bulges past its chord a little.
 const ARC_MARGIN: f64 = 1.5;
-/// The rows tested before the sweep, in eighths of the travel (measured in docs/performance.md, "Probes
-/// before the sweep": fewer or other rows caught fewer collisions, more did no better).
+/// The rows tested before the sweep, in eighths of the travel: a colliding linkage usually collides
+/// over a span, and rows spread evenly over the travel find most spans early (docs/performance.md,
+/// "Collision sweep"); fewer or other rows catch fewer collisions, more do no better.
 const PROBES: [usize; 4] = [1, 3, 5, 7];
 /// Deepest bisection of one 1° interval (a sixteenth of a degree). At a quarter, a sharp corner of a
-/// fixed body could still poke through an edge sliding past it between two tests (the handle scene).
+/// fixed body can poke through an edge sliding past it between two tests (the reference scene
+/// `k1_handle`).
 const MAX_DEPTH: u32 = 4;
 
 /// Checks the whole travel of `candidate`: first the rows at `PROBES`, then the sweep

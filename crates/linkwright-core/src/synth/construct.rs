@@ -9,13 +9,13 @@
 //! ([`Line`]), and the residual of eq. 4 is `−2 dᵢ · (n − midpointᵢ)` with `dᵢ = Gᵢ m − m`. The same
 //! holds for `n` fixed with `Gᵢ⁻¹`. Per block of [`super::rigidity`], for N poses:
 //! - **links with fewer equations than unknowns** (a binary link for N ≤ 3, a ternary link for
-//!   N = 2): the exact solutions form a manifold, and the fit from uniform draws ended near the draws'
+//!   N = 2): the exact solutions form a manifold, and the fit from uniform draws ends near the draws'
 //!   nearest point on it. Minimum-norm Gauss–Newton steps from the draws ([`project`]) reach about the
 //!   same point in a few cheap iterations. Solving one end in closed form from the other's draw (the
 //!   circumcentre for a ground pivot and N = 3, the point of the bisector nearest a second draw for
-//!   N = 2) is cheaper still, but it moves one joint all the way; measured on the bundled scenes it
-//!   gave more kinematically valid samples yet fewer collision-free ones and worse final costs (the
-//!   folding table: 18–20 against 16–17 over six seeds), so it only seeds the fit below.
+//!   N = 2) is cheaper still, but it moves one joint all the way: on the bundled scenes it gives more
+//!   kinematically valid samples yet fewer collision-free ones and costlier designs, so it only seeds
+//!   the fit below.
 //! - **links with as many equations as unknowns or more** (a binary link for N ≥ 4, a ternary link
 //!   for N ≥ 3): one end drawn, the next on its bisectors, the third by least squares: a start that
 //!   the fit polishes.
@@ -46,11 +46,11 @@ const TRIES: usize = 4;
 /// The same for a ternary link through three poses. Such a link has finitely many exact solutions
 /// (six equations in six unknowns), which Newton's method from random starts finds one at a time
 /// ([`ternary_through_three`]), and most of them are turned over or change a loop's branch; with
-/// three or more such links in a row, four tries each leave too few whole samples (chains of five
-/// and six bodies found a design on 4 of 6 `linkwright bench --known` scenes with 4 tries, on 5 with
-/// 16). Newton's method made a try cheap enough for two- and three-body chains to take as many:
-/// over six such scenes and six reference scenes through three poses, the median worst pose error
-/// 0.043·d with the general fit and 4 tries, 0.033·d so, in half the time.
+/// three or more such links in a row, four tries each leave too few whole samples: chains of five
+/// and six bodies through three poses find a design on 5 of the 6 `linkwright bench --known` scenes
+/// (its K = 5–6, N = 3 rows) with 16 tries, on 4 with 4. Newton's method makes a try cheap enough for
+/// two- and three-body chains to take as many, and their designs then come closer to the poses than
+/// with the general fit and four tries, in less time.
 const THREE_POSE_TERNARY_TRIES: usize = 16;
 /// How far outside the region's box a solved joint may land, in box diagonals, before the block is
 /// drawn again.
@@ -323,9 +323,10 @@ impl Constructor {
     /// Blocks are built in chain order, so each loop is closed by the block built last in it. A
     /// ternary link that leaves a loop on another branch at some pose, turns over, puts two joints
     /// of a part too close or cannot be fitted is drawn again right away: drawing the whole linkage
-    /// again instead made defect-free chains of five or six bodies as rare as the product of each
-    /// loop's chance (none in 10⁶ samples of a five-body chain through two poses). Any other block
-    /// with a defect ends the sample.
+    /// again instead would make defect-free chains of five or six bodies as rare as the product of
+    /// each loop's chance (none in 10⁶ samples of a five-body chain through two poses: `linkwright
+    /// design SCENE --samples 1000000` on the K = 5, N = 2 scenes of `linkwright bench --known --save
+    /// DIR`). Any other block with a defect ends the sample.
     pub(crate) fn construct(
         &self,
         x: &mut [f64],
@@ -784,9 +785,9 @@ const TERNARY_RESIDUAL: f64 = 1e-13;
 /// Each pair of its joints keeps its distance at poses 2 and 3: six equations, each quadratic in the
 /// six coordinates, with a Jacobian in closed form. Newton's method on them (each step halved while
 /// it does not lower the largest residual) does what the general fit does from the same start, for
-/// a fraction of its work: that fit took 90% of the sampling of chains of five and six bodies
-/// through three poses (`perf record linkwright design` on `linkwright bench --known --save DIR`
-/// scenes).
+/// a fraction of its work: in its place, the general fit takes 90% of the sampling time of chains of
+/// five and six bodies through three poses (`perf record -e cpu-clock linkwright design SCENE` on the
+/// K = 5–6, N = 3 scenes of `linkwright bench --known --save DIR`).
 fn ternary_through_three(
     motions: &[Vec<Rigid>],
     carriers: [Option<usize>; 3],
@@ -1076,10 +1077,12 @@ fn within(residual: f64, sum_sq: f64, tolerance: f64) -> bool {
 
 /// [`project`] for one binary link through two or three poses (one or two equations), the
 /// construction of nearly every sample: the same steps to the same point, up to rounding, without the
-/// general elimination's loops and the zero columns of the absent third point (5.9 steps per link on
-/// the folding table, where the construction with the general form took a quarter of the run's
-/// instructions; with this one, a sixth). Its 2×2 system is solved by Cramer's rule: one division,
-/// where the elimination chains three that each wait for the last (5% of the table's time).
+/// general elimination's loops and the zero columns of the absent third point: on the folding table
+/// the construction takes a sixth of the run's instructions so, and a quarter with the general form
+/// (`valgrind --tool=callgrind linkwright design examples/k1_table.json --threads 1
+/// --no-print-check`, the scene's `"mechanism"` set to `"chain"`). Its 2×2 system is solved by
+/// Cramer's rule: one division, where the elimination chains three that each wait for the last (5%
+/// of the table's time: `perf record -e cpu-clock linkwright bench` on the same scene).
 fn project_link(
     points: &mut [Point; 2],
     carriers: [Option<usize>; 2],

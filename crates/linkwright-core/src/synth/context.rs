@@ -43,10 +43,11 @@ pub(crate) const MUST_HIT_ANGLE_DEG: f64 = 0.5;
 /// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
 /// relative motion of two perturbed bodies, so the more bodies, the farther the fits land from any
 /// linkage through the drawn poses: their loops lock up between the poses. Chains of four to six
-/// bodies through three poses (`linkwright bench --known`, the K = 4–6, N = 3 rows) found a design
-/// on 7 of 9 scenes at the paper's 0.5·d, worst pose error up to 0.67·d; with this factor on 9 of 9,
-/// worst 0.12·d. Shorter chains gain nothing from it (K = 2 and 3 through three poses: costs higher
-/// on three of six scenes at a factor of 0.44).
+/// bodies through three poses (`linkwright bench --known`, the K = 4–6, N = 3 rows) find a design on
+/// 8 of 9 scenes with this factor, worst pose error 0.08·d; at the paper's 0.5·d the worst is 0.24·d
+/// (those scenes from `--save DIR` with `settings.pose_tolerance` and `angle_tolerance_deg` ten times
+/// as large, `linkwright design SCENE --no-print-check`). Shorter chains gain nothing from it (K = 2
+/// and 3 through three poses: costs higher on three of six scenes at a factor of 0.44).
 pub(crate) const LONG_CHAIN_NOISE: f64 = 0.1;
 
 /// Per-topology precomputation for one problem.
@@ -112,11 +113,8 @@ pub(crate) struct Context<'a> {
     /// The factor on the scene's pose noise (`pose_tolerance`, `angle_tolerance_deg`): 1, or for an
     /// over-determined motion the square of the share of its intermediate poses an exact fit could
     /// pass through. Noise on every one of many intermediate poses does not widen the set of linkages
-    /// a fit finds; it pulls the fit away from every linkage, towards collapsed links (a four-bar
-    /// through nine poses of a known four-bar, 100,000 samples: at the paper's 0.5·d no valid design,
-    /// at 0.2·d three, at 0.1·d 424; this factor gives 0.09·d. Measured on `chain_k1_n9_seed0` of
-    /// `linkwright bench --known --save DIR`, its `settings.pose_tolerance` edited). Long chains
-    /// take `LONG_CHAIN_NOISE` on top.
+    /// a fit finds; it pulls the fit away from every linkage, towards collapsed links. Long chains take
+    /// `LONG_CHAIN_NOISE` on top.
     pub noise_scale: f64,
     /// `must_hit_motions[b]`: body b's motion to each must-hit pose (the first, the last and those the
     /// scene marks), the poses every linkage is kept rigid through (`END_DEVIATION`).

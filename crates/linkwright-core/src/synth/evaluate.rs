@@ -445,8 +445,10 @@ fn misses_must_hit_pose(ctx: &Context, frames: &BodyFrames, trace: &Trace, pose_
 /// row's worth): least sum of squared misses, each row's computed once.
 ///
 /// The simulation's hottest loop, written out for the common one and two moving joints, comparing by
-/// `<`, which orders finite errors as `total_cmp` does (the rows and targets are finite): 5% fewer
-/// instructions in the folding table's whole run than a scan summing over `moving` for each row.
+/// `<`, which orders finite errors as `total_cmp` does (the rows and targets are finite): the folding
+/// table's whole run takes 5% fewer instructions so than with a scan summing over `moving` for each
+/// row (`valgrind --tool=callgrind linkwright design examples/k1_table.json --threads 1
+/// --no-print-check`, the scene's `"mechanism"` set to `"chain"`).
 fn nearest_row(positions: &[Point], n: usize, moving: &[usize], targets: &[Point]) -> usize {
     let miss = |p: Point, t: Point| (p - t).norm_sq();
     let rows = positions.chunks_exact(n);
@@ -574,11 +576,12 @@ fn travel(
 /// The minimiser of a function on `[a, b]` (either order) by Brent's method: parabolic steps through
 /// the three best points while they shrink the bracket fast enough, golden-section steps otherwise,
 /// to about 1e-8 of the interval: about as close as values can place a minimum (√ε of the interval;
-/// nearer, the error's differences are rounding). Asking 1e-10 cost 1.2–1.5% of a synthesis'
-/// instructions and changed one design in 216 (nine objects, 24 seeds). The error near a pose is
-/// smooth and unimodal between grid neighbours, so the parabolic steps converge in about a dozen
-/// evaluations where golden sections alone take fifty. Points where `f` is infinite (the linkage does
-/// not assemble) force golden steps.
+/// nearer, the error's differences are rounding). Asking 1e-10 costs 1.2–1.5% more of a synthesis'
+/// instructions and changes one design in 216 (the nine Table-1 objects, seeds 0–23: `linkwright
+/// design SCENE --seed S`, instructions by the callgrind command of docs/performance.md). The error
+/// near a pose is smooth and unimodal between grid neighbours, so the parabolic steps converge in
+/// about a dozen evaluations where golden sections alone take fifty. Points where `f` is infinite
+/// (the linkage does not assemble) force golden steps.
 fn minimise(a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
     // 1 − 1/φ: the golden section of an interval, from its nearer end.
     const GOLDEN: f64 = 0.381_966_011_250_105_1;

@@ -2,8 +2,10 @@
 //! perturbation wherever that cell's centre pose decides them for the whole cell.
 //!
 //! The sampler perturbs each intermediate pose by a shift and a turn drawn from normal laws, and draws
-//! again when the body then penetrates a fixed body: 1.5–1.9 exact penetration tests of about 3 k
-//! instructions per sample, a fifth of the sofa bed's run. Most perturbations land clear of the fixed
+//! again when the body then penetrates a fixed body: 1.5–1.9 penetration tests per sample, which,
+//! tested exactly at about 3 k instructions each, would be a fifth of the sofa bed's run (`valgrind
+//! --tool=callgrind linkwright design examples/k1_sofa_bed.json --threads 1 --no-print-check`, the
+//! scene's `"mechanism"` set to `"slider_crank"`). Most perturbations land clear of the fixed
 //! bodies or deep in them. Within a cell of (shift x, shift y, turn) a point p of the body (in its own
 //! frame) moves from the cell's centre pose by at most |Δshift| + |Δturn|·|p|, so
 //! [`Obstacle::penetration_within`] at the centre pose, with that reach, gives the exact test's answer
@@ -19,8 +21,9 @@ use std::sync::atomic::{AtomicU8, Ordering};
 const CELLS_PER_SIGMA: f64 = 4.0;
 /// How many standard deviations the cells cover on each side; perturbations beyond are tested exactly.
 /// Out there (under 4% of the perturbations) most cells see a single sample, and deciding a cell costs
-/// more than the exact test it would save: covering 4σ took 0.4–1.9% more instructions on the folding
-/// table, sofa bed and bulldozer.
+/// more than the exact test it would save: covering 4σ costs 0.4–1.9% more instructions on the
+/// folding table, sofa bed and bulldozer (the callgrind command of docs/performance.md, each scene's
+/// `"mechanism"` as in Table 1).
 const SPAN_SIGMAS: f64 = 2.5;
 
 /// A cell's verdict against one fixed body, as stored.

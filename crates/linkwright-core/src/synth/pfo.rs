@@ -52,7 +52,8 @@ const NEGLIGIBLE_WEIGHT: f64 = 1e-6;
 /// after each iteration; stops early when it returns false.
 ///
 /// Only the cheapest are kept because each candidate carries its whole simulated travel: keeping every
-/// one, 1,000 particles through 200 iterations held up to 200,000 of them.
+/// one, 1,000 particles through 200 iterations (the scene format's bounds) would hold up to 200,000 of
+/// them.
 pub(crate) fn refine(
     ctx: &Context,
     workspace: &Workspace,

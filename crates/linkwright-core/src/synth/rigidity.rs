@@ -24,7 +24,7 @@
 //!   update of `λ`, plus a geodesic-acceleration correction (Transtrum & Sethna): link residuals are
 //!   quadratic in the joints, so `r(x + v) − r(x) − Jv` is exactly half the second directional
 //!   derivative along the step `v`, which bends the step along narrow curved valleys (poses close
-//!   together make such valleys; without it, a 5-pose six-bar crawled for 100+ iterations).
+//!   together make such valleys, along which a fit without it crawls for many times the iterations).
 //! - **Scale-free.** The solve runs in coordinates normalised by the body size `d` (joints `/ d`, link
 //!   residuals `/ d²`, slider residuals `/ d`), so every tolerance is relative, and a block's normalised
 //!   objective is its world energy times a constant (`d⁻⁴` for links, `d⁻²` for the slider block): the

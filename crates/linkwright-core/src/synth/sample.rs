@@ -16,12 +16,15 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 pub(crate) const WARM_JITTER: f64 = 0.05;
 /// A construction left unpolished is accepted without measuring its deviation, so its links keep
 /// their lengths to this fraction of the deviation a sample may have. Projecting further, to rounding,
-/// took one more step in six (the folding table: 2.6% of its instructions).
+/// takes one more step in six, 2.6% of the folding table's instructions (`valgrind --tool=callgrind
+/// linkwright design examples/k1_table.json --threads 1 --no-print-check`, the scene's `"mechanism"`
+/// set to `"chain"`).
 const UNPOLISHED_DEVIATION: f64 = 1e-4;
 /// Iterations of a quick fit ([`super::construct::Polish`]), which a ternary link through three poses
-/// takes when a joint of it is pinned: a fit that converges takes fewer; one that has not by then rarely ends exact, and drawing it again is
-/// cheaper (`linkwright design` on four scenes of `linkwright bench --known --save DIR` through three
-/// poses: 100 iterations took 1.3–2.9 times as long and found no more valid designs).
+/// takes when a joint of it is pinned: a fit that converges takes fewer; one that has not by then
+/// rarely ends exact, and drawing it again is cheaper (`linkwright design` on four scenes of
+/// `linkwright bench --known --save DIR` through three poses: 100 iterations take 1.3–2.9 times as
+/// long and find no more valid designs).
 const QUICK_FIT_ITERATIONS: usize = 15;
 /// How often a perturbed pose that collides is drawn again before the input pose is used unperturbed.
 const PERTURB_TRIES: usize = 5;

@@ -23,7 +23,7 @@ use tokio::sync::Semaphore;
 use tokio_io_timeout::TimeoutStream;
 use tower::ServiceExt;
 
-/// Largest request body accepted, bytes (the largest bundled scene is about 20 kB).
+/// Largest request body accepted, bytes (the largest bundled scene is about 6 kB: `ls -l examples/`).
 pub(super) const MAX_BODY: usize = 2 * 1024 * 1024;
 
 /// Connections served at once; more wait in the kernel's backlog until one closes. A browser opens

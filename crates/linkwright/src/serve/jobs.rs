@@ -126,15 +126,18 @@ pub(crate) struct Limits {
     /// Jobs waiting for a free slot; more are refused with 503. Default 4.
     pub queued: usize,
     /// How long a job may run, and also how long it may wait in line for a slot. Default 60 s: the
-    /// bundled examples design in well under 5 s with their own settings, so a minute leaves room for
-    /// ten times the samples on a slow, shared machine, while every request is answered within two
-    /// minutes at worst (a minute in line, a minute running). Work that needs longer belongs to the
-    /// command line, which has no deadline.
+    /// bundled examples design in well under 5 s with their own settings (`stats.seconds.total` of
+    /// `linkwright design examples/NAME.json --threads 2`), so a minute leaves room for ten times the
+    /// samples on a slow, shared machine, while every request is answered within two minutes at worst
+    /// (a minute in line, a minute running). Work that needs longer belongs to the command line,
+    /// which has no deadline.
     pub deadline: Duration,
     /// Heap bytes the server may hold ([`crate::memory::live_bytes`]): past it, new jobs are refused
     /// and running ones stopped at their next check, so the process never reaches an allocation
-    /// that fails (which would abort it). Default 1 GiB: a design at the scene limits peaks near
-    /// 400 MB, so two run side by side with room for the answers being sent.
+    /// that fails (which would abort it). Default 1 GiB: a design at the scene limits peaks at a few
+    /// hundred megabytes (260 MB for the garbage truck at 10⁶ samples, 1,000 particles and 200
+    /// iterations: `/usr/bin/time -f "%M KB" linkwright design SCENE --threads 2`, as in
+    /// docs/security.md), so two run side by side with room for the answers being sent.
     pub memory: usize,
 }
 
