@@ -230,10 +230,9 @@ pub const FOLLOW_COST_SLACK: f64 = 0.25;
 const FOLLOW_REACH: f64 = 0.03;
 
 /// A family is screened ([`Start`]) on this share of the samples, and a quarter of the filter's
-/// iterations: a one-body example's `design --from` took 0.02 s warm alone, 0.1–0.25 s screening
-/// the other families; the bundled one-body examples' cold runs with `mechanism: auto` cost a
-/// median 5.0 times the family they return when each family was searched in full, 1.8 times so
-/// (`linkwright bench --auto --repeat 3 examples/k1_*.json`).
+/// iterations: the bundled one-body examples' cold runs with `mechanism: auto` cost a median 1.7
+/// times the family they return (`linkwright bench --auto --repeat 5 --threads 2
+/// examples/k1_*.json`), where searching each family in full costs about 5 times.
 pub const SCREENING_DIVISOR: usize = 8;
 /// The share of a cold run's progress bar its screening of every family takes.
 const SCREENING_PROGRESS: f64 = 0.25;
@@ -241,9 +240,9 @@ const SCREENING_PROGRESS: f64 = 0.25;
 /// than [`SCREENED_CLOSE_ANGLE_DEG`]: the motion is hard for a screening, and the next family is
 /// searched in full too. (Of the reference scenes, example 5's cheapest screened design, a four-bar,
 /// missed a pose by 0.12 d; a Stephenson-III's whole search there costs 5.6, its screening 93.)
-/// Searching one family after the other, rather than all once the screening falls short, took the
-/// tractable monitor from 0.79 to 0.22 s with the same design, and changed no design of the one-body
-/// reference scenes or examples.
+/// Searching one family after the other, rather than all once the screening falls short, gives the
+/// same designs on the one-body reference scenes and examples, at a fraction of the time where the
+/// first family searched comes close (the tractable monitor).
 const SCREENED_CLOSE_REL_D: f64 = 0.02;
 /// See [`SCREENED_CLOSE_REL_D`].
 const SCREENED_CLOSE_ANGLE_DEG: f64 = 1.0;
@@ -1137,8 +1136,9 @@ fn check_in_order(
 
 /// Candidates checked between two checks of the stopping rule when `enough` valid ones are wanted: a
 /// warm start wants a quarter of a particle set, and a whole chunk of print checks (a few
-/// milliseconds each for a slider-crank's guide) was most of a live step's time (the sofa bed's
-/// collision stage 28 → 15 ms, `stats.seconds.collision` of `linkwright design --from`).
+/// milliseconds each for a slider-crank's guide) would be most of a live step's time (chunks of 16
+/// halve the sofa bed's collision stage against 128, `stats.seconds.collision` of `linkwright design
+/// --from`).
 fn collision_chunk(enough: usize) -> usize {
     enough.clamp(16, COLLISION_CHUNK).next_power_of_two()
 }
