@@ -221,7 +221,7 @@ function buildSection(store) {
   };
   if (b?.kind === 'model') {
     const scales = [...new Set([...SCALES, ...(b.scale === 'auto' ? [] : [b.scale])])];
-    const size = b.scale === 'auto' ? null : modelExtent(scene, b.scale);
+    const size = b.scale === 'auto' ? null : modelExtent(scene, b.scale, store.lengthUnits);
     const help = b.scale === 'auto'
       ? '1:1 when the links fit the printer’s bed and the pins fit the parts, else the largest scale at which they do (the Result tab names it)'
       : size ? `everything drawn is ${extent(size)} in the model` : 'one length of the model for so many of the object';
