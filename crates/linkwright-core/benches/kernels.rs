@@ -88,6 +88,6 @@ fn kinematic_step(bencher: divan::Bencher, k: usize) {
 #[divan::bench(args = [1, 2, 3])]
 fn printability_check(bencher: divan::Bencher, k: usize) {
     let (problem, best) = fixture(k);
-    let check = linkwright_core::fab::FeasibilityCheck::new(problem, &Default::default(), 1.0);
+    let check = linkwright_core::fab::FeasibilityCheck::new(problem, &Default::default(), linkwright_core::Ratio::ONE);
     bencher.bench_local(|| check.check(divan::black_box(&best.mechanism), &best.trace));
 }

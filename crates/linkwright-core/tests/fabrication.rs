@@ -62,7 +62,7 @@ fn fabricated(name: &str, samples: usize) -> (Problem, fab::Fabrication) {
 fn try_fabricated(name: &str, samples: usize) -> Result<(Problem, fab::Fabrication), String> {
     let p = problem(name, samples);
     let settings = PrintSettings::default();
-    let printable = FeasibilityCheck::new(&p, &settings, 1.0);
+    let printable = FeasibilityCheck::new(&p, &settings, Ratio::ONE);
     let outcome = synthesize_with(&p, &Options { start: Start::Cold, printable: Some(&printable) }, &Silent).unwrap();
     let best = outcome.best.as_ref().ok_or_else(|| format!("{name}: no design: {:?}", outcome.reason))?;
     let mut fabricated = Vec::new();
@@ -83,7 +83,7 @@ fn feasibility_check_agrees_with_fabrication() {
         let p = problem(name, 3000);
         let outcome = synthesize(&p, &Silent).unwrap();
         let settings = PrintSettings::default();
-        let check = FeasibilityCheck::new(&p, &settings, 1.0);
+        let check = FeasibilityCheck::new(&p, &settings, Ratio::ONE);
         let (mut accepted, mut refused) = (0, 0);
         for c in outcome.best.iter().chain(&outcome.alternatives) {
             let quick = check.diagnose(&c.mechanism, &c.trace);
@@ -482,7 +482,7 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
     let motion = design.motion.as_ref().unwrap();
     let travel = Travel { start: motion.crank_start_deg.to_radians(), end: motion.crank_end_deg.to_radians() };
     let trace = fab::motion_trace(&mechanism, travel).unwrap();
-    let printable = FeasibilityCheck::new(&p, &settings, 1.0);
+    let printable = FeasibilityCheck::new(&p, &settings, Ratio::ONE);
     match printable.diagnose(&mechanism, &trace) {
         Err(e @ fab::FabError::OffBed { .. }) => {
             let text = e.to_string();
@@ -523,7 +523,7 @@ fn links_larger_than_the_bed_are_refused_and_reported_with_what_to_change() {
     let f = fab::fabricate_design(&p, &design, &big).unwrap();
     assert!(f.off_bed().is_empty());
     assert!(!printable.check(&mechanism, &trace));
-    assert!(FeasibilityCheck::new(&p, &big, 1.0).check(&mechanism, &trace), "the larger bed takes the design");
+    assert!(FeasibilityCheck::new(&p, &big, Ratio::ONE).check(&mechanism, &trace), "the larger bed takes the design");
 }
 
 /// A body larger than the bed both ways (the folding bicycle's 323 × 322 mm frame) is cut both ways

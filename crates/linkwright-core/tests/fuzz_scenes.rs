@@ -11,7 +11,7 @@ mod fuzz;
 
 use fuzz::{bounded, budget, keep_failure, mutate, Rng, CASE_BOUND};
 use linkwright_core::fab::{FeasibilityCheck, PrintSettings};
-use linkwright_core::{synthesize_with, validate_scene, Options, Problem, Scene, Severity, Silent};
+use linkwright_core::{synthesize_with, validate_scene, Options, Problem, Ratio, Scene, Severity, Silent};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -44,7 +44,7 @@ fn run_case(text: &str) -> bool {
     settings.particles = settings.particles.min(8);
     settings.iterations = settings.iterations.min(2);
     let problem = Problem::new(&scene).expect("a scene without validation errors makes a problem");
-    let printable = FeasibilityCheck::new(&problem, &PrintSettings::default(), 1.0);
+    let printable = FeasibilityCheck::new(&problem, &PrintSettings::default(), Ratio::ONE);
     let options = Options { printable: Some(&printable), ..Options::default() };
     let _ = synthesize_with(&problem, &options, &Silent);
     true

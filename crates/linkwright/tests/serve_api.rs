@@ -5,7 +5,7 @@
 mod common;
 
 use common::{example_text, quick_garbage_truck, Server};
-use linkwright_core::{DesignFile, Problem, Scene, Status};
+use linkwright_core::{DesignFile, Problem, Scene, Status, Units};
 
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader, Read};
@@ -65,6 +65,44 @@ fn families_are_the_engines() {
         scene["mechanism"] = json!(id);
         let scene: Scene = serde_json::from_value(scene).expect("the family's id is a scene's mechanism word");
         assert_eq!(serde_json::to_value(scene.mechanism).unwrap(), id);
+    }
+}
+
+/// The units the app reads a scene's `units` with are the engine's table, whole and in its order.
+#[test]
+fn units_are_the_engines() {
+    let server = Server::start(&[]);
+    let (status, list) = get(&server, "/api/units");
+    assert_eq!(status, 200);
+    let engine: Vec<Value> = Units::known()
+        .iter()
+        .map(|u| json!({"symbol": u.symbol, "words": u.words, "millimetres": u.millimetres}))
+        .collect();
+    assert_eq!(list, Value::Array(engine));
+    // Facts that hold whatever the table's code says: the lengths of an inch and a foot, and the
+    // words a scene may use for them and for millimetres.
+    let list = list.as_array().unwrap();
+    let unit = |symbol: &str| list.iter().find(|u| u["symbol"] == symbol).unwrap_or_else(|| panic!("{symbol}"));
+    assert_eq!(unit("in")["millimetres"], 25.4);
+    assert_eq!(unit("ft")["millimetres"], 304.8);
+    assert_eq!(unit("mm")["millimetres"], 1.0);
+    let reads_as = |word: &str| {
+        let read = word.trim().to_ascii_lowercase();
+        let units: Vec<&Value> =
+            list.iter().filter(|u| u["words"].as_array().unwrap().iter().any(|w| w == read.as_str())).collect();
+        assert_eq!(units.len(), 1, "{word:?} is read as one unit: {units:?}");
+        units[0]["symbol"].as_str().unwrap().to_string()
+    };
+    assert_eq!(reads_as("Inches"), "in");
+    assert_eq!(reads_as(" feet "), "ft");
+    assert_eq!(reads_as(""), "mm");
+    assert_eq!(reads_as("µm"), "µm");
+    // And the scene reader agrees with the list for each of its words.
+    for u in list {
+        for word in u["words"].as_array().unwrap() {
+            let units: Units = word.as_str().unwrap().parse().unwrap();
+            assert_eq!(units.millimetres(), u["millimetres"], "{word}");
+        }
     }
 }
 

@@ -1183,12 +1183,16 @@ async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
     }
     pick_scale(page, "1:1").await?;
     // The drawing is 2.55 m wide: so is its model at 1:1.
-    let help = eval(
-        page,
-        "document.querySelector('select[data-key=build-scale]').parentElement.querySelector('small').textContent",
-    )
-    .await?;
-    assert_eq!(help, "everything drawn is 2550 × 2400 mm in the model");
+    let help =
+        "document.querySelector('select[data-key=build-scale]').parentElement.querySelector('small').textContent";
+    assert_eq!(eval(page, help).await?, "everything drawn is 2550 × 2400 mm in the model");
+    // The same drawing in inches, written as a person may write them, is sized as the engine reads the
+    // word (its table, GET /api/units): 25.4 mm to the unit.
+    eval(page, "window.linkwright.store.edit('units', (s) => { s.units = ' Inches'; }) && true").await?;
+    let inches = format!("{help} === 'everything drawn is 64770 × 60960 mm in the model'");
+    until(page, &inches, Duration::from_secs(2)).await?;
+    undo(page).await?;
+    until(page, "window.linkwright.store.scene.units === 'mm'", Duration::from_secs(2)).await?;
     // The design shown was made for another build: the Result tab says so.
     click(page, "[data-tab=result]").await?;
     until(page, "document.querySelector('[data-build-changed]') !== null", Duration::from_secs(2)).await?;

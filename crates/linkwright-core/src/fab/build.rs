@@ -187,33 +187,33 @@ impl BuildPlan {
     /// The scene's build (`problem.build`) made concrete with `settings`: an `auto` model scale
     /// decided from the drawing, and the print check at the model's scale.
     pub fn new(problem: &Problem, settings: &PrintSettings) -> BuildPlan {
-        let object_mm_per_unit = problem.units.millimetres();
         let sizes = Sizes::new(problem, settings);
         match problem.build {
             Build::Model(ModelScale::Auto) => {
                 let scale = sizes.auto();
-                BuildPlan::at(problem, settings, object_mm_per_unit, sizes, Build::Model(ModelScale::Fixed(scale)))
+                BuildPlan::at(problem, settings, sizes, Build::Model(ModelScale::Fixed(scale)))
             }
-            checked => BuildPlan::at(problem, settings, object_mm_per_unit, sizes, checked),
+            checked => BuildPlan::at(problem, settings, sizes, checked),
         }
     }
 
     /// The plan that checks designs for `checked` (a model's scale fixed, or full size).
-    fn at(
-        problem: &Problem,
-        settings: &PrintSettings,
-        object_mm_per_unit: f64,
-        sizes: Sizes,
-        checked: Build,
-    ) -> BuildPlan {
+    fn at(problem: &Problem, settings: &PrintSettings, sizes: Sizes, checked: Build) -> BuildPlan {
         let (notes, check) = match checked {
-            Build::Model(ModelScale::Fixed(scale)) => (
-                sizes.notes(scale),
-                Some(FeasibilityCheck::new(problem, settings, object_mm_per_unit * scale.factor())),
-            ),
+            Build::Model(ModelScale::Fixed(scale)) => {
+                (sizes.notes(scale), Some(FeasibilityCheck::new(problem, settings, scale)))
+            }
             _ => (Vec::new(), None),
         };
-        BuildPlan { asked: problem.build, checked, object_mm_per_unit, notes, drawn: drawn_box(problem), sizes, check }
+        BuildPlan {
+            asked: problem.build,
+            checked,
+            object_mm_per_unit: problem.units.millimetres(),
+            notes,
+            drawn: drawn_box(problem),
+            sizes,
+            check,
+        }
     }
 
     /// Runs the synthesis (`options`, whose own check is replaced by this build's) for this build.
@@ -259,13 +259,7 @@ impl BuildPlan {
             .take(tries)
             .collect();
         for scale in larger {
-            let plan = BuildPlan::at(
-                problem,
-                settings,
-                self.object_mm_per_unit,
-                self.sizes.clone(),
-                Build::Model(ModelScale::Fixed(scale)),
-            );
+            let plan = BuildPlan::at(problem, settings, self.sizes.clone(), Build::Model(ModelScale::Fixed(scale)));
             let outcome = run(&plan)?;
             if !refused(&outcome) {
                 return Ok((plan, outcome));

@@ -8,15 +8,15 @@ use super::settings::{Bed, Dims, Faces, PrintSettings};
 use super::travel::{motion_trace, Travel};
 use crate::kinematics::Trace;
 use crate::mechanism::Mechanism;
-use crate::scene::Problem;
+use crate::scene::{Problem, Ratio};
 
 /// A reusable printability check for one scene (paper §7.2: candidates without an ordering are
-/// rejected). Build it once per problem; [`FeasibilityCheck::check`] then simulates the motion at the
-/// steps fabrication takes, places the connectors (testing candidate post places against the links'
-/// sweep, and pads against the other bodies on bodies too thin for a post), checks that every link,
-/// connector, guide and frame fits the print bed, records the constraints over the rows (about
-/// `rows × members²` distances between cores of at most three points) and asks the solver for any
-/// ordering, with pins fused to bodies and then with connectors everywhere. A candidate costs
+/// rejected). Build it once per problem and model scale; [`FeasibilityCheck::check`] then simulates
+/// the motion at the steps fabrication takes, places the connectors (testing candidate post places
+/// against the links' sweep, and pads against the other bodies on bodies too thin for a post), checks
+/// that every link, connector, guide and frame fits the print bed, records the constraints over the
+/// rows (about `rows × members²` distances between cores of at most three points) and asks the solver
+/// for any ordering, with pins fused to bodies and then with connectors everywhere. A candidate costs
 /// 0.2–2 ms, ten to a hundred times its collision sweep (`cargo bench -p linkwright-core --bench
 /// kernels`, `printability_check` against `collision_sweep`), so run it after the collision check
 /// (see `docs/fabrication.md`).
@@ -37,8 +37,10 @@ impl crate::synth::Acceptance for FeasibilityCheck {
 }
 
 impl FeasibilityCheck {
-    /// The check with the given settings in a scene of `mm_per_unit` millimetres per unit.
-    pub fn new(problem: &Problem, settings: &PrintSettings, mm_per_unit: f64) -> FeasibilityCheck {
+    /// The check with the given settings for a model at `scale` of the drawing (in the scene's units),
+    /// as [`fabricate`](super::pipeline::fabricate) makes it.
+    pub fn new(problem: &Problem, settings: &PrintSettings, scale: Ratio) -> FeasibilityCheck {
+        let mm_per_unit = problem.units.millimetres() * scale.factor();
         FeasibilityCheck {
             shapes: SceneShapes::new(problem, Dims::new(settings, mm_per_unit)),
             faces: settings.faces,

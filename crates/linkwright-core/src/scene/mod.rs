@@ -14,6 +14,6 @@ pub use file::{
 pub(crate) use problem::repeated_pose_words;
 pub(crate) use problem::CONTACT_FRACTION;
 pub use problem::{MovingBodyProblem, PoseMiss, Problem};
-pub use units::{Units, UnitsParseError};
+pub use units::{KnownUnit, Units, UnitsParseError};
 pub(crate) use validate::name_problems;
 pub use validate::{limits, validate, Issue, Severity};

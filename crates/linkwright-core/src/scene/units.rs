@@ -4,15 +4,35 @@
 use std::fmt;
 use std::str::FromStr;
 
-/// Each unit a scene may be drawn in: the symbol messages use, every other word read for it (in any
-/// case, with spaces around it ignored), and the millimetres in one unit.
-const KNOWN: [(&str, &[&str], f64); 6] = [
-    ("mm", &["", "mm", "millimeter", "millimeters", "millimetre", "millimetres"], 1.0),
-    ("cm", &["cm", "centimeter", "centimeters", "centimetre", "centimetres"], 10.0),
-    ("m", &["m", "meter", "meters", "metre", "metres"], 1000.0),
-    ("in", &["in", "inch", "inches"], 25.4),
-    ("ft", &["ft", "foot", "feet"], 304.8),
-    ("µm", &["um", "µm", "micrometer", "micrometers"], 0.001),
+/// A unit a scene may be drawn in, as [`Units::known`] lists it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KnownUnit {
+    /// The symbol messages use (`"in"`).
+    pub symbol: &'static str,
+    /// Every word read as this unit, the symbol among them, in lower case: a scene's word is read as
+    /// the unit when, with the spaces around it trimmed and its ASCII letters lowered, it is one of
+    /// these (`" Inches"` is `"inches"`). The empty word is millimetres.
+    pub words: &'static [&'static str],
+    /// Millimetres in one unit (25.4).
+    pub millimetres: f64,
+}
+
+/// Every unit a scene may be drawn in, the default (millimetres) first.
+const KNOWN: [KnownUnit; 6] = [
+    KnownUnit {
+        symbol: "mm",
+        words: &["", "mm", "millimeter", "millimeters", "millimetre", "millimetres"],
+        millimetres: 1.0,
+    },
+    KnownUnit {
+        symbol: "cm",
+        words: &["cm", "centimeter", "centimeters", "centimetre", "centimetres"],
+        millimetres: 10.0,
+    },
+    KnownUnit { symbol: "m", words: &["m", "meter", "meters", "metre", "metres"], millimetres: 1000.0 },
+    KnownUnit { symbol: "in", words: &["in", "inch", "inches"], millimetres: 25.4 },
+    KnownUnit { symbol: "ft", words: &["ft", "foot", "feet"], millimetres: 304.8 },
+    KnownUnit { symbol: "µm", words: &["um", "µm", "micrometer", "micrometers"], millimetres: 0.001 },
 ];
 
 /// The length unit of a scene's coordinates: the word the scene writes and the millimetres in one
@@ -36,6 +56,27 @@ pub struct Units {
 }
 
 impl Units {
+    /// Every unit this version reads, the default (millimetres) first: the table a scene's word is
+    /// read with, for code that must read the word as the engine does.
+    ///
+    /// ```
+    /// use linkwright_core::Units;
+    ///
+    /// let inch = Units::known().iter().find(|u| u.symbol == "in").expect("inches are known");
+    /// assert_eq!((inch.words, inch.millimetres), (&["in", "inch", "inches"][..], 25.4));
+    /// // Each word, in capitals and with spaces around it, reads as its unit.
+    /// for unit in Units::known() {
+    ///     for word in unit.words {
+    ///         let units: Units = format!(" {} ", word.to_ascii_uppercase()).parse()?;
+    ///         assert_eq!(units.millimetres(), unit.millimetres, "{word:?}");
+    ///     }
+    /// }
+    /// # Ok::<(), linkwright_core::UnitsParseError>(())
+    /// ```
+    pub fn known() -> &'static [KnownUnit] {
+        &KNOWN
+    }
+
     /// Millimetres in one unit (25.4 for inches).
     pub fn millimetres(&self) -> f64 {
         self.millimetres
@@ -73,7 +114,7 @@ pub struct UnitsParseError {
 
 /// The known units' symbols, as a list a person reads: `mm, cm, ... or µm`.
 fn symbols() -> String {
-    let symbols: Vec<&str> = KNOWN.iter().map(|(symbol, _, _)| *symbol).collect();
+    let symbols: Vec<&str> = KNOWN.iter().map(|unit| unit.symbol).collect();
     let (last, rest) = symbols.split_last().expect("some unit is known");
     format!("{} or {last}", rest.join(", "))
 }
@@ -85,8 +126,8 @@ impl FromStr for Units {
         let read = word.trim().to_ascii_lowercase();
         KNOWN
             .iter()
-            .find(|(_, words, _)| words.contains(&read.as_str()))
-            .map(|&(_, _, millimetres)| Units { word: word.to_string(), millimetres })
+            .find(|unit| unit.words.contains(&read.as_str()))
+            .map(|unit| Units { word: word.to_string(), millimetres: unit.millimetres })
             .ok_or_else(|| UnitsParseError { word: word.chars().take(64).collect() })
     }
 }
@@ -114,6 +155,21 @@ mod tests {
             }
         }
         assert_eq!(Units::default(), "mm".parse().unwrap());
+    }
+
+    /// The table is read by others too (the web app): a word is in the form a scene's word is read
+    /// to, names one unit only, and each unit's symbol is one of its words.
+    #[test]
+    fn the_known_words_are_read_forms_of_one_unit_each() {
+        let mut seen = std::collections::HashSet::new();
+        for unit in Units::known() {
+            assert!(unit.words.contains(&unit.symbol), "{unit:?}");
+            for word in unit.words {
+                assert_eq!(word.trim().to_ascii_lowercase(), *word, "{unit:?}");
+                assert!(seen.insert(*word), "{word:?} is read for two units");
+            }
+        }
+        assert_eq!(Units::known()[0].millimetres, Units::default().millimetres());
     }
 
     #[test]

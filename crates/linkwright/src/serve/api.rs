@@ -21,7 +21,7 @@ use linkwright_core::geom::Point;
 use linkwright_core::statics::Masses;
 use linkwright_core::{
     animation_svg, design_svg, DesignFile, EditError, Mechanism, MechanismType, Options, Problem, Progress, Reject,
-    RenderInput, Scene, Start, Status,
+    RenderInput, Scene, Start, Status, Units,
 };
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -99,6 +99,18 @@ pub(super) async fn families() -> Json<Value> {
             .map(|f| {
                 json!({"id": f.id(), "label": f.label(), "description": f.description(), "max_bodies": f.max_bodies()})
             })
+            .collect(),
+    ))
+}
+
+/// `GET /api/units`: the length units a scene may be drawn in, as the engine reads them: each one's
+/// `symbol`, every word read for it (`words`, matched trimmed and with ASCII letters lowered) and the
+/// `millimetres` in one unit.
+pub(super) async fn units() -> Json<Value> {
+    Json(Value::Array(
+        Units::known()
+            .iter()
+            .map(|u| json!({"symbol": u.symbol, "words": u.words, "millimetres": u.millimetres}))
             .collect(),
     ))
 }

@@ -57,6 +57,7 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/api/examples/{name}", get(api::example))
         .route("/api/status", get(api::status))
         .route("/api/families", get(api::families))
+        .route("/api/units", get(api::units))
         .route("/api/design", post(api::design))
         .route("/api/design/stream", post(api::design_stream))
         .route("/api/check", post(api::check))

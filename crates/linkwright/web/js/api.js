@@ -133,6 +133,9 @@
  * @property {{check: string, message: string} | null} rejected
  *
  * @typedef {{id: string, label: string, description: string, max_bodies: number | null}} Family
+ * @typedef {{symbol: string, words: string[], millimetres: number}} LengthUnit  A unit a scene may be
+ *   drawn in: the scene's word is the unit when, trimmed and with its ASCII letters lowered, it is one
+ *   of `words`.
  * @typedef {{name: string, title: string, bodies: number, fixed_bodies: number, poses: number}} ExampleSummary
  * @typedef {{poses_per_body: number, moving_bodies: number} & Record<string, number>} Limits
  * @typedef {{version: string, limits: Limits}} Status
@@ -303,6 +306,8 @@ async function request(method, path, body, signal) {
 export const examples = () => request('GET', '/api/examples');
 /** @type {() => Promise<Family[]>} */
 export const families = () => request('GET', '/api/families');
+/** The length units a scene may be drawn in, as the engine reads them. @type {() => Promise<LengthUnit[]>} */
+export const units = () => request('GET', '/api/units');
 /** The server's jobs and limits (of scenes too: `limits.poses_per_body`, `limits.moving_bodies`). @type {() => Promise<Status>} */
 export const status = () => request('GET', '/api/status');
 /** An example's scene/1 file, as JSON. @type {(name: string) => Promise<unknown>} */

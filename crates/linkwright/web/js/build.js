@@ -5,6 +5,8 @@
 
 import { placed } from './geom.js';
 
+/** @typedef {import('./api.js').LengthUnit} LengthUnit */
+
 /**
  * A build's word read: a printed model at a scale (`auto`, or `A:B`), or the object at full size in
  * a workshop material.
@@ -103,19 +105,33 @@ export function suggestedScale(reason) {
   return m ? `${Number(m[1])}:${Number(m[2])}` : null;
 }
 
-/** @type {Record<string, number>} */
-const UNIT_MM = { '': 1, mm: 1, cm: 10, m: 1000, in: 25.4, ft: 304.8 };
+/**
+ * Millimetres in one unit of a scene's `units` word, read as the engine reads it with its table
+ * `units` (GET /api/units): the unit one of whose words it is, trimmed and with its ASCII letters
+ * lowered (a scene without the word is in millimetres); null for a word of no unit.
+ * @param {string | undefined} word
+ * @param {LengthUnit[]} units
+ * @returns {number | null}
+ */
+function millimetresPerUnit(word, units) {
+  // The engine lowers ASCII letters only; a letter that lowers to one elsewhere (the Kelvin sign's k)
+  // must not make a word it refuses.
+  const read = String(word ?? 'mm').trim().replace(/[A-Z]+/g, (letters) => letters.toLowerCase());
+  return units.find((u) => u.words.includes(read))?.millimetres ?? null;
+}
 
 /**
  * The printed model's extent `[w, h]` in millimetres at a fixed `scale` (`A:B`): everything drawn (the
- * fixed bodies, the moving bodies at every pose, the linkage region), as the engine measures it; null
- * when the units are not a length or nothing is drawn.
+ * fixed bodies, the moving bodies at every pose, the linkage region), as the engine measures it, its
+ * units read with the engine's table `units`; null when the units are none of the table's (or the
+ * table is not loaded: empty) or nothing is drawn.
  * @param {import('./scene.js').Scene} scene
  * @param {string} scale
+ * @param {LengthUnit[]} units
  * @returns {[number, number] | null}
  */
-export function modelExtent(scene, scale) {
-  const perUnit = UNIT_MM[String(scene.units ?? 'mm').trim().toLowerCase()];
+export function modelExtent(scene, scale, units) {
+  const perUnit = millimetresPerUnit(scene.units, units);
   const [a, b] = scale.split(':').map(Number);
   const drawn = [
     ...scene.fixed_bodies.flatMap((f) => f.polygon),

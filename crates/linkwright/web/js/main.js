@@ -241,7 +241,7 @@ function renderTabs(what) {
   const switched = tab !== shownTab;
   shownTab = tab;
   if (tab === 'object') renderObjectTab($('tab-object'), store);
-  if (tab === 'settings' && (switched || what.has('scene') || what.has('families'))) renderSettingsTab($('tab-settings'), store);
+  if (tab === 'settings' && (switched || what.has('scene') || what.has('families') || what.has('lengthUnits'))) renderSettingsTab($('tab-settings'), store);
   if (tab === 'result' && (switched || what.has('result') || what.has('scene'))) {
     // Drawn again on every change: where the person had scrolled to stays (unless the tab was just opened).
     const host = $('tab-result'), top = host.scrollTop;
@@ -451,6 +451,11 @@ new ResizeObserver(resize).observe(root);
 api.families().then((families) => {
   store.setFamilies(families);
 }, (e) => store.hint(`Cannot reach the engine: ${e.message}`));
+// The size of a printed model (Settings › Build) reads the scene's units with the engine's table;
+// without it the size is not shown, and the server still says it when it answers.
+api.units().then((units) => {
+  store.setLengthUnits(units);
+}, () => {});
 // The engine's limits on a scene: Insert pose stops at its most poses.
 api.status().then((status) => {
   store.setLimits(status.limits);

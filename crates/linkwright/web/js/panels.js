@@ -221,7 +221,7 @@ function buildSection(store) {
   };
   if (b?.kind === 'model') {
     const scales = [...new Set([...SCALES, ...(b.scale === 'auto' ? [] : [b.scale])])];
-    const size = b.scale === 'auto' ? null : modelExtent(scene, b.scale);
+    const size = b.scale === 'auto' ? null : modelExtent(scene, b.scale, store.lengthUnits);
     const help = b.scale === 'auto'
       ? '1:1 when the links fit the printer’s bed and the pins fit the parts, else the largest scale at which they do (the Result tab names it)'
       : size ? `everything drawn is ${extent(size)} in the model` : 'one length of the model for so many of the object';
@@ -272,7 +272,8 @@ export function renderSettingsTab(host, store) {
     number(st.seed, 'seed', (v) => setSetting('seed', Math.max(0, Math.round(v))), { min: 0, step: 1 }),
     html('button', { class: 'small', text: 'New seed', title: 'Another random search', onclick: () => setSetting('seed', Math.floor(Math.random() * 1e6)) }),
   ]);
-  const knownUnits = ['mm', 'cm', 'm', 'in', 'ft'];
+  // The engine's units by their symbols (none until loaded), and the scene's word as it is written.
+  const knownUnits = store.lengthUnits.map((u) => u.symbol);
   const units = html('select', {
     'data-key': 'units', 'aria-label': 'Units',
     onchange: (e) => {

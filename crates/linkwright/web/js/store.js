@@ -17,6 +17,7 @@
  * @typedef {import('./api.js').CheckAnswer} CheckAnswer
  * @typedef {import('./api.js').Balance} Balance
  * @typedef {import('./api.js').Family} Family
+ * @typedef {import('./api.js').LengthUnit} LengthUnit
  * @typedef {import('./api.js').Limits} Limits
  */
 
@@ -39,7 +40,7 @@
  *
  * @typedef {'select' | 'pan' | 'rect' | 'polygon' | 'ellipse'} Tool
  * @typedef {'object' | 'settings' | 'result'} Tab
- * @typedef {'ui' | 'scene' | 'result' | 'hint' | 'families'} Change  what changed, for the listeners
+ * @typedef {'ui' | 'scene' | 'result' | 'hint' | 'families' | 'lengthUnits'} Change  what changed, for the listeners
  */
 
 /**
@@ -119,6 +120,8 @@ export class Store {
     };
     /** @type {Family[]} the engine's mechanism families (GET /api/families), once loaded */
     this.families = [];
+    /** @type {LengthUnit[]} the length units the engine reads (GET /api/units), once loaded */
+    this.lengthUnits = [];
     /** @type {Limits | null} the engine's limits on a scene (GET /api/status), once loaded */
     this.limits = null;
     /** @type {Result | null} */
@@ -325,6 +328,15 @@ export class Store {
   setFamilies(families) {
     this.families = families;
     this.changed('families');
+  }
+
+  /**
+   * The length units the engine reads, loaded.
+   * @param {LengthUnit[]} units
+   */
+  setLengthUnits(units) {
+    this.lengthUnits = units;
+    this.changed('lengthUnits');
   }
 
   /**
