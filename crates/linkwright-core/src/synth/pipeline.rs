@@ -25,7 +25,7 @@ use std::time::Instant;
 const RETRY_NOISE: f64 = 0.1;
 /// Mixed into the seed of the second search a cold run makes when its first found no design or a
 /// poor one ([`worth_another_search`]).
-const FAR_RETRY_STREAM: u64 = 0x6661_7200;
+const SECOND_SEARCH_STREAM: u64 = 0x6661_7200;
 /// A design that misses some pose by more than this fraction of its body's size d, or by more than
 /// [`LOOSE_ANGLE_DEG`], is worth a second search from other samples: one seed's search can settle on
 /// a linkage well off the poses where another finds one through them (a known Stephenson-III through
@@ -393,13 +393,13 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         let closer: Vec<Context> = contexts.into_iter().map(|ctx| ctx.perturbed_less(RETRY_NOISE)).collect();
         picked = design_round(problem, options, &closer, &workspaces, &mut run)?;
     }
-    // A design far from the poses is not what was asked for, and one near a dead point not what a
-    // mechanic would build: a cold run searches once more, from other samples, and keeps what is
+    // No design, one off the poses or one near a dead point: a cold run searches once more, from
+    // other samples (a warm start is the person's own design, and is kept), and keeps what is
     // closest, then cheapest.
     let far = |c: &Candidate| far_from_pose(problem, &pose_misses(problem, &c.mechanism, &c.trace, &c.pose_rows));
     if matches!(options.start, Start::Cold) && worth_another_search(problem, picked.first()) {
         let mut reseeded = problem.clone();
-        reseeded.settings.seed = splitmix(problem.settings.seed ^ FAR_RETRY_STREAM);
+        reseeded.settings.seed = splitmix(problem.settings.seed ^ SECOND_SEARCH_STREAM);
         let again = family_contexts(&reseeded, &families, options);
         picked.extend(design_round(&reseeded, options, &again, &workspaces, &mut run)?);
         // Designs near every pose first, then by cost.
