@@ -999,7 +999,8 @@ fn by_floor(a: &(f64, usize), b: &(f64, usize)) -> std::cmp::Ordering {
 /// Puts the first `upto` of `floors` in their places in [`by_floor`] order, the first `sorted` being
 /// there already: the smallest [`SORT_BLOCK`] of the rest are selected and sorted at a time. The
 /// simulation stops long before the last floor (the sofa bed: after about 3,000 of 56,000), and
-/// sorting them all took 1.7% of its instructions.
+/// sorting them all would cost about 2% of its instructions (`valgrind --tool=callgrind linkwright
+/// design examples/k1_sofa_bed.json --threads 1 --no-print-check`).
 fn sort_ahead(floors: &mut [(f64, usize)], sorted: &mut usize, upto: usize) {
     while *sorted < upto.min(floors.len()) {
         let rest = &mut floors[*sorted..];
@@ -1018,12 +1019,13 @@ fn sort_ahead(floors: &mut [(f64, usize)], sorted: &mut usize, upto: usize) {
 /// Samples are simulated lowest floor first ([`by_floor`]), and the simulation stops at the first
 /// floor above the costliest kept candidate once the cap is reached: every later sample's cost is at
 /// least its floor, so none could enter. The result is the set a simulation of every sample would
-/// keep, but only the samples with a floor under the final bar are simulated (sofa bed, with a cap of
-/// 2,000: 2,620, where a pass in sample order simulated 10,072). Chunks change only how far past that
+/// keep, but only the samples with a floor under the final bar are simulated (on the sofa bed about a
+/// quarter of what a pass in sample order would). Chunks change only how far past that
 /// bar the simulation runs, never the result, so threads never change it.
 ///
 /// Each sample is drawn again rather than kept from the screening: keeping every screened mechanism
-/// cost more (sofa bed +30 ms) than redrawing the few simulated.
+/// costs more memory, and so time, than redrawing the few simulated (docs/performance.md, "Memory is
+/// time here").
 fn simulate_cheapest(
     run: &mut Run,
     stage: FamilyStage,
