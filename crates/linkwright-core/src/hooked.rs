@@ -66,7 +66,7 @@ pub fn fabricate_with_springs(
 ) -> Result<Hooked, HookedError> {
     // The model is printed, weighed and sprung at its scale.
     let scale = model_scale(problem, Some(design), settings);
-    let mm = problem.units.millimetres() * scale.factor();
+    let mm = problem.units.model_millimetres(scale);
     let masses = Masses::model(settings, &problem.units, scale).map_err(|e| HookedError::Statics(e.to_string()))?;
     // The design is checked once, and must fabricate without springs: an ordering that fails with
     // them then fails for their hooks.

@@ -133,7 +133,7 @@ impl Masses {
             return Err(MassesError::Scale(scale));
         }
         Ok(Masses {
-            millimetres_per_unit: units.millimetres() * factor,
+            millimetres_per_unit: units.model_millimetres(scale),
             // g/cm³ is 10⁻⁶ kg/mm³.
             kg_per_mm3: settings.density * settings.fill_fraction * 1e-6,
             body_thickness: settings.body_thickness,

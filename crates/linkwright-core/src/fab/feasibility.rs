@@ -40,7 +40,7 @@ impl FeasibilityCheck {
     /// The check with the given settings for a model at `scale` of the drawing (in the scene's units),
     /// as [`fabricate`](super::pipeline::fabricate) makes it.
     pub fn new(problem: &Problem, settings: &PrintSettings, scale: Ratio) -> FeasibilityCheck {
-        let mm_per_unit = problem.units.millimetres() * scale.factor();
+        let mm_per_unit = problem.units.model_millimetres(scale);
         FeasibilityCheck {
             shapes: SceneShapes::new(problem, Dims::new(settings, mm_per_unit)),
             faces: settings.faces,

@@ -33,7 +33,7 @@ pub fn fabricate(
     if !issues.is_empty() {
         return Err(FabError::Settings(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; ")));
     }
-    let mm_per_unit = problem.units.millimetres() * scale.factor();
+    let mm_per_unit = problem.units.model_millimetres(scale);
     if !(mm_per_unit.is_finite() && mm_per_unit > 0.0) {
         return Err(FabError::Scale(scale));
     }

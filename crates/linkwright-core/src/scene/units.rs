@@ -1,6 +1,7 @@
 //! The length unit a scene is drawn in: read once from the scene's `units` field, so every later
 //! stage has a length with a known size in millimetres.
 
+use super::build::Ratio;
 use std::fmt;
 use std::str::FromStr;
 
@@ -80,6 +81,12 @@ impl Units {
     /// Millimetres in one unit (25.4 for inches).
     pub fn millimetres(&self) -> f64 {
         self.millimetres
+    }
+
+    /// Millimetres of a model at `scale` for one unit of the drawing (2.54 for inches at 1:10): what
+    /// printing, fabricating and weighing a model measure the drawing in.
+    pub fn model_millimetres(&self, scale: Ratio) -> f64 {
+        self.millimetres * scale.factor()
     }
 
     /// The word as the scene writes it.

@@ -186,7 +186,7 @@ const MAX_PRINTED_BODY_MM: f64 = 100_000.0;
 /// `prefix` is the request field of the scene.
 pub(super) fn printable_size(problem: &Problem, settings: &PrintSettings, prefix: &str) -> Result<(), ApiError> {
     // What is printed is the model, at its scale.
-    let mm = problem.units.millimetres() * model_scale(problem, None, settings).factor();
+    let mm = problem.units.model_millimetres(model_scale(problem, None, settings));
     let across = |points: &mut dyn Iterator<Item = &linkwright_core::geom::Point>| {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
