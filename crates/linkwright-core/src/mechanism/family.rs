@@ -28,10 +28,11 @@ pub trait Family: Sync {
     fn max_exact_poses(&self, bodies: usize) -> usize;
     /// The loops of `topology` whose types (Grashof's, for a four-bar) describe how it moves.
     fn loops(&self, topology: &Topology) -> Vec<Loop>;
-    /// Whether the linkage for `bodies` bodies is a long chain of ternary links, which the sampler
-    /// perturbs less and tries harder to close.
-    fn long_chain(&self, _bodies: usize) -> bool {
-        false
+    /// The factor on the scene's pose noise for this family's linkage of `bodies` bodies through
+    /// `poses` poses: how far the sampler perturbs the intermediate poses it fits a sample through,
+    /// relative to the scene's `pose_tolerance` and `angle_tolerance_deg`.
+    fn pose_noise(&self, _bodies: usize, _poses: usize) -> f64 {
+        1.0
     }
     /// The family's own stream of random numbers, so adding a family changes no other's samples.
     fn stream(&self) -> u64;
@@ -114,8 +115,39 @@ impl MechanismType {
 /// The multi-bar chain of paper §4.2 (see [`Topology::chain`]).
 struct Chain;
 
-/// Chains of this many bodies or more are long ([`Family::long_chain`]).
+/// Chains of this many bodies or more are long, and take [`LONG_CHAIN_NOISE`].
 const LONG_CHAIN: usize = 4;
+/// The pose noise of long chains ([`Family::pose_noise`]). Every body's intermediate pose is
+/// perturbed on its own, and each ternary link must be rigid through the relative motion of two
+/// perturbed bodies, so the more bodies, the farther the fits land from any linkage through the drawn
+/// poses: their loops lock up between the poses. Chains of four to six bodies through three poses
+/// (`linkwright bench --known`, the K = 4–6, N = 3 rows) find a design on 8 of 9 scenes with this
+/// factor, worst pose error 0.08·d; at the paper's 0.5·d the worst is 0.24·d (those scenes from
+/// `--save DIR` with `settings.pose_tolerance` and `angle_tolerance_deg` ten times as large,
+/// `linkwright design SCENE --no-print-check`). Shorter chains gain nothing from it (K = 2 and 3
+/// through three poses: costs higher on three of six scenes at a factor of 0.44).
+const LONG_CHAIN_NOISE: f64 = 0.1;
+/// The pose noise of the one-body six-bars through as many poses as the body's four-bar meets
+/// exactly or more ([`Family::pose_noise`]). A six-bar has three links to fit where a four-bar has
+/// two, and there the body's ground link is down to a few Burmester points, which move far with
+/// each perturbed pose: fits to poses perturbed as far as the scene allows keep few linkages, and
+/// those far from the drawn poses. On the known Watt-II (one way and out and back) and
+/// Stephenson-III scenes through 5–8 poses, scene seeds 0–2 (`linkwright bench --known --save DIR`,
+/// then `linkwright design` on each with `pose_tolerance` and `angle_tolerance_deg` scaled), 24 of
+/// 36 come within 0.05·d of every pose at the full noise, 33 at 0.4 of it and 35 at 0.2, where the
+/// median worst miss falls from 0.019 to 0.008·d and the runs take a quarter less time. Through
+/// fewer poses the full noise stays: the reference scenes through three poses, where it finds other
+/// linkages, lose as many designs as they gain at 0.2 (`k1_peg` seed 0: cost 3.2 to 13).
+const SIX_BAR_NOISE: f64 = 0.2;
+
+/// [`SIX_BAR_NOISE`] through `poses` poses, for a six-bar whose body's four-bar meets `exact`.
+fn six_bar_noise(exact: usize, poses: usize) -> f64 {
+    if poses >= exact {
+        SIX_BAR_NOISE
+    } else {
+        1.0
+    }
+}
 
 impl Family for Chain {
     fn mechanism_type(&self) -> MechanismType {
@@ -156,8 +188,12 @@ impl Family for Chain {
             })
             .collect()
     }
-    fn long_chain(&self, bodies: usize) -> bool {
-        bodies >= LONG_CHAIN
+    fn pose_noise(&self, bodies: usize, _poses: usize) -> f64 {
+        if bodies >= LONG_CHAIN {
+            LONG_CHAIN_NOISE
+        } else {
+            1.0
+        }
     }
     fn stream(&self) -> u64 {
         0
@@ -257,6 +293,9 @@ impl Family for WattTwo {
     fn max_exact_poses(&self, _bodies: usize) -> usize {
         5
     }
+    fn pose_noise(&self, bodies: usize, poses: usize) -> f64 {
+        six_bar_noise(self.max_exact_poses(bodies), poses)
+    }
     /// The driving four-bar `u0 q0 t1 u1`, then the body's `q0 r0 q1 p1`.
     fn loops(&self, topology: &Topology) -> Vec<Loop> {
         let joint = |name: &str| topology.joint(name);
@@ -316,6 +355,9 @@ impl Family for StephensonThree {
     /// four-bar's coupler curve, which passes more points than that.
     fn max_exact_poses(&self, _bodies: usize) -> usize {
         5
+    }
+    fn pose_noise(&self, bodies: usize, poses: usize) -> f64 {
+        six_bar_noise(self.max_exact_poses(bodies), poses)
     }
     /// The four-bar `q0 u0 b1 a1` the body hangs from (the body's own loop is a five-bar).
     fn loops(&self, topology: &Topology) -> Vec<Loop> {

@@ -39,17 +39,6 @@ pub(crate) const MUST_HIT_POSITION: f64 = 0.005;
 /// The angle a design may miss a must-hit pose by, degrees.
 pub(crate) const MUST_HIT_ANGLE_DEG: f64 = 0.5;
 
-/// The factor on the pose noise of long chains (four bodies or more, [`crate::mechanism::Family::long_chain`]). Every body's
-/// intermediate pose is perturbed on its own, and each ternary link must be rigid through the
-/// relative motion of two perturbed bodies, so the more bodies, the farther the fits land from any
-/// linkage through the drawn poses: their loops lock up between the poses. Chains of four to six
-/// bodies through three poses (`linkwright bench --known`, the K = 4–6, N = 3 rows) find a design on
-/// 8 of 9 scenes with this factor, worst pose error 0.08·d; at the paper's 0.5·d the worst is 0.24·d
-/// (those scenes from `--save DIR` with `settings.pose_tolerance` and `angle_tolerance_deg` ten times
-/// as large, `linkwright design SCENE --no-print-check`). Shorter chains gain nothing from it (K = 2
-/// and 3 through three poses: costs higher on three of six scenes at a factor of 0.44).
-pub(crate) const LONG_CHAIN_NOISE: f64 = 0.1;
-
 /// Per-topology precomputation for one problem.
 #[derive(Debug)]
 pub(crate) struct Context<'a> {
@@ -113,8 +102,8 @@ pub(crate) struct Context<'a> {
     /// The factor on the scene's pose noise (`pose_tolerance`, `angle_tolerance_deg`): 1, or for an
     /// over-determined motion the square of the share of its intermediate poses an exact fit could
     /// pass through. Noise on every one of many intermediate poses does not widen the set of linkages
-    /// a fit finds; it pulls the fit away from every linkage, towards collapsed links. Long chains take
-    /// `LONG_CHAIN_NOISE` on top.
+    /// a fit finds; it pulls the fit away from every linkage, towards collapsed links. The family's own
+    /// factor comes on top ([`crate::mechanism::Family::pose_noise`]).
     pub noise_scale: f64,
     /// `must_hit_motions[b]`: body b's motion to each must-hit pose (the first, the last and those the
     /// scene marks), the poses every linkage is kept rigid through (`END_DEVIATION`).
@@ -162,8 +151,7 @@ impl<'a> Context<'a> {
         } else {
             1.0
         };
-        let noise_scale =
-            overdetermined_noise * if family.long_chain(topology.body_count) { LONG_CHAIN_NOISE } else { 1.0 };
+        let noise_scale = overdetermined_noise * family.pose_noise(topology.body_count, problem.pose_count);
         let unperturbed = problem.settings.pose_tolerance == 0.0;
         // A pin of a joint this topology lacks is left out; `pipeline::families` tries no such family.
         let pins: Vec<(usize, Point)> =

@@ -193,6 +193,20 @@ impl<'c, 'p> Sampler<'c, 'p> {
         true
     }
 
+    /// The linkage of parameter vector `start` as it is, with the poses as drawn, into `scratch`
+    /// ([`SampleScratch::mechanism`]): a previous design judged without a fit. False when its joints
+    /// are not all finite.
+    pub(crate) fn draw_as_is(&self, start: &[f64], scratch: &mut SampleScratch) -> bool {
+        let ctx = self.ctx;
+        if start.len() != ctx.rigidity.dim() || !start.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        scratch.motions.clone_from(&ctx.motions);
+        let m = scratch.mechanism.get_or_insert_with(|| empty_mechanism(ctx));
+        mechanism_into_x(ctx, start, None, m);
+        true
+    }
+
     /// [`Sampler::draw`], as an owned mechanism (`None` when the fit failed).
     #[cfg(test)]
     pub(crate) fn sample(
