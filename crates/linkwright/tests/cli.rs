@@ -87,7 +87,6 @@ fn design_writes_the_design_its_pictures_and_passes_check() {
         let (x, y) = (first[2 + 2 * k], first[3 + 2 * k]);
         assert!((x - at[0].as_f64().unwrap()).abs() < 1e-9 && (y - at[1].as_f64().unwrap()).abs() < 1e-9);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -101,7 +100,6 @@ fn one_and_two_threads_write_the_same_design() {
     let one = strip(design_garbage_truck(&dir, "1"));
     let two = strip(design_garbage_truck(&dir, "2"));
     assert_eq!(one, two);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -120,7 +118,6 @@ fn json_flag_prints_the_design() {
     let v: Value = serde_json::from_str(&text(&run.stdout)).expect("stdout is the design JSON");
     assert_eq!(v["linkwright"], "design/1");
     assert_eq!(v["mechanism"]["type"], "chain");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -147,7 +144,6 @@ fn an_impossible_scene_is_a_no_solution_with_a_reason() {
     assert!(text(&run.stdout).contains("no solution"));
     let check = linkwright(&["check", path.to_str().unwrap(), out.join("design.json").to_str().unwrap()]);
     assert_eq!(check.status.code(), Some(0));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -171,7 +167,6 @@ fn check_refuses_an_endless_travel_at_once() {
     assert_eq!(check.status.code(), Some(2), "an unusable design file is bad input");
     let stderr = text(&check.stderr);
     assert!(stderr.contains("motion.crank_end_deg") && stderr.contains("720"), "{stderr}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A design whose links fit the bed but whose other parts do not (the reference scene `k1_limitation`:
@@ -198,7 +193,6 @@ fn an_unbuildable_model_names_the_parts_that_do_not_fit() {
     let (bed_needed_mm, scale) = (number_after("need a bed "), number_after("print at 1:"));
     assert!(bed_needed_mm > 220.0 && bed_needed_mm / scale <= 220.0, "{reason}");
     assert!(reason.contains("or smaller"), "{reason}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A real object drawn at its real size designs as a printed model at a scale that fits; printed at
@@ -345,5 +339,4 @@ fn analyze_gives_the_torque_along_the_motion() {
     let table = text(&table.stdout);
     assert!(table.contains("torque (N·mm)") && table.contains("peak "), "{table}");
     assert!(table.contains("counterbalance:") && table.contains("with springs"), "{table}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -112,7 +112,6 @@ fn every_design_of_the_corpus_is_refused_or_stays_in_its_folder() {
         assert!(outside.is_empty(), "{name}: wrote outside the output folder: {outside:?}");
         assert!(!dir.parent().unwrap().join("ESCAPED.stl").exists() && !Path::new("/tmp/ABSOLUTE.stl").exists());
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -129,7 +128,6 @@ fn a_part_named_to_escape_stays_inside_the_output_folder() {
         let file = part["file"].as_str().unwrap();
         assert!(file.starts_with("parts/") && !file.contains(".."), "{file}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -147,7 +145,6 @@ fn parts_with_the_same_name_do_not_overwrite_each_other() {
     assert!(files.contains(&"parts/body1.stl") && files.contains(&"parts/body1-2.stl"), "{files:?}");
     let stl = files_under(&out.join("parts"));
     assert_eq!(stl.len(), files.len(), "one file per part: {stl:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -171,7 +168,6 @@ fn endless_travels_are_refused_at_once_in_little_memory() {
             assert!(!out.exists());
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -186,7 +182,6 @@ fn a_later_format_is_refused() {
     let run = fabricate(&path, &dir.join("out"));
     assert_eq!(run.status.code(), Some(2));
     assert!(text(&run.stderr).contains("design/2"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -200,7 +195,6 @@ fn fabricate_refuses_a_design_that_check_rejects() {
     let stderr = text(&run.stderr);
     assert!(stderr.contains("fails its check") && stderr.contains("order:"), "{stderr}");
     assert!(!dir.join("out").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -212,7 +206,6 @@ fn check_refuses_a_locked_linkage() {
     let stderr = text(&check.stderr);
     assert!(stderr.contains("mechanism.parts") && stderr.contains("0 degrees of freedom"), "{stderr}");
     assert!(!text(&check.stdout).contains("holds"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -225,7 +218,6 @@ fn simulate_refuses_a_scene_the_design_does_not_belong_to() {
     assert!(text(&run.stdout).is_empty());
     let stderr = text(&run.stderr);
     assert!(stderr.contains("another scene") && stderr.contains("moving bod"), "{stderr}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The scene of `cli.rs`'s impossible design: every motion goes through a wall.
@@ -257,7 +249,6 @@ fn a_rerun_without_a_design_leaves_none_of_the_earlier_files() {
     let design: Value = serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
     assert_eq!(design["status"], "no_solution");
     assert_eq!(files_under(&out), ["design.json", "notes.txt"]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -269,7 +260,6 @@ fn a_rerun_without_fabricate_removes_the_earlier_fabrication() {
     let run = design_truck(&out, &["--seed", "6"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
     assert_eq!(files_under(&out), ["animation.svg", "design.json", "design.svg"]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -287,7 +277,6 @@ fn fabricating_again_into_a_folder_replaces_the_earlier_parts() {
     let parts = files_under(&out.join("parts"));
     assert!(!parts.contains(&"old crank.stl".to_string()) && parts.contains(&"ESCAPED.stl".to_string()), "{parts:?}");
     assert!(parts.contains(&"mine.txt".to_string()), "files the fabrication did not write stay: {parts:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(unix)]
@@ -305,5 +294,4 @@ fn a_symbolic_link_at_an_output_name_is_replaced_not_followed() {
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "untouched");
     assert!(!std::fs::symlink_metadata(out.join("design.json")).unwrap().file_type().is_symlink());
     assert!(std::fs::read_to_string(out.join("design.json")).unwrap().contains("design/1"));
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -45,7 +45,6 @@ fn a_scene_named_with_an_escape_sequence_is_refused() {
     assert!(stderr.contains("error: name: ") && stderr.contains("control characters"), "{stderr}");
     assert_no_escape(&run);
     assert!(!out.exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -64,7 +63,6 @@ fn unknown_keys_with_control_characters_are_printed_escaped() {
     assert!(stderr.contains(r"warning: settings.x\rerror: unknown field"), "{stderr}");
     assert!(!stderr.contains('\r'), "{stderr}");
     assert_no_escape(&run);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -77,7 +75,6 @@ fn a_value_quoted_in_an_error_is_printed_escaped() {
     assert_eq!(run.status.code(), Some(2));
     assert!(text(&run.stderr).contains(r"scene/\u{1b}[2J"), "{}", text(&run.stderr));
     assert_no_escape(&run);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `/dev/zero` as each input file a command reads: refused at the cap, naming the file and the cap.
@@ -103,7 +100,6 @@ fn every_input_file_is_read_through_a_size_cap() {
         assert!(stderr.contains("error: /dev/zero: is larger than 64 MiB"), "{args:?}: {stderr}");
         assert!(!Path::new(out).exists(), "{args:?}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -129,5 +125,4 @@ fn from_refuses_a_later_format_and_a_design_without_a_solution() {
         assert!(stderr.contains("--from needs a design of this scene with a solution"), "{stderr}");
         assert!(!out.exists());
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

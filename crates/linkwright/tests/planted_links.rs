@@ -5,7 +5,7 @@
 #![cfg(unix)]
 
 mod common;
-use common::{design_truck, example, linkwright, text, workdir};
+use common::{design_truck, example, linkwright, text, workdir, Workdir};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::os::unix::fs::symlink;
@@ -64,7 +64,7 @@ fn truck_design() -> String {
 /// A work folder `name` holding a [`victim`] folder and an output folder `out` in which `link` (a
 /// relative path, its parent folders made) is a symbolic link to the victim's `target` subfolder (""
 /// for the victim itself): the work folder, the victim, the victim's contents and the output folder.
-fn planted(name: &str, link: &str, target: &str) -> (PathBuf, PathBuf, BTreeMap<String, String>, PathBuf) {
+fn planted(name: &str, link: &str, target: &str) -> (Workdir, PathBuf, BTreeMap<String, String>, PathBuf) {
     let dir = workdir(name);
     let victim = victim(&dir);
     let before = contents(&victim);
@@ -77,7 +77,7 @@ fn planted(name: &str, link: &str, target: &str) -> (PathBuf, PathBuf, BTreeMap<
 
 #[test]
 fn fabricate_replaces_a_planted_parts_link() {
-    let (dir, victim, before, out) = planted("parts", "parts", "parts");
+    let (_dir, victim, before, out) = planted("parts", "parts", "parts");
     // A planted manifest lists `parts/crank.stl`, which the link would make the victim's.
     std::fs::write(out.join("fabrication.json"), listing().to_string()).unwrap();
 
@@ -86,7 +86,6 @@ fn fabricate_replaces_a_planted_parts_link() {
     assert_eq!(contents(&victim), before, "the linked folder is untouched");
     assert!(is_real_folder(&out.join("parts")), "the link is replaced by a folder");
     assert!(out.join("parts/ESCAPED.stl").is_file());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -99,40 +98,36 @@ fn fabricate_into_a_linked_output_folder_writes_there() {
     let run = linkwright(&["fabricate", &example("k1_garbage_truck"), &truck_design(), "-o", out.to_str().unwrap()]);
     assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
     assert!(chosen.join("parts/ESCAPED.stl").is_file() && chosen.join("fabrication.json").is_file());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn design_fabricate_replaces_a_planted_fabrication_link() {
-    let (dir, victim, before, out) = planted("fabrication", "fabrication", "");
+    let (_dir, victim, before, out) = planted("fabrication", "fabrication", "");
 
     let run = design_truck(&out, &["--seed", "5", "--fabricate"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
     assert_eq!(contents(&victim), before, "the linked folder is untouched");
     assert!(is_real_folder(&out.join("fabrication")));
     assert!(out.join("fabrication/fabrication.json").is_file());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_design_run_drops_a_planted_fabrication_link_without_following_it() {
-    let (dir, victim, before, out) = planted("stale", "fabrication", "");
+    let (_dir, victim, before, out) = planted("stale", "fabrication", "");
 
     let run = design_truck(&out, &["--seed", "5"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
     assert_eq!(contents(&victim), before, "the linked folder is untouched");
     assert!(!is_link(&out.join("fabrication")), "the earlier run's fabrication is removed, not followed");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn design_fabricate_replaces_a_planted_parts_link_inside_fabrication() {
-    let (dir, victim, before, out) = planted("deeper", "fabrication/parts", "parts");
+    let (_dir, victim, before, out) = planted("deeper", "fabrication/parts", "parts");
     std::fs::write(out.join("fabrication/fabrication.json"), listing().to_string()).unwrap();
 
     let run = design_truck(&out, &["--seed", "5", "--fabricate"]);
     assert!(run.status.success(), "{}", text(&run.stderr));
     assert_eq!(contents(&victim), before, "the linked folder is untouched");
     assert!(is_real_folder(&out.join("fabrication/parts")));
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,7 +3,7 @@
 #![allow(dead_code, reason = "each test file uses a different part of this module")]
 
 use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 
 /// Runs `linkwright` with `args` and waits for it.
@@ -11,13 +11,32 @@ pub(crate) fn linkwright(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_linkwright")).args(args).output().expect("the binary runs")
 }
 
+/// A scratch folder of one test, removed when dropped, unless the test is failing: its files are
+/// then left to look at.
+pub(crate) struct Workdir(PathBuf);
+
+impl std::ops::Deref for Workdir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Workdir {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
 /// An empty scratch folder of this test file's own (named after the test binary and `name`).
-pub(crate) fn workdir(name: &str) -> PathBuf {
+pub(crate) fn workdir(name: &str) -> Workdir {
     let dir =
         std::env::temp_dir().join(format!("linkwright-{}-{}-{name}", env!("CARGO_CRATE_NAME"), std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    dir
+    Workdir(dir)
 }
 
 /// The path of a bundled example.
