@@ -136,8 +136,8 @@ const LONG_CHAIN_NOISE: f64 = 0.1;
 /// then `linkwright design` on each with `pose_tolerance` and `angle_tolerance_deg` scaled), 24 of
 /// 36 come within 0.05·d of every pose at the full noise, 33 at 0.4 of it and 35 at 0.2, where the
 /// median worst miss falls from 0.019 to 0.008·d and the runs take a quarter less time. Through
-/// fewer poses the full noise stays: the reference scenes through three poses, where it finds other
-/// linkages, lose as many designs as they gain at 0.2 (`k1_peg` seed 0: cost 3.2 to 13).
+/// fewer poses the full noise stays: at 0.2, as many of the one-body reference scenes through three
+/// poses get a costlier design as a cheaper one (`k1_peg` seed 0: cost 3.2 to 13).
 const SIX_BAR_NOISE: f64 = 0.2;
 
 /// [`SIX_BAR_NOISE`] through `poses` poses, for a six-bar whose body's four-bar meets `exact`.
