@@ -389,13 +389,13 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
         rejected: [0; Reject::ALL.len()],
         refused: None,
     };
-    let contexts = family_contexts(problem, &families, options);
+    let mut contexts = family_contexts(problem, &families, options);
     // One per family: a sample's buffers hold a mechanism of its family's topology.
     let workspaces: Vec<Workspace> = families.iter().map(|_| Workspace::default()).collect();
     let mut picked = design_round(problem, options, &contexts, &workspaces, &mut run)?;
     if picked.is_empty() && contexts.iter().any(|ctx| !ctx.unperturbed) {
-        let closer: Vec<Context> = contexts.into_iter().map(|ctx| ctx.perturbed_less(RETRY_NOISE)).collect();
-        picked = design_round(problem, options, &closer, &workspaces, &mut run)?;
+        contexts = contexts.into_iter().map(|ctx| ctx.perturbed_less(RETRY_NOISE)).collect();
+        picked = design_round(problem, options, &contexts, &workspaces, &mut run)?;
     }
     // No design, one off the poses or one near a dead point: a cold run searches once more, from
     // other samples (a warm start is the person's own design, and is kept), and keeps what is
@@ -416,15 +416,15 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
             // The poses come first: a design clear of the dead point is taken only if it misses
             // the poses by no more than the first search's best, or than a loose miss.
             let bound = looseness(problem, &picked[0]).max(1.0);
-            let judges = family_contexts(problem, &families, options);
             found.retain(|c| looseness(problem, c) <= bound);
-            found = found.into_iter().filter_map(|c| recosted(&judges, c)).collect();
+            // This run's contexts judge at the scene's weights (their pose noise only draws samples).
+            found = found.into_iter().filter_map(|c| recosted(&contexts, c)).collect();
         }
         picked.extend(found);
         // Designs near every pose first, then (after a reweighted search) those clear of a dead
-        // point, then by cost.
-        let key = |c: &Candidate| (far(c).is_some(), reweighted && near_dead_point(problem, c));
-        picked.sort_by(|a, b| key(a).cmp(&key(b)).then(a.cost.total_cmp(&b.cost)));
+        // point, then by cost: each key found once (both simulate), the sorts stable.
+        picked.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        picked.sort_by_cached_key(|c| (far(c).is_some(), reweighted && near_dead_point(problem, c)));
         picked = distinct_designs(problem, picked);
         picked.truncate(MAX_ALTERNATIVES + 1);
     }
