@@ -5,6 +5,7 @@ mod collision;
 mod construct;
 mod context;
 mod evaluate;
+mod path;
 mod perturb;
 mod pfo;
 mod pipeline;

@@ -1,0 +1,184 @@
+//! Curves as polylines: resampling by arc length, the nearest point of a polyline, and the distance
+//! between a drawn curve and a traced one (what a path design is judged by).
+
+use crate::geom::{Point, Vec2};
+
+/// The length of `points` as a polyline, closed back to its first point when `closed`.
+pub(crate) fn length(points: &[Point], closed: bool) -> f64 {
+    edges(points, closed).map(|(p, q)| p.distance(q)).sum()
+}
+
+/// The polyline's edges, with the closing one when `closed`.
+fn edges(points: &[Point], closed: bool) -> impl Iterator<Item = (Point, Point)> + '_ {
+    let n = points.len();
+    let count = if closed && n > 2 { n } else { n.saturating_sub(1) };
+    (0..count).map(move |i| (points[i], points[(i + 1) % n]))
+}
+
+/// `m` points evenly spaced by arc length along `points` (`m ≥ 2`): an open polyline from its first
+/// point to its last, a closed one from its first point round (the last sample one step short of
+/// the first again). Into `out`, cleared first; a polyline of zero length gives `m` copies of its
+/// first point.
+pub(crate) fn resample_into(points: &[Point], closed: bool, m: usize, out: &mut Vec<Point>) {
+    out.clear();
+    let total = length(points, closed);
+    if points.is_empty() {
+        return;
+    }
+    if !(total > 0.0) {
+        out.resize(m, points[0]);
+        return;
+    }
+    let step = if closed { total / m as f64 } else { total / (m - 1) as f64 };
+    let mut target = 0.0;
+    let mut walked = 0.0;
+    for (p, q) in edges(points, closed) {
+        let edge = p.distance(q);
+        while out.len() < m && target <= walked + edge {
+            let t = if edge > 0.0 { (target - walked) / edge } else { 0.0 };
+            out.push(p.lerp(q, t.clamp(0.0, 1.0)));
+            target = step * out.len() as f64;
+        }
+        walked += edge;
+    }
+    // Rounding may leave the last sample of an open polyline unplaced: it is the end.
+    let last = if closed { points[0] } else { points[points.len() - 1] };
+    out.resize(m, last);
+}
+
+/// `m` points evenly spaced by arc length along `points` (see [`resample_into`]).
+pub(crate) fn resample(points: &[Point], closed: bool, m: usize) -> Vec<Point> {
+    let mut out = Vec::with_capacity(m);
+    resample_into(points, closed, m, &mut out);
+    out
+}
+
+/// The point of the polyline `points` (closed when `closed`) nearest to `p`, and its distance.
+pub(crate) fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point) {
+    if points.len() == 1 {
+        return (p.distance(points[0]), points[0]);
+    }
+    let mut best = (f64::INFINITY, p);
+    for (a, b) in edges(points, closed) {
+        let ab: Vec2 = b - a;
+        let len_sq = ab.norm_sq();
+        let t = if len_sq > 0.0 { ((p - a).dot(ab) / len_sq).clamp(0.0, 1.0) } else { 0.0 };
+        let q = a + ab * t;
+        let d = p.distance(q);
+        if d < best.0 {
+            best = (d, q);
+        }
+    }
+    best
+}
+
+/// The diagonal of the points' bounding box: the size every path distance is a fraction of.
+pub(crate) fn size(points: &[Point]) -> f64 {
+    let (mut lo, mut hi) = (Point::new(f64::INFINITY, f64::INFINITY), Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for p in points {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+    }
+    if points.is_empty() {
+        0.0
+    } else {
+        lo.distance(hi)
+    }
+}
+
+/// How far a traced curve is from the drawn one, both ways: every point of each within `max` of the
+/// other.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PathError {
+    /// The largest distance between a point of one curve and the other (their Hausdorff distance),
+    /// scene units.
+    pub max: f64,
+    /// `max` as a fraction of the drawn curve's size (its bounding box's diagonal).
+    pub max_rel: f64,
+    /// The mean distance, over points spaced evenly along each curve, to the other, scene units.
+    pub mean: f64,
+    /// `mean` as a fraction of the drawn curve's size.
+    pub mean_rel: f64,
+    /// The point of the drawn curve nearest to where the two are farthest apart (world coordinates).
+    pub at: Point,
+}
+
+/// Points per curve [`path_error`] measures at: dense enough that the distance between them is a
+/// fraction of a percent of any curve drawn with a few dozen points.
+const MEASURE_POINTS: usize = 400;
+
+/// The distance between the `drawn` curve and the `traced` one (both polylines, closed when
+/// `closed`), measured at [`MEASURE_POINTS`] points spaced evenly along each.
+pub(crate) fn path_error(drawn: &[Point], traced: &[Point], closed: bool) -> PathError {
+    let size = size(drawn);
+    let drawn_points = resample(drawn, closed, MEASURE_POINTS);
+    let traced_points = resample(traced, closed, MEASURE_POINTS);
+    let (mut max, mut at, mut sum) = (0.0, drawn_points[0], 0.0);
+    for &p in &drawn_points {
+        let (d, _) = nearest(p, traced, closed);
+        sum += d;
+        if d > max {
+            (max, at) = (d, p);
+        }
+    }
+    for &q in &traced_points {
+        let (d, on_drawn) = nearest(q, drawn, closed);
+        sum += d;
+        if d > max {
+            (max, at) = (d, on_drawn);
+        }
+    }
+    let mean = sum / (2 * MEASURE_POINTS) as f64;
+    let rel = |x: f64| if size > 0.0 { x / size } else { 0.0 };
+    PathError { max, max_rel: rel(max), mean, mean_rel: rel(mean), at }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn circle(r: f64, n: usize) -> Vec<Point> {
+        (0..n)
+            .map(|i| {
+                let v = Vec2::from_angle(std::f64::consts::TAU * i as f64 / n as f64) * r;
+                Point::new(v.x, v.y)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn resampling_spaces_points_evenly_along_a_square() {
+        let square = vec![Point::new(0.0, 0.0), Point::new(2.0, 0.0), Point::new(2.0, 2.0), Point::new(0.0, 2.0)];
+        let closed = resample(&square, true, 8);
+        let want = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (2.0, 2.0), (1.0, 2.0), (0.0, 2.0), (0.0, 1.0)];
+        for (p, (x, y)) in closed.iter().zip(want) {
+            assert!(p.distance(Point::new(x, y)) < 1e-12, "{p:?} against ({x}, {y})");
+        }
+        let open = resample(&square, false, 4);
+        let want = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)];
+        for (p, (x, y)) in open.iter().zip(want) {
+            assert!(p.distance(Point::new(x, y)) < 1e-12, "{p:?} against ({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn two_concentric_circles_are_their_radii_apart() {
+        // Radii 1 and 1.1: every point of one is 0.1 from the other (less the chords' sag, at most
+        // 1 − cos(π/720) of a radius with 720 vertices).
+        let (drawn, traced) = (circle(1.0, 720), circle(1.1, 720));
+        let e = path_error(&drawn, &traced, true);
+        assert!((e.max - 0.1).abs() < 1e-4 && (e.mean - 0.1).abs() < 1e-4, "{e:?}");
+        assert!((e.max_rel - 0.1 / 8f64.sqrt()).abs() < 1e-4, "the size is the box's diagonal, 2√2: {e:?}");
+    }
+
+    #[test]
+    fn a_traced_curve_that_runs_past_the_drawn_one_is_as_far_as_its_farthest_point() {
+        // Drawn: the segment (0,0)–(1,0). Traced: on it, then up to (1, 0.5). The traced end is 0.5
+        // from the drawn segment, though every drawn point lies on the traced curve.
+        let drawn = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0)];
+        let traced = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 0.5)];
+        let e = path_error(&drawn, &traced, false);
+        assert!((e.max - 0.5).abs() < 1e-12, "{e:?}");
+        assert!(e.at.distance(Point::new(1.0, 0.0)) < 1e-12, "{e:?}");
+    }
+}

@@ -1,0 +1,471 @@
+//! Four-bars whose coupler point follows a drawn curve: an atlas of random crank-rockers, each curve
+//! matched to the drawn one up to a similarity (the timing along the curve free), then the best few
+//! refined on the distance between the curves itself.
+//!
+//! The match is the classic one of path synthesis: both curves are resampled evenly by arc length, so
+//! the shape, not the crank's speed along it, is compared; a closed curve may start anywhere on the
+//! other (every cyclic shift is tried), an open one is matched against arcs of the coupler curve
+//! (several starts and spans). Each pair is aligned by the similarity that best maps one onto the
+//! other (least squares, in closed form with complex numbers), so one normalised four-bar stands for
+//! every placement, size and turn of itself.
+
+use super::curve::{nearest, resample, resample_into, size};
+use super::four_bar::FourBar;
+use crate::geom::{Point, Vec2};
+use crate::synth::random::{rng, Stream};
+use nalgebra::{DMatrix, DVector};
+use rand::RngExt;
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+
+/// Crank steps of a coupler curve in the atlas (5°).
+const ATLAS_STEPS: usize = 72;
+/// Points both curves are resampled to for the atlas's match.
+const MATCH_POINTS: usize = 32;
+/// Spans of the coupler curve, in atlas steps, an open curve is matched against (45° to 315°).
+const OPEN_SPANS: [usize; 7] = [9, 18, 27, 36, 45, 54, 63];
+/// Every how many atlas steps an arc matched against an open curve starts.
+const OPEN_START_STEP: usize = 3;
+/// Crank steps of a traced curve during the refinement, over a whole turn (2°).
+const REFINE_STEPS: usize = 180;
+/// Points of the drawn curve the refinement measures from.
+const REFINE_POINTS: usize = 64;
+/// Levenberg–Marquardt iterations of the refinement.
+const REFINE_ITERATIONS: usize = 40;
+/// The stream of the path search's samples, apart from every pose family's.
+const PATH_STREAM: u64 = 0x7061_7468;
+
+/// What a path search is asked: the drawn curve and how the tracer runs along it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PathGoal<'a> {
+    /// The curve, world coordinates, in the order the tracer should run along it.
+    pub drawn: &'a [Point],
+    /// Closed: the crank turns fully and the tracer goes round once per turn.
+    pub closed: bool,
+    /// The least sine of a transmission angle along the travel.
+    pub min_transmission_sine: f64,
+}
+
+/// A four-bar fitted to a drawn curve, with the crank's travel: from `theta_start` to `theta_end`
+/// (radians; a whole turn, either way, for a closed curve).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PathFit {
+    pub four_bar: FourBar,
+    pub theta_start: f64,
+    pub theta_end: f64,
+    /// The refinement's objective at the end: the mean squared distance between the curves, as a
+    /// fraction of the drawn curve's size.
+    pub objective: f64,
+}
+
+impl PathFit {
+    /// The tracer's curve along the travel, at `steps` + 1 crank angles; `None` where the loop does
+    /// not close, or transmits worse than `min_sine`.
+    pub(crate) fn traced(&self, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
+        traced(&self.four_bar, self.theta_start, self.theta_end, steps, min_sine)
+    }
+}
+
+fn traced(m: &FourBar, start: f64, end: f64, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
+    (0..=steps)
+        .map(|k| {
+            let c = m.at(start + (end - start) * k as f64 / steps as f64)?;
+            (c.transmission_sine >= min_sine).then_some(c.tracer)
+        })
+        .collect()
+}
+
+/// A point as a complex number (x + iy), for the similarity fit.
+#[derive(Clone, Copy, Debug, Default)]
+struct C(f64, f64);
+
+impl C {
+    fn of(v: Vec2) -> C {
+        C(v.x, v.y)
+    }
+    /// conj(self)·o
+    fn conj_mul(self, o: C) -> C {
+        C(self.0 * o.0 + self.1 * o.1, self.0 * o.1 - self.1 * o.0)
+    }
+    fn norm_sq(self) -> f64 {
+        self.0 * self.0 + self.1 * self.1
+    }
+}
+
+/// Points less their centroid, and the centroid.
+fn centred(points: &[Point], out: &mut Vec<C>) -> Point {
+    let n = points.len() as f64;
+    let (sx, sy) = points.iter().fold((0.0, 0.0), |(x, y), p| (x + p.x, y + p.y));
+    let c = Point::new(sx / n, sy / n);
+    out.clear();
+    out.extend(points.iter().map(|&p| C::of(p - c)));
+    c
+}
+
+/// The drawn curve, resampled and centred, as the atlas compares with it.
+struct Target {
+    closed: bool,
+    /// Centred points in drawn order, and reversed.
+    forward: Vec<C>,
+    backward: Vec<C>,
+    centroid: Point,
+    norm_sq: f64,
+}
+
+impl Target {
+    fn new(goal: &PathGoal) -> Target {
+        let points = resample(goal.drawn, goal.closed, MATCH_POINTS);
+        let mut forward = Vec::new();
+        let centroid = centred(&points, &mut forward);
+        let mut backward = forward.clone();
+        backward.reverse();
+        if goal.closed {
+            // Reversed, a closed curve still starts at its first point.
+            backward.rotate_right(1);
+        }
+        let norm_sq = forward.iter().map(|z| z.norm_sq()).sum();
+        Target { closed: goal.closed, forward, backward, centroid, norm_sq }
+    }
+}
+
+/// The best alignment found of one atlas curve onto the target.
+#[derive(Clone, Copy, Debug)]
+struct Match {
+    /// 1 − the squared correlation of the two shapes: 0 for the same shape.
+    residual: f64,
+    /// The similarity, as `z = alpha·(w − w_centroid) + target centroid`.
+    alpha: C,
+    w_centroid: Point,
+    /// The crank angle (normalised frame) where the tracer starts, the travel's signed span.
+    theta_start: f64,
+    span: f64,
+}
+
+/// Aligns the centred `w` with the target's `z` (either direction), `w[(k + shift) % n]` with `z[k]`.
+fn align(w: &[C], z: &[C], shift: usize) -> (f64, C) {
+    let n = w.len();
+    let mut c = C::default();
+    let mut w_sq = 0.0;
+    for (k, zk) in z.iter().enumerate() {
+        let wk = w[(k + shift) % n];
+        let p = wk.conj_mul(*zk);
+        c.0 += p.0;
+        c.1 += p.1;
+        w_sq += wk.norm_sq();
+    }
+    (w_sq, c)
+}
+
+/// The normalised crank-rocker of atlas sample `index`: ground pivots (0, 0) and (1, 0), a crank
+/// shorter than every other link and a Grashof loop, its coupler point anywhere near the coupler.
+fn atlas_sample(seed: u64, index: u64) -> FourBar {
+    let mut r = rng(seed, Stream::Sample { family: PATH_STREAM }, index);
+    loop {
+        let log_uniform = |r: &mut rand_xoshiro::Xoshiro256PlusPlus, lo: f64, hi: f64| {
+            (lo.ln() + (hi.ln() - lo.ln()) * r.random::<f64>()).exp()
+        };
+        let crank = r.random_range(0.05..0.7);
+        let coupler = log_uniform(&mut r, 0.3, 4.0);
+        let rocker = log_uniform(&mut r, 0.3, 4.0);
+        let m = FourBar {
+            crank_pivot: Point::new(0.0, 0.0),
+            rocker_pivot: Point::new(1.0, 0.0),
+            crank,
+            coupler,
+            rocker,
+            u: coupler * r.random_range(-1.0..2.0),
+            v: coupler * r.random_range(-1.5..1.5),
+            branch: if r.random::<bool>() { 1.0 } else { -1.0 },
+        };
+        if m.crank_turns_fully() {
+            return m;
+        }
+    }
+}
+
+/// Scratch for matching one atlas curve.
+#[derive(Default)]
+struct MatchScratch {
+    curve: Vec<Point>,
+    arc: Vec<Point>,
+    resampled: Vec<Point>,
+    w: Vec<C>,
+}
+
+/// The best match of `m`'s coupler curve onto the target.
+fn best_match(m: &FourBar, target: &Target, s: &mut MatchScratch) -> Option<Match> {
+    s.curve.clear();
+    for k in 0..ATLAS_STEPS {
+        s.curve.push(m.at(TAU * k as f64 / ATLAS_STEPS as f64)?.tracer);
+    }
+    let step = TAU / ATLAS_STEPS as f64;
+    let mut best: Option<Match> = None;
+    let mut consider = |w_sq: f64, c: C, w_centroid: Point, theta_start: f64, span: f64| {
+        if !(w_sq > 0.0) {
+            return;
+        }
+        let residual = 1.0 - c.norm_sq() / (w_sq * target.norm_sq);
+        if best.is_none_or(|b| residual < b.residual) {
+            let alpha = C(c.0 / w_sq, c.1 / w_sq);
+            best = Some(Match { residual, alpha, w_centroid, theta_start, span });
+        }
+    };
+    if target.closed {
+        resample_into(&s.curve, true, MATCH_POINTS, &mut s.resampled);
+        // The resampled curve starts at the crank's 0; the shift finds where the drawn start is.
+        let w_centroid = centred(&s.resampled, &mut s.w);
+        let length_to: Vec<f64> = arc_lengths(&s.curve);
+        for (z, span) in [(&target.forward, TAU), (&target.backward, -TAU)] {
+            for shift in 0..MATCH_POINTS {
+                let (w_sq, c) = align(&s.w, z, shift);
+                // The crank angle at resampled point `shift`: where that arc length falls.
+                let theta = theta_at_fraction(&length_to, shift as f64 / MATCH_POINTS as f64);
+                consider(w_sq, c, w_centroid, theta, span);
+            }
+        }
+    } else {
+        for start in (0..ATLAS_STEPS).step_by(OPEN_START_STEP) {
+            for &len in &OPEN_SPANS {
+                for dir in [1isize, -1] {
+                    s.arc.clear();
+                    for k in 0..=len {
+                        let i = (start as isize + dir * k as isize).rem_euclid(ATLAS_STEPS as isize) as usize;
+                        s.arc.push(s.curve[i]);
+                    }
+                    resample_into(&s.arc, false, MATCH_POINTS, &mut s.resampled);
+                    let w_centroid = centred(&s.resampled, &mut s.w);
+                    let (w_sq, c) = align(&s.w, &target.forward, 0);
+                    consider(w_sq, c, w_centroid, start as f64 * step, dir as f64 * len as f64 * step);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// The cumulative arc length at each vertex of the closed polyline `curve` (its first 0, one more
+/// entry for the closing edge).
+fn arc_lengths(curve: &[Point]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(curve.len() + 1);
+    let mut walked = 0.0;
+    out.push(0.0);
+    for i in 0..curve.len() {
+        walked += curve[i].distance(curve[(i + 1) % curve.len()]);
+        out.push(walked);
+    }
+    out
+}
+
+/// The crank angle (of a curve traced at even steps over a whole turn) where `fraction` of its length
+/// is walked.
+fn theta_at_fraction(length_to: &[f64], fraction: f64) -> f64 {
+    let total = length_to[length_to.len() - 1];
+    let want = fraction * total;
+    let i = length_to.partition_point(|&l| l <= want).clamp(1, length_to.len() - 1);
+    let (a, b) = (length_to[i - 1], length_to[i]);
+    let t = if b > a { (want - a) / (b - a) } else { 0.0 };
+    TAU * ((i - 1) as f64 + t) / (length_to.len() - 1) as f64
+}
+
+/// The atlas sample `m` placed by `matched` onto the drawn curve: world pivots, lengths and travel.
+fn placed(m: &FourBar, matched: &Match, target: &Target) -> PathFit {
+    let C(ar, ai) = matched.alpha;
+    let scale = (ar * ar + ai * ai).sqrt();
+    let turn = ai.atan2(ar);
+    let world = |p: Point| {
+        let w = p - matched.w_centroid;
+        target.centroid + Vec2::new(ar * w.x - ai * w.y, ai * w.x + ar * w.y)
+    };
+    let four_bar = FourBar {
+        crank_pivot: world(m.crank_pivot),
+        rocker_pivot: world(m.rocker_pivot),
+        crank: m.crank * scale,
+        coupler: m.coupler * scale,
+        rocker: m.rocker * scale,
+        u: m.u * scale,
+        v: m.v * scale,
+        branch: m.branch,
+    };
+    let theta_start = matched.theta_start + turn;
+    PathFit { four_bar, theta_start, theta_end: theta_start + matched.span, objective: matched.residual }
+}
+
+/// The residuals the refinement's least squares sums: the distance of each drawn point from the
+/// traced curve and of each traced point from the drawn one, as fractions of the drawn curve's size,
+/// and for an open curve the tracer's miss at either end (which counts thrice: the tracer must run
+/// from the first point to the last). `None` where the loop does not close along the travel or
+/// transmits worse than allowed.
+fn residuals(x: &[f64], template: &FourBar, closed: bool, drawn: &Drawn, min_sine: f64) -> Option<Vec<f64>> {
+    let m = template.with_params(x);
+    let (start, end) = if closed { (x[9], x[9] + x[10].signum() * TAU) } else { (x[9], x[10]) };
+    let steps =
+        if closed { REFINE_STEPS } else { ((REFINE_STEPS as f64 * (end - start).abs() / TAU).ceil() as usize).max(8) };
+    let curve = traced(&m, start, end, steps, min_sine)?;
+    let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
+    for &p in &drawn.points {
+        let (_, q) = nearest(p, &curve, closed);
+        out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
+    }
+    let stride = (curve.len() / REFINE_POINTS).max(1);
+    for &q in curve.iter().step_by(stride) {
+        let (_, p) = nearest(q, &drawn.points, closed);
+        out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
+    }
+    if !closed {
+        let weight = 3.0;
+        for (q, p) in [(curve[0], drawn.points[0]), (curve[curve.len() - 1], drawn.points[drawn.points.len() - 1])] {
+            out.extend([weight * (q.x - p.x) / drawn.size, weight * (q.y - p.y) / drawn.size]);
+        }
+    }
+    Some(out)
+}
+
+/// The drawn curve as the refinement measures from it.
+struct Drawn {
+    points: Vec<Point>,
+    size: f64,
+}
+
+/// Levenberg–Marquardt from `fit` on [`residuals`], forward differences for the Jacobian; never
+/// returns a worse fit than it is given.
+fn refine(fit: PathFit, goal: &PathGoal, drawn: &Drawn) -> PathFit {
+    let template = fit.four_bar;
+    let mut x: Vec<f64> = template.to_params().to_vec();
+    if goal.closed {
+        x.extend([fit.theta_start, fit.theta_end - fit.theta_start]);
+    } else {
+        x.extend([fit.theta_start, fit.theta_end]);
+    }
+    let f = |x: &[f64]| residuals(x, &template, goal.closed, drawn, goal.min_transmission_sine);
+    let Some(mut r) = f(&x) else { return fit };
+    let mut cost: f64 = r.iter().map(|v| v * v).sum();
+    // Angles move in radians, lengths relative to the curve: a step of 1e-7 of each.
+    let step = |k: usize| if k >= FourBar::PARAMETERS { 1e-7 } else { 1e-7 * drawn.size };
+    // A closed travel's span is a whole turn whatever its parameter: it is not refined.
+    let free = if goal.closed { x.len() - 1 } else { x.len() };
+    let mut lambda = 1e-3;
+    for _ in 0..REFINE_ITERATIONS {
+        let mut jac = DMatrix::<f64>::zeros(r.len(), free);
+        for k in 0..free {
+            let mut xk = x.clone();
+            xk[k] += step(k);
+            let Some(rk) = f(&xk).filter(|rk| rk.len() == r.len()) else { continue };
+            for (i, (a, b)) in rk.iter().zip(&r).enumerate() {
+                jac[(i, k)] = (a - b) / step(k);
+            }
+        }
+        let rv = DVector::from_column_slice(&r);
+        let jtj = jac.transpose() * &jac;
+        let jtr = jac.transpose() * rv;
+        let mut improved = false;
+        for _ in 0..6 {
+            let mut damped = jtj.clone();
+            for k in 0..free {
+                damped[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
+            }
+            let Some(delta) = damped.lu().solve(&(-&jtr)) else {
+                lambda *= 4.0;
+                continue;
+            };
+            let mut trial = x.clone();
+            for k in 0..free {
+                trial[k] += delta[k];
+            }
+            match f(&trial) {
+                Some(rt) if rt.len() == r.len() && rt.iter().map(|v| v * v).sum::<f64>() < cost => {
+                    cost = rt.iter().map(|v| v * v).sum();
+                    (x, r) = (trial, rt);
+                    lambda = (lambda / 3.0).max(1e-9);
+                    improved = true;
+                    break;
+                }
+                _ => lambda *= 4.0,
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    let four_bar = template.with_params(&x);
+    let (theta_start, theta_end) = if goal.closed { (x[9], x[9] + x[10].signum() * TAU) } else { (x[9], x[10]) };
+    PathFit { four_bar, theta_start, theta_end, objective: cost / r.len() as f64 }
+}
+
+/// Four-bars whose coupler point follows `goal`'s curve: `samples` atlas curves under `seed`, the
+/// `refined` best matches refined; returned best first (the least mean squared distance), at most
+/// `refined` of them. Deterministic whatever the thread count.
+pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined: usize) -> Vec<PathFit> {
+    let target = Target::new(goal);
+    let mut matches: Vec<(f64, usize, PathFit)> = (0..samples)
+        .into_par_iter()
+        .map_init(MatchScratch::default, |scratch, i| {
+            let m = atlas_sample(seed, i as u64);
+            best_match(&m, &target, scratch).map(|matched| (matched.residual, i, placed(&m, &matched, &target)))
+        })
+        .flatten()
+        .collect();
+    matches.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    matches.truncate(refined);
+    let drawn = Drawn { points: resample(goal.drawn, goal.closed, REFINE_POINTS), size: size(goal.drawn) };
+    let mut fits: Vec<(f64, usize, PathFit)> = matches
+        .into_par_iter()
+        .map(|(_, i, fit)| {
+            let fit = refine(fit, goal, &drawn);
+            (fit.objective, i, fit)
+        })
+        .collect();
+    fits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    fits.into_iter().map(|(_, _, fit)| fit).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::curve::{path_error, PathError};
+    use super::*;
+
+    /// A known crank-rocker, off the atlas's normal form: pivots (2, 1) and (5, 2), links 1, 3.5, 2.8.
+    fn known() -> FourBar {
+        FourBar {
+            crank_pivot: Point::new(2.0, 1.0),
+            rocker_pivot: Point::new(5.0, 2.0),
+            crank: 1.0,
+            coupler: 3.5,
+            rocker: 2.8,
+            u: 1.2,
+            v: 1.5,
+            branch: 1.0,
+        }
+    }
+
+    fn check(closed: bool, start: f64, end: f64, points: usize) -> (PathError, PathFit) {
+        let m = known();
+        assert!(m.crank_turns_fully());
+        let drawn = traced(&m, start, end, points - usize::from(closed), 0.0).unwrap();
+        let drawn = if closed { drawn[..points].to_vec() } else { drawn };
+        let goal = PathGoal { drawn: &drawn, closed, min_transmission_sine: 10f64.to_radians().sin() };
+        let t = std::time::Instant::now();
+        let fits = fit_four_bars(&goal, 0, 20_000, 16);
+        let best = fits[0];
+        let curve = best.traced(720, 0.0).unwrap();
+        let e = path_error(&drawn, &curve, closed);
+        eprintln!("closed {closed}: {e:?} in {:.2} s, {best:?}", t.elapsed().as_secs_f64());
+        (e, best)
+    }
+
+    #[test]
+    fn a_known_crank_rockers_whole_coupler_curve_is_traced_within_a_percent() {
+        let (e, _) = check(true, 0.0, TAU, 100);
+        assert!(e.max_rel < 0.01, "{e:?}");
+    }
+
+    #[test]
+    fn an_arc_of_a_known_coupler_curve_is_traced_from_its_first_point_to_its_last() {
+        let (e, fit) = check(false, 0.5, 2.6, 50);
+        assert!(e.max_rel < 0.01, "{e:?}");
+        let m = known();
+        let (first, last) = (m.at(0.5).unwrap().tracer, m.at(2.6).unwrap().tracer);
+        let size = size(&traced(&m, 0.5, 2.6, 49, 0.0).unwrap());
+        assert!(fit.four_bar.at(fit.theta_start).unwrap().tracer.distance(first) < 0.01 * size);
+        assert!(fit.four_bar.at(fit.theta_end).unwrap().tracer.distance(last) < 0.01 * size);
+    }
+}
