@@ -86,9 +86,9 @@ pub mod workshop;
 
 // The `scene/1` format, its validation, and the problem every later stage reads.
 pub use scene::{
-    limits, validate as validate_scene, Build, BuildParseError, FixedBody, Issue, KnownUnit, Material, MechanismChoice,
-    ModelScale, MovingBody, MovingBodyProblem, ParseError, PoseMiss, Problem, Ratio, Scene, Settings, Severity, Units,
-    UnitsParseError, Weights, MAX_RATIO_TERM, SCENE_FORMAT,
+    limits, validate as validate_scene, Build, BuildParseError, DrawnPath, FixedBody, Issue, KnownUnit, Material,
+    MechanismChoice, ModelScale, MovingBody, MovingBodyProblem, ParseError, PathTarget, PoseMiss, Problem, Ratio,
+    Scene, Settings, Severity, Units, UnitsParseError, Weights, MAX_RATIO_TERM, SCENE_FORMAT,
 };
 
 // Every validation's answer: the first problems in full and how many more.

@@ -435,6 +435,7 @@ pub(crate) mod tests {
                     Point::new(0.0, 5.0),
                 ],
                 poses: vec![[at(from).x, at(from).y, 0.0], [at(to).x, at(to).y, 0.0]],
+                path: None,
                 mass_kg: None,
                 material: None,
                 thickness: None,

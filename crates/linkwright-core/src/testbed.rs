@@ -557,6 +557,7 @@ fn assemble(kind: Known, seed: u64, drawn: Drawn, pose_crank: Vec<f64>, scale: f
                 name: format!("body{}", b + 1),
                 polygon: scaled_polygon(outline),
                 poses,
+                path: None,
                 mass_kg: None,
                 material: None,
                 thickness: None,
@@ -690,6 +691,7 @@ fn known_metrics(
         pose_errors: Vec::new(),
         worst_pose_error: None,
         far_from_pose: None,
+        path_error: None,
     }
 }
 

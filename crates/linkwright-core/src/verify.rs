@@ -3,7 +3,7 @@
 //! sweep code), so the engine's answers can be checked: by the `check` of a design file
 //! ([`crate::design::DesignFile::violations`]), and by the synthesis on every design it returns.
 
-use crate::geom::{Point, Polygon};
+use crate::geom::{path_error, PathError, Point, Polygon};
 use crate::kinematics::{BodyFrames, Plan, Trace};
 use crate::mechanism::Mechanism;
 use crate::scene::{PoseMiss, Problem};
@@ -122,24 +122,51 @@ fn check_order(problem: &Problem, mechanism: &Mechanism, travel: Travel, out: &m
         out.push(violation("order", format!("{} pose angles for {} poses", poses.len(), problem.pose_count)));
         return false;
     }
-    if !(start.is_finite() && end.is_finite() && poses.iter().all(|p| p.is_finite()) && (end - start).abs() < 360.0) {
-        out.push(violation(
-            "order",
-            format!("the crank's travel {start}° → {end}° must be finite and less than a full turn"),
-        ));
+    let finite = start.is_finite() && end.is_finite() && poses.iter().all(|p| p.is_finite());
+    // A closed path is traced once per turn: its travel is exactly one.
+    let full_turn = problem.path().is_some_and(|p| p.closed);
+    let span = (end - start).abs();
+    if !finite || (full_turn && (span - 360.0).abs() > 1e-9) || (!full_turn && span >= 360.0) {
+        let wanted = if full_turn { "exactly one turn (a closed path)" } else { "less than a full turn" };
+        out.push(violation("order", format!("the crank's travel {start}° → {end}° must be finite and {wanted}")));
         return false;
     }
     let dir = (end - start).signum();
     if (mechanism.crank_start().to_degrees() - start).abs() > 1e-6 {
         out.push(violation("order", format!("crank_start_deg {start} is not the crank's angle at the first pose")));
     }
-    if (poses[0] - start).abs() > 1e-9 || (poses[poses.len() - 1] - end).abs() > 1e-9 {
+    // A path's travel ends where the path does, past its one pose.
+    let ends_at_last_pose = problem.path().is_none();
+    if (poses[0] - start).abs() > 1e-9 || (ends_at_last_pose && (poses[poses.len() - 1] - end).abs() > 1e-9) {
         out.push(violation("order", "pose_crank_deg must start at crank_start_deg and end at crank_end_deg".into()));
     }
     if poses.windows(2).any(|w| dir * (w[1] - w[0]) <= 0.0) {
         out.push(violation("order", format!("pose_crank_deg {poses:?} is not monotone within one turn")));
     }
     true
+}
+
+/// The curve the tracer of `problem`'s path traces along `mechanism`'s travel from `start` to `end`
+/// (degrees) at the re-simulation's fine steps, and its distance from the drawn curve; `None` for a
+/// scene without a path, or a travel that comes apart. The engine and a design file's check both
+/// measure a path design with it, so they agree to the last digit.
+pub(crate) fn traced_path(
+    problem: &Problem,
+    mechanism: &Mechanism,
+    start: f64,
+    end: f64,
+) -> Option<(Vec<Point>, PathError)> {
+    let (b, path) = problem.bodies.iter().enumerate().find_map(|(b, body)| body.path.as_ref().map(|p| (b, p)))?;
+    let plan = Plan::compile(mechanism).ok()?;
+    let trace = sweep(&plan, start, end).ok()?;
+    let frames = body_frames(problem, mechanism);
+    let mut traced: Vec<Point> = (0..trace.len()).map(|r| frames.pose(b, trace.row(r)).apply(path.tracer)).collect();
+    if path.closed {
+        // The last row is the first again, a turn later.
+        traced.pop();
+    }
+    let error = path_error(&path.points, &traced, path.closed);
+    Some((traced, error))
 }
 
 /// The whole travel from `start` to `end` (degrees) at fine steps, or where it comes apart.

@@ -4,7 +4,7 @@
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
 use crate::scene::{Build, PoseMiss, Problem};
-use crate::verify::{pose_misses, verify_travel, Travel, Violation};
+use crate::verify::{pose_misses, traced_path, verify_travel, Travel, Violation};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -191,6 +191,9 @@ pub struct Metrics {
     /// the pose it misses most, and by how much. The search found no design closer.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub far_from_pose: Option<crate::verify::FarFromPose>,
+    /// For a path scene: how far the tracer's curve along the travel is from the drawn one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path_error: Option<crate::geom::PathError>,
 }
 
 /// Another valid design.
@@ -478,17 +481,38 @@ impl DesignFile {
         };
         let travel = Travel { start: motion.crank_start_deg, end: motion.crank_end_deg, poses: &motion.pose_crank_deg };
         let (mut out, accuracy) = verify_travel(problem, &mechanism, travel);
+        // A path design's accuracy is the curves' mean distance, squared, besides its one pose's.
+        let traced = traced_path(problem, &mechanism, motion.crank_start_deg, motion.crank_end_deg).map(|(_, e)| e);
+        let path_accuracy = traced.map_or(0.0, |e| e.mean * e.mean);
+        if let Some(error) = traced {
+            let agrees = metrics.path_error.is_some_and(|written| {
+                let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * problem.scale + 1e-6 * b.abs();
+                close(written.max, error.max) && close(written.mean, error.mean)
+            });
+            if !agrees {
+                out.push(Violation {
+                    constraint: "accuracy",
+                    message: format!(
+                        "metrics.path_error is {:?} but the traced curve is {:.6} (largest) and {:.6} (mean) \
+                         from the drawn one",
+                        metrics.path_error.map(|e| (e.max, e.mean)),
+                        error.max,
+                        error.mean
+                    ),
+                });
+            }
+        }
         if let Some(accuracy) = accuracy {
             let scale = problem.scale * problem.scale;
             let agrees = |value: f64| (value - metrics.accuracy).abs() <= 1e-9 * scale + 1e-6 * value;
             // Files written before E_acc counted the outlines carry the joints' part alone.
-            if !agrees(accuracy.total()) && !agrees(accuracy.joints) {
+            if !agrees(accuracy.total() + path_accuracy) && !agrees(accuracy.joints) {
                 out.push(Violation {
                     constraint: "accuracy",
                     message: format!(
                         "metrics.accuracy is {} but the poses' misses give {}",
                         metrics.accuracy,
-                        accuracy.total()
+                        accuracy.total() + path_accuracy
                     ),
                 });
             }
@@ -619,6 +643,7 @@ fn describe(problem: &Problem, c: &crate::synth::Candidate) -> (MechanismJson, M
         worst_pose_error: Some(PoseMiss::worst(pose_errors.iter().flatten())),
         far_from_pose: crate::verify::far_from_pose(problem, &pose_errors),
         pose_errors,
+        path_error: c.path,
     };
     (mechanism, motion, metrics)
 }

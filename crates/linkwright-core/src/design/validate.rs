@@ -32,10 +32,11 @@ impl std::fmt::Display for DesignIssue {
 /// Largest coordinate accepted: ten times the scenes' bound (a linkage may reach beyond the drawing,
 /// never this far), which keeps every product (areas, squared lengths) far from overflow.
 pub(crate) const MAX_COORDINATE: f64 = 10.0 * crate::scene::limits::MAX_COORDINATE;
-/// The crank's travel from the first pose to the last is less than this, degrees. A one-degree-of-freedom
-/// linkage driven by a crank is back in the same configuration after a full turn, so every motion
-/// through poses in order fits within one turn; more could only repeat configurations. It also bounds
-/// what a travel costs to simulate: at the fabrication's 1° steps, at most 361 rows.
+/// The crank's travel from the first pose to the last is less than this, degrees (exactly this for a
+/// closed path, traced once per turn). A one-degree-of-freedom linkage driven by a crank is back in
+/// the same configuration after a full turn, so every motion through poses in order fits within one
+/// turn; more could only repeat configurations. It also bounds what a travel costs to simulate: at
+/// the fabrication's 1° steps, at most 361 rows.
 pub(crate) const MAX_TRAVEL_DEG: f64 = 360.0;
 /// Largest crank angle accepted, degrees. The engine writes the start as the crank's direction in
 /// (−180°, 180°] and a travel under a turn, so every angle it writes is within ±540°.
@@ -433,13 +434,23 @@ fn check_motion(out: &mut Issues, at: &str, problem: &Problem, motion: &Motion) 
     let (start, end) = (motion.crank_start_deg, motion.crank_end_deg);
     angle(out, format!("{at}.crank_start_deg"), start);
     angle(out, format!("{at}.crank_end_deg"), end);
-    if out.0.total() == before && (end - start).abs() >= MAX_TRAVEL_DEG {
+    let span = (end - start).abs();
+    if out.0.total() == before && problem.path().is_some_and(|p| p.closed) {
+        if (span - MAX_TRAVEL_DEG).abs() > 1e-9 {
+            out.add(
+                format!("{at}.crank_end_deg"),
+                format!(
+                    "the crank travels {span:.1}° from crank_start_deg; the scene's path is closed, traced once \
+                     per turn, so the travel is {MAX_TRAVEL_DEG}°"
+                ),
+            );
+        }
+    } else if out.0.total() == before && span >= MAX_TRAVEL_DEG {
         out.add(
             format!("{at}.crank_end_deg"),
             format!(
-                "the crank travels {:.1}° from crank_start_deg; a linkage repeats itself after a full turn, so the \
-                 travel through the poses is less than {MAX_TRAVEL_DEG}°",
-                (end - start).abs()
+                "the crank travels {span:.1}° from crank_start_deg; a linkage repeats itself after a full turn, so the \
+                 travel through the poses is less than {MAX_TRAVEL_DEG}°"
             ),
         );
     }

@@ -13,14 +13,14 @@ pub struct Travel {
     pub end: f64,
 }
 
-/// The motion at crank steps of at most 1° (the paper's simulation step). A travel of a full turn or
-/// more is refused before anything is allocated for it (the limit [`crate::DesignFile::validate`]
-/// applies).
+/// The motion at crank steps of at most 1° (the paper's simulation step). A travel of more than a
+/// full turn (one a closed path takes) is refused before anything is allocated for it (the limit
+/// [`crate::DesignFile::validate`] applies).
 pub fn motion_trace(mechanism: &Mechanism, travel: Travel) -> Result<Trace, FabError> {
     let turn = crate::design::MAX_TRAVEL_DEG.to_radians();
-    if !(travel.start.is_finite() && travel.end.is_finite() && (travel.end - travel.start).abs() < turn) {
+    if !(travel.start.is_finite() && travel.end.is_finite() && (travel.end - travel.start).abs() <= turn + 1e-9) {
         return Err(FabError::Motion(format!(
-            "the crank's travel from {:.1}° to {:.1}° must be finite and less than a full turn",
+            "the crank's travel from {:.1}° to {:.1}° must be finite and at most a full turn",
             travel.start.to_degrees(),
             travel.end.to_degrees()
         )));

@@ -3,12 +3,15 @@
 //! Conventions: y points up, angles are radians counter-clockwise inside the library (degrees only in
 //! files), `Point - Point = Vec2` and there is no `Point + Point`.
 
+mod curve;
 mod obstacle;
 mod polygon;
 mod rigid;
 mod segment;
 mod vector;
 
+pub use curve::PathError;
+pub(crate) use curve::{nearest, path_error, resample, resample_into, size as curve_size};
 pub(crate) use obstacle::Obstacle;
 pub(crate) use polygon::penetrates_unchecked;
 pub use polygon::{outline_distance, Aabb, Polygon, PolygonError};

@@ -100,8 +100,11 @@ pub struct MovingBody {
     pub polygon: Vec<Point>,
     /// Where the body's frame is at each pose, `[x, y, angle_deg]` in world coordinates: a body point
     /// `m` sits at `R(angle)·m + (x, y)`. Every moving body has the same number of poses, pose i of all
-    /// of them at the same moment.
+    /// of them at the same moment. A body with a `path` has one: where it starts.
     pub poses: Vec<[f64; 3]>,
+    /// A curve a point of the body follows (path synthesis), instead of poses after the first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<DrawnPath>,
     /// The body's real mass, kilograms, for the torque it takes to move it (default: the printed
     /// part's, from its outline and the print settings).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -112,6 +115,25 @@ pub struct MovingBody {
     /// The real body's thickness, scene units (with `material`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub thickness: Option<f64>,
+    /// Fields the format does not know, kept as they were read.
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+/// A curve a point of a moving body must follow: the linkage carries the `tracer` along `points`, the
+/// body turning as the linkage turns it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DrawnPath {
+    /// The point that follows the curve, in the body's own frame. At the body's pose it is where
+    /// the curve starts (an open curve's first point; anywhere on a closed one).
+    pub tracer: Point,
+    /// The curve, world coordinates, in the order the tracer runs along it.
+    pub points: Vec<Point>,
+    /// Closed: the curve is a loop, the crank turns fully and the tracer goes round it once per
+    /// turn. Open (the default): the tracer runs from the first point to the last, the crank turning
+    /// less than a turn.
+    #[serde(default)]
+    pub closed: bool,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,

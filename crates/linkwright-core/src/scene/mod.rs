@@ -9,11 +9,12 @@ mod validate;
 
 pub use build::{Build, BuildParseError, Material, ModelScale, Ratio, MAX_RATIO_TERM};
 pub use file::{
-    FixedBody, MechanismChoice, MechanismType, MovingBody, ParseError, Scene, Settings, Weights, SCENE_FORMAT,
+    DrawnPath, FixedBody, MechanismChoice, MechanismType, MovingBody, ParseError, Scene, Settings, Weights,
+    SCENE_FORMAT,
 };
 pub(crate) use problem::repeated_pose_words;
 pub(crate) use problem::CONTACT_FRACTION;
-pub use problem::{MovingBodyProblem, PoseMiss, Problem};
+pub use problem::{MovingBodyProblem, PathTarget, PoseMiss, Problem};
 pub use units::{KnownUnit, Units, UnitsParseError};
 pub(crate) use validate::name_problems;
 pub use validate::{limits, validate, Issue, Severity};

@@ -24,6 +24,22 @@ pub struct MovingBodyProblem {
     pub mass_kg: Option<f64>,
     /// The scene's material and thickness (scene units) for the body, when it gives them.
     pub stock: Option<(super::Material, f64)>,
+    /// The curve a point of the body follows, when the scene gives one (the body then has one pose:
+    /// where it starts).
+    pub path: Option<PathTarget>,
+}
+
+/// A curve a point of a moving body must follow, ready for the engine.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathTarget {
+    /// The point that follows the curve, in the body's own frame.
+    pub tracer: Point,
+    /// The curve, world coordinates, in the order the tracer runs along it.
+    pub points: Vec<Point>,
+    /// A loop the tracer goes round once per turn of the crank.
+    pub closed: bool,
+    /// The diagonal of the curve's bounding box: the length a path's distances are fractions of.
+    pub size: f64,
 }
 
 impl MovingBodyProblem {
@@ -162,6 +178,12 @@ impl Problem {
                     mass_kg: b.mass_kg,
                     stock: b.material.zip(b.thickness),
                     poses: b.poses.iter().map(|&p| Rigid::from_pose(p)).collect(),
+                    path: b.path.as_ref().map(|path| PathTarget {
+                        tracer: path.tracer,
+                        size: Aabb::around(path.points.iter().copied()).map_or(0.0, |bb| bb.diagonal()),
+                        points: path.points.clone(),
+                        closed: path.closed,
+                    }),
                     outline,
                 }
             })
@@ -185,7 +207,11 @@ impl Problem {
             for pose in &b.poses {
                 add(b.outline.transformed(pose).aabb());
             }
-            let first = b.outline.transformed(&b.poses[0]).aabb();
+            let mut first = b.outline.transformed(&b.poses[0]).aabb();
+            if let Some(path) = Aabb::around(b.path.iter().flat_map(|p| p.points.iter().copied())) {
+                add(path);
+                first = first.union(&path);
+            }
             first_pose_box = Some(first_pose_box.map_or(first, |d| d.union(&first)));
         }
         let region = match &scene.linkage_region {
@@ -233,5 +259,11 @@ impl Problem {
     /// Number of moving bodies K.
     pub fn body_count(&self) -> usize {
         self.bodies.len()
+    }
+
+    /// The curve the scene's moving body follows, when it is a path scene (one moving body, one pose,
+    /// a path).
+    pub fn path(&self) -> Option<&PathTarget> {
+        self.bodies.iter().find_map(|b| b.path.as_ref())
     }
 }

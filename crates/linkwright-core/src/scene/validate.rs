@@ -100,6 +100,9 @@ pub mod limits {
     pub const MAX_PINNED_JOINTS: usize = 256;
     /// Longest name (of a scene, a body, a design's joint or part), in characters: a label, not prose.
     pub const MAX_NAME_CHARS: usize = 100;
+    /// Points of a drawn path: a freehand stroke smoothed to a few hundred points keeps its shape,
+    /// and the path search measures every traced curve against each of them.
+    pub const MAX_PATH_POINTS: usize = 1000;
 }
 use limits::*;
 /// Bodies closer than this fraction of the smaller body size d *touch* (a warning), bodies reaching into
@@ -175,6 +178,7 @@ pub fn validate(scene: &Scene) -> IssueList<Issue> {
         out.polygon(&format!("avoid_regions[{i}]"), region);
     }
     check_mechanism(scene, &mut out);
+    check_paths(scene, &moving_ok, &mut out);
     check_must_hit(scene, &mut out);
     check_pinned_joints(scene, &mut out);
     if let Some([x, y]) = scene.gravity {
@@ -237,6 +241,18 @@ fn check_counts(scene: &Scene, out: &mut Issues) -> bool {
             );
         }
     }
+    for (k, path) in scene.moving_bodies.iter().enumerate().filter_map(|(k, b)| b.path.as_ref().map(|p| (k, p))) {
+        if path.points.len() > MAX_PATH_POINTS {
+            out.error(
+                format!("moving_bodies[{k}].path.points"),
+                format!(
+                    "has {} points; at most {MAX_PATH_POINTS} are supported: a few dozen to a few hundred \
+                     points spaced along the curve keep its shape",
+                    path.points.len()
+                ),
+            );
+        }
+    }
     let outlines: Vec<(String, usize)> = (scene.fixed_bodies.iter().enumerate())
         .map(|(j, b)| (format!("fixed_bodies[{j}].polygon"), b.polygon.len()))
         .chain(
@@ -285,6 +301,8 @@ fn check_extent(scene: &Scene, out: &mut Issues) {
             let placed = Rigid::from_pose(*pose);
             points.extend(body.polygon.iter().map(|&p| placed.apply(p)));
         }
+        let path = body.path.iter().flat_map(|path| &path.points);
+        points.extend(path.filter(|p| p.is_finite() && p.x.abs().max(p.y.abs()) <= MAX_COORDINATE));
     }
     let Some(bb) = Aabb::around(points) else { return };
     let extent = bb.width().max(bb.height());
@@ -435,12 +453,23 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
         ok.push(out.polygon(&format!("moving_bodies[{k}].polygon"), &body.polygon));
         let field = format!("moving_bodies[{k}].poses");
         let n = body.poses.len();
-        if n < 2 {
+        if body.path.is_some() {
+            if n != 1 {
+                out.error(
+                    &field,
+                    format!(
+                        "has {n} pose(s), but a body that follows a path has one: where it starts, with the \
+                         path's tracer on the path's first point (its orientation along the path is the \
+                         linkage's); keep the first pose only"
+                    ),
+                );
+            }
+        } else if n < 2 {
             out.error(
                 &field,
                 format!("has {n} pose(s); a motion needs at least 2 (where it starts and where it ends)"),
             );
-        } else if k > 0 && n != bodies[0].poses.len() {
+        } else if k > 0 && n != bodies[0].poses.len() && bodies[0].path.is_none() {
             out.error(
                 &field,
                 format!(
@@ -527,6 +556,105 @@ fn check_mechanism(scene: &Scene, out: &mut Issues) {
             format!("{} moves {carries} but the scene has {k}; use {fitting}\"auto\", or keep {keep}", family.id());
         out.error("mechanism", message);
     }
+}
+
+/// How far (a fraction of the curve's size) the tracer may be from where a path starts, at the body's
+/// pose: a click on the curve's first point, not a second start.
+const PATH_START_TOLERANCE: f64 = 0.01;
+
+/// A body's path: a curve of usable points with a length, traced by one moving body on its own (the
+/// path search designs four-bars), its tracer placed by the body's pose where the curve starts.
+fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
+    for (k, body) in scene.moving_bodies.iter().enumerate() {
+        let Some(path) = &body.path else { continue };
+        let field = format!("moving_bodies[{k}].path");
+        out.unknown_fields(&format!("{field}."), &path.extra);
+        if scene.moving_bodies.len() > 1 {
+            out.error(
+                &field,
+                format!(
+                    "the scene has {} moving bodies, but a path is followed by a linkage of one moving body; \
+                     keep the body with the path alone (design the others in a scene of their own)",
+                    scene.moving_bodies.len()
+                ),
+            );
+        }
+        if let MechanismChoice::Only(family) = scene.mechanism {
+            if family != MechanismType::Chain {
+                out.error(
+                    "mechanism",
+                    format!(
+                        "is \"{}\", but a path is followed by a four-bar (\"chain\"); use \"chain\" or \"auto\"",
+                        family.id()
+                    ),
+                );
+            }
+        }
+        if !(path.tracer.x.is_finite() && path.tracer.y.is_finite())
+            || path.tracer.x.abs().max(path.tracer.y.abs()) > MAX_COORDINATE
+        {
+            out.error(
+                format!("{field}.tracer"),
+                format!("is {:?}; give the tracer's place in the body's own frame, finite numbers", path.tracer),
+            );
+            continue;
+        }
+        let least = if path.closed { 3 } else { 2 };
+        if path.points.len() < least {
+            out.error(
+                format!("{field}.points"),
+                format!(
+                    "has {} point(s); {} curve needs at least {least}",
+                    path.points.len(),
+                    if path.closed { "a closed" } else { "an open" }
+                ),
+            );
+            continue;
+        }
+        if let Some(i) = path.points.iter().position(|p| !(p.is_finite() && p.x.abs().max(p.y.abs()) <= MAX_COORDINATE))
+        {
+            out.error(
+                format!("{field}.points[{i}]"),
+                format!("is {:?}; write two finite numbers [x, y] within ±{MAX_COORDINATE:e}", path.points[i]),
+            );
+            continue;
+        }
+        let size = Aabb::around(path.points.iter().copied()).map_or(0.0, |bb| bb.diagonal());
+        let smallest = body_size(&body.polygon);
+        if size.is_nan() || size <= 1e-6 * smallest {
+            out.error(
+                format!("{field}.points"),
+                "are all at one place; draw the curve the tracer should follow".to_string(),
+            );
+            continue;
+        }
+        let (Some(pose), true) = (body.poses.first().filter(|p| pose_is_usable(p)), moving_ok[k]) else { continue };
+        let start = Rigid::from_pose(*pose).apply(path.tracer);
+        let (gap, from) = if path.closed {
+            let n = path.points.len();
+            let gap = (0..n)
+                .map(|i| crate::geom::point_segment_distance(start, path.points[i], path.points[(i + 1) % n]))
+                .fold(f64::INFINITY, f64::min);
+            (gap, "the curve")
+        } else {
+            (start.distance(path.points[0]), "the curve's first point")
+        };
+        if gap > PATH_START_TOLERANCE * size {
+            out.error(
+                format!("moving_bodies[{k}].poses[0]"),
+                format!(
+                    "puts the tracer at ({:.3}, {:.3}), {gap:.3} from {from}: place the body where the path \
+                     starts (its tracer on {from}), or start the curve at the tracer",
+                    start.x, start.y
+                ),
+            );
+        }
+    }
+}
+
+/// The shorter side of an outline's bounding box (0 for no outline).
+fn body_size(polygon: &[Point]) -> f64 {
+    Aabb::around(polygon.iter().copied()).map_or(0.0, |bb| bb.width().min(bb.height()))
 }
 
 /// The largest mass a moving body may be given, kilograms (a car's door is tens; a bridge is beyond
@@ -1218,6 +1346,7 @@ mod tests {
             name: "bar".into(),
             polygon: rect(-10.0, 0.0, 40.0, 10.0),
             poses: vec![[30.0, 130.0, 0.0], [300.0, 100.0, 0.0]],
+            path: None,
             mass_kg: None,
             material: None,
             thickness: None,

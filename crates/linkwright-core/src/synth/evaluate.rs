@@ -76,6 +76,8 @@ pub struct Candidate {
     pub cost: f64,
     /// Fabrication's feasibility check passed (false: failed or not run).
     pub printable: bool,
+    /// For a path scene: how far the tracer's curve is from the drawn one.
+    pub path: Option<crate::geom::PathError>,
 }
 
 impl Candidate {
@@ -417,7 +419,7 @@ fn simulate(
                 let mut soft = exact;
                 simulated_terms(ctx, &frames, (&trace, &pose_rows, least_sine), &scratch.targets, &mut soft);
                 let cost = ctx.weights.cost(&soft);
-                return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false });
+                return Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false, path: None });
             }
             Err(r) => {
                 first_failure.get_or_insert(r);
@@ -657,7 +659,7 @@ fn minimise(a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
 
 /// The terms computed from the joints alone ([`Floor::Exact`]), the others left zero. Paper eq. 12–13:
 /// location and size.
-fn exact_terms(ctx: &Context, mechanism: &Mechanism) -> SoftTerms {
+pub(crate) fn exact_terms(ctx: &Context, mechanism: &Mechanism) -> SoftTerms {
     let joints = &mechanism.joints;
     let mut soft = SoftTerms::default();
     for term in Term::ALL {

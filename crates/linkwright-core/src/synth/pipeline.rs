@@ -5,6 +5,7 @@
 use super::collision::check_collisions;
 use super::context::Context;
 use super::evaluate::{cost_floor, evaluate, Candidate, Reject};
+use super::path::{path_designs, Accepts};
 use super::pfo::{refine, FilterOptions};
 use super::random::splitmix;
 use super::refine::{refine_design, Leash, RefineOptions};
@@ -381,6 +382,9 @@ fn family_context<'p>(problem: &'p Problem, family: MechanismType, options: &Opt
 /// Runs the synthesis with `options` on the current rayon pool.
 pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Observer) -> Result<Outcome, Cancelled> {
     let started = Instant::now();
+    if problem.path().is_some() {
+        return Ok(synthesize_path(problem, options, observer, started));
+    }
     let families = families(problem);
     let mut run = Run {
         printable: options.printable,
@@ -445,6 +449,50 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     let best = picked.next();
     let reason = best.is_none().then(|| no_solution_reason(problem, &stats));
     Ok(Outcome { best, alternatives: picked.collect(), stats, reason, unbuildable })
+}
+
+/// Atlas samples of a path search, per sample of the scene's settings: the default 100,000 gives
+/// 20,000 coupler curves, which find a known four-bar's curve within 0.1% of its size.
+const PATH_SAMPLE_DIVISOR: usize = 5;
+
+/// A path scene's run ([`path_designs`]): every design is a four-bar, and a warm start designs anew
+/// (the search takes a second or two).
+fn synthesize_path(problem: &Problem, options: &Options, observer: &dyn Observer, started: Instant) -> Outcome {
+    let family = MechanismType::Chain;
+    observer.progress(&Progress { stage: Stage::Sampling, mechanism: family, fraction: 0.0, best_cost: None });
+    let samples = (problem.settings.samples / PATH_SAMPLE_DIVISOR).max(1);
+    let accepts = options.printable.map(|check| move |m: &Mechanism, t: &Trace| check.accepts(m, t));
+    let accepts: Option<&Accepts<'_>> = accepts.as_ref().map(|f| f as _);
+    let found = path_designs(problem, samples, MAX_ALTERNATIVES + 1, accepts);
+    let mut stats = RunStats {
+        samples,
+        fitted: found.fitted,
+        candidates: found.fitted,
+        valid: found.designs.len() + usize::from(found.refused.is_some()),
+        ..RunStats::default()
+    };
+    stats.seconds_total = started.elapsed().as_secs_f64();
+    stats.seconds_sampling = stats.seconds_total;
+    let unbuildable = found.designs.is_empty() && found.refused.is_some();
+    let mut designs = found.designs.into_iter().chain(found.refused);
+    let best = designs.next();
+    if let Some(b) = &best {
+        observer.progress(&Progress {
+            stage: Stage::Refining,
+            mechanism: family,
+            fraction: 1.0,
+            best_cost: Some(b.cost),
+        });
+    }
+    let reason = best.is_none().then(|| match &found.closest_violation {
+        Some(v) => format!(
+            "no four-bar found whose tracer follows the path: the closest ones break a hard constraint ({}: {}); \
+             move or reshape the path away from the fixed bodies, or make it smoother",
+            v.constraint, v.message
+        ),
+        None => "no four-bar found whose tracer follows the path; draw a smoother curve".to_string(),
+    });
+    Outcome { best, alternatives: designs.collect(), stats, reason, unbuildable }
 }
 
 /// Whether a cold run's best design (`None`: no design) is worth a second search from other samples:

@@ -67,12 +67,12 @@ impl FourBar {
         let crank_tip = self.crank_pivot + Vec2::from_angle(theta) * self.crank;
         let to_pivot = self.rocker_pivot - crank_tip;
         let e = to_pivot.norm();
-        if !(e > 0.0) || self.coupler <= 0.0 || self.rocker <= 0.0 {
+        if e.is_nan() || e <= 0.0 || self.coupler <= 0.0 || self.rocker <= 0.0 {
             return None;
         }
         let along = (self.coupler * self.coupler - self.rocker * self.rocker + e * e) / (2.0 * e);
         let h_sq = self.coupler * self.coupler - along * along;
-        if !(h_sq >= 0.0) {
+        if h_sq.is_nan() || h_sq < 0.0 {
             return None;
         }
         let axis = to_pivot / e;

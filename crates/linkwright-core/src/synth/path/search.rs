@@ -9,9 +9,8 @@
 //! other (least squares, in closed form with complex numbers), so one normalised four-bar stands for
 //! every placement, size and turn of itself.
 
-use super::curve::{nearest, resample, resample_into, size};
 use super::four_bar::FourBar;
-use crate::geom::{Point, Vec2};
+use crate::geom::{curve_size as size, nearest, resample, resample_into, Point, Vec2};
 use crate::synth::random::{rng, Stream};
 use nalgebra::{DMatrix, DVector};
 use rand::RngExt;
@@ -58,14 +57,8 @@ pub(crate) struct PathFit {
     pub objective: f64,
 }
 
-impl PathFit {
-    /// The tracer's curve along the travel, at `steps` + 1 crank angles; `None` where the loop does
-    /// not close, or transmits worse than `min_sine`.
-    pub(crate) fn traced(&self, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
-        traced(&self.four_bar, self.theta_start, self.theta_end, steps, min_sine)
-    }
-}
-
+/// The tracer's curve of `m` from crank angle `start` to `end`, at `steps` + 1 angles; `None` where
+/// the loop does not close, or transmits worse than `min_sine`.
 fn traced(m: &FourBar, start: f64, end: f64, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
     (0..=steps)
         .map(|k| {
@@ -201,7 +194,7 @@ fn best_match(m: &FourBar, target: &Target, s: &mut MatchScratch) -> Option<Matc
     let step = TAU / ATLAS_STEPS as f64;
     let mut best: Option<Match> = None;
     let mut consider = |w_sq: f64, c: C, w_centroid: Point, theta_start: f64, span: f64| {
-        if !(w_sq > 0.0) {
+        if w_sq.is_nan() || w_sq <= 0.0 {
             return;
         }
         let residual = 1.0 - c.norm_sq() / (w_sq * target.norm_sq);
@@ -420,8 +413,8 @@ pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined:
 
 #[cfg(test)]
 mod tests {
-    use super::super::curve::{path_error, PathError};
     use super::*;
+    use crate::geom::{path_error, PathError};
 
     /// A known crank-rocker, off the atlas's normal form: pivots (2, 1) and (5, 2), links 1, 3.5, 2.8.
     fn known() -> FourBar {
@@ -446,7 +439,7 @@ mod tests {
         let t = std::time::Instant::now();
         let fits = fit_four_bars(&goal, 0, 20_000, 16);
         let best = fits[0];
-        let curve = best.traced(720, 0.0).unwrap();
+        let curve = traced(&best.four_bar, best.theta_start, best.theta_end, 720, 0.0).unwrap();
         let e = path_error(&drawn, &curve, closed);
         eprintln!("closed {closed}: {e:?} in {:.2} s, {best:?}", t.elapsed().as_secs_f64());
         (e, best)

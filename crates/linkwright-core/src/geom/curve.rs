@@ -1,7 +1,7 @@
 //! Curves as polylines: resampling by arc length, the nearest point of a polyline, and the distance
 //! between a drawn curve and a traced one (what a path design is judged by).
 
-use crate::geom::{Point, Vec2};
+use super::{Point, Vec2};
 
 /// The length of `points` as a polyline, closed back to its first point when `closed`.
 pub(crate) fn length(points: &[Point], closed: bool) -> f64 {
@@ -25,7 +25,7 @@ pub(crate) fn resample_into(points: &[Point], closed: bool, m: usize, out: &mut 
     if points.is_empty() {
         return;
     }
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         out.resize(m, points[0]);
         return;
     }

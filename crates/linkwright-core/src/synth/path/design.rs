@@ -1,0 +1,156 @@
+//! From four-bars fitted to a drawn curve to designs: each placed so its tracer starts where the body
+//! is drawn, judged by the same re-simulation a design file's check runs, and costed like a pose
+//! design, its accuracy the distance between the curves.
+
+use super::search::{fit_four_bars, PathFit, PathGoal};
+use crate::geom::{nearest, Point, Vec2};
+use crate::kinematics::{Plan, Trace};
+use crate::mechanism::Mechanism;
+use crate::scene::{MechanismType, PathTarget, Problem};
+use crate::synth::context::Context;
+use crate::synth::evaluate::{exact_terms, Candidate};
+use crate::synth::terms::{transmission_shortfall, Term};
+use crate::verify::{traced_path, verify_travel, Travel, Violation};
+use std::f64::consts::{PI, TAU};
+
+/// Four-bars the atlas's best matches are refined into, and then judged.
+const REFINED: usize = 24;
+/// A design differs from another when some joint is farther than this fraction of the path's size
+/// from its place in the other.
+const DISTINCT: f64 = 0.02;
+
+/// A test every design must pass besides the hard constraints (the print check).
+pub(crate) type Accepts<'a> = dyn Fn(&Mechanism, &Trace) -> bool + Sync + 'a;
+
+/// What a path search found.
+#[derive(Debug, Default)]
+pub(crate) struct PathDesigns {
+    /// Valid designs, cheapest first, each distinct from those before it.
+    pub designs: Vec<Candidate>,
+    /// The cheapest valid design the acceptance test refused, when it refused every one.
+    pub refused: Option<Candidate>,
+    /// Four-bars fitted, and those that failed a hard constraint (the first violation of the closest).
+    pub fitted: usize,
+    pub closest_violation: Option<Violation>,
+}
+
+/// Designs whose tracer follows `problem`'s path: `samples` atlas four-bars under the scene's seed,
+/// at most `wanted` designs, each passing `accepts` (the print check) when given.
+pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, accepts: Option<&Accepts>) -> PathDesigns {
+    let Some(path) = problem.path() else { return PathDesigns::default() };
+    let ctx = Context::new(problem, MechanismType::Chain);
+    let start = problem.bodies[0].poses[0].apply(path.tracer);
+    let drawn = starting_at(path, start);
+    let goal = PathGoal {
+        drawn: &drawn,
+        closed: path.closed,
+        min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
+    };
+    let fits = fit_four_bars(&goal, problem.settings.seed, samples, REFINED);
+    let mut out = PathDesigns { fitted: fits.len(), ..PathDesigns::default() };
+    let mut valid: Vec<Candidate> = Vec::new();
+    for fit in fits {
+        match judged(problem, &ctx, &fit, start) {
+            Ok(c) => valid.push(c),
+            Err(v) => {
+                out.closest_violation.get_or_insert(v);
+            }
+        }
+    }
+    // Stable: equal costs keep the fits' order.
+    valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let min_shift = DISTINCT * path.size;
+    for mut c in valid {
+        if out.designs.len() >= wanted {
+            break;
+        }
+        if !out
+            .designs
+            .iter()
+            .all(|p| p.mechanism.joints.iter().zip(&c.mechanism.joints).any(|(a, b)| a.distance(*b) > min_shift))
+        {
+            continue;
+        }
+        if let Some(accepts) = accepts {
+            if !accepts(&c.mechanism, &c.trace) {
+                out.refused.get_or_insert(c);
+                continue;
+            }
+            c.printable = true;
+        }
+        out.designs.push(c);
+    }
+    if !out.designs.is_empty() {
+        out.refused = None;
+    }
+    out
+}
+
+/// The drawn curve as the tracer runs it from `start`: an open curve as drawn, a closed one begun at
+/// its point nearest `start`.
+fn starting_at(path: &PathTarget, start: Point) -> Vec<Point> {
+    if !path.closed {
+        return path.points.clone();
+    }
+    let n = path.points.len();
+    let (_, on) = nearest(start, &path.points, true);
+    let edge = (0..n)
+        .min_by(|&a, &b| {
+            let d = |i: usize| crate::geom::point_segment_distance(on, path.points[i], path.points[(i + 1) % n]);
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap_or(0);
+    let mut out = Vec::with_capacity(n + 1);
+    out.push(on);
+    out.extend((1..=n).map(|k| path.points[(edge + k) % n]).filter(|p| p.distance(on) > 0.0));
+    out
+}
+
+/// `fit` placed with its tracer exactly at `start` at the start of its travel, as a design of the
+/// scene, or the first hard constraint it breaks.
+fn judged(problem: &Problem, ctx: &Context, fit: &PathFit, start: Point) -> Result<Candidate, Violation> {
+    let mut m = fit.four_bar;
+    let begin = m.at(fit.theta_start).ok_or_else(|| Violation {
+        constraint: "assembly",
+        message: "the four-bar does not close where the path starts".into(),
+    })?;
+    let shift: Vec2 = start - begin.tracer;
+    m.crank_pivot = m.crank_pivot + shift;
+    m.rocker_pivot = m.rocker_pivot + shift;
+    let (crank_tip, rocker_tip) = (begin.crank_tip + shift, begin.rocker_tip + shift);
+    let topology = ctx.topology.clone();
+    let place = |name: &str| match name {
+        "q0" => m.crank_pivot,
+        "r0" => m.rocker_pivot,
+        "p1" => crank_tip,
+        _ => rocker_tip,
+    };
+    let joints: Vec<Point> = topology.joint_names.iter().map(|n| place(n)).collect();
+    let mechanism = Mechanism { topology, joints, slider: None };
+    // The travel as a design file writes it: from the crank's direction, in (−180°, 180°].
+    let theta_start = (crank_tip - m.crank_pivot).angle();
+    let theta_start = if theta_start <= -PI { theta_start + TAU } else { theta_start };
+    let theta_end = theta_start + (fit.theta_end - fit.theta_start);
+    let (start_deg, end_deg) = (theta_start.to_degrees(), theta_end.to_degrees());
+    let (violations, _) =
+        verify_travel(problem, &mechanism, Travel { start: start_deg, end: end_deg, poses: &[start_deg] });
+    if let Some(v) = violations.into_iter().next() {
+        return Err(v);
+    }
+    let plan = Plan::compile(&mechanism).map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
+    let mut trace = Trace::new(plan.joint_count());
+    trace
+        .sweep(&plan, theta_start, theta_end, 1f64.to_radians())
+        .map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
+    let (_, error) = traced_path(problem, &mechanism, start_deg, end_deg)
+        .ok_or_else(|| Violation { constraint: "assembly", message: "the travel comes apart".into() })?;
+    let mut soft = exact_terms(ctx, &mechanism);
+    // The path's accuracy is the curves' mean distance, squared like E_acc's misses; the one pose is
+    // where the body starts, met exactly. Smoothness is the drawn curve's own, 1.
+    soft[Term::Accuracy] = error.mean * error.mean;
+    soft[Term::Smoothness] = 1.0;
+    soft[Term::Transmission] =
+        transmission_shortfall(trace.min_transmission_sine(&plan), ctx.comfortable_transmission_sine);
+    let cost = ctx.weights.cost(&soft);
+    Ok(Candidate { mechanism, plan, trace, pose_rows: vec![0], soft, cost, printable: false, path: Some(error) })
+}
