@@ -110,8 +110,9 @@ pub enum AnalysisError {
         /// The most steps it may have.
         most: usize,
     },
-    /// A crank angle is not finite, or the travel is a full turn or more.
-    #[error("motion: crank angles must be finite and the travel shorter than a full turn")]
+    /// A crank angle is not finite, or the travel is a full turn or more (other than exactly one, for
+    /// a closed path).
+    #[error("motion: crank angles must be finite and the travel shorter than a full turn (one, for a closed path)")]
     Travel,
     /// The mechanism is not a chain of dyads the kinematics can solve.
     #[error("the mechanism cannot be simulated: {0}")]
@@ -167,7 +168,7 @@ impl Replay {
         }
         let (start, end) = (motion.crank_start_deg, motion.crank_end_deg);
         let finite = start.is_finite() && end.is_finite() && pose_degs.iter().all(|a| a.is_finite());
-        if !finite || (end - start).abs() >= 360.0 {
+        if !finite || !problem.travel_fits(start, end) {
             return Err(AnalysisError::Travel);
         }
         let plan = Plan::compile(&mechanism)?;

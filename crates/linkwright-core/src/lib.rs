@@ -110,6 +110,9 @@ pub use design::{
     MechanismJson, Metrics, Motion, PartJson, PartKindJson, Seconds, SliderJson, Stats, Status, DESIGN_FORMAT,
 };
 
+// A path design's distance from the drawn curve.
+pub use geom::PathError;
+
 // Checking a design against its scene.
 pub use verify::{far_from_pose, pose_misses, FarFromPose, Violation, FAR_ANGLE_DEG, FAR_POSITION_REL_D};
 

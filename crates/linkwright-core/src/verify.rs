@@ -123,10 +123,8 @@ fn check_order(problem: &Problem, mechanism: &Mechanism, travel: Travel, out: &m
         return false;
     }
     let finite = start.is_finite() && end.is_finite() && poses.iter().all(|p| p.is_finite());
-    // A closed path is traced once per turn: its travel is exactly one.
-    let full_turn = problem.path().is_some_and(|p| p.closed);
-    let span = (end - start).abs();
-    if !finite || (full_turn && (span - 360.0).abs() > 1e-9) || (!full_turn && span >= 360.0) {
+    if !finite || !problem.travel_fits(start, end) {
+        let full_turn = problem.path().is_some_and(|p| p.closed);
         let wanted = if full_turn { "exactly one turn (a closed path)" } else { "less than a full turn" };
         out.push(violation("order", format!("the crank's travel {start}° → {end}° must be finite and {wanted}")));
         return false;

@@ -13,8 +13,8 @@ use linkwright_core::balance::{Balanced, SpringNeed};
 use linkwright_core::fab::BuildPlan;
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
-    animation_svg, design_svg, pose_misses, synthesize_with, Build, DesignFile, Observer, Options, Outcome, PoseMiss,
-    Problem, Progress, RenderInput, Stage, Start, Status, DESIGN_FORMAT,
+    animation_svg, design_svg, pose_misses, synthesize_with, Build, DesignFile, Observer, Options, Outcome, PathError,
+    PoseMiss, Problem, Progress, RenderInput, Stage, Start, Status, DESIGN_FORMAT,
 };
 use std::path::{Path, PathBuf};
 
@@ -278,7 +278,10 @@ fn summary(file: &DesignFile, problem: &Problem, out_dir: &Path) -> String {
                     100.0 * far.miss.position_rel_d,
                     far.miss.angle_deg
                 ),
-                None => pose_reach(problem, &x.pose_errors),
+                None => match &x.path_error {
+                    Some(error) => path_reach(problem, error),
+                    None => pose_reach(problem, &x.pose_errors),
+                },
             },
             file.build.as_ref().map_or(String::new(), build_words),
             x.cost,
@@ -351,7 +354,11 @@ pub(crate) fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failu
                 let (row, sine) = r.trace.least_transmission(&r.plan);
                 let at = travel_share(&file, Some(r.trace.thetas[row].to_degrees()));
                 let words = transmission_words(sine.asin().to_degrees(), at, &problem);
-                format!("{}; {words}", pose_reach(&problem, &misses))
+                let reach = match file.metrics.as_ref().and_then(|m| m.path_error) {
+                    Some(error) => path_reach(&problem, &error),
+                    None => pose_reach(&problem, &misses),
+                };
+                format!("{reach}; {words}")
             }
             Err(_) => String::new(),
         };
@@ -492,6 +499,26 @@ fn csv_field(text: &str) -> String {
 /// badge uses the same bounds).
 const REACHED_REL_D: f64 = 0.01;
 const REACHED_DEG: f64 = 1.0;
+
+/// A path is traced closely within this fraction of its size; past it the summary says how far it
+/// strays, and where.
+const TRACED_REL: f64 = 0.02;
+
+/// What a person wants to know of a path design: how closely it traces the drawn curve.
+fn path_reach(problem: &Problem, error: &PathError) -> String {
+    let units = &problem.units;
+    let at = if error.max_rel > TRACED_REL {
+        format!(", farthest near ({:.1}, {:.1})", error.at.x, error.at.y)
+    } else {
+        String::new()
+    };
+    format!(
+        ", traces the drawn path within {:.3} {units} ({:.2}% of its size; {:.3} {units} on average){at}",
+        error.max,
+        100.0 * error.max_rel,
+        error.mean
+    )
+}
 
 /// What a person wants to know after the hard constraints: whether the design reaches the drawn poses,
 /// and if not, which one it misses most (the one furthest past either bound).

@@ -21,7 +21,12 @@ const MIN_SECONDS: f64 = 0.1;
 /// back, and repeats forever; the crank turns at constant speed. Without animation support (a static
 /// renderer), the picture shows the linkage at the first configuration of the trace.
 pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
-    let sheet = Sheet::new(input, MAX_FRAMES, &["1…N: input poses", "the motion plays forward and back"]);
+    let notes: &'static [&'static str] = match input.problem.path() {
+        Some(path) if path.closed => &["1: where the body starts", "the crank turns round and round"],
+        Some(_) => &["1: where the body starts", "the motion plays forward and back"],
+        None => &["1…N: input poses", "the motion plays forward and back"],
+    };
+    let sheet = Sheet::new(input, MAX_FRAMES, notes);
     let clock = Clock::new(&sheet, seconds);
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
@@ -29,6 +34,7 @@ pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
     layers::backdrop(&sheet, &mut out);
     layers::onion_skins(&sheet, &mut out);
     layers::joint_paths(&sheet, &mut out);
+    layers::drawn_and_traced_path(&sheet, &mut out);
     layers::slider_guide(&sheet, &mut out);
     moving_bodies(&sheet, &clock, &mut out);
     links(&sheet, &clock, &mut out);
@@ -42,20 +48,24 @@ pub fn animation_svg(input: &RenderInput, seconds: f64) -> String {
     out
 }
 
-/// Timing shared by every animated attribute: frames forward, then back to the first.
+/// Timing shared by every animated attribute: frames forward, then back to the first; or, for a
+/// closed path (the crank turning whole turns), forward only, over and over.
 struct Clock {
     /// `None` when there is nothing to animate (fewer than two frames).
     key_times: Option<String>,
     dur: String,
+    /// Whether the frames play back after forward.
+    back: bool,
 }
 
 impl Clock {
     fn new(sheet: &Sheet, seconds: f64) -> Clock {
         let seconds = if seconds.is_finite() { seconds.max(MIN_SECONDS) } else { MIN_SECONDS };
-        let dur = format!("{}s", Num::with_decimals(3).f(2.0 * seconds));
+        let back = !sheet.input.problem.path().is_some_and(|p| p.closed);
+        let dur = format!("{}s", Num::with_decimals(3).f(if back { 2.0 * seconds } else { seconds }));
         let m = sheet.rows.len();
         if m < 2 || sheet.input.trace.is_empty() {
-            return Clock { key_times: None, dur };
+            return Clock { key_times: None, dur, back };
         }
         // Time is proportional to the crank angle travelled, so the crank turns at constant speed.
         let thetas = &sheet.input.trace.thetas;
@@ -73,12 +83,13 @@ impl Clock {
             .map(|(i, t)| if sum > 0.0 { t / sum } else { i as f64 / (m - 1) as f64 })
             .collect();
         let key = Num::with_decimals(5);
-        let times: Vec<String> = fraction
-            .iter()
-            .map(|f| key.f(f / 2.0))
-            .chain(fraction[..m - 1].iter().rev().map(|f| key.f(1.0 - f / 2.0)))
-            .collect();
-        Clock { key_times: Some(times.join(";")), dur }
+        let times: Vec<String> = if back {
+            let forward = fraction.iter().map(|f| key.f(f / 2.0));
+            forward.chain(fraction[..m - 1].iter().rev().map(|f| key.f(1.0 - f / 2.0))).collect()
+        } else {
+            fraction.iter().map(|&f| key.f(f)).collect()
+        };
+        Clock { key_times: Some(times.join(";")), dur, back }
     }
 
     /// Writes an animation of `attribute` through `forward` (one value per sampled frame), forward then
@@ -90,7 +101,7 @@ impl Clock {
         }
         let mut values = String::with_capacity(2 * forward.text.len());
         values.push_str(&forward.text);
-        for i in (0..forward.ends.len() - 1).rev() {
+        for i in (0..forward.ends.len() - 1).rev().filter(|_| self.back) {
             values.push(';');
             values.push_str(forward.value(i));
         }

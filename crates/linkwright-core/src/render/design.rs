@@ -22,7 +22,10 @@ const MAX_PATH_POINTS: usize = 720;
 /// a title with a legend, and under the drawing each link's length and each ground pivot's position in
 /// the scene's units.
 pub fn design_svg(input: &RenderInput) -> String {
-    let notes = &["1…N: input poses", "dashed: as the linkage reaches them"];
+    let notes: &'static [&'static str] = match input.problem.path() {
+        Some(_) => &["1: where the body starts", "wide: the path drawn, thin: as the tracer follows it"],
+        None => &["1…N: input poses", "dashed: as the linkage reaches them"],
+    };
     let sheet = Sheet::new(input, MAX_PATH_POINTS, notes).with_footer(dimensions(input));
     let mut out = String::new();
     layers::open_document(&sheet, &mut out);
@@ -31,6 +34,7 @@ pub fn design_svg(input: &RenderInput) -> String {
     layers::onion_skins(&sheet, &mut out);
     reached_poses(&sheet, &mut out);
     layers::joint_paths(&sheet, &mut out);
+    layers::drawn_and_traced_path(&sheet, &mut out);
     layers::slider_guide(&sheet, &mut out);
     bodies_at_first_pose(&sheet, &mut out);
     linkage_at_first_pose(&sheet, &mut out);

@@ -102,6 +102,22 @@ pub(crate) fn joint_paths(sheet: &Sheet, out: &mut String) {
     }
 }
 
+/// A path scene's drawn curve, and the curve its tracer traces through the sampled configurations.
+pub(crate) fn drawn_and_traced_path(sheet: &Sheet, out: &mut String) {
+    for (b, body) in sheet.input.problem.bodies.iter().enumerate() {
+        let Some(path) = &body.path else { continue };
+        Element::new(if path.closed { "polygon" } else { "polyline" })
+            .attr("class", "drawn-path")
+            .attr("points", sheet.num.points(path.points.iter().copied()))
+            .empty(out);
+        if sheet.input.trace.is_empty() {
+            continue;
+        }
+        let traced = sheet.rows.iter().map(|&s| sheet.body_pose(b, sheet.row(s)).apply(path.tracer));
+        Element::new("polyline").attr("class", "traced-path").attr("points", sheet.num.points(traced)).empty(out);
+    }
+}
+
 /// The slot the slider joint runs in, between its extreme positions.
 pub(crate) fn slider_guide(sheet: &Sheet, out: &mut String) {
     let Some((a, b)) = sheet.guide() else { return };

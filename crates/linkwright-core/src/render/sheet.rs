@@ -161,7 +161,10 @@ impl<'a> Sheet<'a> {
         if let (Some(a), Some(b)) = (thetas.first(), thetas.last()) {
             subtitle.push_str(&format!(" · crank {:.1}° → {:.1}°", a.to_degrees(), b.to_degrees()));
         }
-        subtitle.push_str(&format!(" · {} poses", problem.pose_count));
+        match problem.path() {
+            Some(path) => subtitle.push_str(if path.closed { " · a closed path" } else { " · an open path" }),
+            None => subtitle.push_str(&format!(" · {} poses", problem.pose_count)),
+        }
         Title { name, subtitle }
     }
 

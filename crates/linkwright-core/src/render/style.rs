@@ -112,6 +112,15 @@ impl Style {
         );
         rule(".crank", "stroke:#b03a2e".to_string());
         rule(".path", format!("fill:none;stroke-opacity:.85;stroke-width:{};stroke-linejoin:round", f(t)));
+        // A path scene's curve: drawn, wide and pale under the tracer's own, thin and dark.
+        rule(
+            ".drawn-path",
+            format!(
+                "fill:none;stroke:#e3a21a;stroke-opacity:.55;stroke-width:{};stroke-linecap:round;stroke-linejoin:round",
+                f(t * 5.0)
+            ),
+        );
+        rule(".traced-path", format!("fill:none;stroke:#7a4a00;stroke-width:{};stroke-linejoin:round", f(t * 1.3)));
         rule(".guide", format!("stroke:#7a7a7a;stroke-width:{};stroke-linecap:round", f(j * 2.6)));
         rule(".guide-core", format!("stroke:#f2f2f2;stroke-width:{};stroke-linecap:round", f(j * 1.8)));
         rule(".slider", format!("fill:#d9d9d9;stroke:#333;stroke-width:{}", f(t)));

@@ -261,6 +261,17 @@ impl Problem {
         self.bodies.len()
     }
 
+    /// Whether a crank travel from `start` to `end` (degrees) is one this scene's designs may have:
+    /// finite and less than a full turn (a linkage repeats itself after one), or exactly one for a
+    /// closed path, which the tracer goes round once per turn.
+    pub fn travel_fits(&self, start: f64, end: f64) -> bool {
+        let span = (end - start).abs();
+        match self.path() {
+            Some(path) if path.closed => (span - 360.0).abs() <= 1e-9,
+            _ => span < 360.0,
+        }
+    }
+
     /// The curve the scene's moving body follows, when it is a path scene (one moving body, one pose,
     /// a path).
     pub fn path(&self) -> Option<&PathTarget> {
