@@ -2,11 +2,13 @@
 //! the quality of the designs on scenes whose exact answer is known (see [`known`]); with `--sizes`,
 //! how the scenes given design and print at a hundredth and a hundred times their size ([`sizes`]);
 //! with `--live`, how a live redesign follows a dragged pose ([`live`]); with `--auto`, what the
-//! automatic choice of family costs against the family it returns ([`auto`]).
+//! automatic choice of family costs against the family it returns ([`auto`]); with `--paths`, how
+//! closely designs trace known coupler curves ([`paths`]).
 
 mod auto;
 mod known;
 mod live;
+mod paths;
 mod sizes;
 
 /// A scene file's name without its directory and `.json`: how the benchmarks' rows name it.
@@ -56,15 +58,16 @@ pub(crate) struct BenchArgs {
     /// mechanisms and on the nine-pose four-bar task, instead of timing Table 1.
     #[arg(long, conflicts_with_all = ["scenes", "repeat"])]
     known: bool,
-    /// With --known: a smaller grid of scenes.
-    #[arg(long, requires = "known")]
+    /// With --known or --paths: a smaller grid of scenes.
+    #[arg(long)]
     quick: bool,
-    /// With --known: the synthesis seed of every run.
-    #[arg(long, requires = "known", default_value_t = 0)]
+    /// With --known or --paths: the synthesis seed of every run.
+    #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// With --known: write each scene and the engine's design into this directory, to rerun or
-    /// inspect one (`<family>_k<K>_n<N>_seed<S>.json` and `.design.json`).
-    #[arg(long, requires = "known", value_name = "DIR")]
+    /// With --known or --paths: write each scene and the engine's design into this directory, to
+    /// rerun or inspect one (`<family>_k<K>_n<N>_seed<S>.json` and `.design.json`; with --paths
+    /// `<closed|open>_<points>_noise<noise>_seed<S>`).
+    #[arg(long, value_name = "DIR")]
     save: Option<PathBuf>,
     /// Design each scene given at 0.01x, 1x and 100x its size with default settings (an auto printed
     /// model): the model's scale, the worst pose error at each size, and whether its parts fit the plates.
@@ -79,6 +82,10 @@ pub(crate) struct BenchArgs {
     /// to back (`--repeat` pairs): the seconds of each, their ratio and both designs' quality.
     #[arg(long, conflicts_with_all = ["known", "sizes", "live"])]
     auto: bool,
+    /// Measure how closely the designs trace drawn paths made from known four-bars' coupler curves
+    /// (closed and open, 20 to 200 points, exact and with noise), instead of timing Table 1.
+    #[arg(long, conflicts_with_all = ["scenes", "repeat", "known", "sizes", "live", "auto"])]
+    paths: bool,
 }
 
 /// A Table-1 object: the bundled example, the mechanism the paper used, and the paper's seconds
@@ -168,6 +175,9 @@ pub(crate) fn bench(args: BenchArgs) -> Result<(), Failure> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .map_err(|e| Failure::Input(format!("error: --threads: {e}")))?;
+    if args.paths {
+        return paths::bench_paths(args.quick, args.seed, args.save.as_deref(), &pool, args.json);
+    }
     if args.known {
         return known::bench_known(args.quick, args.seed, args.save.as_deref(), &pool, args.json);
     }

@@ -53,6 +53,28 @@ pub(crate) fn resample(points: &[Point], closed: bool, m: usize) -> Vec<Point> {
     out
 }
 
+/// `points` with each replaced by the mean of itself and its `half` neighbours on either side (an
+/// open polyline's ends keep their place, and near them the window shrinks to stay centred).
+pub(crate) fn smoothed(points: &[Point], closed: bool, half: usize) -> Vec<Point> {
+    let n = points.len();
+    if half == 0 || n < 3 {
+        return points.to_vec();
+    }
+    (0..n)
+        .map(|i| {
+            let h = if closed { half.min((n - 1) / 2) } else { half.min(i).min(n - 1 - i) };
+            let (mut x, mut y) = (0.0, 0.0);
+            for k in 0..=2 * h {
+                let p = points[(i + n + k - h) % n];
+                x += p.x;
+                y += p.y;
+            }
+            let m = (2 * h + 1) as f64;
+            Point::new(x / m, y / m)
+        })
+        .collect()
+}
+
 /// The point of the polyline `points` (closed when `closed`) nearest to `p`, and its distance.
 pub(crate) fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point) {
     if points.len() == 1 {
@@ -159,6 +181,18 @@ mod tests {
         for (p, (x, y)) in open.iter().zip(want) {
             assert!(p.distance(Point::new(x, y)) < 1e-12, "{p:?} against ({x}, {y})");
         }
+    }
+
+    #[test]
+    fn smoothing_keeps_a_line_and_its_ends_and_flattens_a_zigzag() {
+        let zigzag: Vec<Point> = (0..9).map(|i| Point::new(i as f64, if i % 2 == 0 { 0.0 } else { 1.0 })).collect();
+        let s = smoothed(&zigzag, false, 1);
+        assert_eq!((s[0], s[8]), (zigzag[0], zigzag[8]), "the ends stay");
+        for p in &s[1..8] {
+            assert!((p.y - 0.5).abs() <= 1.0 / 6.0 + 1e-12, "{p:?}: the mean of three alternating heights");
+        }
+        let line: Vec<Point> = (0..9).map(|i| Point::new(i as f64, 2.0 * i as f64)).collect();
+        assert_eq!(smoothed(&line, false, 2), line);
     }
 
     #[test]

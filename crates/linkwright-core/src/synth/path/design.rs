@@ -9,10 +9,14 @@ use crate::mechanism::Mechanism;
 use crate::scene::{MechanismType, PathTarget, Problem};
 use crate::synth::context::Context;
 use crate::synth::evaluate::{exact_terms, Candidate};
-use crate::synth::terms::{transmission_shortfall, Term};
+use crate::synth::terms::{transmission_shortfall, CostWeights, Term};
 use crate::verify::{traced_path, verify_travel, Travel, Violation};
 use std::f64::consts::{PI, TAU};
 
+/// How much more the path's accuracy weighs than the scene's accuracy weight says of poses: a mean
+/// distance of 1% of the curve costs as much as a joint a whole curve's size outside the linkage
+/// region, so the path comes first and compactness decides between designs that trace it alike.
+const PATH_ACCURACY_EMPHASIS: f64 = 100.0;
 /// Four-bars the atlas's best matches are refined into, and then judged.
 const REFINED: usize = 24;
 /// A design differs from another when some joint is farther than this fraction of the path's size
@@ -151,6 +155,11 @@ fn judged(problem: &Problem, ctx: &Context, fit: &PathFit, start: Point) -> Resu
     soft[Term::Smoothness] = 1.0;
     soft[Term::Transmission] =
         transmission_shortfall(trace.min_transmission_sine(&plan), ctx.comfortable_transmission_sine);
-    let cost = ctx.weights.cost(&soft);
+    // Scale-free in the path, not in the body: the tracer's body may be a small foot on a stride
+    // many times its size, and how far the curves are apart matters relative to the curve.
+    let path_size = problem.path().map_or(ctx.body_size, |p| p.size);
+    let mut weights = CostWeights::new(&problem.weights, path_size);
+    weights[Term::Accuracy] *= PATH_ACCURACY_EMPHASIS;
+    let cost = weights.cost(&soft);
     Ok(Candidate { mechanism, plan, trace, pose_rows: vec![0], soft, cost, printable: false, path: Some(error) })
 }

@@ -10,7 +10,7 @@
 //! every placement, size and turn of itself.
 
 use super::four_bar::FourBar;
-use crate::geom::{curve_size as size, nearest, resample, resample_into, Point, Vec2};
+use crate::geom::{curve_size as size, nearest, resample, resample_into, smoothed, Point, Vec2};
 use crate::synth::random::{rng, Stream};
 use nalgebra::{DMatrix, DVector};
 use rand::RngExt;
@@ -31,6 +31,8 @@ const REFINE_STEPS: usize = 180;
 const REFINE_POINTS: usize = 64;
 /// Levenberg–Marquardt iterations of the refinement.
 const REFINE_ITERATIONS: usize = 40;
+/// The smoothing's half-window: this share of the drawn curve's points (see [`fit_four_bars`]).
+const SMOOTHING_SHARE: usize = 64;
 /// The stream of the path search's samples, apart from every pose family's.
 const PATH_STREAM: u64 = 0x7061_7468;
 
@@ -301,7 +303,7 @@ fn residuals(x: &[f64], template: &FourBar, closed: bool, drawn: &Drawn, min_sin
     }
     let stride = (curve.len() / REFINE_POINTS).max(1);
     for &q in curve.iter().step_by(stride) {
-        let (_, p) = nearest(q, &drawn.points, closed);
+        let (_, p) = nearest(q, drawn.curve, closed);
         out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
     }
     if !closed {
@@ -313,9 +315,12 @@ fn residuals(x: &[f64], template: &FourBar, closed: bool, drawn: &Drawn, min_sin
     Some(out)
 }
 
-/// The drawn curve as the refinement measures from it.
-struct Drawn {
+/// The drawn curve as the refinement measures from it: points spaced evenly along it (whose
+/// distances from the traced curve are measured), and the curve as drawn (which the traced points'
+/// distances are measured to: a coarser polyline's chords would cut its bends).
+struct Drawn<'a> {
     points: Vec<Point>,
+    curve: &'a [Point],
     size: f64,
 }
 
@@ -388,6 +393,11 @@ fn refine(fit: PathFit, goal: &PathGoal, drawn: &Drawn) -> PathFit {
 /// `refined` best matches refined; returned best first (the least mean squared distance), at most
 /// `refined` of them. Deterministic whatever the thread count.
 pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined: usize) -> Vec<PathFit> {
+    // A hand's jitter along many points lengthens the curve unevenly, which would space the points
+    // the match compares unevenly: the match and the refinement see the curve smoothed over a
+    // 64th of its points either side (none under 64 points).
+    let curve = smoothed(goal.drawn, goal.closed, goal.drawn.len() / SMOOTHING_SHARE);
+    let goal = &PathGoal { drawn: &curve, ..*goal };
     let target = Target::new(goal);
     let mut matches: Vec<(f64, usize, PathFit)> = (0..samples)
         .into_par_iter()
@@ -399,7 +409,9 @@ pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined:
         .collect();
     matches.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     matches.truncate(refined);
-    let drawn = Drawn { points: resample(goal.drawn, goal.closed, REFINE_POINTS), size: size(goal.drawn) };
+
+    let drawn =
+        Drawn { points: resample(goal.drawn, goal.closed, REFINE_POINTS), curve: goal.drawn, size: size(goal.drawn) };
     let mut fits: Vec<(f64, usize, PathFit)> = matches
         .into_par_iter()
         .map(|(_, i, fit)| {

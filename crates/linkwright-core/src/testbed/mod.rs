@@ -12,6 +12,10 @@
 //! decides where along that travel the poses are taken, so the same seed gives the same mechanism for
 //! every N.
 
+mod paths;
+
+pub use paths::{known_path_scene, KnownPath};
+
 use crate::design::{DesignFile, MechanismJson, Metrics, Motion, SliderJson, Stats, Status, DESIGN_FORMAT};
 use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};
 use crate::kinematics::{complete, completion_order, BodyFrames, Completion, Plan, Trace};
@@ -39,7 +43,7 @@ const MIN_TRAVEL_DEG: f64 = 40.0;
 const MAX_TRAVEL_DEG: f64 = 300.0;
 /// Crank step of every check along the travel, degrees: half the independent check's step, so the
 /// known linkage is judged at least as finely as its checker judges it.
-const STEP_DEG: f64 = 0.25;
+pub(crate) const STEP_DEG: f64 = 0.25;
 /// No two joints of a drawn mechanism are closer than this (so no part is degenerate).
 const MIN_JOINT_DISTANCE: f64 = 0.15;
 /// A body outline lies this far around its joints, drawn uniformly between the two.

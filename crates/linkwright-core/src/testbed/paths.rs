@@ -1,0 +1,158 @@
+//! Path scenes made from known four-bars: a crank-rocker drawn at random (reproducibly, from a seed)
+//! is simulated by the engine's general solver (not the path search's closed form), and the curve a
+//! point of its coupler traces becomes a scene's path. A four-bar tracing that curve exactly is then
+//! known to exist, so the path search can be measured against it.
+
+use super::{MIN_TRANSMISSION_DEG, STEP_DEG};
+use crate::geom::{curve_size, Point, Rigid, Vec2};
+use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::mechanism::{Mechanism, Topology};
+use crate::scene::{DrawnPath, FixedBody, MechanismChoice, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use crate::synth::random::splitmix;
+use rand::{RngExt, SeedableRng};
+use rand_distr::{Distribution, StandardNormal};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use std::f64::consts::TAU;
+use std::sync::Arc;
+
+/// The stream of the path testbed's draws, apart from the pose testbed's.
+const PATH_STREAM: u64 = 5 << 32;
+/// Draws tried before giving up (a crank-rocker meeting the transmission bound is found in a few).
+const MAX_PATH_DRAWS: u64 = 10_000;
+
+/// A path scene and the four-bar whose coupler point traces it.
+#[derive(Clone, Debug)]
+pub struct KnownPath {
+    /// The scene: one small body whose centre follows the curve, a ground strip well below.
+    pub scene: Scene,
+    /// The known four-bar, its joints where the body starts.
+    pub mechanism: Mechanism,
+    /// The size of the traced curve (its bounding box's diagonal), scene units.
+    pub curve_size: f64,
+}
+
+/// The path scene of seed `seed`: `points` points of a known crank-rocker's coupler curve, the whole
+/// loop (`closed`) or an arc of 90° to 270° of crank travel, each moved by Gaussian noise of
+/// `noise_rel` times the curve's size, everything at `scale` (millimetres per unit).
+pub fn known_path_scene(closed: bool, points: usize, noise_rel: f64, seed: u64, scale: f64) -> Option<KnownPath> {
+    let topology = Arc::new(Topology::chain(1));
+    for draw in 0..MAX_PATH_DRAWS {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(splitmix(seed ^ PATH_STREAM).wrapping_add(draw));
+        let Some((mechanism, start, end, tracer)) = crank_rocker(&topology, closed, &mut rng) else { continue };
+        let Ok(plan) = Plan::compile(&mechanism) else { continue };
+        let mut trace = Trace::new(plan.joint_count());
+        if trace.sweep(&plan, start, end, STEP_DEG.to_radians()).is_err()
+            || trace.min_transmission(&plan).to_degrees() < MIN_TRANSMISSION_DEG
+        {
+            continue;
+        }
+        // The body's frame sits on the tracer, unturned, where the motion starts.
+        let first = Rigid::new(0.0, tracer - Point::ORIGIN);
+        let frames = BodyFrames::new(&mechanism, &[first]);
+        let samples = if closed { points } else { points - 1 };
+        let mut curve: Vec<Point> = (0..points)
+            .map(|k| {
+                let theta = start + (end - start) * k as f64 / samples as f64;
+                let mut row = vec![Point::ORIGIN; plan.joint_count()];
+                // The sweep passed, so every angle of the travel assembles.
+                let _ = plan.solve(theta, &mut row);
+                frames.pose(0, &row).apply(Point::ORIGIN)
+            })
+            .collect();
+        let size = curve_size(&curve);
+        for p in &mut curve {
+            let (dx, dy): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
+            *p = *p + Vec2::new(dx, dy) * (noise_rel * size);
+        }
+        let at = |p: Point| Point::new(p.x * scale, p.y * scale);
+        let lowest = curve.iter().chain(&mechanism.joints).map(|p| p.y).fold(f64::INFINITY, f64::min);
+        let (left, right) = curve.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, r), p| (l.min(p.x), r.max(p.x)));
+        let ground = [(left, lowest - 0.6), (right, lowest - 0.6), (right, lowest - 0.5), (left, lowest - 0.5)];
+        let half = 0.04;
+        let square = [(-half, -half), (half, -half), (half, half), (-half, half)];
+        let scene = Scene {
+            linkwright: SCENE_FORMAT.to_string(),
+            name: format!(
+                "known {} coupler curve, {points} points, noise {noise_rel}, seed {seed}",
+                if closed { "closed" } else { "open" }
+            ),
+            units: "mm".to_string(),
+            fixed_bodies: vec![FixedBody {
+                name: "ground".to_string(),
+                polygon: ground.iter().map(|&(x, y)| at(Point::new(x, y))).collect(),
+                extra: Default::default(),
+            }],
+            moving_bodies: vec![MovingBody {
+                name: "tracer".to_string(),
+                polygon: square.iter().map(|&(x, y)| Point::new(x * scale, y * scale)).collect(),
+                poses: vec![[curve[0].x * scale, curve[0].y * scale, 0.0]],
+                path: Some(DrawnPath {
+                    tracer: Point::ORIGIN,
+                    points: curve.iter().map(|&p| at(p)).collect(),
+                    closed,
+                    extra: Default::default(),
+                }),
+                mass_kg: None,
+                material: None,
+                thickness: None,
+                extra: Default::default(),
+            }],
+            linkage_region: None,
+            avoid_regions: Vec::new(),
+            mechanism: MechanismChoice::Auto,
+            gravity: None,
+            must_hit_poses: Vec::new(),
+            pinned_joints: Default::default(),
+            weights: Weights::default(),
+            settings: Settings::default(),
+            build: Default::default(),
+            extra: Default::default(),
+        };
+        let mechanism = Mechanism { joints: mechanism.joints.iter().map(|&p| at(p)).collect(), ..mechanism };
+        return Some(KnownPath { scene, mechanism, curve_size: size * scale });
+    }
+    None
+}
+
+/// A crank-rocker (ground 1, the crank the shortest link, Grashof) at a random placement, its travel
+/// (radians: a whole turn, or an arc) and its coupler point where the travel starts.
+fn crank_rocker(
+    topology: &Arc<Topology>,
+    closed: bool,
+    rng: &mut Xoshiro256PlusPlus,
+) -> Option<(Mechanism, f64, f64, Point)> {
+    let (crank, coupler, rocker): (f64, f64, f64) =
+        (rng.random_range(0.15..0.45), rng.random_range(0.6..1.6), rng.random_range(0.6..1.6));
+    let longest = coupler.max(rocker).max(1.0);
+    if crank + longest >= 1.0 + coupler + rocker - longest {
+        return None;
+    }
+    let turn = Rigid::new(rng.random_range(0.0..TAU), Vec2::ZERO);
+    let q0 = Point::ORIGIN;
+    let r0 = turn.apply(Point::new(1.0, 0.0));
+    let start: f64 = rng.random_range(0.0..TAU);
+    let p1 = q0 + Vec2::from_angle(start) * crank;
+    let to = r0 - p1;
+    let e = to.norm();
+    let along = (coupler * coupler - rocker * rocker + e * e) / (2.0 * e);
+    let h = (coupler * coupler - along * along).sqrt();
+    let side = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let q1 = p1 + to / e * along + (to / e).perp() * (side * h);
+    let (u, v) = (coupler * rng.random_range(-0.5..1.5), coupler * rng.random_range(-1.0..1.0));
+    let x = (q1 - p1) / coupler;
+    let tracer = p1 + x * u + x.perp() * v;
+    let joints = topology
+        .joint_names
+        .iter()
+        .map(|n| match n.as_str() {
+            "q0" => q0,
+            "r0" => r0,
+            "p1" => p1,
+            _ => q1,
+        })
+        .collect();
+    let direction = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let span = if closed { TAU } else { rng.random_range(90f64..270.0).to_radians() };
+    let mechanism = Mechanism { topology: topology.clone(), joints, slider: None };
+    Some((mechanism, start, start + direction * span, tracer))
+}

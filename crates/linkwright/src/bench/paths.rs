@@ -1,0 +1,186 @@
+//! `linkwright bench --paths`: how closely the designs' tracers follow drawn paths made from known
+//! four-bars' coupler curves (a four-bar tracing each exactly exists), closed and open, drawn with
+//! few and many points, exactly and with noise. Distances come from each design file's independent
+//! check (`DesignFile::violations` re-measures `metrics.path_error`).
+
+use super::quantile;
+use crate::failure::Failure;
+use crate::files::{make_subfolder, write_below};
+use linkwright_core::testbed::known_path_scene;
+use linkwright_core::{synthesize, DesignFile, Problem, Silent, Status};
+use serde::Serialize;
+use std::path::Path;
+
+/// Points of the drawn curves: from a few clicks to a smoothed freehand stroke.
+const POINTS: [usize; 4] = [20, 50, 100, 200];
+/// Noise on every point, as a fraction of the curve's size: none, and a careful hand's.
+const NOISE: [f64; 2] = [0.0, 0.005];
+/// Millimetres per unit of the testbed (its ground link).
+const SCENE_SCALE: f64 = 100.0;
+
+/// One scene's result.
+#[derive(Serialize, Debug)]
+struct Row {
+    closed: bool,
+    points: usize,
+    noise: f64,
+    scene_seed: u64,
+    /// The engine returned a design and the independent check finds no violation.
+    valid: bool,
+    violations: Vec<String>,
+    /// The traced curve's largest and mean distance from the drawn one, fractions of its size.
+    max_rel: Option<f64>,
+    mean_rel: Option<f64>,
+    min_transmission_deg: Option<f64>,
+    seconds: f64,
+}
+
+/// Statistics over one group of rows.
+#[derive(Serialize, Debug)]
+struct Summary {
+    label: String,
+    scenes: usize,
+    valid: usize,
+    median_max_rel: f64,
+    worst_max_rel: f64,
+    median_mean_rel: f64,
+    median_seconds: f64,
+    worst_seconds: f64,
+}
+
+#[derive(Serialize, Debug)]
+struct Report {
+    synthesis_seed: u64,
+    threads: usize,
+    rows: Vec<Row>,
+    summaries: Vec<Summary>,
+}
+
+pub(super) fn bench_paths(
+    quick: bool,
+    seed: u64,
+    save: Option<&Path>,
+    pool: &rayon::ThreadPool,
+    json: bool,
+) -> Result<(), Failure> {
+    if let Some(dir) = save {
+        make_subfolder(dir, "")?;
+    }
+    let scene_seeds: &[u64] = if quick { &[0] } else { &[0, 1, 2] };
+    let mut rows = Vec::new();
+    for closed in [true, false] {
+        for points in POINTS {
+            for noise in NOISE {
+                for &scene_seed in scene_seeds {
+                    let known = known_path_scene(closed, points, noise, scene_seed, SCENE_SCALE).ok_or_else(|| {
+                        Failure::Input(format!("error: no known four-bar drawn from seed {scene_seed}"))
+                    })?;
+                    let mut problem = Problem::new(&known.scene).map_err(|issues| {
+                        Failure::Input(format!("error: a testbed path scene does not validate: {issues:?}"))
+                    })?;
+                    problem.settings.seed = seed;
+                    let outcome = pool.install(|| synthesize(&problem, &Silent)).expect("never cancelled");
+                    let design = DesignFile::from_outcome(&problem, &outcome);
+                    if let Some(dir) = save {
+                        let stem = format!(
+                            "{}_{points}_noise{noise}_seed{scene_seed}",
+                            if closed { "closed" } else { "open" }
+                        );
+                        write_below(dir, &format!("{stem}.json"), known.scene.to_json().as_bytes())?;
+                        write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
+                    }
+                    let violations: Vec<String> = design
+                        .violations(&problem)
+                        .into_iter()
+                        .map(|v| format!("{}: {}", v.constraint, v.message))
+                        .collect();
+                    let metrics = design.metrics.as_ref();
+                    let error = metrics.and_then(|m| m.path_error);
+                    let row = Row {
+                        closed,
+                        points,
+                        noise,
+                        scene_seed,
+                        valid: design.status == Status::Ok && violations.is_empty(),
+                        violations,
+                        max_rel: error.map(|e| e.max_rel),
+                        mean_rel: error.map(|e| e.mean_rel),
+                        min_transmission_deg: metrics.map(|m| m.min_transmission_deg),
+                        seconds: design.stats.seconds.total,
+                    };
+                    if !json {
+                        eprintln!("{}", row_line(&row));
+                    }
+                    rows.push(row);
+                }
+            }
+        }
+    }
+    let mut summaries = Vec::new();
+    for (label, closed, noisy) in [
+        ("closed, exact", true, false),
+        ("closed, noisy", true, true),
+        ("open, exact", false, false),
+        ("open, noisy", false, true),
+    ] {
+        summaries.push(summarize(label, rows.iter().filter(|r| r.closed == closed && (r.noise > 0.0) == noisy)));
+    }
+    summaries.push(summarize("exact", rows.iter().filter(|r| r.noise == 0.0)));
+    summaries.push(summarize("all", rows.iter()));
+    let report = Report { synthesis_seed: seed, threads: pool.current_num_threads(), rows, summaries };
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("the report serializes"));
+    } else {
+        println!(
+            "{:<16} {:>6} {:>6} {:>12} {:>11} {:>13} {:>10} {:>9}",
+            "targets", "scenes", "valid", "median max", "worst max", "median mean", "median s", "worst s"
+        );
+        for s in &report.summaries {
+            println!(
+                "{:<16} {:>6} {:>6} {:>11.3}% {:>10.3}% {:>12.3}% {:>10.2} {:>9.2}",
+                s.label,
+                s.scenes,
+                s.valid,
+                100.0 * s.median_max_rel,
+                100.0 * s.worst_max_rel,
+                100.0 * s.median_mean_rel,
+                s.median_seconds,
+                s.worst_seconds
+            );
+        }
+        println!("(distances as a percentage of the curve's size; seconds per design, {} threads)", report.threads);
+    }
+    Ok(())
+}
+
+fn row_line(r: &Row) -> String {
+    let pct = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}%", 100.0 * x));
+    format!(
+        "{:<6} {:>3} points, noise {:<5} seed {}: {} max {} mean {} in {:.2} s{}",
+        if r.closed { "closed" } else { "open" },
+        r.points,
+        r.noise,
+        r.scene_seed,
+        if r.valid { "valid" } else { "NO DESIGN" },
+        pct(r.max_rel),
+        pct(r.mean_rel),
+        r.seconds,
+        if r.violations.is_empty() { String::new() } else { format!(" ({})", r.violations.join("; ")) }
+    )
+}
+
+fn summarize<'a>(label: &str, rows: impl Iterator<Item = &'a Row> + Clone) -> Summary {
+    let mut max: Vec<f64> = rows.clone().filter_map(|r| r.max_rel).collect();
+    let mut mean: Vec<f64> = rows.clone().filter_map(|r| r.mean_rel).collect();
+    let mut seconds: Vec<f64> = rows.clone().map(|r| r.seconds).collect();
+    Summary {
+        label: label.to_string(),
+        scenes: rows.clone().count(),
+        valid: rows.filter(|r| r.valid).count(),
+        median_max_rel: quantile(&mut max, 0.5),
+        worst_max_rel: quantile(&mut max, 1.0),
+        median_mean_rel: quantile(&mut mean, 0.5),
+        median_seconds: quantile(&mut seconds, 0.5),
+        worst_seconds: quantile(&mut seconds, 1.0),
+    }
+}
