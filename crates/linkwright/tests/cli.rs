@@ -340,3 +340,37 @@ fn analyze_gives_the_torque_along_the_motion() {
     assert!(table.contains("torque (N·mm)") && table.contains("peak "), "{table}");
     assert!(table.contains("counterbalance:") && table.contains("with springs"), "{table}");
 }
+
+#[test]
+fn a_path_scene_designs_a_linkage_that_traces_it_and_check_says_how_closely() {
+    let dir = workdir("path");
+    let out = dir.join("walking_foot");
+    let run = linkwright(&[
+        "design",
+        &example("walking_foot"),
+        "-o",
+        out.to_str().unwrap(),
+        "--samples",
+        "50000",
+        "--threads",
+        "2",
+    ]);
+    assert!(run.status.success(), "stderr: {}", text(&run.stderr));
+    let summary = text(&run.stdout);
+    assert!(summary.contains("traces the drawn path within"), "{summary}");
+    let design: Value = serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    let error = &design["metrics"]["path_error"];
+    let max_rel = error["max_rel"].as_f64().expect("a path design writes its distance from the path");
+    assert!(max_rel < 0.03, "{error}");
+    // The summary's millimetres are the file's.
+    assert!(summary.contains(&format!("within {:.3} mm", error["max"].as_f64().unwrap())), "{summary}");
+    let motion = &design["motion"];
+    let span = motion["crank_end_deg"].as_f64().unwrap() - motion["crank_start_deg"].as_f64().unwrap();
+    assert!((span.abs() - 360.0).abs() < 1e-9, "a closed path turns the crank once: {motion}");
+    let design_path = out.join("design.json");
+    let check = linkwright(&["check", &example("walking_foot"), design_path.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
+    assert!(text(&check.stdout).contains("traces the drawn path within"), "{}", text(&check.stdout));
+    let svg = std::fs::read_to_string(out.join("design.svg")).unwrap();
+    assert!(svg.contains("class=\"drawn-path\"") && svg.contains("class=\"traced-path\""));
+}

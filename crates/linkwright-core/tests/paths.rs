@@ -1,0 +1,157 @@
+//! Path scenes end to end: a drawn curve made from a known four-bar's coupler curve (so a four-bar
+//! tracing it exactly exists) is designed for, and the design file's own check re-measures it.
+
+use linkwright_core::analysis::{Replay, Which};
+use linkwright_core::geom::{Point, Rigid};
+use linkwright_core::testbed::{known_path_scene, KnownPath};
+use linkwright_core::{synthesize, validate_scene, DesignFile, Problem, Scene, Severity, Silent, Status};
+
+/// Millimetres per unit of the testbed.
+const SCALE: f64 = 100.0;
+
+fn designed(known: &KnownPath) -> (Problem, DesignFile) {
+    let problem = Problem::new(&known.scene).expect("testbed path scenes are valid");
+    let outcome = synthesize(&problem, &Silent).expect("never cancelled");
+    (problem.clone(), DesignFile::from_outcome(&problem, &outcome))
+}
+
+/// Where the design's tracer is at each crank angle of its replayed travel.
+fn traced(problem: &Problem, design: &DesignFile) -> Vec<Point> {
+    let replay = Replay::new(problem, design, Which::Best, 720).expect("a valid design replays");
+    let path = problem.path().expect("a path scene");
+    (0..replay.trace.len()).map(|r| replay.frames.pose(0, replay.trace.row(r)).apply(path.tracer)).collect()
+}
+
+#[test]
+fn a_known_closed_coupler_curve_is_traced_within_a_percent_once_per_turn() {
+    let known = known_path_scene(true, 100, 0.0, 0, SCALE).expect("a known crank-rocker");
+    let (problem, design) = designed(&known);
+    assert_eq!(design.status, Status::Ok, "{:?}", design.reason);
+    assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
+    let error = design.metrics.as_ref().and_then(|m| m.path_error).expect("a path design carries its error");
+    assert!(error.max_rel < 0.01, "{error:?}");
+    assert!((error.max_rel * known.curve_size - error.max).abs() < 1e-9 * known.curve_size);
+    let motion = design.motion.as_ref().unwrap();
+    assert!(((motion.crank_end_deg - motion.crank_start_deg).abs() - 360.0).abs() < 1e-9, "{motion:?}");
+    // Once round: the tracer ends where it started, and every drawn point is near the traced loop.
+    let tracer = traced(&problem, &design);
+    assert!(tracer[0].distance(tracer[tracer.len() - 1]) < 1e-6 * known.curve_size);
+    let drawn = &problem.path().unwrap().points;
+    for p in drawn {
+        let near = tracer.iter().map(|q| q.distance(*p)).fold(f64::INFINITY, f64::min);
+        assert!(near < 0.01 * known.curve_size, "{p:?} is {near} from the traced loop");
+    }
+    // The alternatives are sound too, and re-read the file says the same.
+    let reread = DesignFile::from_json(&design.to_json()).expect("the file reads back");
+    assert!(reread.violations(&problem).is_empty());
+}
+
+#[test]
+fn an_open_arc_is_run_from_its_first_point_to_its_last() {
+    let known = known_path_scene(false, 50, 0.0, 1, SCALE).expect("a known crank-rocker");
+    let (problem, design) = designed(&known);
+    assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
+    let error = design.metrics.as_ref().and_then(|m| m.path_error).unwrap();
+    assert!(error.max_rel < 0.01, "{error:?}");
+    let motion = design.motion.as_ref().unwrap();
+    assert!((motion.crank_end_deg - motion.crank_start_deg).abs() < 360.0);
+    let drawn = &problem.path().unwrap().points;
+    let tracer = traced(&problem, &design);
+    assert!(tracer[0].distance(drawn[0]) < 1e-9 * known.curve_size, "the body starts where it is drawn");
+    let end = tracer[tracer.len() - 1].distance(drawn[drawn.len() - 1]);
+    assert!(end < 0.01 * known.curve_size, "the tracer ends {end} from the last point");
+}
+
+#[test]
+fn the_check_re_measures_the_path_and_refuses_a_travel_that_is_not_one_turn() {
+    let known = known_path_scene(true, 60, 0.0, 2, SCALE).expect("a known crank-rocker");
+    let (problem, design) = designed(&known);
+    assert!(design.violations(&problem).is_empty());
+    let mut claimed = design.clone();
+    let error = claimed.metrics.as_mut().and_then(|m| m.path_error.as_mut()).unwrap();
+    error.max *= 0.5;
+    let violations = claimed.violations(&problem);
+    assert!(violations.iter().any(|v| v.constraint == "accuracy"), "{violations:?}");
+
+    let mut short = design.clone();
+    let motion = short.motion.as_mut().unwrap();
+    motion.crank_end_deg = motion.crank_start_deg + 300.0f64.copysign(motion.crank_end_deg - motion.crank_start_deg);
+    let issues = short.validate(&problem);
+    assert!(issues.iter().any(|i| i.to_string().contains("crank_end_deg")), "{issues:?}");
+}
+
+#[test]
+fn the_same_seed_gives_the_same_path_design() {
+    let known = known_path_scene(false, 30, 0.005, 3, SCALE).expect("a known crank-rocker");
+    let (_, a) = designed(&known);
+    let (_, b) = designed(&known);
+    assert_eq!(a.mechanism, b.mechanism);
+    assert_eq!(a.motion, b.motion);
+}
+
+/// A path scene with one edit, validated: the fields of its errors.
+fn errors_of(edit: impl FnOnce(&mut Scene)) -> Vec<String> {
+    let mut scene = known_path_scene(false, 20, 0.0, 0, SCALE).expect("a known crank-rocker").scene;
+    edit(&mut scene);
+    validate_scene(&scene).iter().filter(|i| i.severity == Severity::Error).map(|i| i.field.clone()).collect()
+}
+
+#[test]
+fn a_path_scene_is_refused_where_it_cannot_be_traced_and_says_which_field() {
+    assert!(errors_of(|_| {}).is_empty(), "the testbed's scene is valid");
+    let path_of = |s: &mut Scene| s.moving_bodies[0].path.as_mut().unwrap().points.clone();
+    assert_eq!(
+        errors_of(|s| {
+            let p = path_of(s)[5];
+            s.moving_bodies[0].poses.push([p.x, p.y, 0.0]);
+        }),
+        ["moving_bodies[0].poses"],
+        "a body that follows a path has one pose"
+    );
+    assert_eq!(
+        errors_of(|s| s.moving_bodies[0].poses[0][0] += 50.0),
+        ["moving_bodies[0].poses[0]"],
+        "the tracer starts on the curve's first point"
+    );
+    assert_eq!(
+        errors_of(|s| s.mechanism = linkwright_core::MechanismChoice::Only(linkwright_core::MechanismType::SliderCrank)),
+        ["mechanism"]
+    );
+    assert_eq!(
+        errors_of(|s| s.moving_bodies[0].path.as_mut().unwrap().points[3] = Point::new(1e9, 0.0)),
+        ["moving_bodies[0].path.points[3]"]
+    );
+    assert_eq!(
+        errors_of(|s| {
+            let path = s.moving_bodies[0].path.as_mut().unwrap();
+            let p = path.points[0];
+            path.points = vec![p; 1001];
+        }),
+        ["moving_bodies[0].path.points"]
+    );
+    assert_eq!(
+        errors_of(|s| {
+            let path = s.moving_bodies[0].path.as_mut().unwrap();
+            path.points.truncate(2);
+            path.closed = true;
+        }),
+        ["moving_bodies[0].path.points"],
+        "a loop needs three points"
+    );
+    let two = errors_of(|s| {
+        let mut other = s.moving_bodies[0].clone();
+        other.path = None;
+        let [x, y, a] = other.poses[0];
+        other.poses = vec![[x, y + 500.0, a], [x + 10.0, y + 500.0, a]];
+        s.moving_bodies.push(other);
+    });
+    assert!(two.contains(&"moving_bodies[0].path".to_string()), "{two:?}");
+    // The tracer placed by the pose, not the pose's origin, is what must be on the curve.
+    let moved = errors_of(|s| {
+        let body = &mut s.moving_bodies[0];
+        body.path.as_mut().unwrap().tracer = Point::new(1.0, 0.0);
+        let start = Rigid::from_pose(body.poses[0]).apply(Point::new(-1.0, 0.0));
+        body.poses[0] = [start.x, start.y, 0.0];
+    });
+    assert!(moved.is_empty(), "{moved:?}");
+}
