@@ -31,7 +31,8 @@ async fn keyboard_races_small_windows_and_projects() -> Result<()> {
         races(&app.page).await?;
         windows(&app.page, app.shots.as_deref()).await?;
         projects(&app.page, &app.downloads).await?;
-        small_things(&app.page, &app.downloads).await
+        small_things(&app.page, &app.downloads).await?;
+        path_drawn_and_traced(&app.page).await
     }
     .await;
     app.finish(outcome).await
@@ -123,6 +124,34 @@ async fn open_example(page: &Page, name: &str) -> Result<()> {
         .await?;
     click(page, &format!("[data-example={name}]")).await?;
     replace_if_asked(page).await
+}
+
+/// A path scene (the walking foot) shows its drawn curve; designed, the curve its tracer traces is
+/// drawn over it, closed, and along it.
+async fn path_drawn_and_traced(page: &Page) -> Result<()> {
+    open_example(page, "walking_foot").await?;
+    let drawn = "document.querySelectorAll('polygon.drawn-path').length";
+    assert_eq!(eval(page, drawn).await?, serde_json::json!(1), "the drawn loop is shown before any design");
+    design_quickly(page).await?;
+    until(page, "document.querySelector('polyline.traced-path') !== null", Duration::from_secs(10)).await?;
+    // The traced curve's points, in screen units, against the drawn loop's: each traced point within
+    // 3% of the loop's size of some drawn vertex or edge, and its ends together (once round).
+    let js = "(() => { const pts = (el) => el.getAttribute('points').trim().split(/\\s+/).map((p) => p.split(',').map(Number)); \
+              const t = pts(document.querySelector('polyline.traced-path')), d = pts(document.querySelector('polygon.drawn-path')); \
+              const xs = d.map((p) => p[0]), ys = d.map((p) => p[1]); \
+              const size = Math.hypot(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys)); \
+              const seg = (p, a, b) => { const dx = b[0] - a[0], dy = b[1] - a[1], l = dx * dx + dy * dy; \
+                const u = l > 0 ? Math.max(0, Math.min(1, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l)) : 0; \
+                return Math.hypot(p[0] - a[0] - u * dx, p[1] - a[1] - u * dy); }; \
+              const far = Math.max(...t.map((p) => Math.min(...d.map((a, i) => seg(p, a, d[(i + 1) % d.length]))))); \
+              const ends = Math.hypot(t[0][0] - t[t.length - 1][0], t[0][1] - t[t.length - 1][1]); \
+              return {points: t.length > 20, far: far < 0.03 * size, closed: ends < 0.01 * size}; })()";
+    assert_eq!(
+        eval(page, js).await?,
+        serde_json::json!({"points": true, "far": true, "closed": true}),
+        "the traced loop follows the drawn one"
+    );
+    Ok(())
 }
 
 /// A design running for the wall bed when the sofa bed is opened is stopped, and nothing of it shows

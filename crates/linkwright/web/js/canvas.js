@@ -198,6 +198,13 @@ export class Canvas {
     scene.fixed_bodies.forEach((b, i) => {
       g.append(this.poly(b.polygon, { class: 'fixed', 'data-kind': 'fixed', 'data-index': i }));
     });
+    // A body's drawn path (path synthesis: its tracer should follow it), under the bodies.
+    scene.moving_bodies.forEach((b, i) => {
+      const path = b.path;
+      if (!path || !Array.isArray(path.points) || path.points.length < 2) return;
+      const tag = path.closed ? 'polygon' : 'polyline';
+      g.append(svg(tag, { class: 'drawn-path', points: points(path.points.map((p) => this.s(p))), 'data-body': i }));
+    });
     const result = this.showingResult();
     // Onion skins first, then every body at the current pose on top.
     scene.moving_bodies.forEach((b, i) => {
@@ -233,6 +240,13 @@ export class Canvas {
         g.append(svg('polyline', { class: 'joint-path', points: points(pts), stroke: PATH_COLOURS[j % PATH_COLOURS.length] }));
       });
     }
+    // The curve each path body's tracer traces along the motion.
+    this.store.scene.moving_bodies.forEach((b, i) => {
+      const tracer = b.path?.tracer;
+      if (!tracer) return;
+      const traced = a.frames.filter((f) => f.bodies[i]).map((f) => this.s(toWorld(f.bodies[i], tracer)));
+      g.append(svg('polyline', { class: 'traced-path', points: points(traced), 'data-body': i }));
+    });
     const slider = r.mechanism?.slider;
     if (slider) {
       const d = slider.direction, p = slider.point;

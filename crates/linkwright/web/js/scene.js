@@ -33,11 +33,14 @@ import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, wrapDeg }
  * @typedef {object} MovingBody
  * @property {string} name
  * @property {Polygon} polygon  in the body's own frame
- * @property {Pose[]} poses  where the body should be, in order
+ * @property {Pose[]} poses  where the body should be, in order (one, where it starts, with a path)
+ * @property {DrawnPath} [path]  a curve its tracer should follow instead of poses
  * @property {number} [mass_kg]
  * @property {string} [material]
  * @property {number} [thickness]
  *
+ * @typedef {{tracer: Point, points: Point[], closed?: boolean}} DrawnPath  The tracer in the body's frame,
+ *   the curve in world coordinates.
  * @typedef {{accuracy: number, smoothness: number, location: number, size: number, transmission: number}} Weights
  * @typedef {object} Settings
  * @property {number} seed
