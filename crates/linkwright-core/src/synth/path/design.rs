@@ -11,11 +11,13 @@ use crate::synth::context::Context;
 use crate::synth::evaluate::{exact_terms, Candidate};
 use crate::synth::terms::{transmission_shortfall, CostWeights, Term};
 use crate::verify::{traced_path, verify_travel, Travel, Violation};
+use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
-/// How much more the path's accuracy weighs than the scene's accuracy weight says of poses: a mean
-/// distance of 1% of the curve costs as much as a joint a whole curve's size outside the linkage
-/// region, so the path comes first and compactness decides between designs that trace it alike.
+/// How much more the path's accuracy weighs than the scene's accuracy weight says of poses: with the
+/// default weights a mean distance of 1% of the curve's size costs 100, as much as every joint ten
+/// curve sizes outside the linkage region, so the path comes first and compactness decides between
+/// designs that trace it alike.
 const PATH_ACCURACY_EMPHASIS: f64 = 100.0;
 /// Four-bars the atlas's best matches are refined into, and then judged.
 const REFINED: usize = 24;
@@ -33,8 +35,9 @@ pub(crate) struct PathDesigns {
     pub designs: Vec<Candidate>,
     /// The cheapest valid design the acceptance test refused, when it refused every one.
     pub refused: Option<Candidate>,
-    /// Four-bars fitted, and those that failed a hard constraint (the first violation of the closest).
+    /// Four-bars fitted to the curve (each then judged).
     pub fitted: usize,
+    /// What the closest fitted four-bar that failed a hard constraint broke first.
     pub closest_violation: Option<Violation>,
 }
 
@@ -52,9 +55,13 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
     };
     let fits = fit_four_bars(&goal, problem.settings.seed, samples, REFINED);
     let mut out = PathDesigns { fitted: fits.len(), ..PathDesigns::default() };
+    // Judged in parallel, kept in the fits' order (closest first): the same designs whatever the
+    // thread count.
+    let judgements: Vec<Result<Candidate, Violation>> =
+        fits.par_iter().map(|fit| judged(problem, &ctx, fit, start)).collect();
     let mut valid: Vec<Candidate> = Vec::new();
-    for fit in fits {
-        match judged(problem, &ctx, &fit, start) {
+    for judgement in judgements {
+        match judgement {
             Ok(c) => valid.push(c),
             Err(v) => {
                 out.closest_violation.get_or_insert(v);
