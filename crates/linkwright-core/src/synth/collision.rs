@@ -447,7 +447,7 @@ mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
     use crate::synth::sample::Sampler;
-    use crate::synth::testing::{defect_free, example};
+    use crate::synth::testing::{defect_free, example, pose_examples};
 
     /// The probes find a collision only where the sweep finds one too, so the check's verdict is the
     /// sweep's, on the travels of sampled candidates of three scenes (one with two moving bodies);
@@ -528,10 +528,7 @@ mod tests {
     fn sweep_agrees_with_exact_tests_at_every_64th_of_a_step() {
         const FINE: usize = 64;
         let (mut compared, mut colliding) = (0, 0);
-        for entry in std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples")).unwrap() {
-            let path = entry.unwrap().path();
-            let name = path.file_stem().unwrap().to_str().unwrap().to_owned();
-            let problem = example(&name);
+        for (name, problem) in pose_examples() {
             let families: &[MechanismType] = match problem.bodies.len() {
                 1 => &[MechanismType::Chain, MechanismType::SliderCrank],
                 _ => &[MechanismType::Chain],

@@ -42,6 +42,18 @@ pub(crate) mod testing {
         Problem::new(&Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
     }
 
+    /// Every bundled example scene that asks for poses (a path scene's one pose is no motion to fit
+    /// through), by name, as a problem.
+    pub(crate) fn pose_examples() -> impl Iterator<Item = (String, Problem)> {
+        let dir = format!("{}/../../examples", env!("CARGO_MANIFEST_DIR"));
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path().file_stem().unwrap().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names.into_iter().map(|name| (name.clone(), example(&name))).filter(|(_, p)| p.path().is_none())
+    }
+
     /// The defect-free candidates among samples `samples` under `seed`, in sample order.
     pub(crate) fn defect_free<'a>(
         ctx: &'a Context,

@@ -369,7 +369,7 @@ mod tests {
     use super::*;
     use crate::mechanism::MechanismType;
     use crate::scene::Problem;
-    use crate::synth::testing::example;
+    use crate::synth::testing::{example, pose_examples};
     use crate::synth::{check_collisions, evaluate, Scratch, SweepBuffers};
 
     /// The region's grid changes no drawn point: on every example scene, the draws are those of the
@@ -377,10 +377,7 @@ mod tests {
     #[test]
     fn region_grid_draws_the_points_of_the_even_odd_test() {
         use rand::SeedableRng;
-        let dir = format!("{}/../../examples", env!("CARGO_MANIFEST_DIR"));
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let name = entry.unwrap().path().file_stem().unwrap().to_string_lossy().into_owned();
-            let problem = example(&name);
+        for (name, problem) in pose_examples() {
             let ctx = Context::new(&problem, MechanismType::Chain);
             let sampler = Sampler::new(&ctx, 0);
             let b = problem.region.aabb();
@@ -407,11 +404,8 @@ mod tests {
     /// deviation a sample may have.
     #[test]
     fn constructions_left_unpolished_are_rigid() {
-        let dir = format!("{}/../../examples", env!("CARGO_MANIFEST_DIR"));
         let mut unpolished = 0;
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let name = entry.unwrap().path().file_stem().unwrap().to_string_lossy().into_owned();
-            let problem = example(&name);
+        for (name, problem) in pose_examples() {
             let families: &[MechanismType] = if problem.body_count() == 1 {
                 &[MechanismType::Chain, MechanismType::SliderCrank]
             } else {
