@@ -22,7 +22,7 @@ import { clear, points, svg } from './svg.js';
  * them), the moving bodies' poses, the crank angle and the counterbalance springs' ends.
  * @typedef {{crank_deg: number, joints: Point[], bodies: Pose[], springs?: SpringAt[]}} FrameAt
  * @typedef {{kind: 'extension' | 'torsion', ends: Point[]}} SpringAt
- * @typedef {{points: Point[], cursor?: Point | null, kind: string, closed: boolean}} DrawingPreview
+ * @typedef {{points: Point[], cursor?: Point | null, kind: string, closed: boolean, stroke?: boolean}} DrawingPreview
  *   The shape being drawn: its corners so far (world), where the pointer is, what it will be, and
  *   whether it is closed (a box) or still growing (a polygon).
  * @typedef {{name: string, at: Point, message: string}} RejectedJoint  Where a moved joint was asked
@@ -553,6 +553,11 @@ export class Canvas {
     else {
       const all = pv.cursor ? [...pts, this.s(pv.cursor)] : pts;
       g.append(svg('polyline', { class: cls, points: points(all) }));
+      // A freehand stroke shows where it starts, not every point the pointer passed.
+      if (pv.stroke) {
+        g.append(svg('circle', { class: 'preview-start', cx: pts[0][0], cy: pts[0][1], r: 6 }));
+        return;
+      }
       pts.forEach((p, i) => g.append(svg('circle', { class: i === 0 ? 'preview-start' : 'preview-dot', cx: p[0], cy: p[1], r: i === 0 ? 6 : 3 })));
     }
   }

@@ -413,7 +413,7 @@ window.addEventListener('keydown', (e) => {
   if (e.key === '?') { element('shortcuts', HTMLDialogElement).showModal(); return; }
   if (tools.key(e)) { e.preventDefault(); return; }
   /** @type {Record<string, Tool>} */
-  const shortcuts = { v: 'select', h: 'pan', r: 'rect', p: 'polygon', e: 'ellipse' };
+  const shortcuts = { v: 'select', h: 'pan', r: 'rect', p: 'polygon', e: 'ellipse', t: 'path' };
   const key = e.key.toLowerCase();
   if (shortcuts[key]) tools.setTool(shortcuts[key]);
   else if (key === 'f') fit();

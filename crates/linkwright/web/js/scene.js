@@ -145,6 +145,58 @@ export function geometryKey(scene) {
   ]);
 }
 
+/** Points a drawn path keeps, spaced evenly along the stroke (the engine measures every one). */
+const PATH_POINTS = 120;
+
+/**
+ * Makes `stroke` (world points, the first on moving body `body` at pose `pose`) the body's path: its
+ * tracer where the stroke began, the body kept at that pose alone (where it is when the tracer
+ * starts). Returns false when the scene has other moving bodies (a path is one body's motion).
+ * @param {Scene} scene
+ * @param {number} body
+ * @param {number} pose
+ * @param {Point[]} stroke
+ * @param {boolean} closed
+ */
+export function setPath(scene, body, pose, stroke, closed) {
+  if (scene.moving_bodies.length !== 1) return false;
+  const b = scene.moving_bodies[body];
+  const at = b.poses[Math.min(pose, b.poses.length - 1)] || [0, 0, 0];
+  const tracer = toBody(at, stroke[0]).map((v) => tidy(v, 3));
+  const ends = closed ? stroke.slice(0, -1) : stroke;
+  b.path = { tracer: /** @type {Point} */ (tracer), points: evenly(ends, closed, PATH_POINTS).map(([x, y]) => [tidy(x, 3), tidy(y, 3)]), closed };
+  b.poses = [at];
+  delete scene.must_hit_poses;
+  return true;
+}
+
+/**
+ * `n` points spaced evenly by length along `points` (fewer when it has fewer), the first kept.
+ * @param {Point[]} points
+ * @param {boolean} closed
+ * @param {number} n
+ * @returns {Point[]}
+ */
+function evenly(points, closed, n) {
+  if (points.length <= n) return points;
+  const path = closed ? [...points, points[0]] : points;
+  const at = [0];
+  for (let i = 1; i < path.length; i++) at.push(at[i - 1] + Math.hypot(path[i][0] - path[i - 1][0], path[i][1] - path[i - 1][1]));
+  const total = at[at.length - 1];
+  const count = closed ? n : n - 1;
+  /** @type {Point[]} */
+  const out = [];
+  let j = 1;
+  for (let k = 0; k < n; k++) {
+    const want = (total * k) / count;
+    while (j < path.length - 1 && at[j] < want) j++;
+    const span = at[j] - at[j - 1];
+    const t = span > 0 ? Math.min(1, Math.max(0, (want - at[j - 1]) / span)) : 0;
+    out.push([path[j - 1][0] + t * (path[j][0] - path[j - 1][0]), path[j - 1][1] + t * (path[j][1] - path[j - 1][1])]);
+  }
+  return out;
+}
+
 /** The number of poses (of every moving body). @type {(scene: Scene) => number} */
 export const poseCount = (scene) => (scene.moving_bodies.length ? scene.moving_bodies[0].poses.length : 0);
 

@@ -38,7 +38,7 @@
  * @property {boolean} dimensions  the links' lengths are written on the drawing
  * @property {boolean} welcomeClosed
  *
- * @typedef {'select' | 'pan' | 'rect' | 'polygon' | 'ellipse'} Tool
+ * @typedef {'select' | 'pan' | 'rect' | 'polygon' | 'ellipse' | 'path'} Tool
  * @typedef {'object' | 'settings' | 'result'} Tab
  * @typedef {'ui' | 'scene' | 'result' | 'hint' | 'families' | 'lengthUnits'} Change  what changed, for the listeners
  */

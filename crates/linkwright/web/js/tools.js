@@ -37,7 +37,7 @@ import * as S from './scene.js';
 /**
  * A drag under way: panning the view, spanning a box, moving a corner, a joint, a shape or turning a pose.
  * @typedef {{type: 'pan', last: Point} | {type: 'box', start: Point} | {type: 'vertex', v: number} | {type: 'joint'}
- *   | {type: 'move', start: Point, applied: Point} | {type: 'rotate'}} Drag
+ *   | {type: 'move', start: Point, applied: Point} | {type: 'rotate'} | {type: 'stroke', body: number, points: Point[]}} Drag
  */
 
 /** @type {Record<ShapeKind, string>} */
@@ -55,7 +55,14 @@ export const TOOL_HINTS = {
   rect: 'Rectangle: drag to draw {kind}.',
   ellipse: 'Ellipse: drag to draw {kind}.',
   polygon: 'Polygon: click to place corners of {kind}; click the first corner, double-click or press Enter to close. Backspace removes the last corner, Esc cancels.',
+  path: 'Path: press on the point of a moving body that should follow a curve (a foot, a pen tip), then draw the curve without letting go. End where you started for a loop the crank goes round.',
 };
+
+/** A stroke's points are kept this far apart on screen, pixels. */
+const STROKE_STEP_PX = 3;
+/** A stroke ending this close to its start (screen pixels, or this share of its size) is a loop. */
+const LOOP_CLOSE_PX = 16;
+const LOOP_CLOSE_SHARE = 0.08;
 
 /** A drawn shape narrower than this on screen is refused, pixels: as a rectangle or an ellipse dragged
  * less far, it would be a line, no part. */
@@ -181,6 +188,15 @@ export class Tools {
     if (e.button !== 0) return;
     if (ui.tool === 'select') return this.selectDown(e, s);
     this.actions.leaveResult();
+    if (ui.tool === 'path') {
+      const hit = targetOf(e, '[data-kind=moving]');
+      if (!hit) {
+        this.store.hint('Press on a moving body, at the point that should follow the curve, then draw the curve.');
+        return;
+      }
+      this.drag = { type: 'stroke', body: Number(hit.dataset.index), points: [this.view.toWorld(s)] };
+      return;
+    }
     if (ui.tool === 'rect' || ui.tool === 'ellipse') {
       this.drag = { type: 'box', start: this.snapped(e) };
       return;
@@ -284,6 +300,14 @@ export class Tools {
         if (sel) this.store.update((sc) => S.moveVertex(sc, sel, d.v, this.snapped(e), ui.pose));
         break;
       }
+      case 'stroke': {
+        // Freehand, never snapped: the curve is what the hand draws.
+        const last = this.view.toScreen(d.points[d.points.length - 1]);
+        if (dist(last, s) >= STROKE_STEP_PX) d.points.push(w);
+        this.canvas.preview = { points: d.points, kind: 'moving', closed: false, stroke: true };
+        this.actions.redraw();
+        break;
+      }
       case 'joint':
         // Not snapped: a linkage answers to small moves, and a grid step can be too far for it.
         this.actions.moveJoint(w);
@@ -342,7 +366,40 @@ export class Tools {
       this.actions.poseReleased();
     } else if (d.type === 'joint') {
       this.actions.endJointDrag();
+    } else if (d.type === 'stroke') {
+      this.canvas.preview = null;
+      this.finishStroke(d.body, d.points);
     }
+  }
+
+  /**
+   * A freehand stroke from a point of moving body `body` made its path: a loop when it ends near
+   * where it began.
+   * @param {number} body
+   * @param {Point[]} stroke
+   */
+  finishStroke(body, stroke) {
+    const screen = stroke.map((p) => this.view.toScreen(p));
+    const xs = screen.map((p) => p[0]), ys = screen.map((p) => p[1]);
+    const extent = Math.hypot(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys));
+    if (stroke.length < 3 || extent < 4 * LOOP_CLOSE_PX) {
+      this.store.hint('Draw the curve further: press on the moving body and move without letting go.');
+      this.actions.redraw();
+      return;
+    }
+    const gap = dist(screen[0], screen[screen.length - 1]);
+    const closed = gap <= Math.max(LOOP_CLOSE_PX, LOOP_CLOSE_SHARE * extent);
+    const pose = this.store.ui.pose;
+    const done = this.store.edit('draw a path', (sc) => S.setPath(sc, body, pose, stroke, closed));
+    if (done === false) {
+      this.store.hint('A path is followed by a linkage of one moving body: remove the others, or design them in a scene of their own.');
+      this.actions.redraw();
+      return;
+    }
+    this.store.setUi({ pose: 0, selection: { kind: 'moving', index: body } });
+    this.store.hint(closed
+      ? 'Loop drawn: the linkage will carry the point round it once per turn of the crank. Design to see it.'
+      : 'Path drawn: the linkage will carry the point from its start to its end. Design to see it.');
   }
 
   /** @param {MouseEvent} e */
