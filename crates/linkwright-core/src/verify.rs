@@ -144,16 +144,11 @@ fn check_order(problem: &Problem, mechanism: &Mechanism, travel: Travel, out: &m
     true
 }
 
-/// The curve the tracer of `problem`'s path traces along `mechanism`'s travel from `start` to `end`
-/// (degrees) at the re-simulation's fine steps, and its distance from the drawn curve; `None` for a
-/// scene without a path, or a travel that comes apart. The engine and a design file's check both
-/// measure a path design with it, so they agree to the last digit.
-pub(crate) fn traced_path(
-    problem: &Problem,
-    mechanism: &Mechanism,
-    start: f64,
-    end: f64,
-) -> Option<(Vec<Point>, PathError)> {
+/// How far the curve the tracer of `problem`'s path traces along `mechanism`'s travel from `start`
+/// to `end` (degrees), at the re-simulation's fine steps, is from the drawn curve; `None` for a scene
+/// without a path, or a travel that comes apart. The engine and a design file's check both measure a
+/// path design with it, so they agree to the last digit.
+pub(crate) fn traced_path_error(problem: &Problem, mechanism: &Mechanism, start: f64, end: f64) -> Option<PathError> {
     let (b, path) = problem.bodies.iter().enumerate().find_map(|(b, body)| body.path.as_ref().map(|p| (b, p)))?;
     let plan = Plan::compile(mechanism).ok()?;
     let trace = sweep(&plan, start, end).ok()?;
@@ -163,8 +158,7 @@ pub(crate) fn traced_path(
         // The last row is the first again, a turn later.
         traced.pop();
     }
-    let error = path_error(&path.points, &traced, path.closed);
-    Some((traced, error))
+    Some(path_error(&path.points, &traced, path.closed))
 }
 
 /// The whole travel from `start` to `end` (degrees) at fine steps, or where it comes apart.

@@ -4,7 +4,7 @@
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
 use crate::scene::{Build, PoseMiss, Problem};
-use crate::verify::{pose_misses, traced_path, verify_travel, Travel, Violation};
+use crate::verify::{pose_misses, traced_path_error, verify_travel, Travel, Violation};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -482,7 +482,7 @@ impl DesignFile {
         let travel = Travel { start: motion.crank_start_deg, end: motion.crank_end_deg, poses: &motion.pose_crank_deg };
         let (mut out, accuracy) = verify_travel(problem, &mechanism, travel);
         // A path design's accuracy is the curves' mean distance, squared, besides its one pose's.
-        let traced = traced_path(problem, &mechanism, motion.crank_start_deg, motion.crank_end_deg).map(|(_, e)| e);
+        let traced = traced_path_error(problem, &mechanism, motion.crank_start_deg, motion.crank_end_deg);
         let path_accuracy = traced.map_or(0.0, |e| e.mean * e.mean);
         if let Some(error) = traced {
             let agrees = metrics.path_error.is_some_and(|written| {

@@ -10,7 +10,7 @@ use crate::scene::{MechanismType, PathTarget, Problem};
 use crate::synth::context::Context;
 use crate::synth::evaluate::{exact_terms, Candidate};
 use crate::synth::terms::{transmission_shortfall, CostWeights, Term};
-use crate::verify::{traced_path, verify_travel, Travel, Violation};
+use crate::verify::{traced_path_error, verify_travel, Travel, Violation};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -153,7 +153,7 @@ fn judged(problem: &Problem, ctx: &Context, fit: &PathFit, start: Point) -> Resu
     trace
         .sweep(&plan, theta_start, theta_end, 1f64.to_radians())
         .map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
-    let (_, error) = traced_path(problem, &mechanism, start_deg, end_deg)
+    let error = traced_path_error(problem, &mechanism, start_deg, end_deg)
         .ok_or_else(|| Violation { constraint: "assembly", message: "the travel comes apart".into() })?;
     let mut soft = exact_terms(ctx, &mechanism);
     // The path's accuracy is the curves' mean distance, squared like E_acc's misses; the one pose is
