@@ -65,7 +65,7 @@ pub(crate) fn verify_travel(
     let frames = body_frames(problem, mechanism);
     out.extend(first_contact(problem, mechanism, &trace, &frames));
     match pose_accuracy(problem, mechanism, &plan, &frames, travel.poses) {
-        Ok(accuracy) => (out, Some(accuracy)),
+        Ok(accuracy) => (out, Some(Accuracy { path: path_error_along(problem, &trace, &frames), ..accuracy })),
         Err(violation) => {
             out.push(violation);
             (out, None)
@@ -144,15 +144,10 @@ fn check_order(problem: &Problem, mechanism: &Mechanism, travel: Travel, out: &m
     true
 }
 
-/// How far the curve the tracer of `problem`'s path traces along `mechanism`'s travel from `start`
-/// to `end` (degrees), at the re-simulation's fine steps, is from the drawn curve; `None` for a scene
-/// without a path, or a travel that comes apart. The engine and a design file's check both measure a
-/// path design with it, so they agree to the last digit.
-pub(crate) fn traced_path_error(problem: &Problem, mechanism: &Mechanism, start: f64, end: f64) -> Option<PathError> {
+/// How far the curve the tracer of `problem`'s path traces along `trace` (the travel at the
+/// re-simulation's fine steps) is from the drawn curve; `None` for a scene without a path.
+fn path_error_along(problem: &Problem, trace: &Trace, frames: &BodyFrames) -> Option<PathError> {
     let (b, path) = problem.bodies.iter().enumerate().find_map(|(b, body)| body.path.as_ref().map(|p| (b, p)))?;
-    let plan = Plan::compile(mechanism).ok()?;
-    let trace = sweep(&plan, start, end).ok()?;
-    let frames = body_frames(problem, mechanism);
     let mut traced: Vec<Point> = (0..trace.len()).map(|r| frames.pose(b, trace.row(r)).apply(path.tracer)).collect();
     if path.closed {
         // The last row is the first again, a turn later.
@@ -241,20 +236,23 @@ fn pose_accuracy(
     }
     let joints = joints / joint_count.max(1) as f64;
     let outlines = outlines / (poses.len() * problem.bodies.len()).max(1) as f64;
-    Ok(Accuracy { joints, outlines })
+    Ok(Accuracy { joints, outlines, path: None })
 }
 
 /// E_acc of a design, recomputed: the mean squared miss of the body-carried joints over the poses
-/// (paper eq. 10) and that of the bodies' outline vertices; the engine's E_acc is their sum.
+/// (paper eq. 10) and that of the bodies' outline vertices, and for a path scene how far the traced
+/// curve is from the drawn one; the engine's E_acc is their sum, the path's as its mean distance
+/// squared. The engine measures its path designs with this too, so the two agree to the last digit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Accuracy {
     pub joints: f64,
     pub outlines: f64,
+    pub path: Option<PathError>,
 }
 
 impl Accuracy {
     pub(crate) fn total(&self) -> f64 {
-        self.joints + self.outlines
+        self.joints + self.outlines + self.path.map_or(0.0, |e| e.mean * e.mean)
     }
 }
 

@@ -4,7 +4,7 @@
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
 use crate::scene::{Build, PoseMiss, Problem};
-use crate::verify::{pose_misses, traced_path_error, verify_travel, Travel, Violation};
+use crate::verify::{pose_misses, verify_travel, Travel, Violation};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -481,10 +481,7 @@ impl DesignFile {
         };
         let travel = Travel { start: motion.crank_start_deg, end: motion.crank_end_deg, poses: &motion.pose_crank_deg };
         let (mut out, accuracy) = verify_travel(problem, &mechanism, travel);
-        // A path design's accuracy is the curves' mean distance, squared, besides its one pose's.
-        let traced = traced_path_error(problem, &mechanism, motion.crank_start_deg, motion.crank_end_deg);
-        let path_accuracy = traced.map_or(0.0, |e| e.mean * e.mean);
-        if let Some(error) = traced {
+        if let Some(error) = accuracy.and_then(|a| a.path) {
             let agrees = metrics.path_error.is_some_and(|written| {
                 let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * problem.scale + 1e-6 * b.abs();
                 close(written.max, error.max) && close(written.mean, error.mean)
@@ -506,13 +503,13 @@ impl DesignFile {
             let scale = problem.scale * problem.scale;
             let agrees = |value: f64| (value - metrics.accuracy).abs() <= 1e-9 * scale + 1e-6 * value;
             // Files written before E_acc counted the outlines carry the joints' part alone.
-            if !agrees(accuracy.total() + path_accuracy) && !agrees(accuracy.joints) {
+            if !agrees(accuracy.total()) && !agrees(accuracy.joints) {
                 out.push(Violation {
                     constraint: "accuracy",
                     message: format!(
                         "metrics.accuracy is {} but the poses' misses give {}",
                         metrics.accuracy,
-                        accuracy.total() + path_accuracy
+                        accuracy.total()
                     ),
                 });
             }

@@ -1,7 +1,7 @@
 //! Curves as polylines: resampling by arc length, the nearest point of a polyline, and the distance
 //! between a drawn curve and a traced one (what a path design is judged by).
 
-use super::{Point, Vec2};
+use super::{Aabb, Point, Vec2};
 
 /// The length of `points` as a polyline, closed back to its first point when `closed`.
 pub(crate) fn length(points: &[Point], closed: bool) -> f64 {
@@ -75,20 +75,21 @@ pub(crate) fn smoothed(points: &[Point], closed: bool, half: usize) -> Vec<Point
         .collect()
 }
 
-/// The point of the polyline `points` (closed when `closed`) nearest to `p`, and its distance.
-pub(crate) fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point) {
+/// The point of the polyline `points` (closed when `closed`) nearest to `p`, its distance, and the
+/// edge it is on (from vertex `edge` to the next).
+pub(crate) fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point, usize) {
     if points.len() == 1 {
-        return (p.distance(points[0]), points[0]);
+        return (p.distance(points[0]), points[0], 0);
     }
-    let mut best = (f64::INFINITY, p);
-    for (a, b) in edges(points, closed) {
+    let mut best = (f64::INFINITY, p, 0);
+    for (i, (a, b)) in edges(points, closed).enumerate() {
         let ab: Vec2 = b - a;
         let len_sq = ab.norm_sq();
         let t = if len_sq > 0.0 { ((p - a).dot(ab) / len_sq).clamp(0.0, 1.0) } else { 0.0 };
         let q = a + ab * t;
         let d = p.distance(q);
         if d < best.0 {
-            best = (d, q);
+            best = (d, q, i);
         }
     }
     best
@@ -96,16 +97,7 @@ pub(crate) fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point) 
 
 /// The diagonal of the points' bounding box: the size every path distance is a fraction of.
 pub(crate) fn size(points: &[Point]) -> f64 {
-    let (mut lo, mut hi) = (Point::new(f64::INFINITY, f64::INFINITY), Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
-    for p in points {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    if points.is_empty() {
-        0.0
-    } else {
-        lo.distance(hi)
-    }
+    Aabb::around(points.iter().copied()).map_or(0.0, |bb| bb.diagonal())
 }
 
 /// How far a traced curve is from the drawn one, both ways: every point of each within `max` of the
@@ -137,14 +129,14 @@ pub(crate) fn path_error(drawn: &[Point], traced: &[Point], closed: bool) -> Pat
     let traced_points = resample(traced, closed, MEASURE_POINTS);
     let (mut max, mut at, mut sum) = (0.0, drawn_points[0], 0.0);
     for &p in &drawn_points {
-        let (d, _) = nearest(p, traced, closed);
+        let (d, _, _) = nearest(p, traced, closed);
         sum += d;
         if d > max {
             (max, at) = (d, p);
         }
     }
     for &q in &traced_points {
-        let (d, on_drawn) = nearest(q, drawn, closed);
+        let (d, on_drawn, _) = nearest(q, drawn, closed);
         sum += d;
         if d > max {
             (max, at) = (d, on_drawn);

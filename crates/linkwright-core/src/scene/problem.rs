@@ -180,7 +180,7 @@ impl Problem {
                     poses: b.poses.iter().map(|&p| Rigid::from_pose(p)).collect(),
                     path: b.path.as_ref().map(|path| PathTarget {
                         tracer: path.tracer,
-                        size: Aabb::around(path.points.iter().copied()).map_or(0.0, |bb| bb.diagonal()),
+                        size: crate::geom::curve_size(&path.points),
                         points: path.points.clone(),
                         closed: path.closed,
                     }),

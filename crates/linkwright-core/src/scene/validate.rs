@@ -6,7 +6,7 @@
 
 use super::file::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use super::units::Units;
-use crate::geom::{Aabb, Point, Polygon, PolygonError, Rigid};
+use crate::geom::{curve_size, nearest, Aabb, Point, Polygon, PolygonError, Rigid};
 use crate::issues::IssueList;
 use serde_json::{Map, Value};
 
@@ -282,13 +282,8 @@ fn check_counts(scene: &Scene, out: &mut Issues) -> bool {
 /// The whole drawing must stay within [`MAX_EXTENT_RATIO`] times the smallest moving body (its outlines
 /// and poses already checked finite and bounded).
 fn check_extent(scene: &Scene, out: &mut Issues) {
-    let Some((k, d)) = scene
-        .moving_bodies
-        .iter()
-        .map(|b| Polygon::new(b.polygon.clone()).aabb())
-        .map(|bb| bb.width().min(bb.height()))
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(&b.1))
+    let Some((k, d)) =
+        scene.moving_bodies.iter().map(|b| body_size(&b.polygon)).enumerate().min_by(|a, b| a.1.total_cmp(&b.1))
     else {
         return;
     };
@@ -619,7 +614,7 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
             );
             continue;
         }
-        let size = Aabb::around(path.points.iter().copied()).map_or(0.0, |bb| bb.diagonal());
+        let size = curve_size(&path.points);
         let smallest = body_size(&body.polygon);
         if size.is_nan() || size <= 1e-6 * smallest {
             out.error(
@@ -631,11 +626,7 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
         let (Some(pose), true) = (body.poses.first().filter(|p| pose_is_usable(p)), moving_ok[k]) else { continue };
         let start = Rigid::from_pose(*pose).apply(path.tracer);
         let (gap, from) = if path.closed {
-            let n = path.points.len();
-            let gap = (0..n)
-                .map(|i| crate::geom::point_segment_distance(start, path.points[i], path.points[(i + 1) % n]))
-                .fold(f64::INFINITY, f64::min);
-            (gap, "the curve")
+            (nearest(start, &path.points, true).0, "the curve")
         } else {
             (start.distance(path.points[0]), "the curve's first point")
         };

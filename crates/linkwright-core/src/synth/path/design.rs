@@ -10,7 +10,7 @@ use crate::scene::{MechanismType, PathTarget, Problem};
 use crate::synth::context::Context;
 use crate::synth::evaluate::{exact_terms, Candidate};
 use crate::synth::terms::{transmission_shortfall, CostWeights, Term};
-use crate::verify::{traced_path_error, verify_travel, Travel, Violation};
+use crate::verify::{verify_travel, Travel, Violation};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -104,13 +104,7 @@ fn starting_at(path: &PathTarget, start: Point) -> Vec<Point> {
         return path.points.clone();
     }
     let n = path.points.len();
-    let (_, on) = nearest(start, &path.points, true);
-    let edge = (0..n)
-        .min_by(|&a, &b| {
-            let d = |i: usize| crate::geom::point_segment_distance(on, path.points[i], path.points[(i + 1) % n]);
-            d(a).total_cmp(&d(b))
-        })
-        .unwrap_or(0);
+    let (_, on, edge) = nearest(start, &path.points, true);
     let mut out = Vec::with_capacity(n + 1);
     out.push(on);
     out.extend((1..=n).map(|k| path.points[(edge + k) % n]).filter(|p| p.distance(on) > 0.0));
@@ -143,22 +137,25 @@ fn judged(problem: &Problem, ctx: &Context, fit: &PathFit, start: Point) -> Resu
     let theta_start = if theta_start <= -PI { theta_start + TAU } else { theta_start };
     let theta_end = theta_start + (fit.theta_end - fit.theta_start);
     let (start_deg, end_deg) = (theta_start.to_degrees(), theta_end.to_degrees());
-    let (violations, _) =
+    let (violations, accuracy) =
         verify_travel(problem, &mechanism, Travel { start: start_deg, end: end_deg, poses: &[start_deg] });
     if let Some(v) = violations.into_iter().next() {
         return Err(v);
     }
+    // A sound travel is measured: its one pose's miss and its path's distance.
+    let (Some(accuracy), Some(error)) = (accuracy, accuracy.and_then(|a| a.path)) else {
+        return Err(Violation { constraint: "assembly", message: "the travel comes apart".into() });
+    };
     let plan = Plan::compile(&mechanism).map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
     let mut trace = Trace::new(plan.joint_count());
     trace
         .sweep(&plan, theta_start, theta_end, 1f64.to_radians())
         .map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
-    let error = traced_path_error(problem, &mechanism, start_deg, end_deg)
-        .ok_or_else(|| Violation { constraint: "assembly", message: "the travel comes apart".into() })?;
     let mut soft = exact_terms(ctx, &mechanism);
-    // The path's accuracy is the curves' mean distance, squared like E_acc's misses; the one pose is
-    // where the body starts, met exactly. Smoothness is the drawn curve's own, 1.
-    soft[Term::Accuracy] = error.mean * error.mean;
+    // The accuracy the check recomputes: the one pose's miss (where the body starts, met exactly)
+    // and the curves' mean distance, squared like E_acc's misses. Smoothness is the drawn curve's
+    // own, 1.
+    soft[Term::Accuracy] = accuracy.total();
     soft[Term::Smoothness] = 1.0;
     soft[Term::Transmission] =
         transmission_shortfall(trace.min_transmission_sine(&plan), ctx.comfortable_transmission_sine);

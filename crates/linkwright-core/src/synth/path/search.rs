@@ -298,12 +298,12 @@ fn residuals(x: &[f64], template: &FourBar, closed: bool, drawn: &Drawn, min_sin
     let curve = traced(&m, start, end, steps, min_sine)?;
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
     for &p in &drawn.points {
-        let (_, q) = nearest(p, &curve, closed);
+        let (_, q, _) = nearest(p, &curve, closed);
         out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
     }
     let stride = (curve.len() / REFINE_POINTS).max(1);
     for &q in curve.iter().step_by(stride) {
-        let (_, p) = nearest(q, drawn.curve, closed);
+        let (_, p, _) = nearest(q, drawn.curve, closed);
         out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
     }
     if !closed {
