@@ -4,6 +4,7 @@
 use linkwright_core::analysis::{Replay, Which};
 use linkwright_core::geom::{Point, Rigid};
 use linkwright_core::testbed::{known_path_scene, KnownPath};
+use linkwright_core::MechanismType;
 use linkwright_core::{synthesize, validate_scene, DesignFile, Problem, Scene, Severity, Silent, Status};
 
 /// Millimetres per unit of the testbed.
@@ -24,7 +25,7 @@ fn traced(problem: &Problem, design: &DesignFile) -> Vec<Point> {
 
 #[test]
 fn a_known_closed_coupler_curve_is_traced_within_a_percent_once_per_turn() {
-    let known = known_path_scene(true, 100, 0.0, 0, SCALE).expect("a known crank-rocker");
+    let known = known_path_scene(MechanismType::Chain, true, 100, 0.0, 0, SCALE).expect("a known crank-rocker");
     let (problem, design) = designed(&known);
     assert_eq!(design.status, Status::Ok, "{:?}", design.reason);
     assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
@@ -48,7 +49,7 @@ fn a_known_closed_coupler_curve_is_traced_within_a_percent_once_per_turn() {
 
 #[test]
 fn an_open_arc_is_run_from_its_first_point_to_its_last() {
-    let known = known_path_scene(false, 50, 0.0, 1, SCALE).expect("a known crank-rocker");
+    let known = known_path_scene(MechanismType::Chain, false, 50, 0.0, 1, SCALE).expect("a known crank-rocker");
     let (problem, design) = designed(&known);
     assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
     let error = design.metrics.as_ref().and_then(|m| m.path_error).unwrap();
@@ -64,7 +65,7 @@ fn an_open_arc_is_run_from_its_first_point_to_its_last() {
 
 #[test]
 fn the_check_re_measures_the_path_and_refuses_a_travel_that_is_not_one_turn() {
-    let known = known_path_scene(true, 60, 0.0, 2, SCALE).expect("a known crank-rocker");
+    let known = known_path_scene(MechanismType::Chain, true, 60, 0.0, 2, SCALE).expect("a known crank-rocker");
     let (problem, design) = designed(&known);
     assert!(design.violations(&problem).is_empty());
     let mut claimed = design.clone();
@@ -82,7 +83,7 @@ fn the_check_re_measures_the_path_and_refuses_a_travel_that_is_not_one_turn() {
 
 #[test]
 fn the_same_seed_gives_the_same_path_design() {
-    let known = known_path_scene(false, 30, 0.005, 3, SCALE).expect("a known crank-rocker");
+    let known = known_path_scene(MechanismType::Chain, false, 30, 0.005, 3, SCALE).expect("a known crank-rocker");
     let (_, a) = designed(&known);
     let (_, b) = designed(&known);
     assert_eq!(a.mechanism, b.mechanism);
@@ -91,7 +92,8 @@ fn the_same_seed_gives_the_same_path_design() {
 
 /// A path scene with one edit, validated: the fields of its errors.
 fn errors_of(edit: impl FnOnce(&mut Scene)) -> Vec<String> {
-    let mut scene = known_path_scene(false, 20, 0.0, 0, SCALE).expect("a known crank-rocker").scene;
+    let mut scene =
+        known_path_scene(MechanismType::Chain, false, 20, 0.0, 0, SCALE).expect("a known crank-rocker").scene;
     edit(&mut scene);
     validate_scene(&scene).iter().filter(|i| i.severity == Severity::Error).map(|i| i.field.clone()).collect()
 }

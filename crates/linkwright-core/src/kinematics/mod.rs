@@ -10,5 +10,6 @@ mod trace;
 
 pub use complete::{complete, complete_turning, completion_order, Completion};
 pub use dyad::{circle_circle, circle_circle_branch, Branch, DyadError};
+pub(crate) use dyad::{circle_line, transmission_sine};
 pub use plan::{carried_velocity, CompileError, Plan, Step};
 pub use trace::{BodyFrames, SweepError, Trace};

@@ -574,16 +574,12 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
                 ),
             );
         }
-        if let MechanismChoice::Only(family) = scene.mechanism {
-            if family != MechanismType::Chain {
-                out.error(
-                    "mechanism",
-                    format!(
-                        "is \"{}\", but a path is followed by a four-bar (\"chain\"); use \"chain\" or \"auto\"",
-                        family.id()
-                    ),
-                );
-            }
+        if scene.mechanism == MechanismChoice::Only(MechanismType::WattTwo) {
+            out.error(
+                "mechanism",
+                "is \"watt_ii\", but a Watt-II's body follows the coupler curve of its own four-bar, which a \
+                 four-bar traces alone; use \"chain\", \"stephenson_iii\", \"slider_crank\" or \"auto\"",
+            );
         }
         if !(path.tracer.x.is_finite() && path.tracer.y.is_finite())
             || path.tracer.x.abs().max(path.tracer.y.abs()) > MAX_COORDINATE

@@ -1,13 +1,15 @@
-//! Path scenes made from known four-bars: a crank-rocker drawn at random (reproducibly, from a seed)
-//! is simulated by the engine's general solver (not the path search's closed form), and the curve a
-//! point of its coupler traces becomes a scene's path. A four-bar tracing that curve exactly is then
-//! known to exist, so the path search can be measured against it.
+//! Path scenes made from known linkages: a crank-rocker, or a six-bar built on one, drawn at random
+//! (reproducibly, from a seed) is simulated by the engine's general solver (not the path search's
+//! closed form), and the curve a point of its body traces becomes a scene's path. A linkage tracing
+//! that curve exactly is then known to exist, so the path search can be measured against it.
 
 use super::{MIN_TRANSMISSION_DEG, STEP_DEG};
 use crate::geom::{curve_size, Point, Rigid, Vec2};
-use crate::kinematics::{BodyFrames, Plan, Trace};
+use crate::kinematics::{circle_circle, BodyFrames, Branch, Plan, Trace};
 use crate::mechanism::{Mechanism, Topology};
-use crate::scene::{DrawnPath, FixedBody, MechanismChoice, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
+use crate::scene::{
+    DrawnPath, FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT,
+};
 use crate::synth::random::splitmix;
 use rand::{RngExt, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
@@ -20,25 +22,41 @@ const PATH_STREAM: u64 = 5 << 32;
 /// Draws tried before giving up (a crank-rocker meeting the transmission bound is found in a few).
 const MAX_PATH_DRAWS: u64 = 10_000;
 
-/// A path scene and the four-bar whose coupler point traces it.
+/// A path scene and the linkage whose tracer traces it.
 #[derive(Clone, Debug)]
 pub struct KnownPath {
     /// The scene: one small body whose centre follows the curve, a ground strip well below.
     pub scene: Scene,
-    /// The known four-bar, its joints where the body starts.
+    /// The known linkage, its joints where the body starts.
     pub mechanism: Mechanism,
     /// The size of the traced curve (its bounding box's diagonal), scene units.
     pub curve_size: f64,
 }
 
-/// The path scene of seed `seed`: `points` points of a known crank-rocker's coupler curve, the whole
-/// loop (`closed`) or an arc of 90° to 270° of crank travel, each moved by Gaussian noise of
-/// `noise_rel` times the curve's size, everything at `scale` (millimetres per unit).
-pub fn known_path_scene(closed: bool, points: usize, noise_rel: f64, seed: u64, scale: f64) -> Option<KnownPath> {
+/// The path scene of seed `seed`: `points` points of the curve a known linkage of `family` traces
+/// (the four-bar's coupler point, or a point of a Stephenson-III six-bar's body), the whole loop
+/// (`closed`) or an arc of 90° to 270° of crank travel, each moved by Gaussian noise of `noise_rel`
+/// times the curve's size, everything at `scale` (millimetres per unit). `None` for a family the
+/// testbed does not draw.
+pub fn known_path_scene(
+    family: MechanismType,
+    closed: bool,
+    points: usize,
+    noise_rel: f64,
+    seed: u64,
+    scale: f64,
+) -> Option<KnownPath> {
     let topology = Arc::new(Topology::chain(1));
+    let six_bar = Arc::new(Topology::stephenson_three());
     for draw in 0..MAX_PATH_DRAWS {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(splitmix(seed ^ PATH_STREAM).wrapping_add(draw));
-        let Some((mechanism, start, end, tracer)) = crank_rocker(&topology, closed, &mut rng) else { continue };
+        let Some(four_bar) = crank_rocker(&topology, closed, &mut rng) else { continue };
+        let drawn = match family {
+            MechanismType::Chain => Some(four_bar),
+            MechanismType::StephensonThree => stephenson_three(&six_bar, four_bar, &mut rng),
+            _ => return None,
+        };
+        let Some((mechanism, start, end, tracer)) = drawn else { continue };
         let Ok(plan) = Plan::compile(&mechanism) else { continue };
         let mut trace = Trace::new(plan.joint_count());
         if trace.sweep(&plan, start, end, STEP_DEG.to_radians()).is_err()
@@ -73,7 +91,8 @@ pub fn known_path_scene(closed: bool, points: usize, noise_rel: f64, seed: u64, 
         let scene = Scene {
             linkwright: SCENE_FORMAT.to_string(),
             name: format!(
-                "known {} coupler curve, {points} points, noise {noise_rel}, seed {seed}",
+                "known {} {} curve, {points} points, noise {noise_rel}, seed {seed}",
+                family.linkage_label(1),
                 if closed { "closed" } else { "open" }
             ),
             units: "mm".to_string(),
@@ -155,4 +174,35 @@ fn crank_rocker(
     let span = if closed { TAU } else { rng.random_range(90f64..270.0).to_radians() };
     let mechanism = Mechanism { topology: topology.clone(), joints, slider: None };
     Some((mechanism, start, start + direction * span, tracer))
+}
+
+/// The Stephenson-III six-bar on `four_bar` (with its travel and coupler point): the crank-rocker's
+/// coupler carries the body's joint `p1` at the coupler point, the body's other joint `q1` swings on
+/// a ground link from a pivot drawn near the loop, and the tracer is a point of the body.
+fn stephenson_three(
+    topology: &Arc<Topology>,
+    (four_bar, start, end, p1): (Mechanism, f64, f64, Point),
+    rng: &mut Xoshiro256PlusPlus,
+) -> Option<(Mechanism, f64, f64, Point)> {
+    let at = |name: &str| four_bar.joint(name).expect("a four-bar's joint");
+    let r0 = at("q0") + Vec2::new(rng.random_range(-1.0..2.0), rng.random_range(-1.5..1.5));
+    let (body, link) = (rng.random_range(0.5..1.5), rng.random_range(0.5..1.5));
+    let branch = if rng.random::<bool>() { Branch::Positive } else { Branch::Negative };
+    let q1 = circle_circle(p1, body, r0, link, branch).ok()?;
+    let x = (q1 - p1) / body;
+    let tracer = p1 + x * (body * rng.random_range(-0.5..1.5)) + x.perp() * (body * rng.random_range(-1.0..1.0));
+    let joints = topology
+        .joint_names
+        .iter()
+        .map(|n| match n.as_str() {
+            "q0" => at("q0"),
+            "u0" => at("r0"),
+            "a1" => at("p1"),
+            "b1" => at("q1"),
+            "p1" => p1,
+            "q1" => q1,
+            _ => r0,
+        })
+        .collect();
+    Some((Mechanism { topology: topology.clone(), joints, slider: None }, start, end, tracer))
 }

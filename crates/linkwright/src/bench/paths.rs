@@ -1,16 +1,19 @@
-//! `linkwright bench --paths`: how closely the designs' tracers follow drawn paths made from known
-//! four-bars' coupler curves (a four-bar tracing each exactly exists), closed and open, drawn with
-//! few and many points, exactly and with noise. Distances come from each design file's independent
+//! `linkwright bench --paths`: how closely the designs' tracers follow drawn paths made from the
+//! curves known linkages trace (four-bars' coupler curves and the curves of six-bars' bodies, so a
+//! linkage tracing each exactly exists), closed and open, drawn with few and many points, exactly and
+//! with noise. Distances come from each design file's independent
 //! check (`DesignFile::violations` re-measures `metrics.path_error`).
 
 use super::quantile;
 use crate::failure::Failure;
 use crate::files::{make_subfolder, write_below};
 use linkwright_core::testbed::known_path_scene;
-use linkwright_core::{synthesize, DesignFile, Problem, Silent, Status};
+use linkwright_core::{synthesize, DesignFile, MechanismType, Problem, Silent, Status};
 use serde::Serialize;
 use std::path::Path;
 
+/// The families whose curves are drawn.
+const FAMILIES: [MechanismType; 2] = [MechanismType::Chain, MechanismType::StephensonThree];
 /// Points of the drawn curves: from a few clicks to a smoothed freehand stroke.
 const POINTS: [usize; 4] = [20, 50, 100, 200];
 /// Noise on every point, as a fraction of the curve's size: none, and a careful hand's.
@@ -21,6 +24,9 @@ const SCENE_SCALE: f64 = 100.0;
 /// One scene's result.
 #[derive(Serialize, Debug)]
 struct Row {
+    /// The family of the known linkage that traced the curve, and of the design.
+    family: String,
+    designed_by: Option<String>,
     closed: bool,
     points: usize,
     noise: f64,
@@ -68,62 +74,77 @@ pub(super) fn bench_paths(
     }
     let scene_seeds: &[u64] = if quick { &[0] } else { &[0, 1, 2] };
     let mut rows = Vec::new();
-    for closed in [true, false] {
-        for points in POINTS {
-            for noise in NOISE {
-                for &scene_seed in scene_seeds {
-                    let known = known_path_scene(closed, points, noise, scene_seed, SCENE_SCALE).ok_or_else(|| {
-                        Failure::Input(format!("error: no known four-bar drawn from seed {scene_seed}"))
-                    })?;
-                    let mut problem = Problem::new(&known.scene).map_err(|issues| {
-                        Failure::Input(format!("error: a testbed path scene does not validate: {issues:?}"))
-                    })?;
-                    problem.settings.seed = seed;
-                    let outcome = pool.install(|| synthesize(&problem, &Silent)).expect("never cancelled");
-                    let design = DesignFile::from_outcome(&problem, &outcome);
-                    if let Some(dir) = save {
-                        let stem = format!(
-                            "{}_{points}_noise{noise}_seed{scene_seed}",
-                            if closed { "closed" } else { "open" }
-                        );
-                        write_below(dir, &format!("{stem}.json"), known.scene.to_json().as_bytes())?;
-                        write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
+    for family in FAMILIES {
+        for closed in [true, false] {
+            for points in POINTS {
+                for noise in NOISE {
+                    for &scene_seed in scene_seeds {
+                        let known = known_path_scene(family, closed, points, noise, scene_seed, SCENE_SCALE)
+                            .ok_or_else(|| {
+                                Failure::Input(format!(
+                                    "error: no known {} drawn from seed {scene_seed}",
+                                    family.label()
+                                ))
+                            })?;
+                        let mut problem = Problem::new(&known.scene).map_err(|issues| {
+                            Failure::Input(format!("error: a testbed path scene does not validate: {issues:?}"))
+                        })?;
+                        problem.settings.seed = seed;
+                        let outcome = pool.install(|| synthesize(&problem, &Silent)).expect("never cancelled");
+                        let design = DesignFile::from_outcome(&problem, &outcome);
+                        if let Some(dir) = save {
+                            let stem = format!(
+                                "{}_{}_{points}_noise{noise}_seed{scene_seed}",
+                                family.id(),
+                                if closed { "closed" } else { "open" }
+                            );
+                            write_below(dir, &format!("{stem}.json"), known.scene.to_json().as_bytes())?;
+                            write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
+                        }
+                        let violations: Vec<String> = design
+                            .violations(&problem)
+                            .into_iter()
+                            .map(|v| format!("{}: {}", v.constraint, v.message))
+                            .collect();
+                        let metrics = design.metrics.as_ref();
+                        let error = metrics.and_then(|m| m.path_error);
+                        let row = Row {
+                            family: family.label(),
+                            designed_by: design.mechanism.as_ref().map(|m| m.mechanism_type.label()),
+                            closed,
+                            points,
+                            noise,
+                            scene_seed,
+                            valid: design.status == Status::Ok && violations.is_empty(),
+                            violations,
+                            max_rel: error.map(|e| e.max_rel),
+                            mean_rel: error.map(|e| e.mean_rel),
+                            min_transmission_deg: metrics.map(|m| m.min_transmission_deg),
+                            seconds: design.stats.seconds.total,
+                        };
+                        if !json {
+                            eprintln!("{}", row_line(&row));
+                        }
+                        rows.push(row);
                     }
-                    let violations: Vec<String> = design
-                        .violations(&problem)
-                        .into_iter()
-                        .map(|v| format!("{}: {}", v.constraint, v.message))
-                        .collect();
-                    let metrics = design.metrics.as_ref();
-                    let error = metrics.and_then(|m| m.path_error);
-                    let row = Row {
-                        closed,
-                        points,
-                        noise,
-                        scene_seed,
-                        valid: design.status == Status::Ok && violations.is_empty(),
-                        violations,
-                        max_rel: error.map(|e| e.max_rel),
-                        mean_rel: error.map(|e| e.mean_rel),
-                        min_transmission_deg: metrics.map(|m| m.min_transmission_deg),
-                        seconds: design.stats.seconds.total,
-                    };
-                    if !json {
-                        eprintln!("{}", row_line(&row));
-                    }
-                    rows.push(row);
                 }
             }
         }
     }
     let mut summaries = Vec::new();
-    for (label, closed, noisy) in [
-        ("closed, exact", true, false),
-        ("closed, noisy", true, true),
-        ("open, exact", false, false),
-        ("open, noisy", false, true),
-    ] {
-        summaries.push(summarize(label, rows.iter().filter(|r| r.closed == closed && (r.noise > 0.0) == noisy)));
+    for family in FAMILIES {
+        for (label, closed, noisy) in [
+            ("closed, exact", true, false),
+            ("closed, noisy", true, true),
+            ("open, exact", false, false),
+            ("open, noisy", false, true),
+        ] {
+            summaries.push(summarize(
+                &format!("{}, {label}", family.linkage_label(1)),
+                rows.iter()
+                    .filter(|r| r.family == family.linkage_label(1) && r.closed == closed && (r.noise > 0.0) == noisy),
+            ));
+        }
     }
     summaries.push(summarize("exact", rows.iter().filter(|r| r.noise == 0.0)));
     summaries.push(summarize("all", rows.iter()));
@@ -132,12 +153,12 @@ pub(super) fn bench_paths(
         println!("{}", serde_json::to_string_pretty(&report).expect("the report serializes"));
     } else {
         println!(
-            "{:<16} {:>6} {:>6} {:>12} {:>11} {:>13} {:>10} {:>9}",
+            "{:<38} {:>6} {:>6} {:>12} {:>11} {:>13} {:>10} {:>9}",
             "targets", "scenes", "valid", "median max", "worst max", "median mean", "median s", "worst s"
         );
         for s in &report.summaries {
             println!(
-                "{:<16} {:>6} {:>6} {:>11.3}% {:>10.3}% {:>12.3}% {:>10.2} {:>9.2}",
+                "{:<38} {:>6} {:>6} {:>11.3}% {:>10.3}% {:>12.3}% {:>10.2} {:>9.2}",
                 s.label,
                 s.scenes,
                 s.valid,
@@ -156,12 +177,14 @@ pub(super) fn bench_paths(
 fn row_line(r: &Row) -> String {
     let pct = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}%", 100.0 * x));
     format!(
-        "{:<6} {:>3} points, noise {:<5} seed {}: {} max {} mean {} in {:.2} s{}",
+        "{} {:<6} {:>3} points, noise {:<5} seed {}: {} {} max {} mean {} in {:.2} s{}",
+        r.family,
         if r.closed { "closed" } else { "open" },
         r.points,
         r.noise,
         r.scene_seed,
         if r.valid { "valid" } else { "NO DESIGN" },
+        r.designed_by.as_deref().unwrap_or("-"),
         pct(r.max_rel),
         pct(r.mean_rel),
         r.seconds,

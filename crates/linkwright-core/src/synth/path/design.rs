@@ -1,12 +1,16 @@
-//! From four-bars fitted to a drawn curve to designs: each placed so its tracer starts where the body
+//! From linkages fitted to a drawn curve to designs: each placed so its tracer starts where the body
 //! is drawn, judged by the same re-simulation a design file's check runs, and costed like a pose
 //! design, its accuracy the distance between the curves.
 
-use super::search::{fit_four_bars, PathFit, PathGoal};
-use crate::geom::{nearest, Point, Vec2};
+use super::four_bar::FourBar;
+use super::linkage::{PathLinkage, Similarity};
+use super::search::{fit, PathFit, PathGoal};
+use super::slider_crank::SliderCrank;
+use super::stephenson::StephensonThree;
+use crate::geom::{nearest, Point};
 use crate::kinematics::{Plan, Trace};
 use crate::mechanism::Mechanism;
-use crate::scene::{MechanismType, PathTarget, Problem};
+use crate::scene::{MechanismChoice, MechanismType, PathTarget, Problem};
 use crate::synth::context::Context;
 use crate::synth::evaluate::{exact_terms, Candidate};
 use crate::synth::terms::{transmission_shortfall, CostWeights, Term};
@@ -19,8 +23,12 @@ use std::f64::consts::{PI, TAU};
 /// curve sizes outside the linkage region, so the path comes first and compactness decides between
 /// designs that trace it alike.
 const PATH_ACCURACY_EMPHASIS: f64 = 100.0;
-/// Four-bars the atlas's best matches are refined into, and then judged.
+/// Linkages of each family the atlas's best matches are refined into, and then judged.
 const REFINED: usize = 24;
+/// The families that design paths, in the order `auto` tries them. A Watt-II's body follows the
+/// coupler curve of its own four-bar, which a four-bar traces alone.
+pub(crate) const PATH_FAMILIES: [MechanismType; 3] =
+    [MechanismType::Chain, MechanismType::StephensonThree, MechanismType::SliderCrank];
 /// A design differs from another when some joint is farther than this fraction of the path's size
 /// from its place in the other.
 const DISTINCT: f64 = 0.02;
@@ -35,17 +43,17 @@ pub(crate) struct PathDesigns {
     pub designs: Vec<Candidate>,
     /// The cheapest valid design the acceptance test refused, when it refused every one.
     pub refused: Option<Candidate>,
-    /// Four-bars fitted to the curve (each then judged).
+    /// Linkages fitted to the curve (each then judged).
     pub fitted: usize,
-    /// What the closest fitted four-bar that failed a hard constraint broke first.
+    /// What the closest fitted linkage that failed a hard constraint broke first.
     pub closest_violation: Option<Violation>,
 }
 
-/// Designs whose tracer follows `problem`'s path: `samples` atlas four-bars under the scene's seed,
-/// at most `wanted` designs, each passing `accepts` (the print check) when given.
+/// Designs whose tracer follows `problem`'s path: `samples` atlas linkages of each family the scene
+/// allows under its seed, at most `wanted` designs, each passing `accepts` (the print check) when
+/// given.
 pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, accepts: Option<&Accepts>) -> PathDesigns {
     let Some(path) = problem.path() else { return PathDesigns::default() };
-    let ctx = Context::new(problem, MechanismType::Chain);
     let start = problem.bodies[0].poses[0].apply(path.tracer);
     let drawn = starting_at(path, start);
     let goal = PathGoal {
@@ -53,12 +61,22 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
         closed: path.closed,
         min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
     };
-    let fits = fit_four_bars(&goal, problem.settings.seed, samples, REFINED);
-    let mut out = PathDesigns { fitted: fits.len(), ..PathDesigns::default() };
-    // Judged in parallel, kept in the fits' order (closest first): the same designs whatever the
-    // thread count.
-    let judgements: Vec<Result<Candidate, Violation>> =
-        fits.par_iter().map(|fit| judged(problem, &ctx, fit, start)).collect();
+    let families = match problem.mechanism {
+        MechanismChoice::Auto => PATH_FAMILIES.to_vec(),
+        MechanismChoice::Only(family) => vec![family],
+    };
+    let mut out = PathDesigns::default();
+    let mut judgements = Vec::new();
+    for family in families {
+        let judge = match family {
+            MechanismType::Chain => judge_family::<FourBar>,
+            MechanismType::StephensonThree => judge_family::<StephensonThree>,
+            MechanismType::SliderCrank => judge_family::<SliderCrank>,
+            MechanismType::WattTwo => continue,
+        };
+        judgements.extend(judge(problem, &goal, samples, start));
+    }
+    out.fitted = judgements.len();
     let mut valid: Vec<Candidate> = Vec::new();
     for judgement in judgements {
         match judgement {
@@ -75,11 +93,11 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
         if out.designs.len() >= wanted {
             break;
         }
-        if !out
-            .designs
-            .iter()
-            .all(|p| p.mechanism.joints.iter().zip(&c.mechanism.joints).any(|(a, b)| a.distance(*b) > min_shift))
-        {
+        let apart = |p: &Candidate| {
+            p.mechanism.topology.mechanism_type != c.mechanism.topology.mechanism_type
+                || p.mechanism.joints.iter().zip(&c.mechanism.joints).any(|(a, b)| a.distance(*b) > min_shift)
+        };
+        if !out.designs.iter().all(apart) {
             continue;
         }
         if let Some(accepts) = accepts {
@@ -111,29 +129,34 @@ fn starting_at(path: &PathTarget, start: Point) -> Vec<Point> {
     out
 }
 
+/// Members of family `L` fitted to `goal` and judged as designs, closest fit first.
+fn judge_family<L: PathLinkage>(
+    problem: &Problem,
+    goal: &PathGoal,
+    samples: usize,
+    start: Point,
+) -> Vec<Result<Candidate, Violation>> {
+    let ctx = Context::new(problem, L::FAMILY);
+    let fits = fit::<L>(goal, problem.settings.seed, samples, REFINED);
+    // Judged in parallel, kept in the fits' order: the same designs whatever the thread count.
+    fits.par_iter().map(|fit| judged(problem, &ctx, fit, start)).collect()
+}
+
 /// `fit` placed with its tracer exactly at `start` at the start of its travel, as a design of the
 /// scene, or the first hard constraint it breaks.
-fn judged(problem: &Problem, ctx: &Context, fit: &PathFit, start: Point) -> Result<Candidate, Violation> {
-    let mut m = fit.four_bar;
-    let begin = m.at(fit.theta_start).ok_or_else(|| Violation {
-        constraint: "assembly",
-        message: "the four-bar does not close where the path starts".into(),
-    })?;
-    let shift: Vec2 = start - begin.tracer;
-    m.crank_pivot = m.crank_pivot + shift;
-    m.rocker_pivot = m.rocker_pivot + shift;
-    let (crank_tip, rocker_tip) = (begin.crank_tip + shift, begin.rocker_tip + shift);
-    let topology = ctx.topology.clone();
-    let place = |name: &str| match name {
-        "q0" => m.crank_pivot,
-        "r0" => m.rocker_pivot,
-        "p1" => crank_tip,
-        _ => rocker_tip,
-    };
-    let joints: Vec<Point> = topology.joint_names.iter().map(|n| place(n)).collect();
-    let mechanism = Mechanism { topology, joints, slider: None };
+fn judged<L: PathLinkage>(
+    problem: &Problem,
+    ctx: &Context,
+    fit: &PathFit<L>,
+    start: Point,
+) -> Result<Candidate, Violation> {
+    let apart =
+        || Violation { constraint: "assembly", message: "the linkage does not close where the path starts".into() };
+    let begin = fit.linkage.tracer_at(fit.theta_start).ok_or_else(apart)?;
+    let placed = fit.linkage.mapped(&Similarity::shift(start - begin.point));
+    let mechanism = placed.mechanism(fit.theta_start).ok_or_else(apart)?;
     // The travel as a design file writes it: from the crank's direction, in (−180°, 180°].
-    let theta_start = (crank_tip - m.crank_pivot).angle();
+    let theta_start = mechanism.crank_start();
     let theta_start = if theta_start <= -PI { theta_start + TAU } else { theta_start };
     let theta_end = theta_start + (fit.theta_end - fit.theta_start);
     let (start_deg, end_deg) = (theta_start.to_degrees(), theta_end.to_degrees());

@@ -1,7 +1,13 @@
 //! A four-bar's coupler curve in closed form: the path search traces thousands of them, each at a
 //! hundred crank angles, so it solves the one loop directly rather than through the general dyad plan.
 
+use super::linkage::{PathLinkage, Similarity, TracerAt};
 use crate::geom::{Point, Vec2};
+use crate::mechanism::{Mechanism, Topology};
+use crate::scene::MechanismType;
+use rand::RngExt;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use std::sync::Arc;
 
 /// A four-bar with a point on its coupler: ground pivots `crank_pivot` (the driver's) and
 /// `rocker_pivot`, link lengths, and the coupler point `(u, v)` in the coupler's frame (origin at the
@@ -31,12 +37,54 @@ pub(crate) struct Configuration {
     pub transmission_sine: f64,
 }
 
-impl FourBar {
-    /// The parameters as a vector, the path search's refinement works on.
-    pub(crate) const PARAMETERS: usize = 9;
+/// A random draw between `lo` and `hi` whose logarithm is uniform: lengths of every ratio alike.
+pub(crate) fn log_uniform(r: &mut Xoshiro256PlusPlus, lo: f64, hi: f64) -> f64 {
+    (lo.ln() + (hi.ln() - lo.ln()) * r.random::<f64>()).exp()
+}
 
-    pub(crate) fn to_params(self) -> [f64; Self::PARAMETERS] {
-        [
+impl PathLinkage for FourBar {
+    const FAMILY: MechanismType = MechanismType::Chain;
+    const STREAM: u64 = 0x7061_7468;
+
+    fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
+        self.at(theta).map(|c| TracerAt { point: c.tracer, transmission_sine: c.transmission_sine })
+    }
+
+    /// Ground pivots (0, 0) and (1, 0), a crank shorter than every other link and a Grashof loop,
+    /// the coupler point anywhere near the coupler.
+    fn sample(r: &mut Xoshiro256PlusPlus) -> Option<FourBar> {
+        let crank = r.random_range(0.05..0.7);
+        let coupler = log_uniform(r, 0.3, 4.0);
+        let rocker = log_uniform(r, 0.3, 4.0);
+        let m = FourBar {
+            crank_pivot: Point::new(0.0, 0.0),
+            rocker_pivot: Point::new(1.0, 0.0),
+            crank,
+            coupler,
+            rocker,
+            u: coupler * r.random_range(-1.0..2.0),
+            v: coupler * r.random_range(-1.5..1.5),
+            branch: if r.random::<bool>() { 1.0 } else { -1.0 },
+        };
+        m.crank_turns_fully().then_some(m)
+    }
+
+    fn mapped(&self, map: &Similarity) -> FourBar {
+        let s = map.scale;
+        FourBar {
+            crank_pivot: map.point(self.crank_pivot),
+            rocker_pivot: map.point(self.rocker_pivot),
+            crank: self.crank * s,
+            coupler: self.coupler * s,
+            rocker: self.rocker * s,
+            u: self.u * s,
+            v: self.v * s,
+            branch: self.branch,
+        }
+    }
+
+    fn params(&self) -> Vec<f64> {
+        vec![
             self.crank_pivot.x,
             self.crank_pivot.y,
             self.rocker_pivot.x,
@@ -49,7 +97,7 @@ impl FourBar {
         ]
     }
 
-    pub(crate) fn with_params(self, x: &[f64]) -> FourBar {
+    fn with_params(&self, x: &[f64]) -> FourBar {
         FourBar {
             crank_pivot: Point::new(x[0], x[1]),
             rocker_pivot: Point::new(x[2], x[3]),
@@ -62,6 +110,24 @@ impl FourBar {
         }
     }
 
+    fn mechanism(&self, theta: f64) -> Option<Mechanism> {
+        let c = self.at(theta)?;
+        let topology = Arc::new(Topology::chain(1));
+        let joints = topology
+            .joint_names
+            .iter()
+            .map(|n| match n.as_str() {
+                "q0" => self.crank_pivot,
+                "r0" => self.rocker_pivot,
+                "p1" => c.crank_tip,
+                _ => c.rocker_tip,
+            })
+            .collect();
+        Some(Mechanism { topology, joints, slider: None })
+    }
+}
+
+impl FourBar {
     /// The configuration at crank angle `theta` (radians), or `None` where the loop does not close.
     pub(crate) fn at(&self, theta: f64) -> Option<Configuration> {
         let crank_tip = self.crank_pivot + Vec2::from_angle(theta) * self.crank;

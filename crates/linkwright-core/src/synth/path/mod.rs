@@ -2,6 +2,9 @@
 
 mod design;
 mod four_bar;
+mod linkage;
 mod search;
+mod slider_crank;
+mod stephenson;
 
 pub(crate) use design::{path_designs, Accepts};

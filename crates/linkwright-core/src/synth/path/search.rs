@@ -1,19 +1,18 @@
-//! Four-bars whose coupler point follows a drawn curve: an atlas of random crank-rockers, each curve
-//! matched to the drawn one up to a similarity (the timing along the curve free), then the best few
-//! refined on the distance between the curves itself.
+//! Linkages whose tracer follows a drawn curve: an atlas of random members of a family whose crank
+//! turns fully, each tracer's curve matched to the drawn one up to a similarity (the timing along the
+//! curve free), then the best few refined on the distance between the curves itself.
 //!
 //! The match is the classic one of path synthesis: both curves are resampled evenly by arc length, so
 //! the shape, not the crank's speed along it, is compared; a closed curve may start anywhere on the
 //! other (every cyclic shift is tried), an open one is matched against arcs of the coupler curve
 //! (several starts and spans). Each pair is aligned by the similarity that best maps one onto the
-//! other (least squares, in closed form with complex numbers), so one normalised four-bar stands for
+//! other (least squares, in closed form with complex numbers), so one normalised linkage stands for
 //! every placement, size and turn of itself.
 
-use super::four_bar::FourBar;
+use super::linkage::{PathLinkage, Similarity};
 use crate::geom::{curve_size as size, nearest, resample, resample_into, smoothed, Point, Vec2};
 use crate::synth::random::{rng, Stream};
 use nalgebra::{DMatrix, DVector};
-use rand::RngExt;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
@@ -31,10 +30,11 @@ const REFINE_STEPS: usize = 180;
 const REFINE_POINTS: usize = 64;
 /// Levenberg–Marquardt iterations of the refinement.
 const REFINE_ITERATIONS: usize = 40;
-/// The smoothing's half-window: this share of the drawn curve's points (see [`fit_four_bars`]).
+/// The smoothing's half-window: this share of the drawn curve's points (see [`fit`]).
 const SMOOTHING_SHARE: usize = 64;
-/// The stream of the path search's samples, apart from every pose family's.
-const PATH_STREAM: u64 = 0x7061_7468;
+/// Draws of an atlas sample before it is skipped (a family's draw is refused now and then: a loop
+/// that would not turn fully).
+const SAMPLE_DRAWS: usize = 1000;
 
 /// What a path search is asked: the drawn curve and how the tracer runs along it.
 #[derive(Clone, Copy, Debug)]
@@ -47,11 +47,11 @@ pub(crate) struct PathGoal<'a> {
     pub min_transmission_sine: f64,
 }
 
-/// A four-bar fitted to a drawn curve, with the crank's travel: from `theta_start` to `theta_end`
+/// A linkage fitted to a drawn curve, with the crank's travel: from `theta_start` to `theta_end`
 /// (radians; a whole turn, either way, for a closed curve).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct PathFit {
-    pub four_bar: FourBar,
+pub(crate) struct PathFit<L> {
+    pub linkage: L,
     pub theta_start: f64,
     pub theta_end: f64,
     /// The refinement's objective at the end: the mean squared distance between the curves, as a
@@ -61,11 +61,11 @@ pub(crate) struct PathFit {
 
 /// The tracer's curve of `m` from crank angle `start` to `end`, at `steps` + 1 angles; `None` where
 /// the loop does not close, or transmits worse than `min_sine`.
-fn traced(m: &FourBar, start: f64, end: f64, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
+fn traced<L: PathLinkage>(m: &L, start: f64, end: f64, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
     (0..=steps)
         .map(|k| {
-            let c = m.at(start + (end - start) * k as f64 / steps as f64)?;
-            (c.transmission_sine >= min_sine).then_some(c.tracer)
+            let c = m.tracer_at(start + (end - start) * k as f64 / steps as f64)?;
+            (c.transmission_sine >= min_sine).then_some(c.point)
         })
         .collect()
 }
@@ -151,31 +151,11 @@ fn align(w: &[C], z: &[C], shift: usize) -> (f64, C) {
     (w_sq, c)
 }
 
-/// The normalised crank-rocker of atlas sample `index`: ground pivots (0, 0) and (1, 0), a crank
-/// shorter than every other link and a Grashof loop, its coupler point anywhere near the coupler.
-fn atlas_sample(seed: u64, index: u64) -> FourBar {
-    let mut r = rng(seed, Stream::Sample { family: PATH_STREAM }, index);
-    loop {
-        let log_uniform = |r: &mut rand_xoshiro::Xoshiro256PlusPlus, lo: f64, hi: f64| {
-            (lo.ln() + (hi.ln() - lo.ln()) * r.random::<f64>()).exp()
-        };
-        let crank = r.random_range(0.05..0.7);
-        let coupler = log_uniform(&mut r, 0.3, 4.0);
-        let rocker = log_uniform(&mut r, 0.3, 4.0);
-        let m = FourBar {
-            crank_pivot: Point::new(0.0, 0.0),
-            rocker_pivot: Point::new(1.0, 0.0),
-            crank,
-            coupler,
-            rocker,
-            u: coupler * r.random_range(-1.0..2.0),
-            v: coupler * r.random_range(-1.5..1.5),
-            branch: if r.random::<bool>() { 1.0 } else { -1.0 },
-        };
-        if m.crank_turns_fully() {
-            return m;
-        }
-    }
+/// Atlas sample `index` of family `L` under `seed`, normalised; `None` when the family's draws
+/// keep failing.
+fn atlas_sample<L: PathLinkage>(seed: u64, index: u64) -> Option<L> {
+    let mut r = rng(seed, Stream::Sample { family: L::STREAM }, index);
+    (0..SAMPLE_DRAWS).find_map(|_| L::sample(&mut r))
 }
 
 /// Scratch for matching one atlas curve.
@@ -187,11 +167,11 @@ struct MatchScratch {
     w: Vec<C>,
 }
 
-/// The best match of `m`'s coupler curve onto the target.
-fn best_match(m: &FourBar, target: &Target, s: &mut MatchScratch) -> Option<Match> {
+/// The best match of `m`'s tracer curve onto the target.
+fn best_match<L: PathLinkage>(m: &L, target: &Target, s: &mut MatchScratch) -> Option<Match> {
     s.curve.clear();
     for k in 0..ATLAS_STEPS {
-        s.curve.push(m.at(TAU * k as f64 / ATLAS_STEPS as f64)?.tracer);
+        s.curve.push(m.tracer_at(TAU * k as f64 / ATLAS_STEPS as f64)?.point);
     }
     let step = TAU / ATLAS_STEPS as f64;
     let mut best: Option<Match> = None;
@@ -262,27 +242,18 @@ fn theta_at_fraction(length_to: &[f64], fraction: f64) -> f64 {
     TAU * ((i - 1) as f64 + t) / (length_to.len() - 1) as f64
 }
 
-/// The atlas sample `m` placed by `matched` onto the drawn curve: world pivots, lengths and travel.
-fn placed(m: &FourBar, matched: &Match, target: &Target) -> PathFit {
+/// The atlas sample `m` placed by `matched` onto the drawn curve, with its travel.
+fn placed<L: PathLinkage>(m: &L, matched: &Match, target: &Target) -> PathFit<L> {
     let C(ar, ai) = matched.alpha;
-    let scale = (ar * ar + ai * ai).sqrt();
-    let turn = ai.atan2(ar);
-    let world = |p: Point| {
-        let w = p - matched.w_centroid;
-        target.centroid + Vec2::new(ar * w.x - ai * w.y, ai * w.x + ar * w.y)
+    let map = Similarity {
+        from: matched.w_centroid,
+        to: target.centroid,
+        scale: (ar * ar + ai * ai).sqrt(),
+        turn: ai.atan2(ar),
     };
-    let four_bar = FourBar {
-        crank_pivot: world(m.crank_pivot),
-        rocker_pivot: world(m.rocker_pivot),
-        crank: m.crank * scale,
-        coupler: m.coupler * scale,
-        rocker: m.rocker * scale,
-        u: m.u * scale,
-        v: m.v * scale,
-        branch: m.branch,
-    };
-    let theta_start = matched.theta_start + turn;
-    PathFit { four_bar, theta_start, theta_end: theta_start + matched.span, objective: matched.residual }
+    // Turning the whole linkage turns its crank as much.
+    let theta_start = matched.theta_start + map.turn;
+    PathFit { linkage: m.mapped(&map), theta_start, theta_end: theta_start + matched.span, objective: matched.residual }
 }
 
 /// The residuals the refinement's least squares sums: the distance of each drawn point from the
@@ -290,9 +261,10 @@ fn placed(m: &FourBar, matched: &Match, target: &Target) -> PathFit {
 /// and for an open curve the tracer's miss at either end (which counts thrice: the tracer must run
 /// from the first point to the last). `None` where the loop does not close along the travel or
 /// transmits worse than allowed.
-fn residuals(x: &[f64], template: &FourBar, closed: bool, drawn: &Drawn, min_sine: f64) -> Option<Vec<f64>> {
-    let m = template.with_params(x);
-    let (start, end) = if closed { (x[9], x[9] + x[10].signum() * TAU) } else { (x[9], x[10]) };
+fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Drawn, min_sine: f64) -> Option<Vec<f64>> {
+    let n = x.len() - 2;
+    let m = template.with_params(&x[..n]);
+    let (start, end) = travel(&x[n..], closed);
     let steps =
         if closed { REFINE_STEPS } else { ((REFINE_STEPS as f64 * (end - start).abs() / TAU).ceil() as usize).max(8) };
     let curve = traced(&m, start, end, steps, min_sine)?;
@@ -324,11 +296,22 @@ struct Drawn<'a> {
     size: f64,
 }
 
+/// The travel from its two refined parameters: start and end, or for a closed curve start and a
+/// whole turn the way the second's sign says.
+fn travel(x: &[f64], closed: bool) -> (f64, f64) {
+    if closed {
+        (x[0], x[0] + x[1].signum() * TAU)
+    } else {
+        (x[0], x[1])
+    }
+}
+
 /// Levenberg–Marquardt from `fit` on [`residuals`], forward differences for the Jacobian; never
 /// returns a worse fit than it is given.
-fn refine(fit: PathFit, goal: &PathGoal, drawn: &Drawn) -> PathFit {
-    let template = fit.four_bar;
-    let mut x: Vec<f64> = template.to_params().to_vec();
+fn refine<L: PathLinkage>(fit: PathFit<L>, goal: &PathGoal, drawn: &Drawn) -> PathFit<L> {
+    let template = fit.linkage;
+    let mut x: Vec<f64> = template.params();
+    let n = x.len();
     if goal.closed {
         x.extend([fit.theta_start, fit.theta_end - fit.theta_start]);
     } else {
@@ -338,7 +321,7 @@ fn refine(fit: PathFit, goal: &PathGoal, drawn: &Drawn) -> PathFit {
     let Some(mut r) = f(&x) else { return fit };
     let mut cost: f64 = r.iter().map(|v| v * v).sum();
     // Angles move in radians, lengths relative to the curve: a step of 1e-7 of each.
-    let step = |k: usize| if k >= FourBar::PARAMETERS { 1e-7 } else { 1e-7 * drawn.size };
+    let step = |k: usize| if k >= n || L::is_angle(k) { 1e-7 } else { 1e-7 * drawn.size };
     // A closed travel's span is a whole turn whatever its parameter: it is not refined.
     let free = if goal.closed { x.len() - 1 } else { x.len() };
     let mut lambda = 1e-3;
@@ -384,25 +367,24 @@ fn refine(fit: PathFit, goal: &PathGoal, drawn: &Drawn) -> PathFit {
             break;
         }
     }
-    let four_bar = template.with_params(&x);
-    let (theta_start, theta_end) = if goal.closed { (x[9], x[9] + x[10].signum() * TAU) } else { (x[9], x[10]) };
-    PathFit { four_bar, theta_start, theta_end, objective: cost / r.len() as f64 }
+    let (theta_start, theta_end) = travel(&x[n..], goal.closed);
+    PathFit { linkage: template.with_params(&x[..n]), theta_start, theta_end, objective: cost / r.len() as f64 }
 }
 
-/// Four-bars whose coupler point follows `goal`'s curve: `samples` atlas curves under `seed`, the
-/// `refined` best matches refined; returned best first (the least mean squared distance), at most
-/// `refined` of them. Deterministic whatever the thread count.
-pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined: usize) -> Vec<PathFit> {
+/// Members of family `L` whose tracer follows `goal`'s curve: `samples` atlas curves under `seed`,
+/// the `refined` best matches refined; returned best first (the least mean squared distance), at
+/// most `refined` of them. Deterministic whatever the thread count.
+pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, refined: usize) -> Vec<PathFit<L>> {
     // A hand's jitter along many points lengthens the curve unevenly, which would space the points
     // the match compares unevenly: the match and the refinement see the curve smoothed over a
     // 64th of its points either side (none under 64 points).
     let curve = smoothed(goal.drawn, goal.closed, goal.drawn.len() / SMOOTHING_SHARE);
     let goal = &PathGoal { drawn: &curve, ..*goal };
     let target = Target::new(goal);
-    let mut matches: Vec<(f64, usize, PathFit)> = (0..samples)
+    let mut matches: Vec<(f64, usize, PathFit<L>)> = (0..samples)
         .into_par_iter()
         .map_init(MatchScratch::default, |scratch, i| {
-            let m = atlas_sample(seed, i as u64);
+            let m = atlas_sample::<L>(seed, i as u64)?;
             best_match(&m, &target, scratch).map(|matched| (matched.residual, i, placed(&m, &matched, &target)))
         })
         .flatten()
@@ -412,7 +394,7 @@ pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined:
 
     let drawn =
         Drawn { points: resample(goal.drawn, goal.closed, REFINE_POINTS), curve: goal.drawn, size: size(goal.drawn) };
-    let mut fits: Vec<(f64, usize, PathFit)> = matches
+    let mut fits: Vec<(f64, usize, PathFit<L>)> = matches
         .into_par_iter()
         .map(|(_, i, fit)| {
             let fit = refine(fit, goal, &drawn);
@@ -427,6 +409,7 @@ pub(crate) fn fit_four_bars(goal: &PathGoal, seed: u64, samples: usize, refined:
 mod tests {
     use super::*;
     use crate::geom::{path_error, PathError};
+    use crate::synth::path::four_bar::FourBar;
 
     /// A known crank-rocker, off the atlas's normal form: pivots (2, 1) and (5, 2), links 1, 3.5, 2.8.
     fn known() -> FourBar {
@@ -442,16 +425,16 @@ mod tests {
         }
     }
 
-    fn check(closed: bool, start: f64, end: f64, points: usize) -> (PathError, PathFit) {
+    fn check(closed: bool, start: f64, end: f64, points: usize) -> (PathError, PathFit<FourBar>) {
         let m = known();
         assert!(m.crank_turns_fully());
         let drawn = traced(&m, start, end, points - usize::from(closed), 0.0).unwrap();
         let drawn = if closed { drawn[..points].to_vec() } else { drawn };
         let goal = PathGoal { drawn: &drawn, closed, min_transmission_sine: 10f64.to_radians().sin() };
         let t = std::time::Instant::now();
-        let fits = fit_four_bars(&goal, 0, 20_000, 16);
+        let fits = fit::<FourBar>(&goal, 0, 20_000, 16);
         let best = fits[0];
-        let curve = traced(&best.four_bar, best.theta_start, best.theta_end, 720, 0.0).unwrap();
+        let curve = traced(&best.linkage, best.theta_start, best.theta_end, 720, 0.0).unwrap();
         let e = path_error(&drawn, &curve, closed);
         eprintln!("closed {closed}: {e:?} in {:.2} s, {best:?}", t.elapsed().as_secs_f64());
         (e, best)
@@ -470,7 +453,7 @@ mod tests {
         let m = known();
         let (first, last) = (m.at(0.5).unwrap().tracer, m.at(2.6).unwrap().tracer);
         let size = size(&traced(&m, 0.5, 2.6, 49, 0.0).unwrap());
-        assert!(fit.four_bar.at(fit.theta_start).unwrap().tracer.distance(first) < 0.01 * size);
-        assert!(fit.four_bar.at(fit.theta_end).unwrap().tracer.distance(last) < 0.01 * size);
+        assert!(fit.linkage.at(fit.theta_start).unwrap().tracer.distance(first) < 0.01 * size);
+        assert!(fit.linkage.at(fit.theta_end).unwrap().tracer.distance(last) < 0.01 * size);
     }
 }
