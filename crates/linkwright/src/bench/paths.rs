@@ -109,8 +109,8 @@ pub(super) fn bench_paths(
                         let metrics = design.metrics.as_ref();
                         let error = metrics.and_then(|m| m.path_error);
                         let row = Row {
-                            family: family.label(),
-                            designed_by: design.mechanism.as_ref().map(|m| m.mechanism_type.label()),
+                            family: family.linkage_label(1),
+                            designed_by: design.mechanism.as_ref().map(|m| m.mechanism_type.linkage_label(1)),
                             closed,
                             points,
                             noise,
