@@ -574,13 +574,6 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
                 ),
             );
         }
-        if scene.mechanism == MechanismChoice::Only(MechanismType::WattTwo) {
-            out.error(
-                "mechanism",
-                "is \"watt_ii\", but a Watt-II's body follows the coupler curve of its own four-bar, which a \
-                 four-bar traces alone; use \"chain\", \"stephenson_iii\", \"slider_crank\" or \"auto\"",
-            );
-        }
         if !(path.tracer.x.is_finite() && path.tracer.y.is_finite())
             || path.tracer.x.abs().max(path.tracer.y.abs()) > MAX_COORDINATE
         {

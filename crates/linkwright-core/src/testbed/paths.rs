@@ -34,7 +34,8 @@ pub struct KnownPath {
 }
 
 /// The path scene of seed `seed`: `points` points of the curve a known linkage of `family` traces
-/// (the four-bar's coupler point, or a point of a Stephenson-III six-bar's body), the whole loop
+/// (the four-bar's coupler point, or a point of a Stephenson-III or Watt-II six-bar's body: the
+/// Watt-II's runs out and back once per turn of its crank), the whole loop
 /// (`closed`) or an arc of 90° to 270° of crank travel, each moved by Gaussian noise of `noise_rel`
 /// times the curve's size, everything at `scale` (millimetres per unit). `None` for a family the
 /// testbed does not draw.
@@ -47,13 +48,15 @@ pub fn known_path_scene(
     scale: f64,
 ) -> Option<KnownPath> {
     let topology = Arc::new(Topology::chain(1));
-    let six_bar = Arc::new(Topology::stephenson_three());
+    let stephenson = Arc::new(Topology::stephenson_three());
+    let watt = Arc::new(Topology::watt_two());
     for draw in 0..MAX_PATH_DRAWS {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(splitmix(seed ^ PATH_STREAM).wrapping_add(draw));
         let Some(four_bar) = crank_rocker(&topology, closed, &mut rng) else { continue };
         let drawn = match family {
             MechanismType::Chain => Some(four_bar),
-            MechanismType::StephensonThree => stephenson_three(&six_bar, four_bar, &mut rng),
+            MechanismType::StephensonThree => stephenson_three(&stephenson, four_bar, &mut rng),
+            MechanismType::WattTwo => watt_two(&watt, four_bar, &mut rng),
             _ => return None,
         };
         let Some((mechanism, start, end, tracer)) = drawn else { continue };
@@ -199,6 +202,40 @@ fn stephenson_three(
             "u0" => at("r0"),
             "a1" => at("p1"),
             "b1" => at("q1"),
+            "p1" => p1,
+            "q1" => q1,
+            _ => r0,
+        })
+        .collect();
+    Some((Mechanism { topology: topology.clone(), joints, slider: None }, start, end, tracer))
+}
+
+/// The Watt-II six-bar on `four_bar` (with its travel): the crank-rocker drives the ternary link
+/// about its rocker's pivot, which carries the body's joint `p1`; the body's four-bar gets a rocker
+/// pivot drawn near it, and the tracer is a point of the body.
+fn watt_two(
+    topology: &Arc<Topology>,
+    (four_bar, start, end, _): (Mechanism, f64, f64, Point),
+    rng: &mut Xoshiro256PlusPlus,
+) -> Option<(Mechanism, f64, f64, Point)> {
+    let at = |name: &str| four_bar.joint(name).expect("a four-bar's joint");
+    let (q0, t1) = (at("r0"), at("q1"));
+    let input = rng.random_range(0.5..1.5);
+    let p1 = q0 + Vec2::from_angle((t1 - q0).angle() + rng.random_range(0.0..TAU)) * input;
+    let r0 = q0 + Vec2::new(rng.random_range(-1.5..1.5), rng.random_range(-1.5..1.5));
+    let (coupler, rocker) = (rng.random_range(0.5..1.5), rng.random_range(0.5..1.5));
+    let branch = if rng.random::<bool>() { Branch::Positive } else { Branch::Negative };
+    let q1 = circle_circle(p1, coupler, r0, rocker, branch).ok()?;
+    let x = (q1 - p1) / coupler;
+    let tracer = p1 + x * (coupler * rng.random_range(-0.5..1.5)) + x.perp() * (coupler * rng.random_range(-1.0..1.0));
+    let joints = topology
+        .joint_names
+        .iter()
+        .map(|n| match n.as_str() {
+            "u0" => at("q0"),
+            "u1" => at("p1"),
+            "t1" => t1,
+            "q0" => q0,
             "p1" => p1,
             "q1" => q1,
             _ => r0,

@@ -13,7 +13,7 @@ use serde::Serialize;
 use std::path::Path;
 
 /// The families whose curves are drawn.
-const FAMILIES: [MechanismType; 2] = [MechanismType::Chain, MechanismType::StephensonThree];
+const FAMILIES: [MechanismType; 3] = [MechanismType::Chain, MechanismType::StephensonThree, MechanismType::WattTwo];
 /// Points of the drawn curves: from a few clicks to a smoothed freehand stroke.
 const POINTS: [usize; 4] = [20, 50, 100, 200];
 /// Noise on every point, as a fraction of the curve's size: none, and a careful hand's.

@@ -5,8 +5,8 @@
 use super::four_bar::FourBar;
 use super::linkage::{PathLinkage, Similarity};
 use super::search::{fit, PathFit, PathGoal};
+use super::six_bars::{StephensonThree, WattTwo};
 use super::slider_crank::SliderCrank;
-use super::stephenson::StephensonThree;
 use crate::geom::{nearest, Point};
 use crate::kinematics::{Plan, Trace};
 use crate::mechanism::Mechanism;
@@ -25,10 +25,19 @@ use std::f64::consts::{PI, TAU};
 const PATH_ACCURACY_EMPHASIS: f64 = 100.0;
 /// Linkages of each family the atlas's best matches are refined into, and then judged.
 const REFINED: usize = 24;
-/// The families that design paths, in the order `auto` tries them. A Watt-II's body follows the
-/// coupler curve of its own four-bar, which a four-bar traces alone.
-pub(crate) const PATH_FAMILIES: [MechanismType; 3] =
-    [MechanismType::Chain, MechanismType::StephensonThree, MechanismType::SliderCrank];
+/// The families `auto` tries for a path, in order. A Watt-II's tracer runs along an arc of its
+/// body's four-bar's coupler curve, and a four-bar traces such an arc alone: it adds a curve of its
+/// own only where the tracer comes back the way it went, which only a closed path asks.
+fn path_families(closed: bool) -> &'static [MechanismType] {
+    if closed {
+        &[MechanismType::Chain, MechanismType::StephensonThree, MechanismType::SliderCrank, MechanismType::WattTwo]
+    } else {
+        &[MechanismType::Chain, MechanismType::StephensonThree, MechanismType::SliderCrank]
+    }
+}
+/// The share of the scene's atlas samples each family gets when `auto` tries several: half as many
+/// as one family alone, which traces `bench --paths --quick` as closely at 55% of the time.
+const AUTO_SAMPLE_SHARE: usize = 2;
 /// A design differs from another when some joint is farther than this fraction of the path's size
 /// from its place in the other.
 const DISTINCT: f64 = 0.02;
@@ -61,9 +70,9 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
         closed: path.closed,
         min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
     };
-    let families = match problem.mechanism {
-        MechanismChoice::Auto => PATH_FAMILIES.to_vec(),
-        MechanismChoice::Only(family) => vec![family],
+    let (families, samples) = match problem.mechanism {
+        MechanismChoice::Auto => (path_families(path.closed).to_vec(), samples / AUTO_SAMPLE_SHARE),
+        MechanismChoice::Only(family) => (vec![family], samples),
     };
     let mut out = PathDesigns::default();
     let mut judgements = Vec::new();
@@ -72,7 +81,7 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
             MechanismType::Chain => judge_family::<FourBar>,
             MechanismType::StephensonThree => judge_family::<StephensonThree>,
             MechanismType::SliderCrank => judge_family::<SliderCrank>,
-            MechanismType::WattTwo => continue,
+            MechanismType::WattTwo => judge_family::<WattTwo>,
         };
         judgements.extend(judge(problem, &goal, samples, start));
     }

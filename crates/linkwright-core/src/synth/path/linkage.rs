@@ -68,3 +68,54 @@ pub(crate) trait PathLinkage: Copy + std::fmt::Debug + Send + Sync + Sized {
     /// The design: every joint where it is at crank angle `theta`, in the family's topology.
     fn mechanism(&self, theta: f64) -> Option<Mechanism>;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Rigid;
+    use crate::kinematics::{BodyFrames, Plan};
+    use crate::synth::path::four_bar::FourBar;
+    use crate::synth::path::six_bars::{StephensonThree, WattTwo};
+    use crate::synth::path::slider_crank::SliderCrank;
+    use rand::SeedableRng;
+
+    /// The closed form of family `L` against the engine's general solver: members drawn for the
+    /// atlas, mapped by a similarity, made into designs at one crank angle and simulated by
+    /// [`Plan`] at others; the tracer (carried by the body's frame) and the transmission agree.
+    fn agrees_with_the_general_solver<L: PathLinkage>() {
+        let map = Similarity { from: Point::new(0.2, -0.1), to: Point::new(40.0, 25.0), scale: 30.0, turn: 2.0 };
+        let mut checked = 0;
+        for seed in 0..40 {
+            let mut r = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let Some(m) = L::sample(&mut r) else { continue };
+            let m = m.mapped(&map);
+            let Some(mechanism) = m.mechanism(0.3) else { continue };
+            assert_eq!(mechanism.topology.mechanism_type, L::FAMILY);
+            let start = m.tracer_at(0.3).unwrap().point;
+            let frames = BodyFrames::new(&mechanism, &[Rigid::new(0.0, start - Point::ORIGIN)]);
+            let plan = Plan::compile(&mechanism).unwrap();
+            let mut row = vec![Point::ORIGIN; plan.joint_count()];
+            // Small steps from the start, so the general solver keeps every dyad's branch.
+            for k in 0..=60 {
+                let theta = 0.3 + 0.02 * k as f64;
+                let (Some(closed_form), Ok(())) = (m.tracer_at(theta), plan.solve(theta, &mut row)) else {
+                    break;
+                };
+                let general = frames.pose(0, &row).apply(Point::ORIGIN);
+                assert!(general.distance(closed_form.point) < 1e-9 * map.scale, "{m:?} at {theta}");
+                let sine = plan.min_transmission_sine(&row);
+                assert!((sine - closed_form.transmission_sine).abs() < 1e-9, "{m:?} at {theta}");
+            }
+            checked += 1;
+        }
+        assert!(checked >= 10, "only {checked} members drawn");
+    }
+
+    #[test]
+    fn every_familys_closed_form_agrees_with_the_general_solver() {
+        agrees_with_the_general_solver::<FourBar>();
+        agrees_with_the_general_solver::<StephensonThree>();
+        agrees_with_the_general_solver::<WattTwo>();
+        agrees_with_the_general_solver::<SliderCrank>();
+    }
+}

@@ -4,7 +4,7 @@ mod design;
 mod four_bar;
 mod linkage;
 mod search;
+mod six_bars;
 mod slider_crank;
-mod stephenson;
 
 pub(crate) use design::{path_designs, Accepts};

@@ -30,6 +30,10 @@ const REFINE_STEPS: usize = 180;
 const REFINE_POINTS: usize = 64;
 /// Levenberg–Marquardt iterations of the refinement.
 const REFINE_ITERATIONS: usize = 40;
+/// A drawn point where the curve turns by more than this is a reversal ([`reversals`]).
+const REVERSAL_DEG: f64 = 120.0;
+/// The most reversals the refinement measures from.
+const MAX_REVERSALS: usize = 4;
 /// The smoothing's half-window: this share of the drawn curve's points (see [`fit`]).
 const SMOOTHING_SHARE: usize = 64;
 /// Draws of an atlas sample before it is skipped (a family's draw is refused now and then: a loop
@@ -257,9 +261,10 @@ fn placed<L: PathLinkage>(m: &L, matched: &Match, target: &Target) -> PathFit<L>
 }
 
 /// The residuals the refinement's least squares sums: the distance of each drawn point from the
-/// traced curve and of each traced point from the drawn one, as fractions of the drawn curve's size,
-/// and for an open curve the tracer's miss at either end (which counts thrice: the tracer must run
-/// from the first point to the last). `None` where the loop does not close along the travel or
+/// traced curve and of each traced point from the drawn one, as fractions of the drawn curve's size;
+/// the distance of each reversal from the traced curve, and for an open curve the tracer's miss at
+/// either end, count thrice (the tracer must reach the tip of a stroke, and run from the first point
+/// to the last). `None` where the loop does not close along the travel or
 /// transmits worse than allowed.
 fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Drawn, min_sine: f64) -> Option<Vec<f64>> {
     let n = x.len() - 2;
@@ -269,9 +274,12 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
         if closed { REFINE_STEPS } else { ((REFINE_STEPS as f64 * (end - start).abs() / TAU).ceil() as usize).max(8) };
     let curve = traced(&m, start, end, steps, min_sine)?;
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
-    for &p in &drawn.points {
+    let ends_weight = 3.0;
+
+    let weighed = drawn.points.iter().map(|p| (p, 1.0)).chain(drawn.reversals.iter().map(|p| (p, ends_weight)));
+    for (&p, weight) in weighed {
         let (_, q, _) = nearest(p, &curve, closed);
-        out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
+        out.extend([weight * (q.x - p.x) / drawn.size, weight * (q.y - p.y) / drawn.size]);
     }
     let stride = (curve.len() / REFINE_POINTS).max(1);
     for &q in curve.iter().step_by(stride) {
@@ -279,9 +287,8 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
         out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
     }
     if !closed {
-        let weight = 3.0;
         for (q, p) in [(curve[0], drawn.points[0]), (curve[curve.len() - 1], drawn.points[drawn.points.len() - 1])] {
-            out.extend([weight * (q.x - p.x) / drawn.size, weight * (q.y - p.y) / drawn.size]);
+            out.extend([ends_weight * (q.x - p.x) / drawn.size, ends_weight * (q.y - p.y) / drawn.size]);
         }
     }
     Some(out)
@@ -292,6 +299,8 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
 /// distances are measured to: a coarser polyline's chords would cut its bends).
 struct Drawn<'a> {
     points: Vec<Point>,
+    /// The drawn curve's reversals ([`reversals`]), whose distances count thrice.
+    reversals: Vec<Point>,
     curve: &'a [Point],
     size: f64,
 }
@@ -371,6 +380,28 @@ fn refine<L: PathLinkage>(fit: PathFit<L>, goal: &PathGoal, drawn: &Drawn) -> Pa
     PathFit { linkage: template.with_params(&x[..n]), theta_start, theta_end, objective: cost / r.len() as f64 }
 }
 
+/// Where the drawn curve turns back on itself (by more than [`REVERSAL_DEG`] between the points
+/// `reach` before and after, the smoothing's half-window or 1, so a hand's jitter is not one), the
+/// sharpest [`MAX_REVERSALS`] of them: the tip of an out-and-back stroke, which the even resampling
+/// and the smoothing would both cut short, so the refinement measures the traced curve from them too.
+fn reversals(curve: &[Point], closed: bool, reach: usize) -> Vec<Point> {
+    let n = curve.len();
+    let reach = reach.max(1);
+    if n <= 2 * reach {
+        return Vec::new();
+    }
+    let mut turns: Vec<(f64, usize)> = (0..n)
+        .filter(|&i| closed || (i >= reach && i + reach < n))
+        .filter_map(|i| {
+            let (before, after) = (curve[i] - curve[(i + n - reach) % n], curve[(i + reach) % n] - curve[i]);
+            let turn = before.cross(after).atan2(before.dot(after)).abs();
+            (turn > REVERSAL_DEG.to_radians()).then_some((turn, i))
+        })
+        .collect();
+    turns.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    turns.into_iter().take(MAX_REVERSALS).map(|(_, i)| curve[i]).collect()
+}
+
 /// Members of family `L` whose tracer follows `goal`'s curve: `samples` atlas curves under `seed`,
 /// the `refined` best matches refined; returned best first (the least mean squared distance), at
 /// most `refined` of them. Deterministic whatever the thread count.
@@ -378,7 +409,9 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
     // A hand's jitter along many points lengthens the curve unevenly, which would space the points
     // the match compares unevenly: the match and the refinement see the curve smoothed over a
     // 64th of its points either side (none under 64 points).
-    let curve = smoothed(goal.drawn, goal.closed, goal.drawn.len() / SMOOTHING_SHARE);
+    let window = goal.drawn.len() / SMOOTHING_SHARE;
+    let curve = smoothed(goal.drawn, goal.closed, window);
+    let reversals = reversals(goal.drawn, goal.closed, window);
     let goal = &PathGoal { drawn: &curve, ..*goal };
     let target = Target::new(goal);
     let mut matches: Vec<(f64, usize, PathFit<L>)> = (0..samples)
@@ -392,8 +425,12 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
     matches.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     matches.truncate(refined);
 
-    let drawn =
-        Drawn { points: resample(goal.drawn, goal.closed, REFINE_POINTS), curve: goal.drawn, size: size(goal.drawn) };
+    let drawn = Drawn {
+        points: resample(goal.drawn, goal.closed, REFINE_POINTS),
+        reversals,
+        curve: goal.drawn,
+        size: size(goal.drawn),
+    };
     let mut fits: Vec<(f64, usize, PathFit<L>)> = matches
         .into_par_iter()
         .map(|(_, i, fit)| {
