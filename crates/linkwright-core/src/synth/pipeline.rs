@@ -455,10 +455,12 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
 /// 20,000 coupler curves, which find a known four-bar's curve within 0.1% of its size.
 const PATH_SAMPLE_DIVISOR: usize = 5;
 
-/// A path scene's run ([`path_designs`]): every design is a four-bar, and a warm start designs anew
-/// (the search takes a second or two).
+/// A path scene's run ([`path_designs`]); a warm start designs anew (the search takes a few seconds).
 fn synthesize_path(problem: &Problem, options: &Options, observer: &dyn Observer, started: Instant) -> Outcome {
-    let family = MechanismType::Chain;
+    let family = match problem.mechanism {
+        MechanismChoice::Only(family) => family,
+        MechanismChoice::Auto => MechanismType::Chain,
+    };
     observer.progress(&Progress { stage: Stage::Sampling, mechanism: family, fraction: 0.0, best_cost: None });
     let samples = (problem.settings.samples / PATH_SAMPLE_DIVISOR).max(1);
     let accepts = options.printable.map(|check| move |m: &Mechanism, t: &Trace| check.accepts(m, t));
@@ -479,18 +481,18 @@ fn synthesize_path(problem: &Problem, options: &Options, observer: &dyn Observer
     if let Some(b) = &best {
         observer.progress(&Progress {
             stage: Stage::Refining,
-            mechanism: family,
+            mechanism: b.mechanism.topology.mechanism_type,
             fraction: 1.0,
             best_cost: Some(b.cost),
         });
     }
     let reason = best.is_none().then(|| match &found.closest_violation {
         Some(v) => format!(
-            "no four-bar found whose tracer follows the path: the closest ones break a hard constraint ({}: {}); \
+            "no linkage found whose tracer follows the path: the closest ones break a hard constraint ({}: {}); \
              move or reshape the path away from the fixed bodies, or make it smoother",
             v.constraint, v.message
         ),
-        None => "no four-bar found whose tracer follows the path; draw a smoother curve".to_string(),
+        None => "no linkage found whose tracer follows the path; draw a smoother curve".to_string(),
     });
     Outcome { best, alternatives: designs.collect(), stats, reason, unbuildable }
 }

@@ -14,7 +14,7 @@
 
 mod paths;
 
-pub use paths::{known_path_scene, KnownPath};
+pub use paths::{known_path_scene, published_path_scenes, KnownPath, PublishedPath};
 
 use crate::design::{DesignFile, MechanismJson, Metrics, Motion, SliderJson, Stats, Status, DESIGN_FORMAT};
 use crate::geom::{outline_distance, Aabb, Point, Polygon, Rigid, Vec2};

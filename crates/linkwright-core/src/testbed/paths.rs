@@ -87,53 +87,128 @@ pub fn known_path_scene(
         }
         let at = |p: Point| Point::new(p.x * scale, p.y * scale);
         let lowest = curve.iter().chain(&mechanism.joints).map(|p| p.y).fold(f64::INFINITY, f64::min);
-        let (left, right) = curve.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, r), p| (l.min(p.x), r.max(p.x)));
-        let ground = [(left, lowest - 0.6), (right, lowest - 0.6), (right, lowest - 0.5), (left, lowest - 0.5)];
-        let half = 0.04;
-        let square = [(-half, -half), (half, -half), (half, half), (-half, half)];
-        let scene = Scene {
-            linkwright: SCENE_FORMAT.to_string(),
-            name: format!(
-                "known {} {} curve, {points} points, noise {noise_rel}, seed {seed}",
-                family.linkage_label(1),
-                if closed { "closed" } else { "open" }
-            ),
-            units: "mm".to_string(),
-            fixed_bodies: vec![FixedBody {
-                name: "ground".to_string(),
-                polygon: ground.iter().map(|&(x, y)| at(Point::new(x, y))).collect(),
-                extra: Default::default(),
-            }],
-            moving_bodies: vec![MovingBody {
-                name: "tracer".to_string(),
-                polygon: square.iter().map(|&(x, y)| Point::new(x * scale, y * scale)).collect(),
-                poses: vec![[curve[0].x * scale, curve[0].y * scale, 0.0]],
-                path: Some(DrawnPath {
-                    tracer: Point::ORIGIN,
-                    points: curve.iter().map(|&p| at(p)).collect(),
-                    closed,
-                    extra: Default::default(),
-                }),
-                mass_kg: None,
-                material: None,
-                thickness: None,
-                extra: Default::default(),
-            }],
-            linkage_region: None,
-            avoid_regions: Vec::new(),
-            mechanism: MechanismChoice::Auto,
-            gravity: None,
-            must_hit_poses: Vec::new(),
-            pinned_joints: Default::default(),
-            weights: Weights::default(),
-            settings: Settings::default(),
-            build: Default::default(),
-            extra: Default::default(),
-        };
+        let name = format!(
+            "known {} {} curve, {points} points, noise {noise_rel}, seed {seed}",
+            family.linkage_label(1),
+            if closed { "closed" } else { "open" }
+        );
+        let curve: Vec<Point> = curve.iter().map(|&p| at(p)).collect();
+        let scene = path_scene(name, &curve, closed, (lowest - 0.5) * scale, 0.04 * scale);
         let mechanism = Mechanism { joints: mechanism.joints.iter().map(|&p| at(p)).collect(), ..mechanism };
         return Some(KnownPath { scene, mechanism, curve_size: size * scale });
     }
     None
+}
+
+/// A scene whose one body, a square of half-side `half`, carries its tracer at its centre along
+/// `curve` (scene millimetres), starting on its first point, above a ground strip whose top is at
+/// height `ground_top`.
+fn path_scene(name: String, curve: &[Point], closed: bool, ground_top: f64, half: f64) -> Scene {
+    let (left, right) = curve.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, r), p| (l.min(p.x), r.max(p.x)));
+    let thickness = 0.2 * (right - left);
+    let ground =
+        [(left, ground_top - thickness), (right, ground_top - thickness), (right, ground_top), (left, ground_top)];
+    let square = [(-half, -half), (half, -half), (half, half), (-half, half)];
+    Scene {
+        linkwright: SCENE_FORMAT.to_string(),
+        name,
+        units: "mm".to_string(),
+        fixed_bodies: vec![FixedBody {
+            name: "ground".to_string(),
+            polygon: ground.iter().map(|&(x, y)| Point::new(x, y)).collect(),
+            extra: Default::default(),
+        }],
+        moving_bodies: vec![MovingBody {
+            name: "tracer".to_string(),
+            polygon: square.iter().map(|&(x, y)| Point::new(x, y)).collect(),
+            poses: vec![[curve[0].x, curve[0].y, 0.0]],
+            path: Some(DrawnPath { tracer: Point::ORIGIN, points: curve.to_vec(), closed, extra: Default::default() }),
+            mass_kg: None,
+            material: None,
+            thickness: None,
+            extra: Default::default(),
+        }],
+        linkage_region: None,
+        avoid_regions: Vec::new(),
+        mechanism: MechanismChoice::Auto,
+        gravity: None,
+        must_hit_poses: Vec::new(),
+        pinned_joints: Default::default(),
+        weights: Weights::default(),
+        settings: Settings::default(),
+        build: Default::default(),
+        extra: Default::default(),
+    }
+}
+
+/// A published path-synthesis target: its name, where it comes from, and its points.
+#[derive(Clone, Debug)]
+pub struct PublishedPath {
+    /// What the target is.
+    pub name: &'static str,
+    /// Where it is published.
+    pub source: &'static str,
+    /// The target as a path scene.
+    pub scene: Scene,
+}
+
+/// Path-synthesis targets of the literature, as path scenes (millimetres, the published numbers
+/// as they are): straight-line generation, an ellipse and a closed free-form curve. The published
+/// errors are sums of squared distances at prescribed crank angles, which a timing-free design is
+/// not compared with; these scenes measure the timing-free distance of a design from the points.
+pub fn published_path_scenes() -> Vec<PublishedPath> {
+    let line: Vec<Point> = (0..6).map(|k| Point::new(20.0, 20.0 + 5.0 * k as f64)).collect();
+    let ellipse: Vec<Point> = (0..9)
+        .map(|k| {
+            let t = (40.0 * k as f64).to_radians();
+            Point::new(10.0 + 10.0 * t.cos(), 10.0 + 8.0 * t.sin())
+        })
+        .collect();
+    let free_form: Vec<Point> = [
+        (0.5, 1.1),
+        (0.4, 1.1),
+        (0.3, 1.1),
+        (0.2, 1.0),
+        (0.1, 0.9),
+        (0.005, 0.75),
+        (0.02, 0.6),
+        (0.0, 0.5),
+        (0.0, 0.4),
+        (0.03, 0.3),
+        (0.1, 0.25),
+        (0.15, 0.2),
+        (0.2, 0.3),
+        (0.3, 0.4),
+        (0.4, 0.5),
+        (0.5, 0.7),
+        (0.6, 0.9),
+        (0.6, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y)| Point::new(100.0 * x, 100.0 * y))
+    .collect();
+    let scene = |name: &str, curve: &[Point], closed: bool| {
+        let size = curve_size(curve);
+        let lowest = curve.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+        path_scene(name.to_string(), curve, closed, lowest - 2.0 * size, 0.02 * size)
+    };
+    vec![
+        PublishedPath {
+            name: "six points on a vertical line",
+            source: "Kunjur & Krishnamurty 1997; Cabrera, Simon & Prado 2002",
+            scene: scene("straight line, six points", &line, false),
+        },
+        PublishedPath {
+            name: "nine points on an ellipse, 40° apart",
+            source: "Cabrera, Simon & Prado 2002",
+            scene: scene("ellipse, nine points", &ellipse, true),
+        },
+        PublishedPath {
+            name: "eighteen points of a closed curve (×100)",
+            source: "Cabrera, Ortiz, Nadal & Castillo 2011",
+            scene: scene("closed curve, eighteen points", &free_form, true),
+        },
+    ]
 }
 
 /// A crank-rocker (ground 1, the crank the shortest link, Grashof) at a random placement, its travel

@@ -7,7 +7,7 @@
 use super::quantile;
 use crate::failure::Failure;
 use crate::files::{make_subfolder, write_below};
-use linkwright_core::testbed::known_path_scene;
+use linkwright_core::testbed::{known_path_scene, published_path_scenes};
 use linkwright_core::{synthesize, DesignFile, MechanismType, Problem, Silent, Status};
 use serde::Serialize;
 use std::path::Path;
@@ -21,16 +21,35 @@ const NOISE: [f64; 2] = [0.0, 0.005];
 /// Millimetres per unit of the testbed (its ground link).
 const SCENE_SCALE: f64 = 100.0;
 
-/// One scene's result.
+/// One known scene's result.
 #[derive(Serialize, Debug)]
 struct Row {
-    /// The family of the known linkage that traced the curve, and of the design.
+    /// The family of the known linkage that traced the curve.
     family: String,
-    designed_by: Option<String>,
     closed: bool,
     points: usize,
     noise: f64,
     scene_seed: u64,
+    #[serde(flatten)]
+    measured: Measured,
+}
+
+/// One published target's result.
+#[derive(Serialize, Debug)]
+struct PublishedRow {
+    name: &'static str,
+    source: &'static str,
+    closed: bool,
+    points: usize,
+    #[serde(flatten)]
+    measured: Measured,
+}
+
+/// A scene designed and its design checked.
+#[derive(Serialize, Debug)]
+struct Measured {
+    /// The family of the design.
+    designed_by: Option<String>,
     /// The engine returned a design and the independent check finds no violation.
     valid: bool,
     violations: Vec<String>,
@@ -60,6 +79,38 @@ struct Report {
     threads: usize,
     rows: Vec<Row>,
     summaries: Vec<Summary>,
+    published: Vec<PublishedRow>,
+}
+
+/// Designs `scene` under `seed` and checks the design; writes both below `save` as `stem` when given.
+fn measure(
+    scene: &linkwright_core::Scene,
+    seed: u64,
+    pool: &rayon::ThreadPool,
+    save: Option<(&Path, &str)>,
+) -> Result<Measured, Failure> {
+    let mut problem = Problem::new(scene)
+        .map_err(|issues| Failure::Input(format!("error: a testbed path scene does not validate: {issues:?}")))?;
+    problem.settings.seed = seed;
+    let outcome = pool.install(|| synthesize(&problem, &Silent)).expect("never cancelled");
+    let design = DesignFile::from_outcome(&problem, &outcome);
+    if let Some((dir, stem)) = save {
+        write_below(dir, &format!("{stem}.json"), scene.to_json().as_bytes())?;
+        write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
+    }
+    let violations: Vec<String> =
+        design.violations(&problem).into_iter().map(|v| format!("{}: {}", v.constraint, v.message)).collect();
+    let metrics = design.metrics.as_ref();
+    let error = metrics.and_then(|m| m.path_error);
+    Ok(Measured {
+        designed_by: design.mechanism.as_ref().map(|m| m.mechanism_type.linkage_label(1)),
+        valid: design.status == Status::Ok && violations.is_empty(),
+        violations,
+        max_rel: error.map(|e| e.max_rel),
+        mean_rel: error.map(|e| e.mean_rel),
+        min_transmission_deg: metrics.map(|m| m.min_transmission_deg),
+        seconds: design.stats.seconds.total,
+    })
 }
 
 pub(super) fn bench_paths(
@@ -86,41 +137,18 @@ pub(super) fn bench_paths(
                                     family.label()
                                 ))
                             })?;
-                        let mut problem = Problem::new(&known.scene).map_err(|issues| {
-                            Failure::Input(format!("error: a testbed path scene does not validate: {issues:?}"))
-                        })?;
-                        problem.settings.seed = seed;
-                        let outcome = pool.install(|| synthesize(&problem, &Silent)).expect("never cancelled");
-                        let design = DesignFile::from_outcome(&problem, &outcome);
-                        if let Some(dir) = save {
-                            let stem = format!(
-                                "{}_{}_{points}_noise{noise}_seed{scene_seed}",
-                                family.id(),
-                                if closed { "closed" } else { "open" }
-                            );
-                            write_below(dir, &format!("{stem}.json"), known.scene.to_json().as_bytes())?;
-                            write_below(dir, &format!("{stem}.design.json"), design.to_json().as_bytes())?;
-                        }
-                        let violations: Vec<String> = design
-                            .violations(&problem)
-                            .into_iter()
-                            .map(|v| format!("{}: {}", v.constraint, v.message))
-                            .collect();
-                        let metrics = design.metrics.as_ref();
-                        let error = metrics.and_then(|m| m.path_error);
+                        let stem = format!(
+                            "{}_{}_{points}_noise{noise}_seed{scene_seed}",
+                            family.id(),
+                            if closed { "closed" } else { "open" }
+                        );
                         let row = Row {
                             family: family.linkage_label(1),
-                            designed_by: design.mechanism.as_ref().map(|m| m.mechanism_type.linkage_label(1)),
                             closed,
                             points,
                             noise,
                             scene_seed,
-                            valid: design.status == Status::Ok && violations.is_empty(),
-                            violations,
-                            max_rel: error.map(|e| e.max_rel),
-                            mean_rel: error.map(|e| e.mean_rel),
-                            min_transmission_deg: metrics.map(|m| m.min_transmission_deg),
-                            seconds: design.stats.seconds.total,
+                            measured: measure(&known.scene, seed, pool, save.map(|dir| (dir, stem.as_str())))?,
                         };
                         if !json {
                             eprintln!("{}", row_line(&row));
@@ -148,7 +176,23 @@ pub(super) fn bench_paths(
     }
     summaries.push(summarize("exact", rows.iter().filter(|r| r.noise == 0.0)));
     summaries.push(summarize("all", rows.iter()));
-    let report = Report { synthesis_seed: seed, threads: pool.current_num_threads(), rows, summaries };
+    let mut published = Vec::new();
+    for (k, target) in published_path_scenes().into_iter().enumerate() {
+        let path = target.scene.moving_bodies[0].path.as_ref().expect("a path scene");
+        let stem = format!("published_{k}");
+        let row = PublishedRow {
+            name: target.name,
+            source: target.source,
+            closed: path.closed,
+            points: path.points.len(),
+            measured: measure(&target.scene, seed, pool, save.map(|dir| (dir, stem.as_str())))?,
+        };
+        if !json {
+            eprintln!("{}: {}", row.name, measured_line(&row.measured));
+        }
+        published.push(row);
+    }
+    let report = Report { synthesis_seed: seed, threads: pool.current_num_threads(), rows, summaries, published };
     if json {
         println!("{}", serde_json::to_string_pretty(&report).expect("the report serializes"));
     } else {
@@ -170,36 +214,47 @@ pub(super) fn bench_paths(
             );
         }
         println!("(distances as a percentage of the curve's size; seconds per design, {} threads)", report.threads);
+        println!("\npublished targets:");
+        for r in &report.published {
+            println!("  {} ({}, {} points): {}", r.name, r.source, r.points, measured_line(&r.measured));
+        }
     }
     Ok(())
 }
 
 fn row_line(r: &Row) -> String {
-    let pct = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}%", 100.0 * x));
     format!(
-        "{} {:<6} {:>3} points, noise {:<5} seed {}: {} {} max {} mean {} in {:.2} s{}",
+        "{} {:<6} {:>3} points, noise {:<5} seed {}: {}",
         r.family,
         if r.closed { "closed" } else { "open" },
         r.points,
         r.noise,
         r.scene_seed,
-        if r.valid { "valid" } else { "NO DESIGN" },
-        r.designed_by.as_deref().unwrap_or("-"),
-        pct(r.max_rel),
-        pct(r.mean_rel),
-        r.seconds,
-        if r.violations.is_empty() { String::new() } else { format!(" ({})", r.violations.join("; ")) }
+        measured_line(&r.measured)
+    )
+}
+
+fn measured_line(m: &Measured) -> String {
+    let pct = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}%", 100.0 * x));
+    format!(
+        "{} {} max {} mean {} in {:.2} s{}",
+        if m.valid { "valid" } else { "NO DESIGN" },
+        m.designed_by.as_deref().unwrap_or("-"),
+        pct(m.max_rel),
+        pct(m.mean_rel),
+        m.seconds,
+        if m.violations.is_empty() { String::new() } else { format!(" ({})", m.violations.join("; ")) }
     )
 }
 
 fn summarize<'a>(label: &str, rows: impl Iterator<Item = &'a Row> + Clone) -> Summary {
-    let mut max: Vec<f64> = rows.clone().filter_map(|r| r.max_rel).collect();
-    let mut mean: Vec<f64> = rows.clone().filter_map(|r| r.mean_rel).collect();
-    let mut seconds: Vec<f64> = rows.clone().map(|r| r.seconds).collect();
+    let mut max: Vec<f64> = rows.clone().filter_map(|r| r.measured.max_rel).collect();
+    let mut mean: Vec<f64> = rows.clone().filter_map(|r| r.measured.mean_rel).collect();
+    let mut seconds: Vec<f64> = rows.clone().map(|r| r.measured.seconds).collect();
     Summary {
         label: label.to_string(),
         scenes: rows.clone().count(),
-        valid: rows.filter(|r| r.valid).count(),
+        valid: rows.filter(|r| r.measured.valid).count(),
         median_max_rel: quantile(&mut max, 0.5),
         worst_max_rel: quantile(&mut max, 1.0),
         median_mean_rel: quantile(&mut mean, 0.5),

@@ -4,7 +4,7 @@
 
 use super::four_bar::FourBar;
 use super::linkage::{PathLinkage, Similarity};
-use super::search::{fit, PathFit, PathGoal};
+use super::search::{fit, reversals, PathFit, PathGoal};
 use super::six_bars::{StephensonThree, WattTwo};
 use super::slider_crank::SliderCrank;
 use crate::geom::{nearest, Point};
@@ -27,9 +27,10 @@ const PATH_ACCURACY_EMPHASIS: f64 = 100.0;
 const REFINED: usize = 24;
 /// The families `auto` tries for a path, in order. A Watt-II's tracer runs along an arc of its
 /// body's four-bar's coupler curve, and a four-bar traces such an arc alone: it adds a curve of its
-/// own only where the tracer comes back the way it went, which only a closed path asks.
-fn path_families(closed: bool) -> &'static [MechanismType] {
-    if closed {
+/// own only where the tracer comes back the way it went, so it is tried where the drawn curve
+/// `turns_back`.
+fn path_families(turns_back: bool) -> &'static [MechanismType] {
+    if turns_back {
         &[MechanismType::Chain, MechanismType::StephensonThree, MechanismType::SliderCrank, MechanismType::WattTwo]
     } else {
         &[MechanismType::Chain, MechanismType::StephensonThree, MechanismType::SliderCrank]
@@ -71,7 +72,10 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
         min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
     };
     let (families, samples) = match problem.mechanism {
-        MechanismChoice::Auto => (path_families(path.closed).to_vec(), samples / AUTO_SAMPLE_SHARE),
+        MechanismChoice::Auto => {
+            let turns_back = !reversals(&path.points, path.closed).is_empty();
+            (path_families(turns_back).to_vec(), samples / AUTO_SAMPLE_SHARE)
+        }
         MechanismChoice::Only(family) => (vec![family], samples),
     };
     let mut out = PathDesigns::default();

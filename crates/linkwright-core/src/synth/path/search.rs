@@ -381,12 +381,12 @@ fn refine<L: PathLinkage>(fit: PathFit<L>, goal: &PathGoal, drawn: &Drawn) -> Pa
 }
 
 /// Where the drawn curve turns back on itself (by more than [`REVERSAL_DEG`] between the points
-/// `reach` before and after, the smoothing's half-window or 1, so a hand's jitter is not one), the
+/// the smoothing's half-window before and after, at least 1, so a hand's jitter is not one), the
 /// sharpest [`MAX_REVERSALS`] of them: the tip of an out-and-back stroke, which the even resampling
 /// and the smoothing would both cut short, so the refinement measures the traced curve from them too.
-fn reversals(curve: &[Point], closed: bool, reach: usize) -> Vec<Point> {
+pub(crate) fn reversals(curve: &[Point], closed: bool) -> Vec<Point> {
     let n = curve.len();
-    let reach = reach.max(1);
+    let reach = (n / SMOOTHING_SHARE).max(1);
     if n <= 2 * reach {
         return Vec::new();
     }
@@ -411,7 +411,7 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
     // 64th of its points either side (none under 64 points).
     let window = goal.drawn.len() / SMOOTHING_SHARE;
     let curve = smoothed(goal.drawn, goal.closed, window);
-    let reversals = reversals(goal.drawn, goal.closed, window);
+    let reversals = reversals(goal.drawn, goal.closed);
     let goal = &PathGoal { drawn: &curve, ..*goal };
     let target = Target::new(goal);
     let mut matches: Vec<(f64, usize, PathFit<L>)> = (0..samples)
