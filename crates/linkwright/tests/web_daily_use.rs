@@ -32,7 +32,8 @@ async fn keyboard_races_small_windows_and_projects() -> Result<()> {
         windows(&app.page, app.shots.as_deref()).await?;
         projects(&app.page, &app.downloads).await?;
         small_things(&app.page, &app.downloads).await?;
-        path_drawn_and_traced(&app.page).await
+        path_drawn_and_traced(&app.page).await?;
+        path_by_points_carried_and_reshaped(&app.page).await
     }
     .await;
     app.finish(outcome).await
@@ -176,6 +177,86 @@ async fn path_drawn_and_traced(page: &Page) -> Result<()> {
         serde_json::json!({"points": true, "far": true, "closed": true}),
         "the traced loop follows the drawn one"
     );
+    Ok(())
+}
+
+/// The world point under page position `p`.
+async fn world_at(page: &Page, p: (f64, f64)) -> Result<(f64, f64)> {
+    let w = eval(page, &format!("window.linkwright.worldOf([{}, {}])", p.0, p.1)).await?;
+    Ok((w[0].as_f64().ok_or("no x")?, w[1].as_f64().ok_or("no y")?))
+}
+
+/// The path tool by clicked points: a click on the foot, four points round a square, a click on the
+/// first closes a smooth loop through them all. Nudging the foot carries the loop with it; dragging
+/// the loop bends it near the grab and leaves its far side and the foot on its start; undo puts it
+/// back.
+async fn path_by_points_carried_and_reshaped(page: &Page) -> Result<()> {
+    open_example(page, "walking_foot").await?;
+    press(page, "t", "KeyT", 84, "t").await?;
+    let pose = eval(page, "window.linkwright.store.scene.moving_bodies[0].poses[0]").await?;
+    let start = at(page, pose[0].as_f64().ok_or("no x")?, pose[1].as_f64().ok_or("no y")?).await?;
+    let corners =
+        [start, (start.0 + 80.0, start.1 - 10.0), (start.0 + 90.0, start.1 - 90.0), (start.0 - 10.0, start.1 - 80.0)];
+    for &c in &corners {
+        tap(page, c).await?;
+    }
+    tap(page, start).await?;
+    let body = scene(page).await?["moving_bodies"][0].clone();
+    assert_eq!(body["path"]["closed"], Value::Bool(true), "a click on the first point closes the loop: {body}");
+    let points: Vec<(f64, f64)> = body["path"]["points"]
+        .as_array()
+        .ok_or("no points")?
+        .iter()
+        .map(|p| (p[0].as_f64().unwrap_or(f64::NAN), p[1].as_f64().unwrap_or(f64::NAN)))
+        .collect();
+    assert!(points.len() >= 40, "a smooth curve, not the four corners: {} points", points.len());
+    for &c in &corners[1..] {
+        let w = world_at(page, c).await?;
+        let near = points.iter().map(|p| (p.0 - w.0).hypot(p.1 - w.1)).fold(f64::INFINITY, f64::min);
+        assert!(near < 0.01, "the curve passes through each clicked point: {w:?} is {near} away");
+    }
+
+    // Nudged right, the foot takes its loop along: every point moves as far as the pose.
+    press(page, "v", "KeyV", 86, "v").await?;
+    key(page, "ArrowRight", "ArrowRight", 39, 0).await?;
+    settle(page).await?;
+    let moved = scene(page).await?["moving_bodies"][0].clone();
+    let dx = moved["poses"][0][0].as_f64().ok_or("no x")? - body["poses"][0][0].as_f64().ok_or("no x")?;
+    assert!(dx > 0.0, "the arrow moved the foot: {moved}");
+    for (a, b) in body["path"]["points"].as_array().unwrap().iter().zip(moved["path"]["points"].as_array().unwrap()) {
+        let (ax, bx) = (a[0].as_f64().unwrap(), b[0].as_f64().unwrap());
+        let (ay, by) = (a[1].as_f64().unwrap(), b[1].as_f64().unwrap());
+        assert!((bx - ax - dx).abs() < 0.01 && (by - ay).abs() < 1e-9, "{a} → {b}, not by {dx}");
+    }
+
+    // The loop's far corner dragged 40 px right: it follows, the side opposite stays, the foot stays
+    // on the loop's start.
+    let far = corners[2];
+    let before = world_at(page, far).await?;
+    let grab = at(page, before.0 + dx, before.1).await?;
+    drag(page, grab, (grab.0 + 40.0, grab.1)).await?;
+    let bent = scene(page).await?["moving_bodies"][0].clone();
+    let shift = |k: usize| {
+        let (a, b) = (&moved["path"]["points"][k], &bent["path"]["points"][k]);
+        (b[0].as_f64().unwrap() - a[0].as_f64().unwrap()).hypot(b[1].as_f64().unwrap() - a[1].as_f64().unwrap())
+    };
+    let n = points.len();
+    let most = (0..n).map(shift).fold(0.0, f64::max);
+    let step = world_at(page, (40.0, 0.0)).await?.0 - world_at(page, (0.0, 0.0)).await?.0;
+    assert!((most - step).abs() < 0.2 * step, "the grabbed point follows the pointer: {most} of {step}");
+    assert!(shift(0) < 0.05 * step, "the loop's start, where the foot is, stays: {}", shift(0));
+    let tracer = &bent["path"]["tracer"];
+    let p = &bent["poses"][0];
+    let (c, s) = (p[2].as_f64().unwrap().to_radians().cos(), p[2].as_f64().unwrap().to_radians().sin());
+    let (tx, ty) = (tracer[0].as_f64().unwrap(), tracer[1].as_f64().unwrap());
+    let world = (p[0].as_f64().unwrap() + c * tx - s * ty, p[1].as_f64().unwrap() + s * tx + c * ty);
+    let first = &bent["path"]["points"][0];
+    assert!(
+        (world.0 - first[0].as_f64().unwrap()).hypot(world.1 - first[1].as_f64().unwrap()) < 0.01,
+        "the tracer is on the path's start: {world:?}, {first}"
+    );
+    undo(page).await?;
+    assert_eq!(scene(page).await?["moving_bodies"][0]["path"], moved["path"], "undo unbends the loop");
     Ok(())
 }
 

@@ -256,3 +256,46 @@ export function distanceTo(poly, p) {
   if (contains(poly, p)) return 0;
   return Math.min(...poly.map((a, i) => segmentDistance(p, a, poly[(i + 1) % poly.length]).d));
 }
+
+/**
+ * A smooth curve through `points` (a centripetal Catmull-Rom spline, which neither overshoots
+ * between unevenly spaced points nor loops), `steps` points per span from each point to the next;
+ * round the loop back to the first when `closed`. The points themselves are on it.
+ * @param {Point[]} points
+ * @param {boolean} closed
+ * @param {number} steps
+ * @returns {Point[]}
+ */
+export function smoothThrough(points, closed, steps) {
+  const n = points.length;
+  if (n < 3) return points.slice();
+  /** @type {(i: number) => Point} */
+  const at = (i) => {
+    if (closed) return points[((i % n) + n) % n];
+    // Past the ends, the end's neighbour mirrored through it.
+    if (i < 0) return sub(scale(points[0], 2), points[1]);
+    if (i >= n) return sub(scale(points[n - 1], 2), points[n - 2]);
+    return points[i];
+  };
+  /** @type {Point[]} */
+  const out = [];
+  const spans = closed ? n : n - 1;
+  for (let i = 0; i < spans; i++) {
+    const [p0, p1, p2, p3] = [at(i - 1), at(i), at(i + 1), at(i + 2)];
+    // Knots spaced by the square root of the chords (the centripetal choice); a repeated point
+    // would give a zero span, so each is kept above a tiny length.
+    const t1 = Math.max(Math.sqrt(dist(p0, p1)), 1e-9);
+    const t2 = t1 + Math.max(Math.sqrt(dist(p1, p2)), 1e-9);
+    const t3 = t2 + Math.max(Math.sqrt(dist(p2, p3)), 1e-9);
+    /** @type {(a: Point, b: Point, ta: number, tb: number, t: number) => Point} */
+    const mix = (a, b, ta, tb, t) => lerp(a, b, (t - ta) / (tb - ta));
+    for (let k = 0; k < steps; k++) {
+      const t = t1 + ((t2 - t1) * k) / steps;
+      const a1 = mix(p0, p1, 0, t1, t), a2 = mix(p1, p2, t1, t2, t), a3 = mix(p2, p3, t2, t3, t);
+      const b1 = mix(a1, a2, 0, t2, t), b2 = mix(a2, a3, t1, t3, t);
+      out.push(mix(b1, b2, t1, t2, t));
+    }
+  }
+  if (!closed) out.push(points[n - 1]);
+  return out;
+}

@@ -525,7 +525,7 @@ store.changed('scene');
 store.hint(store.ui.hint || toolHint(store.ui));
 if (S.isEmpty(store.scene)) store.setUi({ tool: 'rect' });
 
-// For the end-to-end tests and the curious: the state, and the page position of a world point.
+// For the end-to-end tests and the curious: the state, and page positions of world points and back.
 Object.assign(window, {
   linkwright: {
     store,
@@ -535,6 +535,11 @@ Object.assign(window, {
       const r = root.getBoundingClientRect();
       const s = view.toScreen(p);
       return [r.left + s[0], r.top + s[1]];
+    },
+    /** @param {Point} p  a page position */
+    worldOf(p) {
+      const r = root.getBoundingClientRect();
+      return view.toWorld([p[0] - r.left, p[1] - r.top]);
     },
   },
 });

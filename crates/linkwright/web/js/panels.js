@@ -110,7 +110,12 @@ export function renderObjectTab(host, store) {
 function poseTable(store, b) {
   const body = store.scene.moving_bodies[b];
   /** @type {(p: number, k: number, v: number) => void} */
-  const set = (p, k, v) => store.edit(`edit pose ${p + 1}`, (s) => { s.moving_bodies[b].poses[p][k] = tidy(v, k === 2 ? 2 : 3); });
+  // Through the scene's own moves, so a body's path goes with it.
+  const set = (p, k, v) => store.edit(`edit pose ${p + 1}`, (s) => {
+    if (k === 2) return S.setPoseAngle(s, b, p, v);
+    const at = s.moving_bodies[b].poses[p];
+    S.translate(s, { kind: 'moving', index: b }, k === 0 ? [tidy(v, 3) - at[0], 0] : [0, tidy(v, 3) - at[1]], p);
+  });
   const head = html('tr', {}, [
     ...['Pose', 'x', 'y', 'angle°'].map((t) => html('th', { text: t })),
     html('th', { text: 'Must hit', title: 'The linkage must reach this pose within 0.5% of the body size and 0.5°; other poses in between are guides' }),

@@ -2,7 +2,7 @@
 // The scene/1 document the person edits, and the edits themselves. Every function here either reads
 // a scene or changes the scene object it is given (the store snapshots it first, for undo).
 
-import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, wrapDeg } from './geom.js';
+import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, toWorld, wrapDeg } from './geom.js';
 
 /**
  * @typedef {import('./geom.js').Point} Point
@@ -168,6 +168,43 @@ export function setPath(scene, body, pose, stroke, closed) {
   b.poses = [at];
   delete scene.must_hit_poses;
   return true;
+}
+
+/** How far along a path a reshaping drag reaches: this share of the path's length either side. */
+const RESHAPE_REACH = 0.12;
+
+/**
+ * Bends body `body`'s path: from `points` (as it was), each point moved by `delta` times a bell of
+ * its distance along the path from point `grab`. The body, at `pose` (as it was), moves as much as
+ * the path's first point, so its tracer stays on the path's start.
+ * @param {Scene} scene
+ * @param {number} body
+ * @param {Point[]} points
+ * @param {Pose} pose
+ * @param {number} grab
+ * @param {Point} delta
+ */
+export function reshapePath(scene, body, points, pose, grab, delta) {
+  const b = scene.moving_bodies[body];
+  if (!b?.path || points.length !== b.path.points.length) return;
+  const closed = b.path.closed;
+  const at = [0];
+  for (let i = 1; i < points.length; i++) at.push(at[i - 1] + dist(points[i], points[i - 1]));
+  const total = at[at.length - 1] + (closed ? dist(points[points.length - 1], points[0]) : 0);
+  const reach = Math.max(RESHAPE_REACH * total, 1e-9);
+  /** @type {(i: number) => number} */
+  const weight = (i) => {
+    let d = Math.abs(at[i] - at[grab]);
+    if (closed) d = Math.min(d, total - d);
+    // A bell that is 1 where grabbed and 1% at `reach`.
+    return Math.exp(-4.5 * (d / reach) ** 2);
+  };
+  b.path.points = points.map((p, i) => {
+    const w = weight(i);
+    return [tidy(p[0] + w * delta[0], 3), tidy(p[1] + w * delta[1], 3)];
+  });
+  const w0 = weight(0);
+  b.poses[0] = [tidy(pose[0] + w0 * delta[0], 3), tidy(pose[1] + w0 * delta[1], 3), pose[2]];
 }
 
 /**
@@ -354,7 +391,8 @@ export function deleteVertex(scene, sel, v) {
 }
 
 /**
- * Moves a whole shape by `delta` (a moving body: only its pose `pose`).
+ * Moves a whole shape by `delta` (a moving body: only its pose `pose`, and its path with it, so the
+ * tracer stays on the path's start).
  * @param {Scene} scene
  * @param {Selection} sel
  * @param {Point} delta
@@ -362,9 +400,11 @@ export function deleteVertex(scene, sel, v) {
  */
 export function translate(scene, sel, delta, pose) {
   if (sel.kind === 'moving') {
-    const p = scene.moving_bodies[sel.index].poses[pose];
+    const b = scene.moving_bodies[sel.index];
+    const p = b.poses[pose];
     p[0] = tidy(p[0] + delta[0]);
     p[1] = tidy(p[1] + delta[1]);
+    if (b.path) b.path.points = b.path.points.map(([x, y]) => [tidy(x + delta[0], 3), tidy(y + delta[1], 3)]);
     return;
   }
   const poly = storedPolygon(scene, sel);
@@ -380,7 +420,18 @@ export function translate(scene, sel, delta, pose) {
  * @param {number} deg
  */
 export function setPoseAngle(scene, body, pose, deg) {
-  scene.moving_bodies[body].poses[pose][2] = tidy(deg, 2);
+  const b = scene.moving_bodies[body];
+  const p = b.poses[pose];
+  if (!b.path) {
+    p[2] = tidy(deg, 2);
+    return;
+  }
+  // A body with a path turns about its tracer, which stays on the path's start.
+  const before = toWorld(p, b.path.tracer);
+  p[2] = tidy(deg, 2);
+  const shift = sub(before, toWorld(p, b.path.tracer));
+  p[0] = tidy(p[0] + shift[0], 3);
+  p[1] = tidy(p[1] + shift[1], 3);
 }
 
 /**

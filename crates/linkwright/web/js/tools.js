@@ -3,11 +3,12 @@
 // rotate poses, draw rectangles, polygons and ellipses, pan and zoom.
 
 import { formatDimension, GRAB_PX } from './canvas.js';
-import { dist, ellipse, outlineProblem, rectangle, segmentDistance, sub } from './geom.js';
+import { dist, ellipse, outlineProblem, rectangle, segmentDistance, smoothThrough, sub } from './geom.js';
 import * as S from './scene.js';
 
 /**
  * @typedef {import('./geom.js').Point} Point
+ * @typedef {import('./geom.js').Pose} Pose
  * @typedef {import('./geom.js').Polygon} Polygon
  * @typedef {import('./geom.js').OutlineProblem} OutlineProblem
  * @typedef {import('./store.js').Store} Store
@@ -37,7 +38,8 @@ import * as S from './scene.js';
 /**
  * A drag under way: panning the view, spanning a box, moving a corner, a joint, a shape or turning a pose.
  * @typedef {{type: 'pan', last: Point} | {type: 'box', start: Point} | {type: 'vertex', v: number} | {type: 'joint'}
- *   | {type: 'move', start: Point, applied: Point} | {type: 'rotate'} | {type: 'stroke', body: number, points: Point[]}} Drag
+ *   | {type: 'move', start: Point, applied: Point} | {type: 'rotate'} | {type: 'stroke', body: number, points: Point[]}
+ *   | {type: 'reshape', body: number, start: Point, points: Point[], pose: Pose, grab: number}} Drag
  */
 
 /** @type {Record<ShapeKind, string>} */
@@ -50,12 +52,12 @@ const KIND_NAMES = {
 
 /** @type {Record<Tool, string>} */
 export const TOOL_HINTS = {
-  select: 'Select: click a shape to select it, drag to move it (a moving body: its current pose). Drag a square handle to move a corner, double-click an edge to add one, Delete removes. Drag empty space to pan, scroll to zoom.',
+  select: 'Select: click a shape to select it, drag to move it (a moving body: its current pose). Drag a square handle to move a corner, double-click an edge to add one, Delete removes. Drag a drawn path to bend it. Drag empty space to pan, scroll to zoom.',
   pan: 'Pan: drag to move the view, scroll (or + and −) to zoom. Press F to fit everything.',
   rect: 'Rectangle: drag to draw {kind}.',
   ellipse: 'Ellipse: drag to draw {kind}.',
   polygon: 'Polygon: click to place corners of {kind}; click the first corner, double-click or press Enter to close. Backspace removes the last corner, Esc cancels.',
-  path: 'Path: press on the point of a moving body that should follow a curve (a foot, a pen tip), then draw the curve without letting go. End where you started for a loop the crank goes round.',
+  path: 'Path: press on the point of a moving body that should follow a curve (a foot, a pen tip), then draw the curve without letting go; or click that point, then click points along the curve. End where you started for a loop the crank goes round.',
 };
 
 /** A stroke's points are kept this far apart on screen, pixels. */
@@ -63,6 +65,9 @@ const STROKE_STEP_PX = 3;
 /** A stroke ending this close to its start (screen pixels, or this share of its size) is a loop. */
 const LOOP_CLOSE_PX = 16;
 const LOOP_CLOSE_SHARE = 0.08;
+/** Points of the smooth curve between two clicked points of a path. */
+const CLICKED_PATH_STEPS = 12;
+const CLICKED_PATH_HINT = 'Path by points: click points along the curve. Click the first point to close a loop; double-click or press Enter to end an open path. Backspace removes the last point, Esc cancels.';
 
 /** A drawn shape narrower than this on screen is refused, pixels: as a rectangle or an ellipse dragged
  * less far, it would be a line, no part. */
@@ -125,6 +130,8 @@ export class Tools {
     this.drag = null;
     /** @type {Point[]} the corners of the polygon being drawn */
     this.polygon = [];
+    /** @type {{body: number, points: Point[]} | null} a path being drawn by clicked points, from a point of `body` */
+    this.clicked = null;
     this.space = false; // Space is held: a drag pans
     this.spacePanned = false; // and one did, so letting Space go does not also play or pause
     root.addEventListener('pointerdown', (e) => this.down(e));
@@ -168,9 +175,10 @@ export class Tools {
     this.store.hint(toolHint(this.store.ui));
   }
 
-  /** Drops the polygon being drawn. */
+  /** Drops the polygon or clicked path being drawn. */
   cancelDrawing() {
     this.polygon = [];
+    this.clicked = null;
     this.canvas.preview = null;
     this.actions.redraw();
   }
@@ -189,6 +197,7 @@ export class Tools {
     if (ui.tool === 'select') return this.selectDown(e, s);
     this.actions.leaveResult();
     if (ui.tool === 'path') {
+      if (this.clicked) return this.clickPathPoint(s);
       const hit = targetOf(e, '[data-kind=moving]');
       if (!hit) {
         this.store.hint('Press on a moving body, at the point that should follow the curve, then draw the curve.');
@@ -236,6 +245,19 @@ export class Tools {
       }
       return;
     }
+    const path = targetOf(e, '.drawn-path');
+    const reshaped = path && this.store.scene.moving_bodies[Number(path.dataset.body)];
+    if (path && reshaped?.path) {
+      // The drawn path bends where it is grabbed, less and less farther along it.
+      this.actions.leaveResult();
+      const w = this.view.toWorld(s);
+      const points = reshaped.path.points.map((p) => /** @type {Point} */ ([...p]));
+      const grab = points.reduce((best, p, i) => (dist(p, w) < dist(points[best], w) ? i : best), 0);
+      this.store.begin('reshape the path');
+      this.drag = { type: 'reshape', body: Number(path.dataset.body), start: w, points, pose: [...reshaped.poses[0]], grab };
+      this.store.hint('Reshaping the path: the part near where you grabbed it follows the pointer. Undo (Ctrl+Z) puts it back.');
+      return;
+    }
     const joint = targetOf(e, '[data-joint]');
     if (joint) {
       // A joint of the design shown moves with the pointer, the linkage judged again as it goes.
@@ -280,6 +302,10 @@ export class Tools {
         this.canvas.preview = { points: this.polygon, cursor: this.snapped(e), kind: ui.kind, closed: false };
         this.actions.redraw();
       }
+      if (ui.tool === 'path' && this.clicked) {
+        this.canvas.preview = { points: this.clicked.points, cursor: w, kind: 'moving', closed: false };
+        this.actions.redraw();
+      }
       return;
     }
     switch (d.type) {
@@ -308,6 +334,9 @@ export class Tools {
         this.actions.redraw();
         break;
       }
+      case 'reshape':
+        this.store.update((sc) => S.reshapePath(sc, d.body, d.points, d.pose, d.grab, sub(w, d.start)));
+        break;
       case 'joint':
         // Not snapped: a linkage answers to small moves, and a grid step can be too far for it.
         this.actions.moveJoint(w);
@@ -361,6 +390,8 @@ export class Tools {
       }
       const pts = this.store.ui.tool === 'rect' ? rectangle(d.start, end) : ellipse(d.start, end);
       this.addShape(pts);
+    } else if (d.type === 'reshape') {
+      this.store.end();
     } else if (d.type === 'vertex' || d.type === 'move' || d.type === 'rotate') {
       this.store.end();
       this.actions.poseReleased();
@@ -368,8 +399,54 @@ export class Tools {
       this.actions.endJointDrag();
     } else if (d.type === 'stroke') {
       this.canvas.preview = null;
+      // A click rather than a stroke begins a path drawn by clicked points.
+      if (d.points.length < 3) {
+        this.clicked = { body: d.body, points: [d.points[0]] };
+        this.canvas.preview = { points: this.clicked.points, cursor: null, kind: 'moving', closed: false };
+        this.actions.redraw();
+        this.store.hint(CLICKED_PATH_HINT);
+        return;
+      }
       this.finishStroke(d.body, d.points);
     }
+  }
+
+  /**
+   * A click at screen point `s` while a path is drawn by clicked points: on its first point, closes
+   * it into a loop; elsewhere, adds a point.
+   * @param {Point} s
+   */
+  clickPathPoint(s) {
+    const c = this.clicked;
+    if (!c) return;
+    const first = this.view.toScreen(c.points[0]);
+    if (c.points.length >= 3 && dist(first, s) <= GRAB_PX) {
+      this.finishClickedPath(true);
+      return;
+    }
+    const last = this.view.toScreen(c.points[c.points.length - 1]);
+    if (dist(last, s) > 2) c.points.push(this.view.toWorld(s));
+    this.canvas.preview = { points: c.points, cursor: null, kind: 'moving', closed: false };
+    this.actions.redraw();
+  }
+
+  /**
+   * Ends the path drawn by clicked points: a smooth curve through them, a loop when `closed`.
+   * @param {boolean} closed
+   */
+  finishClickedPath(closed) {
+    const c = this.clicked;
+    if (!c) return;
+    const least = closed ? 3 : 2;
+    if (c.points.length < least) {
+      const more = least - c.points.length;
+      this.store.hint(`Click ${more} more point${more > 1 ? 's' : ''} along the curve first (Esc cancels).`);
+      return;
+    }
+    this.clicked = null;
+    this.canvas.preview = null;
+    const curve = smoothThrough(c.points, closed, CLICKED_PATH_STEPS);
+    this.finishStroke(c.body, closed ? [...curve, curve[0]] : curve, closed);
   }
 
   /**
@@ -377,8 +454,9 @@ export class Tools {
    * where it began.
    * @param {number} body
    * @param {Point[]} stroke
+   * @param {boolean} [loop]  a loop whatever the gap between its ends (a clicked path closed)
    */
-  finishStroke(body, stroke) {
+  finishStroke(body, stroke, loop) {
     const screen = stroke.map((p) => this.view.toScreen(p));
     const xs = screen.map((p) => p[0]), ys = screen.map((p) => p[1]);
     const extent = Math.hypot(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys));
@@ -388,7 +466,7 @@ export class Tools {
       return;
     }
     const gap = dist(screen[0], screen[screen.length - 1]);
-    const closed = gap <= Math.max(LOOP_CLOSE_PX, LOOP_CLOSE_SHARE * extent);
+    const closed = loop ?? gap <= Math.max(LOOP_CLOSE_PX, LOOP_CLOSE_SHARE * extent);
     const pose = this.store.ui.pose;
     const done = this.store.edit('draw a path', (sc) => S.setPath(sc, body, pose, stroke, closed));
     if (done === false) {
@@ -407,6 +485,11 @@ export class Tools {
     const ui = this.store.ui;
     if (ui.tool === 'polygon') {
       if (this.polygon.length) this.finishPolygon();
+      return;
+    }
+    if (ui.tool === 'path') {
+      // The double-click's second press added its point again; clickPathPoint skipped it.
+      if (this.clicked) this.finishClickedPath(false);
       return;
     }
     const sel = ui.selection;
@@ -483,6 +566,17 @@ export class Tools {
    */
   key(e) {
     const ui = this.store.ui;
+    if (ui.tool === 'path' && this.clicked) {
+      const c = this.clicked;
+      if (e.key === 'Enter') { this.finishClickedPath(false); return true; }
+      if (e.key === 'Escape') { this.cancelDrawing(); return true; }
+      if (e.key === 'Backspace') {
+        if (c.points.length > 1) c.points.pop();
+        this.canvas.preview = { points: c.points, cursor: null, kind: 'moving', closed: false };
+        this.actions.redraw();
+        return true;
+      }
+    }
     if (ui.tool === 'polygon' && this.polygon.length) {
       if (e.key === 'Enter') { this.finishPolygon(); return true; }
       if (e.key === 'Escape') { this.cancelDrawing(); return true; }
