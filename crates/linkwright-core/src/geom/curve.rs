@@ -77,7 +77,7 @@ pub(crate) fn smoothed(points: &[Point], closed: bool, half: usize) -> Vec<Point
 
 /// The point of the polyline `points` (closed when `closed`) nearest to `p`, its distance, and the
 /// edge it is on (from vertex `edge` to the next).
-pub(crate) fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point, usize) {
+pub fn nearest(p: Point, points: &[Point], closed: bool) -> (f64, Point, usize) {
     if points.len() == 1 {
         return (p.distance(points[0]), points[0], 0);
     }

@@ -104,7 +104,14 @@ pub fn known_path_scene(
 /// `curve` (scene millimetres), starting on its first point, above a ground strip whose top is at
 /// height `ground_top`.
 fn path_scene(name: String, curve: &[Point], closed: bool, ground_top: f64, half: f64) -> Scene {
-    let (left, right) = curve.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, r), p| (l.min(p.x), r.max(p.x)));
+    let (mut left, mut right) =
+        curve.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, r), p| (l.min(p.x), r.max(p.x)));
+    // A curve up and down (a vertical line) still stands over a strip as wide as it is tall.
+    let size = curve_size(curve);
+    if right - left < 0.5 * size {
+        let middle = 0.5 * (left + right);
+        (left, right) = (middle - 0.25 * size, middle + 0.25 * size);
+    }
     let thickness = 0.2 * (right - left);
     let ground =
         [(left, ground_top - thickness), (right, ground_top - thickness), (right, ground_top), (left, ground_top)];
@@ -192,11 +199,22 @@ pub fn published_path_scenes() -> Vec<PublishedPath> {
         let lowest = curve.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
         path_scene(name.to_string(), curve, closed, lowest - 2.0 * size, 0.02 * size)
     };
+    let four_bar = |mut scene: Scene| {
+        scene.mechanism = MechanismChoice::Only(MechanismType::Chain);
+        scene
+    };
     vec![
         PublishedPath {
             name: "six points on a vertical line",
             source: "Kunjur & Krishnamurty 1997; Cabrera, Simon & Prado 2002",
             scene: scene("straight line, six points", &line, false),
+        },
+        // A slider's own joint runs on a line, so `auto` answers the straight line with it; the
+        // literature asks it of a four-bar.
+        PublishedPath {
+            name: "six points on a vertical line, by a four-bar",
+            source: "Kunjur & Krishnamurty 1997; Cabrera, Simon & Prado 2002",
+            scene: four_bar(scene("straight line, six points, four-bar", &line, false)),
         },
         PublishedPath {
             name: "nine points on an ellipse, 40° apart",
