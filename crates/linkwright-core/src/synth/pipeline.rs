@@ -451,8 +451,9 @@ pub fn synthesize_with(problem: &Problem, options: &Options, observer: &dyn Obse
     Ok(Outcome { best, alternatives: picked.collect(), stats, reason, unbuildable })
 }
 
-/// Atlas samples of a path search, per sample of the scene's settings: the default 100,000 gives
-/// 20,000 coupler curves, which find a known four-bar's curve within 0.1% of its size.
+/// Atlas samples of a path search's family, per sample of the scene's settings: the default 100,000
+/// gives 20,000 curves (half as many each when `auto` tries several families), which find a known
+/// four-bar's curve within 0.1% of its size.
 const PATH_SAMPLE_DIVISOR: usize = 5;
 
 /// A path scene's run ([`path_designs`]); a warm start designs anew (the search takes a few seconds).

@@ -37,7 +37,7 @@ fn path_families(turns_back: bool) -> &'static [MechanismType] {
     }
 }
 /// The share of the scene's atlas samples each family gets when `auto` tries several: half as many
-/// as one family alone, which traces `bench --paths --quick` as closely at 55% of the time.
+/// as one family alone, which traces `bench --paths --quick` as closely in two thirds of the time.
 const AUTO_SAMPLE_SHARE: usize = 2;
 /// A design differs from another when some joint is farther than this fraction of the path's size
 /// from its place in the other.

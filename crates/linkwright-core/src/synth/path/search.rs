@@ -274,9 +274,8 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
         if closed { REFINE_STEPS } else { ((REFINE_STEPS as f64 * (end - start).abs() / TAU).ceil() as usize).max(8) };
     let curve = traced(&m, start, end, steps, min_sine)?;
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
-    let ends_weight = 3.0;
-
-    let weighed = drawn.points.iter().map(|p| (p, 1.0)).chain(drawn.reversals.iter().map(|p| (p, ends_weight)));
+    let emphasis = 3.0;
+    let weighed = drawn.points.iter().map(|p| (p, 1.0)).chain(drawn.reversals.iter().map(|p| (p, emphasis)));
     for (&p, weight) in weighed {
         let (_, q, _) = nearest(p, &curve, closed);
         out.extend([weight * (q.x - p.x) / drawn.size, weight * (q.y - p.y) / drawn.size]);
@@ -288,7 +287,7 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
     }
     if !closed {
         for (q, p) in [(curve[0], drawn.points[0]), (curve[curve.len() - 1], drawn.points[drawn.points.len() - 1])] {
-            out.extend([ends_weight * (q.x - p.x) / drawn.size, ends_weight * (q.y - p.y) / drawn.size]);
+            out.extend([emphasis * (q.x - p.x) / drawn.size, emphasis * (q.y - p.y) / drawn.size]);
         }
     }
     Some(out)
@@ -475,6 +474,19 @@ mod tests {
         let e = path_error(&drawn, &curve, closed);
         eprintln!("closed {closed}: {e:?} in {:.2} s, {best:?}", t.elapsed().as_secs_f64());
         (e, best)
+    }
+
+    /// A stroke out along x and back, and a circle: the stroke's tip is its one reversal (the ends of
+    /// an open stroke are not), a circle has none.
+    #[test]
+    fn only_a_curve_that_turns_back_has_reversals() {
+        let mut stroke: Vec<Point> = (0..=10).map(|k| Point::new(k as f64, 0.1 * k as f64)).collect();
+        stroke.extend((5..10).rev().map(|k| Point::new(k as f64, 0.1 * k as f64 + 0.5)));
+        assert_eq!(reversals(&stroke, false), [Point::new(10.0, 1.0)]);
+        let circle: Vec<Point> = (0..40).map(|k| Point::ORIGIN + Vec2::from_angle(TAU * k as f64 / 40.0)).collect();
+        assert!(reversals(&circle, true).is_empty());
+        // Closed, the stroke turns back at its tip and where it closes on its start.
+        assert_eq!(reversals(&stroke, true).len(), 2);
     }
 
     #[test]
