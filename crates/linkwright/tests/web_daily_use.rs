@@ -257,6 +257,22 @@ async fn path_by_points_carried_and_reshaped(page: &Page) -> Result<()> {
     );
     undo(page).await?;
     assert_eq!(scene(page).await?["moving_bodies"][0]["path"], moved["path"], "undo unbends the loop");
+
+    // Live redesign: designed once, the loop bent again is designed for anew as it is let go.
+    design_quickly(page).await?;
+    // On, whatever an earlier step left it.
+    let live = "(() => { const e = document.getElementById('opt-live'); if (!e.checked) e.click(); return window.linkwright.store.ui.live; })()";
+    assert_eq!(eval(page, live).await?, Value::Bool(true), "live redesign is on");
+    // The design's view may have moved: the far corner found on screen anew.
+    let grab = at(page, before.0 + dx, before.1).await?;
+    drag(page, grab, (grab.0 + 40.0, grab.1)).await?;
+    let bent = scene(page).await?["moving_bodies"][0]["path"]["points"].clone();
+    assert_ne!(bent, moved["path"]["points"], "the loop is bent again");
+    let js = format!(
+        "JSON.stringify(window.linkwright.store.result?.scene?.moving_bodies?.[0]?.path?.points) === JSON.stringify({bent}) \
+         && window.linkwright.store.result.design.status === 'ok'"
+    );
+    until(page, &js, Duration::from_secs(60)).await.map_err(|e| format!("no live design for the bent loop: {e}"))?;
     Ok(())
 }
 

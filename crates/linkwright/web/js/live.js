@@ -84,6 +84,7 @@ export class LiveRedesign {
     const scene = toFile(this.store.scene);
     const key = geometryKey(this.store.scene);
     const epoch = this.results.epoch;
+    const path = scene.moving_bodies.some((b) => b.path);
     try {
       // The motion analysis comes with the design: one round trip less per step of the drag.
       /** @type {Analysis | null} */
@@ -97,9 +98,11 @@ export class LiveRedesign {
         this.store.setResult(newResult({ design, scene, key }));
         await this.results.select(null, { keep: true, analysis });
         this.results.verify();
-        this.store.hint(`Live: redesigned for the moved pose (cost ${design.metrics.cost.toFixed(2)}).`);
+        this.store.hint(`Live: redesigned for the moved ${path ? 'path' : 'pose'} (cost ${design.metrics.cost.toFixed(2)}).`);
       } else if (design) {
-        this.store.hint('Live: no linkage reaches the poses as they are now; move the pose back a little, or press Design linkage.');
+        this.store.hint(path
+          ? 'Live: no linkage follows the path as it is now; bend it back a little, or press Design linkage.'
+          : 'Live: no linkage reaches the poses as they are now; move the pose back a little, or press Design linkage.');
       }
     } catch (e) {
       if (epoch === this.results.epoch) this.store.hint(`Live: ${api.errorOf(e).message}`);

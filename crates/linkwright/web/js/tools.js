@@ -248,8 +248,9 @@ export class Tools {
     const path = targetOf(e, '.drawn-path');
     const reshaped = path && this.store.scene.moving_bodies[Number(path.dataset.body)];
     if (path && reshaped?.path) {
-      // The drawn path bends where it is grabbed, less and less farther along it.
-      this.actions.leaveResult();
+      // The drawn path bends where it is grabbed, less and less farther along it; in live mode the
+      // linkage shown stays and is redesigned as the path bends.
+      if (!this.actions.liveResult()) this.actions.leaveResult();
       const w = this.view.toWorld(s);
       const points = reshaped.path.points.map((p) => /** @type {Point} */ ([...p]));
       const grab = points.reduce((best, p, i) => (dist(p, w) < dist(points[best], w) ? i : best), 0);
@@ -336,6 +337,7 @@ export class Tools {
       }
       case 'reshape':
         this.store.update((sc) => S.reshapePath(sc, d.body, d.points, d.pose, d.grab, sub(w, d.start)));
+        this.actions.poseEdited();
         break;
       case 'joint':
         // Not snapped: a linkage answers to small moves, and a grid step can be too far for it.
@@ -392,6 +394,7 @@ export class Tools {
       this.addShape(pts);
     } else if (d.type === 'reshape') {
       this.store.end();
+      this.actions.poseReleased();
     } else if (d.type === 'vertex' || d.type === 'move' || d.type === 'rotate') {
       this.store.end();
       this.actions.poseReleased();
