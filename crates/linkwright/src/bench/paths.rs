@@ -90,19 +90,10 @@ struct Report {
     published: Vec<PublishedRow>,
 }
 
-/// Designs `scene` under `seed` and checks the design; writes both below `save` as `stem` when given.
-fn measure(
-    scene: &linkwright_core::Scene,
-    seed: u64,
-    pool: &rayon::ThreadPool,
-    save: Option<(&Path, &str)>,
-) -> Result<Measured, Failure> {
-    Ok(measure_design(scene, seed, pool, save)?.0)
-}
-
-/// [`measure`], and the largest distance of a drawn point from the traced curve (a fraction of the
+/// Designs `scene` under `seed` and checks the design, writing both below `save` as `stem` when
+/// given; with the largest distance of a drawn point from the traced curve (a fraction of the
 /// curve's size).
-fn measure_design(
+fn measure(
     scene: &linkwright_core::Scene,
     seed: u64,
     pool: &rayon::ThreadPool,
@@ -155,8 +146,7 @@ pub(super) fn bench_paths(
     for (k, target) in published_path_scenes().into_iter().enumerate() {
         let path = target.scene.moving_bodies[0].path.as_ref().expect("a path scene");
         let stem = format!("published_{k}");
-        let (measured, point_miss_rel) =
-            measure_design(&target.scene, seed, pool, save.map(|dir| (dir, stem.as_str())))?;
+        let (measured, point_miss_rel) = measure(&target.scene, seed, pool, save.map(|dir| (dir, stem.as_str())))?;
         let row = PublishedRow {
             name: target.name,
             source: target.source,
@@ -199,7 +189,7 @@ pub(super) fn bench_paths(
                             points,
                             noise,
                             scene_seed,
-                            measured: measure(&known.scene, seed, pool, save.map(|dir| (dir, stem.as_str())))?,
+                            measured: measure(&known.scene, seed, pool, save.map(|dir| (dir, stem.as_str())))?.0,
                         };
                         if !json {
                             eprintln!("{}", row_line(&row));

@@ -66,16 +66,16 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
     let Some(path) = problem.path() else { return PathDesigns::default() };
     let start = problem.bodies[0].poses[0].apply(path.tracer);
     let drawn = starting_at(path, start);
+    // Found once: they choose the families, and every family's refinement measures from them.
+    let turns_back = reversals(&drawn, path.closed);
     let goal = PathGoal {
         drawn: &drawn,
         closed: path.closed,
         min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
+        reversals: &turns_back,
     };
     let (families, samples) = match problem.mechanism {
-        MechanismChoice::Auto => {
-            let turns_back = !reversals(&path.points, path.closed).is_empty();
-            (path_families(turns_back).to_vec(), samples / AUTO_SAMPLE_SHARE)
-        }
+        MechanismChoice::Auto => (path_families(!turns_back.is_empty()).to_vec(), samples / AUTO_SAMPLE_SHARE),
         MechanismChoice::Only(family) => (vec![family], samples),
     };
     let mut out = PathDesigns::default();

@@ -1,7 +1,7 @@
 //! A four-bar's coupler curve in closed form: the path search traces thousands of them, each at a
 //! hundred crank angles, so it solves the one loop directly rather than through the general dyad plan.
 
-use super::linkage::{PathLinkage, Similarity, TracerAt};
+use super::linkage::{on_body, PathLinkage, Similarity, TracerAt};
 use crate::geom::{Point, Vec2};
 use crate::mechanism::{Mechanism, Topology};
 use crate::scene::MechanismType;
@@ -144,7 +144,7 @@ impl FourBar {
         let axis = to_pivot / e;
         let rocker_tip = crank_tip + axis * along + axis.perp() * (self.branch * h_sq.sqrt());
         let x = (rocker_tip - crank_tip) / self.coupler;
-        let tracer = crank_tip + x * self.u + x.perp() * self.v;
+        let tracer = on_body(crank_tip, rocker_tip, self.coupler, self.u, self.v);
         // sin μ from the triangle crank tip, rocker tip, rocker pivot: twice its area over b·c.
         let transmission_sine =
             (x * self.coupler).cross(rocker_tip - self.rocker_pivot).abs() / (self.coupler * self.rocker);

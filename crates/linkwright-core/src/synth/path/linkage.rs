@@ -3,8 +3,10 @@
 //! dimensions as a vector to refine, and the design it makes. One implementation per family.
 
 use crate::geom::{Point, Vec2};
+use crate::kinematics::Branch;
 use crate::mechanism::Mechanism;
 use crate::scene::MechanismType;
+use rand::RngExt;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// The tracer at one crank angle, and how well the linkage transmits there.
@@ -36,6 +38,22 @@ impl Similarity {
         let v = p - self.from;
         let (s, c) = self.turn.sin_cos();
         self.to + Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y) * self.scale
+    }
+}
+
+/// The point `(u, v)` of a body in the frame with its origin at joint `origin` and its x axis
+/// towards joint `towards`, `length` away: where every family's tracer rides.
+pub(crate) fn on_body(origin: Point, towards: Point, length: f64, u: f64, v: f64) -> Point {
+    let x = (towards - origin) / length;
+    origin + x * u + x.perp() * v
+}
+
+/// Either assembly of a dyad, at random.
+pub(crate) fn random_branch(r: &mut Xoshiro256PlusPlus) -> Branch {
+    if r.random::<bool>() {
+        Branch::Positive
+    } else {
+        Branch::Negative
     }
 }
 
@@ -96,6 +114,7 @@ mod tests {
             let plan = Plan::compile(&mechanism).unwrap();
             let mut row = vec![Point::ORIGIN; plan.joint_count()];
             // Small steps from the start, so the general solver keeps every dyad's branch.
+            let mut compared = 0;
             for k in 0..=60 {
                 let theta = 0.3 + 0.02 * k as f64;
                 let (Some(closed_form), Ok(())) = (m.tracer_at(theta), plan.solve(theta, &mut row)) else {
@@ -105,7 +124,10 @@ mod tests {
                 assert!(general.distance(closed_form.point) < 1e-9 * map.scale, "{m:?} at {theta}");
                 let sine = plan.min_transmission_sine(&row);
                 assert!((sine - closed_form.transmission_sine).abs() < 1e-9, "{m:?} at {theta}");
+                compared += 1;
             }
+            // Both assemble where the design was made, and a good way on.
+            assert!(compared >= 10, "{m:?}: only {compared} angles compared");
             checked += 1;
         }
         assert!(checked >= 10, "only {checked} members drawn");

@@ -49,6 +49,8 @@ pub(crate) struct PathGoal<'a> {
     pub closed: bool,
     /// The least sine of a transmission angle along the travel.
     pub min_transmission_sine: f64,
+    /// Where the curve turns back on itself ([`reversals`]).
+    pub reversals: &'a [Point],
 }
 
 /// A linkage fitted to a drawn curve, with the crank's travel: from `theta_start` to `theta_end`
@@ -299,7 +301,7 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
 struct Drawn<'a> {
     points: Vec<Point>,
     /// The drawn curve's reversals ([`reversals`]), whose distances count thrice.
-    reversals: Vec<Point>,
+    reversals: &'a [Point],
     curve: &'a [Point],
     size: f64,
 }
@@ -410,7 +412,6 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
     // 64th of its points either side (none under 64 points).
     let window = goal.drawn.len() / SMOOTHING_SHARE;
     let curve = smoothed(goal.drawn, goal.closed, window);
-    let reversals = reversals(goal.drawn, goal.closed);
     let goal = &PathGoal { drawn: &curve, ..*goal };
     let target = Target::new(goal);
     let mut matches: Vec<(f64, usize, PathFit<L>)> = (0..samples)
@@ -426,7 +427,7 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
 
     let drawn = Drawn {
         points: resample(goal.drawn, goal.closed, REFINE_POINTS),
-        reversals,
+        reversals: goal.reversals,
         curve: goal.drawn,
         size: size(goal.drawn),
     };
@@ -466,7 +467,12 @@ mod tests {
         assert!(m.crank_turns_fully());
         let drawn = traced(&m, start, end, points - usize::from(closed), 0.0).unwrap();
         let drawn = if closed { drawn[..points].to_vec() } else { drawn };
-        let goal = PathGoal { drawn: &drawn, closed, min_transmission_sine: 10f64.to_radians().sin() };
+        let goal = PathGoal {
+            drawn: &drawn,
+            closed,
+            min_transmission_sine: 10f64.to_radians().sin(),
+            reversals: &reversals(&drawn, closed),
+        };
         let t = std::time::Instant::now();
         let fits = fit::<FourBar>(&goal, 0, 20_000, 16);
         let best = fits[0];

@@ -9,7 +9,7 @@
 //!   stroke), which no crank of a four-bar can do.
 
 use super::four_bar::{log_uniform, FourBar};
-use super::linkage::{PathLinkage, Similarity, TracerAt};
+use super::linkage::{on_body, random_branch, PathLinkage, Similarity, TracerAt};
 use crate::geom::{Point, Vec2};
 use crate::kinematics::{circle_circle, transmission_sine, Branch};
 use crate::mechanism::{Mechanism, Topology};
@@ -60,9 +60,34 @@ impl StephensonThree {
     }
 }
 
-/// Crank angles the atlas checks a drawn body's link against: it must reach its coupler point all
-/// the way round.
+/// Crank angles at which a drawn second loop is checked to assemble all the way round.
 const SAMPLE_STEPS: usize = 36;
+
+/// The crank angles of [`SAMPLE_STEPS`], over a whole turn.
+fn around() -> impl Iterator<Item = f64> {
+    (0..SAMPLE_STEPS).map(|k| TAU * k as f64 / SAMPLE_STEPS as f64)
+}
+
+/// The lengths `(a, b)` of a dyad from a ground pivot whose far joint must reach a point at each of
+/// `distances` from it (`None`: the loop before it came apart): |a − b| below the least distance and
+/// a + b above the greatest, with room to spare (`a` 0.55 to 2 times the spread, or `floor`).
+fn reaching(
+    distances: impl Iterator<Item = Option<f64>>,
+    floor: f64,
+    r: &mut Xoshiro256PlusPlus,
+) -> Option<(f64, f64)> {
+    let (mut near, mut far) = (f64::INFINITY, 0.0f64);
+    for d in distances {
+        let d = d?;
+        (near, far) = (near.min(d), far.max(d));
+    }
+    let a = 0.5 * (far - near).max(floor) * log_uniform(r, 1.1, 4.0);
+    let (lo, hi) = ((far - a).max(a - near), a + near);
+    if hi <= lo {
+        return None;
+    }
+    Some((a, lo + (hi - lo) * r.random_range(0.1..0.9)))
+}
 
 impl PathLinkage for StephensonThree {
     const FAMILY: MechanismType = MechanismType::StephensonThree;
@@ -70,8 +95,7 @@ impl PathLinkage for StephensonThree {
 
     fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
         let j = self.joints_at(theta)?;
-        let x = (j.q1 - j.p1) / self.body;
-        Some(TracerAt { point: j.p1 + x * self.u + x.perp() * self.v, transmission_sine: j.transmission_sine })
+        Some(TracerAt { point: on_body(j.p1, j.q1, self.body, self.u, self.v), transmission_sine: j.transmission_sine })
     }
 
     /// The atlas's four-bar, then a ground pivot near it and a body and link whose lengths reach
@@ -80,18 +104,8 @@ impl PathLinkage for StephensonThree {
     fn sample(r: &mut Xoshiro256PlusPlus) -> Option<StephensonThree> {
         let driver = FourBar::sample(r)?;
         let link_pivot = Point::new(r.random_range(-1.0..2.0), r.random_range(-1.5..1.5));
-        let (mut near, mut far) = (f64::INFINITY, 0.0f64);
-        for k in 0..SAMPLE_STEPS {
-            let d = driver.at(TAU * k as f64 / SAMPLE_STEPS as f64)?.tracer.distance(link_pivot);
-            (near, far) = (near.min(d), far.max(d));
-        }
-        // |body − link| < near and body + link > far, with room to spare.
-        let body = 0.5 * (far - near).max(0.05) * log_uniform(r, 1.1, 4.0);
-        let (lo, hi) = ((far - body).max(body - near), body + near);
-        if hi <= lo {
-            return None;
-        }
-        let link = lo + (hi - lo) * r.random_range(0.1..0.9);
+        let distances = around().map(|theta| Some(driver.at(theta)?.tracer.distance(link_pivot)));
+        let (body, link) = reaching(distances, 0.05, r)?;
         Some(StephensonThree {
             driver,
             link_pivot,
@@ -99,7 +113,7 @@ impl PathLinkage for StephensonThree {
             link,
             u: body * r.random_range(-1.0..2.0),
             v: body * r.random_range(-1.5..1.5),
-            branch: if r.random::<bool>() { Branch::Positive } else { Branch::Negative },
+            branch: random_branch(r),
         })
     }
 
@@ -202,8 +216,10 @@ impl PathLinkage for WattTwo {
 
     fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
         let j = self.joints_at(theta)?;
-        let x = (j.q1 - j.p1) / self.coupler;
-        Some(TracerAt { point: j.p1 + x * self.u + x.perp() * self.v, transmission_sine: j.transmission_sine })
+        Some(TracerAt {
+            point: on_body(j.p1, j.q1, self.coupler, self.u, self.v),
+            transmission_sine: j.transmission_sine,
+        })
     }
 
     /// The atlas's crank-rocker drives the ternary link; the body's four-bar gets a rocker pivot near
@@ -214,19 +230,11 @@ impl PathLinkage for WattTwo {
         let input = log_uniform(r, 0.3, 3.0);
         let turn = r.random_range(0.0..TAU);
         let rocker_pivot = q0 + Vec2::new(r.random_range(-2.0..2.0), r.random_range(-2.0..2.0)) * input;
-        let (mut near, mut far) = (f64::INFINITY, 0.0f64);
-        for k in 0..SAMPLE_STEPS {
-            let t1 = driver.at(TAU * k as f64 / SAMPLE_STEPS as f64)?.rocker_tip;
-            let p1 = q0 + Vec2::from_angle((t1 - q0).angle() + turn) * input;
-            let d = p1.distance(rocker_pivot);
-            (near, far) = (near.min(d), far.max(d));
-        }
-        let coupler = 0.5 * (far - near).max(0.05 * input) * log_uniform(r, 1.1, 4.0);
-        let (lo, hi) = ((far - coupler).max(coupler - near), coupler + near);
-        if hi <= lo {
-            return None;
-        }
-        let rocker = lo + (hi - lo) * r.random_range(0.1..0.9);
+        let distances = around().map(|theta| {
+            let t1 = driver.at(theta)?.rocker_tip;
+            Some((q0 + Vec2::from_angle((t1 - q0).angle() + turn) * input).distance(rocker_pivot))
+        });
+        let (coupler, rocker) = reaching(distances, 0.05 * input, r)?;
         Some(WattTwo {
             driver,
             input,
@@ -236,7 +244,7 @@ impl PathLinkage for WattTwo {
             rocker,
             u: coupler * r.random_range(-1.0..2.0),
             v: coupler * r.random_range(-1.5..1.5),
-            branch: if r.random::<bool>() { Branch::Positive } else { Branch::Negative },
+            branch: random_branch(r),
         })
     }
 

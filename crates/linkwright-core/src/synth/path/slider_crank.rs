@@ -2,7 +2,7 @@
 //! runs on a fixed line, and the tracer rides on the body.
 
 use super::four_bar::log_uniform;
-use super::linkage::{PathLinkage, Similarity, TracerAt};
+use super::linkage::{on_body, random_branch, PathLinkage, Similarity, TracerAt};
 use crate::geom::{Point, Vec2};
 use crate::kinematics::{circle_line, transmission_sine, Branch};
 use crate::mechanism::{Mechanism, SliderLine, Topology};
@@ -44,8 +44,7 @@ impl PathLinkage for SliderCrank {
 
     fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
         let (p1, q1, transmission_sine) = self.joints_at(theta)?;
-        let x = (q1 - p1) / self.coupler;
-        Some(TracerAt { point: p1 + x * self.u + x.perp() * self.v, transmission_sine })
+        Some(TracerAt { point: on_body(p1, q1, self.coupler, self.u, self.v), transmission_sine })
     }
 
     /// A crank of 1 about the origin, a line `offset` from it along x, and a coupler longer than
@@ -61,7 +60,7 @@ impl PathLinkage for SliderCrank {
             line_angle: 0.0,
             u: coupler * r.random_range(-1.0..2.0),
             v: coupler * r.random_range(-1.5..1.5),
-            branch: if r.random::<bool>() { Branch::Positive } else { Branch::Negative },
+            branch: random_branch(r),
         })
     }
 
