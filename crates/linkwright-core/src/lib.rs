@@ -111,10 +111,13 @@ pub use design::{
 };
 
 // A path design's distance from the drawn curve.
-pub use geom::PathError;
+pub use geom::{ExactMiss, PathError};
 
 // Checking a design against its scene.
-pub use verify::{far_from_pose, pose_misses, FarFromPose, Violation, FAR_ANGLE_DEG, FAR_POSITION_REL_D};
+pub use verify::{
+    far_from_pose, missed_exact_point, pose_misses, FarFromPose, Violation, EXACT_POINT_TOLERANCE, FAR_ANGLE_DEG,
+    FAR_POSITION_REL_D,
+};
 
 // Pictures of a design.
 pub use render::{animation_svg, design_svg, RenderInput};

@@ -5,7 +5,10 @@ use linkwright_core::analysis::{Replay, Which};
 use linkwright_core::geom::{Point, Rigid};
 use linkwright_core::testbed::{known_path_scene, KnownPath};
 use linkwright_core::MechanismType;
-use linkwright_core::{synthesize, validate_scene, DesignFile, Problem, Scene, Severity, Silent, Status};
+use linkwright_core::{
+    missed_exact_point, synthesize, validate_scene, DesignFile, Problem, Scene, Severity, Silent, Status,
+    EXACT_POINT_TOLERANCE,
+};
 
 /// Millimetres per unit of the testbed.
 const SCALE: f64 = 100.0;
@@ -99,6 +102,53 @@ fn the_check_re_measures_the_path_and_refuses_a_travel_that_is_not_one_turn() {
     assert!(issues.iter().any(|i| i.to_string().contains("crank_end_deg")), "{issues:?}");
 }
 
+/// The distance of `p` from the polyline `curve`.
+fn distance_from(p: Point, curve: &[Point]) -> f64 {
+    curve
+        .windows(2)
+        .map(|w| {
+            let (a, ab) = (w[0], w[1] - w[0]);
+            let t = if ab.norm_sq() > 0.0 { ((p - a).dot(ab) / ab.norm_sq()).clamp(0.0, 1.0) } else { 0.0 };
+            p.distance(a + ab * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A known crank-rocker's loop drawn with noise of 1% of its size, so no linkage passes every drawn
+/// point: four points marked exact are passed within the tolerance, where the design of the same
+/// drawing without them passes farther from some, and the check re-measures them.
+#[test]
+fn a_paths_exact_points_are_passed_and_the_check_re_measures_them() {
+    let known = known_path_scene(MechanismType::Chain, true, 60, 0.01, 4, SCALE).expect("a known crank-rocker");
+    let exact = [7, 22, 37, 52];
+    let farthest = |problem: &Problem, design: &DesignFile| {
+        let tracer = traced(problem, design);
+        let points = &problem.path().unwrap().points;
+        exact.iter().map(|&i| distance_from(points[i], &tracer)).fold(0.0, f64::max) / known.curve_size
+    };
+    let (problem, free) = designed(&known);
+    let missed = farthest(&problem, &free);
+    assert!(missed > EXACT_POINT_TOLERANCE, "the noisy points are off the free design's curve: {missed}");
+    assert!(free.metrics.as_ref().unwrap().path_error.unwrap().exact.is_none());
+
+    let mut pinned = known.clone();
+    pinned.scene.moving_bodies[0].path.as_mut().unwrap().exact = exact.to_vec();
+    let (problem, design) = designed(&pinned);
+    assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
+    let passed = farthest(&problem, &design);
+    assert!(passed <= EXACT_POINT_TOLERANCE, "every exact point within the tolerance: {passed}");
+    let error = design.metrics.as_ref().unwrap().path_error.unwrap();
+    let written = error.exact.expect("the file says how far the exact points are passed");
+    assert!(exact.contains(&written.point) && written.distance_rel <= EXACT_POINT_TOLERANCE, "{written:?}");
+    assert!(missed_exact_point(&error).is_none());
+    assert!((written.distance_rel - passed).abs() < 1e-3 * EXACT_POINT_TOLERANCE, "{written:?} against {passed}");
+    // A file that claims the exact points closer than they are fails its check.
+    let mut claimed = design.clone();
+    let x = claimed.metrics.as_mut().and_then(|m| m.path_error.as_mut()).and_then(|e| e.exact.as_mut()).unwrap();
+    x.distance *= 0.5;
+    assert!(claimed.violations(&problem).iter().any(|v| v.constraint == "accuracy"));
+}
+
 #[test]
 fn the_same_seed_gives_the_same_path_design() {
     let known = known_path_scene(MechanismType::Chain, false, 30, 0.005, 3, SCALE).expect("a known crank-rocker");
@@ -170,4 +220,9 @@ fn a_path_scene_is_refused_where_it_cannot_be_traced_and_says_which_field() {
         body.poses[0] = [start.x, start.y, 0.0];
     });
     assert!(moved.is_empty(), "{moved:?}");
+    assert_eq!(
+        errors_of(|s| s.moving_bodies[0].path.as_mut().unwrap().exact = vec![3, 20]),
+        ["moving_bodies[0].path.exact[1]"],
+        "an exact point is a point of the curve"
+    );
 }

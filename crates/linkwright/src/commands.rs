@@ -13,8 +13,8 @@ use linkwright_core::balance::{Balanced, SpringNeed};
 use linkwright_core::fab::BuildPlan;
 use linkwright_core::kinematics::{Plan, Trace};
 use linkwright_core::{
-    animation_svg, design_svg, pose_misses, synthesize_with, Build, DesignFile, Observer, Options, Outcome, PathError,
-    PoseMiss, Problem, Progress, RenderInput, Stage, Start, Status, DESIGN_FORMAT,
+    animation_svg, design_svg, missed_exact_point, pose_misses, synthesize_with, Build, DesignFile, Observer, Options,
+    Outcome, PathError, PoseMiss, Problem, Progress, RenderInput, Stage, Start, Status, DESIGN_FORMAT,
 };
 use std::path::{Path, PathBuf};
 
@@ -149,6 +149,13 @@ pub(crate) fn design(args: DesignArgs) -> Result<(), Failure> {
             "hint: pose {} of {} is far from where the linkage takes the body: draw a pose between it and its \
              neighbours, move it closer to the way the others go, or try another --seed or mechanism",
             far.pose, far.body
+        ));
+    }
+    if let Some(missed) = file.metrics.as_ref().and_then(|m| m.path_error.as_ref()).and_then(missed_exact_point) {
+        warn(&format!(
+            "hint: no linkage found passes exact point {} of the path: mark fewer points exact (a four-bar passes \
+             at most nine), move it nearer the curve, or try another --seed or mechanism",
+            missed.point
         ));
     }
     if outcome.unbuildable {
@@ -512,8 +519,18 @@ fn path_reach(problem: &Problem, error: &PathError) -> String {
     } else {
         String::new()
     };
+    let exact = match (error.exact, missed_exact_point(error)) {
+        (_, Some(x)) => format!(
+            "; MISSES EXACT POINT {} by {:.3} {units} ({:.2}% of the path's size), and no linkage closer was found",
+            x.point,
+            x.distance,
+            100.0 * x.distance_rel
+        ),
+        (Some(x), None) => format!(", passing its exact points within {:.3} {units}", x.distance),
+        (None, None) => String::new(),
+    };
     format!(
-        ", traces the drawn path within {:.3} {units} ({:.2}% of its size; {:.3} {units} on average){at}",
+        ", traces the drawn path within {:.3} {units} ({:.2}% of its size; {:.3} {units} on average){at}{exact}",
         error.max,
         100.0 * error.max_rel,
         error.mean

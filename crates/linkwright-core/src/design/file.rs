@@ -1,7 +1,7 @@
 //! The design file's fields, how an outcome of the engine becomes one, and how its parts become a
 //! [`Mechanism`] again.
 
-use crate::geom::{Point, Vec2};
+use crate::geom::{PathError, Point, Vec2};
 use crate::mechanism::{Mechanism, MechanismType, Part, PartKind, SliderLine, Topology};
 use crate::scene::{Build, PoseMiss, Problem};
 use crate::verify::{pose_misses, verify_travel, Travel, Violation};
@@ -484,17 +484,24 @@ impl DesignFile {
         if let Some(error) = accuracy.and_then(|a| a.path) {
             let agrees = metrics.path_error.is_some_and(|written| {
                 let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * problem.scale + 1e-6 * b.abs();
-                close(written.max, error.max) && close(written.mean, error.mean)
+                let exact = |e: PathError| e.exact.map(|x| x.distance);
+                close(written.max, error.max)
+                    && close(written.mean, error.mean)
+                    && match (exact(written), exact(error)) {
+                        (Some(a), Some(b)) => close(a, b),
+                        (a, b) => a.is_none() && b.is_none(),
+                    }
             });
             if !agrees {
                 out.push(Violation {
                     constraint: "accuracy",
                     message: format!(
                         "metrics.path_error is {:?} but the traced curve is {:.6} (largest) and {:.6} (mean) \
-                         from the drawn one",
-                        metrics.path_error.map(|e| (e.max, e.mean)),
+                         from the drawn one, and passes its exact points within {:?}",
+                        metrics.path_error.map(|e| (e.max, e.mean, e.exact.map(|x| x.distance))),
                         error.max,
-                        error.mean
+                        error.mean,
+                        error.exact.map(|x| x.distance)
                     ),
                 });
             }

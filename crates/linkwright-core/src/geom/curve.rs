@@ -115,6 +115,21 @@ pub struct PathError {
     pub mean_rel: f64,
     /// The point of the drawn curve nearest to where the two are farthest apart (world coordinates).
     pub at: Point,
+    /// Of the points the tracer must pass exactly, the one the traced curve passes farthest from
+    /// (none when the path has no exact points).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exact: Option<ExactMiss>,
+}
+
+/// How far the traced curve passes from a point of the drawn one it must pass exactly.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExactMiss {
+    /// The point, an index into the drawn curve's points (from 0).
+    pub point: usize,
+    /// The distance from it to the traced curve, scene units.
+    pub distance: f64,
+    /// `distance` as a fraction of the drawn curve's size.
+    pub distance_rel: f64,
 }
 
 /// Points per curve [`path_error`] measures at: dense enough that the distance between them is a
@@ -122,8 +137,9 @@ pub struct PathError {
 const MEASURE_POINTS: usize = 400;
 
 /// The distance between the `drawn` curve and the `traced` one (both polylines, closed when
-/// `closed`), measured at [`MEASURE_POINTS`] points spaced evenly along each.
-pub(crate) fn path_error(drawn: &[Point], traced: &[Point], closed: bool) -> PathError {
+/// `closed`), measured at [`MEASURE_POINTS`] points spaced evenly along each, and how far the traced
+/// curve passes from each of the drawn points listed `exact`.
+pub(crate) fn path_error(drawn: &[Point], exact: &[usize], traced: &[Point], closed: bool) -> PathError {
     let size = size(drawn);
     let drawn_points = resample(drawn, closed, MEASURE_POINTS);
     let traced_points = resample(traced, closed, MEASURE_POINTS);
@@ -144,7 +160,12 @@ pub(crate) fn path_error(drawn: &[Point], traced: &[Point], closed: bool) -> Pat
     }
     let mean = sum / (2 * MEASURE_POINTS) as f64;
     let rel = |x: f64| if size > 0.0 { x / size } else { 0.0 };
-    PathError { max, max_rel: rel(max), mean, mean_rel: rel(mean), at }
+    let exact = exact
+        .iter()
+        .filter_map(|&i| drawn.get(i).map(|&p| (i, nearest(p, traced, closed).0)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(point, distance)| ExactMiss { point, distance, distance_rel: rel(distance) });
+    PathError { max, max_rel: rel(max), mean, mean_rel: rel(mean), at, exact }
 }
 
 #[cfg(test)]
@@ -192,9 +213,25 @@ mod tests {
         // Radii 1 and 1.1: every point of one is 0.1 from the other (less the chords' sag, at most
         // 1 − cos(π/720) of a radius with 720 vertices).
         let (drawn, traced) = (circle(1.0, 720), circle(1.1, 720));
-        let e = path_error(&drawn, &traced, true);
+        let e = path_error(&drawn, &[], &traced, true);
         assert!((e.max - 0.1).abs() < 1e-4 && (e.mean - 0.1).abs() < 1e-4, "{e:?}");
         assert!((e.max_rel - 0.1 / 8f64.sqrt()).abs() < 1e-4, "the size is the box's diagonal, 2√2: {e:?}");
+    }
+
+    #[test]
+    fn the_exact_point_passed_farthest_is_the_one_reported() {
+        // Drawn: three corners of a unit square about the origin and a point a little inside the
+        // fourth. Traced: a circle of radius 1.2 about the origin, so each point is 1.2 less its own
+        // distance from the origin away from it.
+        let drawn = vec![Point::new(0.5, 0.5), Point::new(-0.5, 0.5), Point::new(-0.5, -0.5), Point::new(0.5, -0.4)];
+        let traced = circle(1.2, 3600);
+        let e = path_error(&drawn, &[1, 3], &traced, true);
+        let x = e.exact.expect("exact points listed");
+        assert_eq!(x.point, 3, "(0.5, −0.4) is nearer the centre, so farther from the circle: {x:?}");
+        let want = 1.2 - (0.25f64 + 0.16).sqrt();
+        assert!((x.distance - want).abs() < 1e-6, "{x:?} against {want}");
+        assert!((x.distance_rel - x.distance / size(&drawn)).abs() < 1e-15, "relative to the drawn curve's size");
+        assert!(path_error(&drawn, &[], &traced, true).exact.is_none());
     }
 
     #[test]
@@ -203,7 +240,7 @@ mod tests {
         // from the drawn segment, though every drawn point lies on the traced curve.
         let drawn = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0)];
         let traced = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 0.5)];
-        let e = path_error(&drawn, &traced, false);
+        let e = path_error(&drawn, &[], &traced, false);
         assert!((e.max - 0.5).abs() < 1e-12, "{e:?}");
         assert!(e.at.distance(Point::new(1.0, 0.0)) < 1e-12, "{e:?}");
     }

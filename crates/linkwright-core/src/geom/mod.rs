@@ -10,7 +10,7 @@ mod rigid;
 mod segment;
 mod vector;
 
-pub use curve::{nearest, PathError};
+pub use curve::{nearest, ExactMiss, PathError};
 pub(crate) use curve::{path_error, resample, resample_into, size as curve_size, smoothed};
 pub(crate) use obstacle::Obstacle;
 pub(crate) use polygon::penetrates_unchecked;

@@ -134,6 +134,10 @@ pub struct DrawnPath {
     /// less than a turn.
     #[serde(default)]
     pub closed: bool,
+    /// Points of `points` (indices, from 0) the tracer must pass exactly, the curve between them
+    /// followed as closely as it can be.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub exact: Vec<usize>,
     /// Fields the format does not know, kept as they were read.
     #[serde(flatten)]
     pub extra: Map<String, Value>,

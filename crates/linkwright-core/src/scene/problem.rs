@@ -38,6 +38,8 @@ pub struct PathTarget {
     pub points: Vec<Point>,
     /// A loop the tracer goes round once per turn of the crank.
     pub closed: bool,
+    /// Points of `points` (indices, ascending, each once) the tracer must pass exactly.
+    pub exact: Vec<usize>,
     /// The diagonal of the curve's bounding box: the length a path's distances are fractions of.
     pub size: f64,
 }
@@ -183,6 +185,13 @@ impl Problem {
                         size: crate::geom::curve_size(&path.points),
                         points: path.points.clone(),
                         closed: path.closed,
+                        exact: {
+                            let mut exact: Vec<usize> =
+                                path.exact.iter().copied().filter(|&i| i < path.points.len()).collect();
+                            exact.sort_unstable();
+                            exact.dedup();
+                            exact
+                        },
                     }),
                     outline,
                 }

@@ -603,6 +603,7 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
             );
             continue;
         }
+        check_exact(&field, path, out);
         let size = curve_size(&path.points);
         let smallest = body_size(&body.polygon);
         if size.is_nan() || size <= 1e-6 * smallest {
@@ -628,6 +629,24 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
                     start.x, start.y
                 ),
             );
+        }
+    }
+}
+
+/// A path's exact points are points of its curve, each listed once. A list may be as long as the
+/// file: a problem past the curve's points is only counted.
+fn check_exact(field: &str, path: &crate::scene::DrawnPath, out: &mut Issues) {
+    let n = path.points.len();
+    let mut listed = vec![false; n];
+    for (k, &i) in path.exact.iter().enumerate() {
+        if i >= n {
+            out.error_with(|| {
+                let message =
+                    format!("there is no point {i}: the path has {n} points, numbered from 0 to {}", n.max(1) - 1);
+                (format!("{field}.exact[{k}]"), message)
+            });
+        } else if std::mem::replace(&mut listed[i], true) {
+            out.warning_with(|| (format!("{field}.exact[{k}]"), format!("point {i} is listed twice; once is enough")));
         }
     }
 }

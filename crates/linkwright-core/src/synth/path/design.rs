@@ -68,11 +68,18 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
     let drawn = starting_at(path, start);
     // Found once: they choose the families, and every family's refinement measures from them.
     let turns_back = reversals(&drawn, path.closed);
+    // The body's drawn place is where the design's tracer starts, so the whole linkage moves by how
+    // far its curve passes from there: with exact points, that place is held like them.
+    let mut exact: Vec<Point> = path.exact.iter().map(|&i| path.points[i]).collect();
+    if !exact.is_empty() {
+        exact.push(start);
+    }
     let goal = PathGoal {
         drawn: &drawn,
         closed: path.closed,
         min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
         reversals: &turns_back,
+        exact: &exact,
     };
     let (families, samples) = match problem.mechanism {
         MechanismChoice::Auto => (path_families(!turns_back.is_empty()).to_vec(), samples / AUTO_SAMPLE_SHARE),
@@ -142,6 +149,34 @@ fn starting_at(path: &PathTarget, start: Point) -> Vec<Point> {
     out
 }
 
+/// The crank angle, within half a turn of `theta`, where `linkage`'s tracer passes nearest `point`:
+/// the nearest of a turn's whole degrees, then to a thousandth of a degree between its neighbours.
+fn nearest_angle<L: PathLinkage>(linkage: &L, point: Point, theta: f64) -> f64 {
+    let distance = |t: f64| linkage.tracer_at(t).map_or(f64::INFINITY, |c| c.point.distance(point));
+    let step = 1f64.to_radians();
+    let Some(best) = (-180..180).map(|k| theta + k as f64 * step).min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+    else {
+        return theta;
+    };
+    let (mut lo, mut hi) = (best - step, best + step);
+    // Golden sections: the distance is smooth near its least.
+    const GOLDEN: f64 = 0.618_033_988_749_894_9;
+    while hi - lo > 1e-3 * step {
+        let (a, b) = (hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo));
+        if distance(a) <= distance(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+    }
+    let mid = 0.5 * (lo + hi);
+    if distance(mid) <= distance(theta) {
+        mid
+    } else {
+        theta
+    }
+}
+
 /// Members of family `L` fitted to `goal` and judged as designs, closest fit first.
 fn judge_family<L: PathLinkage>(
     problem: &Problem,
@@ -165,9 +200,16 @@ fn judged<L: PathLinkage>(
 ) -> Result<Candidate, Violation> {
     let apart =
         || Violation { constraint: "assembly", message: "the linkage does not close where the path starts".into() };
-    let begin = fit.linkage.tracer_at(fit.theta_start).ok_or_else(apart)?;
+    // A closed curve's travel starts where its curve passes nearest the body's place, so the shift
+    // that puts the tracer there moves the curve as little as it can.
+    let fit_start = if problem.path().is_some_and(|p| p.closed) {
+        nearest_angle(&fit.linkage, start, fit.theta_start)
+    } else {
+        fit.theta_start
+    };
+    let begin = fit.linkage.tracer_at(fit_start).ok_or_else(apart)?;
     let placed = fit.linkage.mapped(&Similarity::shift(start - begin.point));
-    let mechanism = placed.mechanism(fit.theta_start).ok_or_else(apart)?;
+    let mechanism = placed.mechanism(fit_start).ok_or_else(apart)?;
     // The travel as a design file writes it: from the crank's direction, in (−180°, 180°].
     let theta_start = mechanism.crank_start();
     let theta_start = if theta_start <= -PI { theta_start + TAU } else { theta_start };

@@ -32,6 +32,10 @@ const REFINE_POINTS: usize = 64;
 const REFINE_ITERATIONS: usize = 40;
 /// A drawn point where the curve turns by more than this is a reversal ([`reversals`]).
 const REVERSAL_DEG: f64 = 120.0;
+/// How much more an exact point's distance weighs in the refinement than a point of the curve's, in
+/// turn: the linkage is first bent towards the exact points with the curve still in view, then held
+/// to them, each weight a hundred times the last's pull.
+const EXACT_EMPHASES: [f64; 3] = [10.0, 100.0, 1000.0];
 /// The most reversals the refinement measures from.
 const MAX_REVERSALS: usize = 4;
 /// The smoothing's half-window: this share of the drawn curve's points (see [`fit`]).
@@ -51,6 +55,8 @@ pub(crate) struct PathGoal<'a> {
     pub min_transmission_sine: f64,
     /// Where the curve turns back on itself ([`reversals`]).
     pub reversals: &'a [Point],
+    /// The points of the curve the tracer must pass exactly.
+    pub exact: &'a [Point],
 }
 
 /// A linkage fitted to a drawn curve, with the crank's travel: from `theta_start` to `theta_end`
@@ -266,9 +272,15 @@ fn placed<L: PathLinkage>(m: &L, matched: &Match, target: &Target) -> PathFit<L>
 /// traced curve and of each traced point from the drawn one, as fractions of the drawn curve's size;
 /// the distance of each reversal from the traced curve, and for an open curve the tracer's miss at
 /// either end, count thrice (the tracer must reach the tip of a stroke, and run from the first point
-/// to the last). `None` where the loop does not close along the travel or
-/// transmits worse than allowed.
-fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Drawn, min_sine: f64) -> Option<Vec<f64>> {
+/// to the last), and that of each exact point [`EXACT_EMPHASIS`] times. `None` where the loop does
+/// not close along the travel or transmits worse than allowed.
+fn residuals<L: PathLinkage>(
+    x: &[f64],
+    template: &L,
+    (closed, min_sine): (bool, f64),
+    drawn: &Drawn,
+    exact_emphasis: f64,
+) -> Option<Vec<f64>> {
     let n = x.len() - 2;
     let m = template.with_params(&x[..n]);
     let (start, end) = travel(&x[n..], closed);
@@ -277,7 +289,9 @@ fn residuals<L: PathLinkage>(x: &[f64], template: &L, closed: bool, drawn: &Draw
     let curve = traced(&m, start, end, steps, min_sine)?;
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
     let emphasis = 3.0;
-    let weighed = drawn.points.iter().map(|p| (p, 1.0)).chain(drawn.reversals.iter().map(|p| (p, emphasis)));
+    let weighed = drawn.points.iter().map(|p| (p, 1.0));
+    let weighed = weighed.chain(drawn.reversals.iter().map(|p| (p, emphasis)));
+    let weighed = weighed.chain(drawn.exact.iter().map(|p| (p, exact_emphasis)));
     for (&p, weight) in weighed {
         let (_, q, _) = nearest(p, &curve, closed);
         out.extend([weight * (q.x - p.x) / drawn.size, weight * (q.y - p.y) / drawn.size]);
@@ -302,6 +316,8 @@ struct Drawn<'a> {
     points: Vec<Point>,
     /// The drawn curve's reversals ([`reversals`]), whose distances count thrice.
     reversals: &'a [Point],
+    /// The points the tracer must pass exactly.
+    exact: &'a [Point],
     curve: &'a [Point],
     size: f64,
 }
@@ -316,9 +332,9 @@ fn travel(x: &[f64], closed: bool) -> (f64, f64) {
     }
 }
 
-/// Levenberg–Marquardt from `fit` on [`residuals`], forward differences for the Jacobian; never
-/// returns a worse fit than it is given.
-fn refine<L: PathLinkage>(fit: PathFit<L>, goal: &PathGoal, drawn: &Drawn) -> PathFit<L> {
+/// Levenberg–Marquardt from `fit` on [`residuals`] (the exact points weighed `exact_emphasis` times),
+/// forward differences for the Jacobian; never returns a worse fit than it is given.
+fn refine<L: PathLinkage>(fit: PathFit<L>, goal: &PathGoal, drawn: &Drawn, exact_emphasis: f64) -> PathFit<L> {
     let template = fit.linkage;
     let mut x: Vec<f64> = template.params();
     let n = x.len();
@@ -327,7 +343,7 @@ fn refine<L: PathLinkage>(fit: PathFit<L>, goal: &PathGoal, drawn: &Drawn) -> Pa
     } else {
         x.extend([fit.theta_start, fit.theta_end]);
     }
-    let f = |x: &[f64]| residuals(x, &template, goal.closed, drawn, goal.min_transmission_sine);
+    let f = |x: &[f64]| residuals(x, &template, (goal.closed, goal.min_transmission_sine), drawn, exact_emphasis);
     let Some(mut r) = f(&x) else { return fit };
     let mut cost: f64 = r.iter().map(|v| v * v).sum();
     // Angles move in radians, lengths relative to the curve: a step of 1e-7 of each.
@@ -428,13 +444,19 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
     let drawn = Drawn {
         points: resample(goal.drawn, goal.closed, REFINE_POINTS),
         reversals: goal.reversals,
+        exact: goal.exact,
         curve: goal.drawn,
         size: size(goal.drawn),
     };
     let mut fits: Vec<(f64, usize, PathFit<L>)> = matches
         .into_par_iter()
         .map(|(_, i, fit)| {
-            let fit = refine(fit, goal, &drawn);
+            let mut fit = refine(fit, goal, &drawn, EXACT_EMPHASES[0]);
+            if !goal.exact.is_empty() {
+                for &emphasis in &EXACT_EMPHASES[1..] {
+                    fit = refine(fit, goal, &drawn, emphasis);
+                }
+            }
             (fit.objective, i, fit)
         })
         .collect();
@@ -472,12 +494,13 @@ mod tests {
             closed,
             min_transmission_sine: 10f64.to_radians().sin(),
             reversals: &reversals(&drawn, closed),
+            exact: &[],
         };
         let t = std::time::Instant::now();
         let fits = fit::<FourBar>(&goal, 0, 20_000, 16);
         let best = fits[0];
         let curve = traced(&best.linkage, best.theta_start, best.theta_end, 720, 0.0).unwrap();
-        let e = path_error(&drawn, &curve, closed);
+        let e = path_error(&drawn, &[], &curve, closed);
         eprintln!("closed {closed}: {e:?} in {:.2} s, {best:?}", t.elapsed().as_secs_f64());
         (e, best)
     }
