@@ -33,7 +33,8 @@ async fn keyboard_races_small_windows_and_projects() -> Result<()> {
         projects(&app.page, &app.downloads).await?;
         small_things(&app.page, &app.downloads).await?;
         path_drawn_and_traced(&app.page).await?;
-        path_by_points_carried_and_reshaped(&app.page).await
+        path_by_points_carried_and_reshaped(&app.page).await?;
+        path_exact_points(&app.page).await
     }
     .await;
     app.finish(outcome).await
@@ -273,6 +274,54 @@ async fn path_by_points_carried_and_reshaped(page: &Page) -> Result<()> {
          && window.linkwright.store.result.design.status === 'ok'"
     );
     until(page, &js, Duration::from_secs(60)).await.map_err(|e| format!("no live design for the bent loop: {e}"))?;
+    Ok(())
+}
+
+/// The walking foot's path with points to pass exactly: a double-click on the drawn path marks the
+/// point there (a ring on it, and the Object tab lists it), another frees it again; points typed in
+/// the Object tab are marked, a number that is not a point is refused in words; designed, the badge
+/// says how closely the exact points are passed, and the file's own measure agrees.
+async fn path_exact_points(page: &Page) -> Result<()> {
+    open_example(page, "walking_foot").await?;
+    press(page, "v", "KeyV", 86, "v").await?;
+    let exact = "JSON.stringify(window.linkwright.store.scene.moving_bodies[0].path.exact ?? [])";
+    let point = |k: usize| format!("window.linkwright.store.scene.moving_bodies[0].path.points[{k}]");
+    let p = eval(page, &point(20)).await?;
+    let on_screen = at(page, p[0].as_f64().ok_or("no x")?, p[1].as_f64().ok_or("no y")?).await?;
+    double_tap(page, on_screen).await?;
+    assert_eq!(eval(page, exact).await?, "[20]", "a double-click marks the point there");
+    assert_eq!(eval(page, "document.querySelectorAll('.exact-point').length").await?, serde_json::json!(1));
+    let before = eval(page, &point(20)).await?;
+    assert_eq!(before, p, "a double-click does not bend the path");
+    double_tap(page, on_screen).await?;
+    assert_eq!(eval(page, exact).await?, "[]", "a second double-click frees it");
+    undo(page).await?;
+    assert_eq!(eval(page, exact).await?, "[20]", "undo marks it again");
+
+    // Typed in the Object tab: the list is the points' numbers, from 1.
+    click(page, "[data-tab=object]").await?;
+    eval(page, "document.querySelectorAll('#tab-object .list')[1].querySelector('.row').click()").await?;
+    settle(page).await?;
+    let field = "[data-key=exact-0]";
+    assert_eq!(eval(page, &format!("document.querySelector('{field}').value")).await?, "21");
+    type_into(page, field, "1, 21 40, 99").await?;
+    assert_eq!(eval(page, exact).await?, "[20]", "99 is not a point of a 48-point path");
+    let hint = eval(page, "document.getElementById('hint').textContent").await?;
+    assert!(hint.as_str().is_some_and(|h| h.contains("“99” is not a point of the path")), "{hint}");
+    type_into(page, field, "1, 21 40").await?;
+    assert_eq!(eval(page, exact).await?, "[0,20,39]");
+
+    design_quickly(page).await?;
+    click(page, "[data-tab=result]").await?;
+    let badge = eval(page, "document.querySelector('#tab-result .badge.verified')?.textContent ?? ''").await?;
+    let badge = badge.as_str().unwrap_or_default().to_string();
+    let written = eval(page, "window.linkwright.store.result.design.metrics.path_error.exact").await?;
+    let rel = written["distance_rel"].as_f64().ok_or(format!("no exact miss written: {written}"))?;
+    assert!(rel <= linkwright_core::EXACT_POINT_TOLERANCE, "the three points are passed: {written}");
+    assert!(
+        badge.contains("traces the drawn path within") && badge.contains("passing its exact points within"),
+        "{badge}"
+    );
     Ok(())
 }
 

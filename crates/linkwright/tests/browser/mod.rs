@@ -88,9 +88,14 @@ pub(crate) async fn click(page: &Page, selector: &str) -> Result<()> {
 }
 
 pub(crate) async fn mouse(page: &Page, kind: DispatchMouseEventType, x: f64, y: f64, buttons: i64) -> Result<()> {
-    let mut event = DispatchMouseEventParams::builder().r#type(kind.clone()).x(x).y(y).buttons(buttons);
+    clicked(page, kind, (x, y), buttons, 1).await
+}
+
+/// A mouse event at `p`, the `count`th click of a quick series (2: a double-click's second).
+async fn clicked(page: &Page, kind: DispatchMouseEventType, p: (f64, f64), buttons: i64, count: i64) -> Result<()> {
+    let mut event = DispatchMouseEventParams::builder().r#type(kind.clone()).x(p.0).y(p.1).buttons(buttons);
     if kind != DispatchMouseEventType::MouseMoved {
-        event = event.button(MouseButton::Left).click_count(1);
+        event = event.button(MouseButton::Left).click_count(count);
     }
     page.execute(event.build()?).await?;
     Ok(())
@@ -114,6 +119,16 @@ pub(crate) async fn tap(page: &Page, p: (f64, f64)) -> Result<()> {
     mouse(page, DispatchMouseEventType::MouseMoved, p.0, p.1, 0).await?;
     mouse(page, DispatchMouseEventType::MousePressed, p.0, p.1, 1).await?;
     mouse(page, DispatchMouseEventType::MouseReleased, p.0, p.1, 0).await?;
+    settle(page).await
+}
+
+/// A double-click with the left button at a page position.
+pub(crate) async fn double_tap(page: &Page, p: (f64, f64)) -> Result<()> {
+    mouse(page, DispatchMouseEventType::MouseMoved, p.0, p.1, 0).await?;
+    for count in [1, 2] {
+        clicked(page, DispatchMouseEventType::MousePressed, p, 1, count).await?;
+        clicked(page, DispatchMouseEventType::MouseReleased, p, 0, count).await?;
+    }
     settle(page).await
 }
 

@@ -35,6 +35,36 @@ import { html } from './svg.js';
 export const REACHED = { positionRelD: 0.01, angleDeg: 1 };
 
 /**
+ * A path design traces the drawn curve when no point of either is farther from the other than this
+ * share of the curve's size (a hand's drawing is rarely truer), and passes an exact point within the
+ * engine's `EXACT_POINT_TOLERANCE`, 0.2% of it.
+ */
+export const TRACED = { maxRel: 0.02, exactRel: 0.002 };
+
+/**
+ * The verification badge of a path design, from its `metrics.path_error`.
+ * @param {import('./api.js').PathError} e
+ * @param {Scene} scene
+ */
+export function pathBadge(e, scene) {
+  const units = scene.units || 'mm';
+  const exact = e.exact;
+  const missed = exact && exact.distance_rel > TRACED.exactRel ? exact : null;
+  const close = e.max_rel <= TRACED.maxRel;
+  const traces = `traces the drawn path within ${fmtUp(e.max)} ${units} (${pct(e.max_rel)} of its size; ${fmt(e.mean)} ${units} on average)`;
+  const text = missed
+    ? `It misses exact point ${missed.point + 1} of the path by ${fmt(missed.distance)} ${units} (${pct(missed.distance_rel)} of the path's size), and no linkage closer was found; it ${traces}`
+    : `${close ? '✓ ' : ''}Re-simulated independently: ${traces}${exact ? `, passing its exact points within ${fmtUp(exact.distance)} ${units}` : ''}`;
+  return html('p', {
+    class: missed ? 'badge far verified' : close ? 'badge ok verified' : 'badge warn verified',
+    text,
+    title: missed
+      ? 'Every hard constraint holds, but the tracer does not pass a point marked exact. Mark fewer points exact (a four-bar passes at most nine), move it nearer the curve, or pick another type of linkage in Settings.'
+      : `Every hard constraint holds. The distance is measured both ways: from every point of the drawn path to the traced curve, and from every point of the traced curve to the drawn path; a path counts as traced within ${TRACED.maxRel * 100}% of its size.`,
+  });
+}
+
+/**
  * The body size d: the shorter side of the outline's bounding box in its own frame, as the engine has it.
  * @param {Polygon} polygon
  */

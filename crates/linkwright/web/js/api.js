@@ -56,6 +56,16 @@
  * @property {PoseError[][]} [pose_errors]  per pose, per moving body (absent in older files)
  * @property {PoseError} [worst_pose_error]
  * @property {PoseError & {pose: number, body: string}} [far_from_pose]  only when the design is far from a pose
+ * @property {PathError} [path_error]  a path design's: how far its traced curve is from the drawn one
+ *
+ * @typedef {object} PathError
+ * @property {number} max  the largest distance between a point of either curve and the other
+ * @property {number} max_rel  it as a share of the drawn curve's size (its box's diagonal)
+ * @property {number} mean
+ * @property {number} mean_rel
+ * @property {Point} at  the drawn curve's point nearest where they are farthest apart
+ * @property {{point: number, distance: number, distance_rel: number}} [exact]  of the points to pass
+ *   exactly, the one the traced curve passes farthest from
  *
  * @typedef {{position: number, position_rel_d: number, angle_deg: number}} PoseError
  * @typedef {{samples: number, candidates: number, valid: number, seed: number, seconds: {total: number}}} Stats

@@ -204,6 +204,13 @@ export class Canvas {
       if (!path || !Array.isArray(path.points) || path.points.length < 2) return;
       const tag = path.closed ? 'polygon' : 'polyline';
       g.append(svg(tag, { class: 'drawn-path', points: points(path.points.map((p) => this.s(p))), 'data-body': i }));
+      // The points the tracer must pass exactly: rings on the path, numbered as the Object tab lists them.
+      for (const k of path.exact || []) {
+        const p = path.points[k];
+        if (!p) continue;
+        const [x, y] = this.s(p);
+        g.append(svg('circle', { class: 'exact-point', cx: x, cy: y, r: 5, 'data-body': i, 'data-point': k }));
+      }
     });
     const result = this.showingResult();
     // Onion skins first, then every body at the current pose on top.
@@ -421,7 +428,8 @@ export class Canvas {
     this.renderSelection(g);
     // While a design is shown, how far it misses each pose, beside the pose's number.
     const r = this.store.result;
-    const misses = this.showingResult() && r ? poseErrors(r.metrics, r.analysis, scene) : null;
+    // (A path design's one pose is where it starts: its badge gives the path's distance instead.)
+    const misses = this.showingResult() && r && !r.metrics?.path_error ? poseErrors(r.metrics, r.analysis, scene) : null;
     const units = scene.units || 'mm';
     // Pose numbers on every copy of every moving body.
     scene.moving_bodies.forEach((b, i) => {

@@ -98,7 +98,10 @@ export function renderObjectTab(host, store) {
     ? html('ul', { class: 'list' }, regions)
     : html('p', { class: 'empty', text: 'Optional: a linkage region says where the joints should go; avoid regions where links may not go.' }));
 
-  if (sel?.kind === 'moving' && scene.moving_bodies[sel.index]) out.push(...poseTable(store, sel.index));
+  if (sel?.kind === 'moving' && scene.moving_bodies[sel.index]) {
+    out.push(...poseTable(store, sel.index));
+    if (scene.moving_bodies[sel.index].path) out.push(...pathSection(store, sel.index));
+  }
   rebuild(host, out);
 }
 
@@ -147,6 +150,47 @@ function poseTable(store, b) {
     html('h3', { text: `Poses of ${body.name}` }),
     html('table', { class: 'poses' }, [html('thead', {}, [head]), html('tbody', {}, rows)]),
     html('p', { class: 'note', text: 'Pose 1 is where the motion starts; the linkage visits the poses in order. Every moving body has one pose per column of the pose bar. The first and last poses are always hit; tick “Must hit” for a pose in between that matters as much (◆ in the pose bar).' }),
+  ];
+}
+
+/**
+ * The selected body's path: what it is, and the points its tracer must pass exactly, typed as point
+ * numbers (from 1, as the hint names them when one is double-clicked on the canvas).
+ * @param {Store} store
+ * @param {number} b
+ */
+function pathSection(store, b) {
+  const path = /** @type {import('./scene.js').DrawnPath} */ (store.scene.moving_bodies[b].path);
+  const n = path.points.length;
+  const field = html('input', {
+    type: 'text', 'data-key': `exact-${b}`, 'aria-label': 'Exact points', placeholder: 'none',
+    value: (path.exact || []).map((i) => i + 1).join(', '),
+    title: `Numbers of path points, 1 to ${n}, separated by commas`,
+    onchange: (e) => {
+      const input = e.currentTarget;
+      const words = input.value.split(/[\s,;]+/).filter(Boolean);
+      const numbers = words.map(Number);
+      const bad = words.find((w, k) => !Number.isInteger(numbers[k]) || numbers[k] < 1 || numbers[k] > n);
+      if (bad !== undefined) {
+        store.hint(`“${bad}” is not a point of the path: type numbers from 1 to ${n}, separated by commas.`);
+        input.value = (path.exact || []).map((i) => i + 1).join(', ');
+        return;
+      }
+      store.edit('set the exact path points', (s) => {
+        const p = s.moving_bodies[b].path;
+        if (!p) return;
+        const exact = [...new Set(numbers.map((k) => k - 1))].sort((x, y) => x - y);
+        if (exact.length) p.exact = exact;
+        else delete p.exact;
+      });
+    },
+    onkeydown: (e) => { if (e.key === 'Enter') e.currentTarget.blur(); },
+  });
+  return [
+    html('h3', { text: `Path of ${store.scene.moving_bodies[b].name}` }),
+    html('p', { class: 'note', text: `${path.closed ? 'A loop' : 'An open path'} of ${n} points, which the body's tracer follows.` }),
+    html('label', { class: 'field' }, [html('span', { text: 'Exact points' }), field]),
+    html('p', { class: 'note', text: 'The tracer passes these points exactly, and the rest of the path as closely as it can. Double-click the path with the Select tool to mark or free the point there. A four-bar passes at most nine.' }),
   ];
 }
 

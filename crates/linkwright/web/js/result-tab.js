@@ -3,7 +3,7 @@
 // build, its check and pose errors, its metrics, its joints to type or pin, the alternatives to pick,
 // the downloads, the parts to make (fabricate.js) and the analysis of its motion (result-plots.js).
 
-import { fmt, poseErrors, poseTable, reachBadge } from './accuracy.js';
+import { fmt, pathBadge, poseErrors, poseTable, reachBadge } from './accuracy.js';
 import { DEFAULT_BUILD, describe, describeRecord, parseBuild, suggestedScale } from './build.js';
 import { bodyColour } from './canvas.js';
 import { screenField, screenWords } from './fields.js';
@@ -103,12 +103,16 @@ export class ResultTab {
     const mechanism = r.mechanism || d.mechanism;
     host.append(html('h3', { text: r.which === null ? `Best design: ${mechanismName(d.mechanism)}` : `Alternative ${r.which + 1}: ${mechanismName(r.mechanism)}` }));
     host.append(...this.buildLines(d));
-    // The check says whether the linkage is sound; the pose errors say how closely it does the job.
-    const errors = poseErrors(m, r.analysis, r.scene);
+    // The check says whether the linkage is sound; the pose errors (a path's distance, for a path
+    // design, whose one pose is where it starts) say how closely it does the job.
+    const path = m.path_error;
+    const errors = path ? null : poseErrors(m, r.analysis, r.scene);
     if (r.verified && !r.verified.ok) {
       host.append(html('div', { class: 'callout error' }, r.verified.violations.map((v) => html('p', { text: `${v.constraint}: ${v.message}` }))));
     } else if (r.verified) {
-      host.append(errors
+      host.append(path
+        ? pathBadge(path, r.scene)
+        : errors
         ? reachBadge(errors, r.scene)
         : html('p', { class: 'badge verified', text: 'Re-simulated independently: no hard constraint is violated (the poses are not measured yet)' }));
     }

@@ -39,8 +39,8 @@ import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, toWorld, 
  * @property {string} [material]
  * @property {number} [thickness]
  *
- * @typedef {{tracer: Point, points: Point[], closed?: boolean}} DrawnPath  The tracer in the body's frame,
- *   the curve in world coordinates.
+ * @typedef {{tracer: Point, points: Point[], closed?: boolean, exact?: number[]}} DrawnPath  The tracer in
+ *   the body's frame, the curve in world coordinates, and the points of it (indices) the tracer must pass.
  * @typedef {{accuracy: number, smoothness: number, location: number, size: number, transmission: number}} Weights
  * @typedef {object} Settings
  * @property {number} seed
@@ -168,6 +168,33 @@ export function setPath(scene, body, pose, stroke, closed) {
   b.poses = [at];
   delete scene.must_hit_poses;
   return true;
+}
+
+/**
+ * Marks point `point` of body `body`'s path as one the tracer must pass exactly, or unmarks it.
+ * @param {Scene} scene
+ * @param {number} body
+ * @param {number} point
+ * @param {boolean} on
+ */
+export function setExact(scene, body, point, on) {
+  const path = scene.moving_bodies[body]?.path;
+  if (!path || !(point >= 0 && point < path.points.length)) return;
+  const rest = (path.exact || []).filter((i) => i !== point);
+  const exact = on ? [...rest, point].sort((a, b) => a - b) : rest;
+  if (exact.length) path.exact = exact;
+  else delete path.exact;
+}
+
+/**
+ * The path point of body `body` nearest to world point `w` (its index), or -1 without a path.
+ * @param {Scene} scene
+ * @param {number} body
+ * @param {Point} w
+ */
+export function nearestPathPoint(scene, body, w) {
+  const points = scene.moving_bodies[body]?.path?.points || [];
+  return points.reduce((best, p, i) => (best < 0 || dist(p, w) < dist(points[best], w) ? i : best), -1);
 }
 
 /** How far along a path a reshaping drag reaches: this share of the path's length either side. */

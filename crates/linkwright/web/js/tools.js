@@ -253,7 +253,7 @@ export class Tools {
       if (!this.actions.liveResult()) this.actions.leaveResult();
       const w = this.view.toWorld(s);
       const points = reshaped.path.points.map((p) => /** @type {Point} */ ([...p]));
-      const grab = points.reduce((best, p, i) => (dist(p, w) < dist(points[best], w) ? i : best), 0);
+      const grab = S.nearestPathPoint(this.store.scene, Number(path.dataset.body), w);
       this.store.begin('reshape the path');
       this.drag = { type: 'reshape', body: Number(path.dataset.body), start: w, points, pose: [...reshaped.poses[0]], grab };
       this.store.hint('Reshaping the path: the part near where you grabbed it follows the pointer. Undo (Ctrl+Z) puts it back.');
@@ -495,6 +495,18 @@ export class Tools {
       if (this.clicked) this.finishClickedPath(false);
       return;
     }
+    const onPath = ui.tool === 'select' ? this.pathUnder(this.screen(e)) : -1;
+    if (onPath >= 0) {
+      // A double-click on the drawn path marks the point there as one to pass exactly, or unmarks it.
+      const body = onPath;
+      const point = S.nearestPathPoint(this.store.scene, body, this.view.toWorld(this.screen(e)));
+      const on = !this.store.scene.moving_bodies[body].path?.exact?.includes(point);
+      this.store.edit(on ? 'mark a path point exact' : 'unmark an exact path point', (sc) => S.setExact(sc, body, point, on));
+      this.store.hint(on
+        ? `Point ${point + 1} of the path is exact: the linkage's tracer must pass it. Double-click it again to free it.`
+        : `Point ${point + 1} of the path is free again.`);
+      return;
+    }
     const sel = ui.selection;
     if (ui.tool !== 'select' || !sel) return;
     const world = this.canvas.selectionWorld();
@@ -512,6 +524,24 @@ export class Tools {
       this.store.edit('add a corner', (sc) => S.insertVertex(sc, sel, after, w, ui.pose));
       this.store.setUi({ selection: { ...sel, vertex: after + 1 } });
     }
+  }
+
+  /**
+   * The moving body whose drawn path passes within grabbing reach of screen point `s`, or -1. (By
+   * geometry, not the event's target: a double-click's presses capture the pointer for a drag.)
+   * @param {Point} s
+   */
+  pathUnder(s) {
+    return this.store.scene.moving_bodies.findIndex((b) => {
+      const points = b.path?.points || [];
+      const n = points.length;
+      const edges = b.path?.closed ? n : n - 1;
+      for (let i = 0; i < edges; i++) {
+        const a = this.view.toScreen(points[i]), c = this.view.toScreen(points[(i + 1) % n]);
+        if (segmentDistance(s, a, c).d <= GRAB_PX) return true;
+      }
+      return false;
+    });
   }
 
   /** @param {WheelEvent} e */
