@@ -149,6 +149,24 @@ fn a_paths_exact_points_are_passed_and_the_check_re_measures_them() {
     assert!(claimed.violations(&problem).iter().any(|v| v.constraint == "accuracy"));
 }
 
+/// A known crank-rocker's loop with two more poses of its body on the way, where the known linkage
+/// puts it: the design passes both (place and angle, as the file's own pose errors say and the check
+/// re-measures), besides tracing the loop.
+#[test]
+fn a_path_bodys_later_poses_are_passed_at_their_angles() {
+    let mut known = known_path_scene(MechanismType::Chain, true, 60, 0.0, 5, SCALE).expect("a known crank-rocker");
+    let poses = &mut known.scene.moving_bodies[0].poses;
+    poses.extend([known.poses_along[20], known.poses_along[40]]);
+    let (problem, design) = designed(&known);
+    assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
+    let metrics = design.metrics.as_ref().unwrap();
+    assert_eq!(metrics.pose_errors.len(), 3, "one row per pose");
+    let worst = metrics.worst_pose_error.expect("a worst pose error");
+    assert!(worst.position_rel_d <= 0.01 && worst.angle_deg <= 1.0, "every pose reached: {worst:?}");
+    assert!(metrics.path_error.unwrap().max_rel < 0.01, "{:?}", metrics.path_error);
+    assert_eq!(design.motion.as_ref().unwrap().pose_crank_deg.len(), 3);
+}
+
 #[test]
 fn the_same_seed_gives_the_same_path_design() {
     let known = known_path_scene(MechanismType::Chain, false, 30, 0.005, 3, SCALE).expect("a known crank-rocker");
@@ -169,15 +187,7 @@ fn errors_of(edit: impl FnOnce(&mut Scene)) -> Vec<String> {
 #[test]
 fn a_path_scene_is_refused_where_it_cannot_be_traced_and_says_which_field() {
     assert!(errors_of(|_| {}).is_empty(), "the testbed's scene is valid");
-    let path_of = |s: &mut Scene| s.moving_bodies[0].path.as_mut().unwrap().points.clone();
-    assert_eq!(
-        errors_of(|s| {
-            let p = path_of(s)[5];
-            s.moving_bodies[0].poses.push([p.x, p.y, 0.0]);
-        }),
-        ["moving_bodies[0].poses"],
-        "a body that follows a path has one pose"
-    );
+    assert_eq!(errors_of(|s| s.moving_bodies[0].poses.clear()), ["moving_bodies[0].poses"], "where it starts");
     assert_eq!(
         errors_of(|s| s.moving_bodies[0].poses[0][0] += 50.0),
         ["moving_bodies[0].poses[0]"],
@@ -220,6 +230,19 @@ fn a_path_scene_is_refused_where_it_cannot_be_traced_and_says_which_field() {
         body.poses[0] = [start.x, start.y, 0.0];
     });
     assert!(moved.is_empty(), "{moved:?}");
+    // Later poses: each with its tracer on the curve, farther along than the one before.
+    let along = known_path_scene(MechanismType::Chain, false, 20, 0.0, 0, SCALE).unwrap().poses_along;
+    assert!(errors_of(|s| s.moving_bodies[0].poses.extend([along[8], along[14]])).is_empty());
+    assert_eq!(
+        errors_of(|s| s.moving_bodies[0].poses.extend([along[14], along[8]])),
+        ["moving_bodies[0].poses[2]"],
+        "in order along the path"
+    );
+    assert_eq!(
+        errors_of(|s| s.moving_bodies[0].poses.push([along[8][0] + 50.0, along[8][1], along[8][2]])),
+        ["moving_bodies[0].poses[1]"],
+        "on the path"
+    );
     assert_eq!(
         errors_of(|s| s.moving_bodies[0].path.as_mut().unwrap().exact = vec![3, 20]),
         ["moving_bodies[0].path.exact[1]"],

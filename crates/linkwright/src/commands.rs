@@ -286,7 +286,7 @@ fn summary(file: &DesignFile, problem: &Problem, out_dir: &Path) -> String {
                     far.miss.angle_deg
                 ),
                 None => match &x.path_error {
-                    Some(error) => path_reach(problem, error),
+                    Some(error) => path_reach(problem, error, &x.pose_errors),
                     None => pose_reach(problem, &x.pose_errors),
                 },
             },
@@ -362,7 +362,7 @@ pub(crate) fn check(scene: &Path, design: &Path, json: bool) -> Result<(), Failu
                 let at = travel_share(&file, Some(r.trace.thetas[row].to_degrees()));
                 let words = transmission_words(sine.asin().to_degrees(), at, &problem);
                 let reach = match file.metrics.as_ref().and_then(|m| m.path_error) {
-                    Some(error) => path_reach(&problem, &error),
+                    Some(error) => path_reach(&problem, &error, &misses),
                     None => pose_reach(&problem, &misses),
                 };
                 format!("{reach}; {words}")
@@ -511,8 +511,9 @@ const REACHED_DEG: f64 = 1.0;
 /// strays, and where.
 const TRACED_REL: f64 = 0.02;
 
-/// What a person wants to know of a path design: how closely it traces the drawn curve.
-fn path_reach(problem: &Problem, error: &PathError) -> String {
+/// How closely a path design follows the drawn path, its exact points and, when the body has later
+/// poses, those (`misses`).
+fn path_reach(problem: &Problem, error: &PathError, misses: &[Vec<PoseMiss>]) -> String {
     let units = &problem.units;
     let at = if error.max_rel > TRACED_REL {
         format!(", farthest near ({:.1}, {:.1})", error.at.x, error.at.y)
@@ -529,8 +530,9 @@ fn path_reach(problem: &Problem, error: &PathError) -> String {
         (Some(x), None) => format!(", passing its exact points within {:.3} {units}", x.distance),
         (None, None) => String::new(),
     };
+    let poses = if misses.len() > 1 { pose_reach(problem, misses) } else { String::new() };
     format!(
-        ", traces the drawn path within {:.3} {units} ({:.2}% of its size; {:.3} {units} on average){at}{exact}",
+        ", traces the drawn path within {:.3} {units} ({:.2}% of its size; {:.3} {units} on average){at}{exact}{poses}",
         error.max,
         100.0 * error.max_rel,
         error.mean

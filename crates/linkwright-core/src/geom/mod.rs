@@ -10,8 +10,8 @@ mod rigid;
 mod segment;
 mod vector;
 
+pub(crate) use curve::{length as curve_length, path_error, resample, resample_into, size as curve_size, smoothed};
 pub use curve::{nearest, ExactMiss, PathError};
-pub(crate) use curve::{path_error, resample, resample_into, size as curve_size, smoothed};
 pub(crate) use obstacle::Obstacle;
 pub(crate) use polygon::penetrates_unchecked;
 pub use polygon::{outline_distance, Aabb, Polygon, PolygonError};

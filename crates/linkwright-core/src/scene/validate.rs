@@ -6,7 +6,7 @@
 
 use super::file::{FixedBody, MechanismChoice, MechanismType, MovingBody, Scene, Settings, Weights, SCENE_FORMAT};
 use super::units::Units;
-use crate::geom::{curve_size, nearest, Aabb, Point, Polygon, PolygonError, Rigid};
+use crate::geom::{curve_length, curve_size, nearest, Aabb, Point, Polygon, PolygonError, Rigid};
 use crate::issues::IssueList;
 use serde_json::{Map, Value};
 
@@ -449,14 +449,12 @@ fn check_moving_bodies(bodies: &[MovingBody], out: &mut Issues) -> Vec<bool> {
         let field = format!("moving_bodies[{k}].poses");
         let n = body.poses.len();
         if body.path.is_some() {
-            if n != 1 {
+            if n == 0 {
                 out.error(
                     &field,
-                    format!(
-                        "has {n} pose(s), but a body that follows a path has one: where it starts, with the \
-                         path's tracer on the path's first point (its orientation along the path is the \
-                         linkage's); keep the first pose only"
-                    ),
+                    "is empty, but a body that follows a path needs one: where it starts, with the path's \
+                     tracer on the path's first point"
+                        .to_string(),
                 );
             }
         } else if n < 2 {
@@ -630,6 +628,53 @@ fn check_paths(scene: &Scene, moving_ok: &[bool], out: &mut Issues) {
                 ),
             );
         }
+        check_path_poses(k, body, size, start, out);
+    }
+}
+
+/// A path body's later poses, which it must also pass on its way: each puts the tracer on the curve,
+/// farther along it than the pose before (a closed curve is measured from where the body starts).
+fn check_path_poses(k: usize, body: &MovingBody, size: f64, start: Point, out: &mut Issues) {
+    let Some(path) = &body.path else { return };
+    // How far along the curve (as drawn, from its first point) the point of it nearest `p` is.
+    let along = |p: Point| {
+        let (gap, on, edge) = nearest(p, &path.points, path.closed);
+        let before: f64 = path.points.windows(2).take(edge).map(|w| w[0].distance(w[1])).sum();
+        (gap, before + path.points[edge].distance(on))
+    };
+    let length = curve_length(&path.points, path.closed);
+    let (_, origin) = along(start);
+    let mut last = 0.0;
+    for (i, pose) in body.poses.iter().enumerate().skip(1) {
+        if !pose_is_usable(pose) {
+            continue;
+        }
+        let tracer = Rigid::from_pose(*pose).apply(path.tracer);
+        let (gap, at) = along(tracer);
+        let field = format!("moving_bodies[{k}].poses[{i}]");
+        if gap > PATH_START_TOLERANCE * size {
+            out.error(
+                field,
+                format!(
+                    "puts the tracer at ({:.3}, {:.3}), {gap:.3} from the path: a later pose of a body that \
+                     follows a path has its tracer on the path, where the body should pass at that angle",
+                    tracer.x, tracer.y
+                ),
+            );
+            continue;
+        }
+        let at = if path.closed { (at - origin).rem_euclid(length) } else { at };
+        if at <= last {
+            out.error(
+                field,
+                format!(
+                    "puts the tracer {} along the path than the pose before it: the body passes its poses in \
+                     order along the path, so move it farther along or reorder the poses",
+                    if at < last { "less far" } else { "no farther" },
+                ),
+            );
+        }
+        last = last.max(at);
     }
 }
 

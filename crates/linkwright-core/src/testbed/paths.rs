@@ -31,6 +31,9 @@ pub struct KnownPath {
     pub mechanism: Mechanism,
     /// The size of the traced curve (its bounding box's diagonal), scene units.
     pub curve_size: f64,
+    /// The body's pose (`[x, y, angle°]`, scene units) where the known linkage puts it at each point
+    /// of the curve before the noise: poses a body following the curve can be asked to pass.
+    pub poses_along: Vec<[f64; 3]>,
 }
 
 /// The path scene of seed `seed`: `points` points of the curve a known linkage of `family` traces
@@ -71,15 +74,16 @@ pub fn known_path_scene(
         let first = Rigid::new(0.0, tracer - Point::ORIGIN);
         let frames = BodyFrames::new(&mechanism, &[first]);
         let samples = if closed { points } else { points - 1 };
-        let mut curve: Vec<Point> = (0..points)
+        let along: Vec<Rigid> = (0..points)
             .map(|k| {
                 let theta = start + (end - start) * k as f64 / samples as f64;
                 let mut row = vec![Point::ORIGIN; plan.joint_count()];
                 // The sweep passed, so every angle of the travel assembles.
                 let _ = plan.solve(theta, &mut row);
-                frames.pose(0, &row).apply(Point::ORIGIN)
+                frames.pose(0, &row)
             })
             .collect();
+        let mut curve: Vec<Point> = along.iter().map(|pose| pose.apply(Point::ORIGIN)).collect();
         let size = curve_size(&curve);
         for p in &mut curve {
             let (dx, dy): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
@@ -95,7 +99,14 @@ pub fn known_path_scene(
         let curve: Vec<Point> = curve.iter().map(|&p| at(p)).collect();
         let scene = path_scene(name, &curve, closed, (lowest - 0.5) * scale, 0.04 * scale);
         let mechanism = Mechanism { joints: mechanism.joints.iter().map(|&p| at(p)).collect(), ..mechanism };
-        return Some(KnownPath { scene, mechanism, curve_size: size * scale });
+        let poses_along = along
+            .iter()
+            .map(|pose| {
+                let [x, y, angle] = pose.to_pose();
+                [x * scale, y * scale, angle]
+            })
+            .collect();
+        return Some(KnownPath { scene, mechanism, curve_size: size * scale, poses_along });
     }
     None
 }

@@ -3,8 +3,8 @@
 //! design, its accuracy the distance between the curves.
 
 use super::four_bar::FourBar;
-use super::linkage::{PathLinkage, Similarity};
-use super::search::{fit, reversals, PathFit, PathGoal};
+use super::linkage::{PathLinkage, Similarity, TracerAt};
+use super::search::{fit, reversals, PathFit, PathGoal, PathPose};
 use super::six_bars::{StephensonThree, WattTwo};
 use super::slider_crank::SliderCrank;
 use crate::geom::{nearest, Point};
@@ -70,8 +70,19 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
     let turns_back = reversals(&drawn, path.closed);
     // The body's drawn place is where the design's tracer starts, so the whole linkage moves by how
     // far its curve passes from there: with exact points, that place is held like them.
+    // With later poses, every pose is held (the first where the body starts, with no turn); with
+    // exact points only, that place is held like them.
+    let body = &problem.bodies[0];
+    let poses: Vec<PathPose> = match body.poses.len() {
+        1 => Vec::new(),
+        _ => body
+            .poses
+            .iter()
+            .map(|pose| PathPose { tracer: pose.apply(path.tracer), turn: pose.angle() - body.poses[0].angle() })
+            .collect(),
+    };
     let mut exact: Vec<Point> = path.exact.iter().map(|&i| path.points[i]).collect();
-    if !exact.is_empty() {
+    if !exact.is_empty() && poses.is_empty() {
         exact.push(start);
     }
     let goal = PathGoal {
@@ -80,6 +91,8 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
         min_transmission_sine: problem.settings.min_transmission_deg.to_radians().sin(),
         reversals: &turns_back,
         exact: &exact,
+        poses: &poses,
+        body_size: body.size,
     };
     let (families, samples) = match problem.mechanism {
         MechanismChoice::Auto => (path_families(!turns_back.is_empty()).to_vec(), samples / AUTO_SAMPLE_SHARE),
@@ -94,7 +107,7 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
             MechanismType::SliderCrank => judge_family::<SliderCrank>,
             MechanismType::WattTwo => judge_family::<WattTwo>,
         };
-        judgements.extend(judge(problem, &goal, samples, start));
+        judgements.extend(judge(problem, &goal, samples, (start, &poses)));
     }
     out.fitted = judgements.len();
     let mut valid: Vec<Candidate> = Vec::new();
@@ -158,18 +171,7 @@ fn nearest_angle<L: PathLinkage>(linkage: &L, point: Point, theta: f64) -> f64 {
     else {
         return theta;
     };
-    let (mut lo, mut hi) = (best - step, best + step);
-    // Golden sections: the distance is smooth near its least.
-    const GOLDEN: f64 = 0.618_033_988_749_894_9;
-    while hi - lo > 1e-3 * step {
-        let (a, b) = (hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo));
-        if distance(a) <= distance(b) {
-            hi = b;
-        } else {
-            lo = a;
-        }
-    }
-    let mid = 0.5 * (lo + hi);
+    let mid = golden(&distance, best - step, best + step);
     if distance(mid) <= distance(theta) {
         mid
     } else {
@@ -177,26 +179,42 @@ fn nearest_angle<L: PathLinkage>(linkage: &L, point: Point, theta: f64) -> f64 {
     }
 }
 
+/// Where `distance` is least between crank angles `a` and `b` (either order), to a thousandth of a
+/// degree, by golden sections: near its least a tracer's distance from a point is smooth.
+fn golden(distance: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    const GOLDEN: f64 = 0.618_033_988_749_894_9;
+    let (mut lo, mut hi) = (a.min(b), a.max(b));
+    while hi - lo > 1e-3 * 1f64.to_radians() {
+        let (a, b) = (hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo));
+        if distance(a) <= distance(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Members of family `L` fitted to `goal` and judged as designs, closest fit first.
 fn judge_family<L: PathLinkage>(
     problem: &Problem,
     goal: &PathGoal,
     samples: usize,
-    start: Point,
+    places: (Point, &[PathPose]),
 ) -> Vec<Result<Candidate, Violation>> {
     let ctx = Context::new(problem, L::FAMILY);
     let fits = fit::<L>(goal, problem.settings.seed, samples, REFINED);
     // Judged in parallel, kept in the fits' order: the same designs whatever the thread count.
-    fits.par_iter().map(|fit| judged(problem, &ctx, fit, start)).collect()
+    fits.par_iter().map(|fit| judged(problem, &ctx, fit, places)).collect()
 }
 
-/// `fit` placed with its tracer exactly at `start` at the start of its travel, as a design of the
-/// scene, or the first hard constraint it breaks.
+/// `fit` placed with its tracer exactly at `start` at the start of its travel, passing `poses` where
+/// its tracer comes nearest theirs, as a design of the scene, or the first hard constraint it breaks.
 fn judged<L: PathLinkage>(
     problem: &Problem,
     ctx: &Context,
     fit: &PathFit<L>,
-    start: Point,
+    (start, poses): (Point, &[PathPose]),
 ) -> Result<Candidate, Violation> {
     let apart =
         || Violation { constraint: "assembly", message: "the linkage does not close where the path starts".into() };
@@ -214,9 +232,18 @@ fn judged<L: PathLinkage>(
     let theta_start = mechanism.crank_start();
     let theta_start = if theta_start <= -PI { theta_start + TAU } else { theta_start };
     let theta_end = theta_start + (fit.theta_end - fit.theta_start);
+    // Each later pose where the tracer passes nearest its place, along the travel (crank angles of
+    // the placed linkage, which turned as the design's frame did: the same offset for all).
+    let offset = theta_start - fit_start;
+    let mut thetas = vec![theta_start];
+    for pose in poses.iter().skip(1) {
+        let placed_at = |t: f64| placed.tracer_at(t - offset);
+        thetas.push(nearest_along(&placed_at, pose.tracer, (theta_start, theta_end)));
+    }
     let (start_deg, end_deg) = (theta_start.to_degrees(), theta_end.to_degrees());
+    let pose_degs: Vec<f64> = thetas.iter().map(|t| t.to_degrees()).collect();
     let (violations, accuracy) =
-        verify_travel(problem, &mechanism, Travel { start: start_deg, end: end_deg, poses: &[start_deg] });
+        verify_travel(problem, &mechanism, Travel { start: start_deg, end: end_deg, poses: &pose_degs });
     if let Some(v) = violations.into_iter().next() {
         return Err(v);
     }
@@ -225,9 +252,7 @@ fn judged<L: PathLinkage>(
         return Err(Violation { constraint: "assembly", message: "the travel comes apart".into() });
     };
     let plan = Plan::compile(&mechanism).map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
-    let mut trace = Trace::new(plan.joint_count());
-    trace
-        .sweep(&plan, theta_start, theta_end, 1f64.to_radians())
+    let (trace, pose_rows) = trace_through(&plan, (theta_start, theta_end), &thetas)
         .map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
     let mut soft = exact_terms(ctx, &mechanism);
     // The accuracy the check recomputes: the one pose's miss (where the body starts, met exactly)
@@ -243,5 +268,43 @@ fn judged<L: PathLinkage>(
     let mut weights = CostWeights::new(&problem.weights, path_size);
     weights[Term::Accuracy] *= PATH_ACCURACY_EMPHASIS;
     let cost = weights.cost(&soft);
-    Ok(Candidate { mechanism, plan, trace, pose_rows: vec![0], soft, cost, printable: false, path: Some(error) })
+    Ok(Candidate { mechanism, plan, trace, pose_rows, soft, cost, printable: false, path: Some(error) })
+}
+
+/// The travel from `start` to `end` at 1° steps with a row at each of the poses' angles `thetas`
+/// (in order along it, the first `start`), and those rows.
+fn trace_through(
+    plan: &Plan,
+    (start, end): (f64, f64),
+    thetas: &[f64],
+) -> Result<(Trace, Vec<usize>), crate::kinematics::SweepError> {
+    let step = 1f64.to_radians();
+    let dir = (end - start).signum();
+    let steps = ((end - start).abs() / step).ceil().max(1.0) as usize;
+    let mut trace = Trace::new(plan.joint_count());
+    let mut rows = Vec::with_capacity(thetas.len());
+    let mut next = 0;
+    for k in 0..=steps {
+        let theta = start + (end - start) * k as f64 / steps as f64;
+        // The poses the grid passes (or meets) here, each a row of its own.
+        while next < thetas.len() && dir * (thetas[next] - theta) <= 0.0 {
+            rows.push(trace.len());
+            trace.push(plan, thetas[next])?;
+            next += 1;
+        }
+        if rows.last().is_none_or(|&r| trace.thetas[r] != theta) {
+            trace.push(plan, theta)?;
+        }
+    }
+    Ok((trace, rows))
+}
+
+/// The crank angle within `range` (from its start towards its end) where the tracer `at` passes
+/// nearest `point`: the nearest of whole degrees, then to a thousandth of a degree between them.
+fn nearest_along(at: &dyn Fn(f64) -> Option<TracerAt>, point: Point, (start, end): (f64, f64)) -> f64 {
+    let distance = |t: f64| at(t).map_or(f64::INFINITY, |c| c.point.distance(point));
+    let steps = ((end - start).abs().to_degrees().ceil() as usize).max(1);
+    let angle = |k: usize| start + (end - start) * k as f64 / steps as f64;
+    let best = (0..=steps).min_by(|&a, &b| distance(angle(a)).total_cmp(&distance(angle(b)))).unwrap_or(0);
+    golden(&distance, angle(best.saturating_sub(1)), angle((best + 1).min(steps)))
 }

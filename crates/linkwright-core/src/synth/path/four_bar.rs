@@ -47,7 +47,11 @@ impl PathLinkage for FourBar {
     const STREAM: u64 = 0x7061_7468;
 
     fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
-        self.at(theta).map(|c| TracerAt { point: c.tracer, transmission_sine: c.transmission_sine })
+        self.at(theta).map(|c| TracerAt {
+            point: c.tracer,
+            heading: c.rocker_tip - c.crank_tip,
+            transmission_sine: c.transmission_sine,
+        })
     }
 
     /// Ground pivots (0, 0) and (1, 0), a crank shorter than every other link and a Grashof loop,

@@ -13,6 +13,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct TracerAt {
     pub point: Point,
+    /// The direction of the body's own x axis (not of unit length): how far the body has turned.
+    pub heading: Vec2,
     /// The least sine of a transmission angle over the linkage's dyads, in [0, 1], measured as
     /// [`Plan::min_transmission_sine`](crate::kinematics::Plan::min_transmission_sine) does.
     pub transmission_sine: f64,

@@ -14,7 +14,7 @@ use crate::geom::{curve_size as size, nearest, resample, resample_into, smoothed
 use crate::synth::random::{rng, Stream};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 /// Crank steps of a coupler curve in the atlas (5°).
 const ATLAS_STEPS: usize = 72;
@@ -57,6 +57,18 @@ pub(crate) struct PathGoal<'a> {
     pub reversals: &'a [Point],
     /// The points of the curve the tracer must pass exactly.
     pub exact: &'a [Point],
+    /// Where the body starts and the poses it must pass on its way (none, or at least two).
+    pub poses: &'a [PathPose],
+    /// The body's size d, which a pose's miss is a fraction of.
+    pub body_size: f64,
+}
+
+/// A pose a body that follows a path must also pass: where its tracer is then (on the curve), and
+/// how far the body has turned since it started (radians).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PathPose {
+    pub tracer: Point,
+    pub turn: f64,
 }
 
 /// A linkage fitted to a drawn curve, with the crank's travel: from `theta_start` to `theta_end`
@@ -73,11 +85,23 @@ pub(crate) struct PathFit<L> {
 
 /// The tracer's curve of `m` from crank angle `start` to `end`, at `steps` + 1 angles; `None` where
 /// the loop does not close, or transmits worse than `min_sine`.
+#[cfg(test)]
 fn traced<L: PathLinkage>(m: &L, start: f64, end: f64, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
+    Some(traced_turning(m, start, end, steps, min_sine)?.0)
+}
+
+/// [`traced`], with the body's heading at each angle.
+fn traced_turning<L: PathLinkage>(
+    m: &L,
+    start: f64,
+    end: f64,
+    steps: usize,
+    min_sine: f64,
+) -> Option<(Vec<Point>, Vec<Vec2>)> {
     (0..=steps)
         .map(|k| {
             let c = m.tracer_at(start + (end - start) * k as f64 / steps as f64)?;
-            (c.transmission_sine >= min_sine).then_some(c.point)
+            (c.transmission_sine >= min_sine).then_some((c.point, c.heading))
         })
         .collect()
 }
@@ -272,8 +296,9 @@ fn placed<L: PathLinkage>(m: &L, matched: &Match, target: &Target) -> PathFit<L>
 /// traced curve and of each traced point from the drawn one, as fractions of the drawn curve's size;
 /// the distance of each reversal from the traced curve, and for an open curve the tracer's miss at
 /// either end, count thrice (the tracer must reach the tip of a stroke, and run from the first point
-/// to the last), and that of each exact point [`EXACT_EMPHASIS`] times. `None` where the loop does
-/// not close along the travel or transmits worse than allowed.
+/// to the last), and that of each exact point `exact_emphasis` times, as much as the tracer's miss of
+/// each pose the body must pass, as a fraction of the body's size d, and the body's turn there
+/// (radians). `None` where the loop does not close along the travel or transmits worse than allowed.
 fn residuals<L: PathLinkage>(
     x: &[f64],
     template: &L,
@@ -286,7 +311,7 @@ fn residuals<L: PathLinkage>(
     let (start, end) = travel(&x[n..], closed);
     let steps =
         if closed { REFINE_STEPS } else { ((REFINE_STEPS as f64 * (end - start).abs() / TAU).ceil() as usize).max(8) };
-    let curve = traced(&m, start, end, steps, min_sine)?;
+    let (curve, headings) = traced_turning(&m, start, end, steps, min_sine)?;
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
     let emphasis = 3.0;
     let weighed = drawn.points.iter().map(|p| (p, 1.0));
@@ -306,6 +331,22 @@ fn residuals<L: PathLinkage>(
             out.extend([emphasis * (q.x - p.x) / drawn.size, emphasis * (q.y - p.y) / drawn.size]);
         }
     }
+    // The poses, where the tracer passes nearest each, the first (where the body starts) the
+    // reference of the turns.
+    let mut first: Option<Vec2> = None;
+    for pose in drawn.poses {
+        let (_, q, edge) = nearest(pose.tracer, &curve, closed);
+        let next = (edge + 1) % curve.len();
+        let span = curve[edge].distance(curve[next]);
+        let t = if span > 0.0 { q.distance(curve[edge]) / span } else { 0.0 };
+        let heading = headings[edge] * (1.0 - t) + headings[next] * t;
+        let from = *first.get_or_insert(heading);
+        let miss = (from.cross(heading).atan2(from.dot(heading)) - pose.turn + PI).rem_euclid(TAU) - PI;
+        // Relative to the body, as a pose's miss is judged: a hundredth of d weighs as much as 0.6°.
+        let p = pose.tracer;
+        out.extend([exact_emphasis * (q.x - p.x) / drawn.body_size, exact_emphasis * (q.y - p.y) / drawn.body_size]);
+        out.push(exact_emphasis * miss);
+    }
     Some(out)
 }
 
@@ -316,8 +357,10 @@ struct Drawn<'a> {
     points: Vec<Point>,
     /// The drawn curve's reversals ([`reversals`]), whose distances count thrice.
     reversals: &'a [Point],
-    /// The points the tracer must pass exactly.
+    /// The points the tracer must pass exactly, and the poses the body must pass.
     exact: &'a [Point],
+    poses: &'a [PathPose],
+    body_size: f64,
     curve: &'a [Point],
     size: f64,
 }
@@ -445,6 +488,8 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
         points: resample(goal.drawn, goal.closed, REFINE_POINTS),
         reversals: goal.reversals,
         exact: goal.exact,
+        poses: goal.poses,
+        body_size: goal.body_size,
         curve: goal.drawn,
         size: size(goal.drawn),
     };
@@ -452,7 +497,7 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
         .into_par_iter()
         .map(|(_, i, fit)| {
             let mut fit = refine(fit, goal, &drawn, EXACT_EMPHASES[0]);
-            if !goal.exact.is_empty() {
+            if !goal.exact.is_empty() || !goal.poses.is_empty() {
                 for &emphasis in &EXACT_EMPHASES[1..] {
                     fit = refine(fit, goal, &drawn, emphasis);
                 }
@@ -495,6 +540,8 @@ mod tests {
             min_transmission_sine: 10f64.to_radians().sin(),
             reversals: &reversals(&drawn, closed),
             exact: &[],
+            poses: &[],
+            body_size: 0.0,
         };
         let t = std::time::Instant::now();
         let fits = fit::<FourBar>(&goal, 0, 20_000, 16);

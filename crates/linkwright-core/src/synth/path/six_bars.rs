@@ -95,7 +95,11 @@ impl PathLinkage for StephensonThree {
 
     fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
         let j = self.joints_at(theta)?;
-        Some(TracerAt { point: on_body(j.p1, j.q1, self.body, self.u, self.v), transmission_sine: j.transmission_sine })
+        Some(TracerAt {
+            point: on_body(j.p1, j.q1, self.body, self.u, self.v),
+            heading: j.q1 - j.p1,
+            transmission_sine: j.transmission_sine,
+        })
     }
 
     /// The atlas's four-bar, then a ground pivot near it and a body and link whose lengths reach
@@ -218,6 +222,7 @@ impl PathLinkage for WattTwo {
         let j = self.joints_at(theta)?;
         Some(TracerAt {
             point: on_body(j.p1, j.q1, self.coupler, self.u, self.v),
+            heading: j.q1 - j.p1,
             transmission_sine: j.transmission_sine,
         })
     }

@@ -44,7 +44,7 @@ impl PathLinkage for SliderCrank {
 
     fn tracer_at(&self, theta: f64) -> Option<TracerAt> {
         let (p1, q1, transmission_sine) = self.joints_at(theta)?;
-        Some(TracerAt { point: on_body(p1, q1, self.coupler, self.u, self.v), transmission_sine })
+        Some(TracerAt { point: on_body(p1, q1, self.coupler, self.u, self.v), heading: q1 - p1, transmission_sine })
     }
 
     /// A crank of 1 about the origin, a line `offset` from it along x, and a coupler longer than
