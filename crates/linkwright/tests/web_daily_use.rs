@@ -311,6 +311,30 @@ async fn path_exact_points(page: &Page) -> Result<()> {
     type_into(page, field, "1, 21 40").await?;
     assert_eq!(eval(page, exact).await?, "[0,20,39]");
 
+    // A later pose the foot must pass: inserted with its tracer on the path, turned in the Object tab
+    // about its tracer, nudged along the path (never off it).
+    click(page, "#btn-pose-insert").await?;
+    let off_path =
+        "(() => { const b = window.linkwright.store.scene.moving_bodies[0], t = b.path.tracer, pts = b.path.points; \
+        const [x, y, a] = b.poses[1], r = a * Math.PI / 180; \
+        const w = [x + Math.cos(r) * t[0] - Math.sin(r) * t[1], y + Math.sin(r) * t[0] + Math.cos(r) * t[1]]; \
+        const seg = (p, q) => { const dx = q[0] - p[0], dy = q[1] - p[1], l = dx * dx + dy * dy; \
+          const u = l > 0 ? Math.max(0, Math.min(1, ((w[0] - p[0]) * dx + (w[1] - p[1]) * dy) / l)) : 0; \
+          return Math.hypot(w[0] - p[0] - u * dx, w[1] - p[1] - u * dy); }; \
+        return Math.min(...pts.map((p, i) => seg(p, pts[(i + 1) % pts.length]))); })()";
+    let on = |v: Value| v.as_f64().is_some_and(|d| d < 0.01);
+    assert!(on(eval(page, off_path).await?), "the inserted pose's tracer is on the path");
+    type_into(page, "[data-key=pose-0-1-a]", "15").await?;
+    let second = eval(page, "window.linkwright.store.scene.moving_bodies[0].poses[1]").await?;
+    assert_eq!(second[2], serde_json::json!(15), "{second}");
+    assert!(on(eval(page, off_path).await?), "turned about its tracer, which stays on the path");
+    eval(page, "document.activeElement.blur()").await?;
+    key(page, "ArrowRight", "ArrowRight", 39, 0).await?;
+    settle(page).await?;
+    let nudged = eval(page, "window.linkwright.store.scene.moving_bodies[0].poses[1]").await?;
+    assert_ne!(nudged, second, "the arrow moved the pose");
+    assert!(on(eval(page, off_path).await?), "nudged along the path, not off it: {nudged}");
+
     design_quickly(page).await?;
     click(page, "[data-tab=result]").await?;
     let badge = eval(page, "document.querySelector('#tab-result .badge.verified')?.textContent ?? ''").await?;
@@ -318,6 +342,10 @@ async fn path_exact_points(page: &Page) -> Result<()> {
     let written = eval(page, "window.linkwright.store.result.design.metrics.path_error.exact").await?;
     let rel = written["distance_rel"].as_f64().ok_or(format!("no exact miss written: {written}"))?;
     assert!(rel <= linkwright_core::EXACT_POINT_TOLERANCE, "the three points are passed: {written}");
+    let worst = eval(page, "window.linkwright.store.result.design.metrics.worst_pose_error").await?;
+    assert!(worst["position_rel_d"].as_f64().is_some_and(|r| r <= 0.01), "both poses are reached: {worst}");
+    let rows = "document.querySelectorAll('#tab-result table.pose-errors tbody tr').length";
+    assert_eq!(eval(page, rows).await?, serde_json::json!(2), "the poses' table lists both");
     assert!(
         badge.contains("traces the drawn path within") && badge.contains("passing its exact points within"),
         "{badge}"

@@ -429,7 +429,8 @@ export class Canvas {
     // While a design is shown, how far it misses each pose, beside the pose's number.
     const r = this.store.result;
     // (A path design's one pose is where it starts: its badge gives the path's distance instead.)
-    const misses = this.showingResult() && r && !r.metrics?.path_error ? poseErrors(r.metrics, r.analysis, scene) : null;
+    const shown = this.showingResult() && r && (!r.metrics?.path_error || (scene.moving_bodies[0]?.poses.length ?? 0) > 1);
+    const misses = shown ? poseErrors(r.metrics, r.analysis, scene) : null;
     const units = scene.units || 'mm';
     // Pose numbers on every copy of every moving body.
     scene.moving_bodies.forEach((b, i) => {

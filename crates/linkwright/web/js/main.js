@@ -209,12 +209,15 @@ function renderPoseBar() {
     b.className = i === store.ui.pose ? 'on' : '';
     b.setAttribute('aria-pressed', String(i === store.ui.pose));
   });
-  element('btn-pose-delete', HTMLButtonElement).disabled = n <= 2;
+  // A body that follows a path needs only where it starts; other motions a start and an end.
+  element('btn-pose-delete', HTMLButtonElement).disabled = n <= (store.scene.moving_bodies.some((b) => b.path) ? 1 : 2);
   const most = store.limits?.poses_per_body;
   const insert = element('btn-pose-insert', HTMLButtonElement);
   insert.disabled = typeof most === 'number' && Number.isFinite(most) && n >= most;
   insert.title = insert.disabled
     ? `A body has at most ${most} poses: delete one to insert another`
+    : store.scene.moving_bodies.some((b) => b.path)
+    ? 'Insert a pose the body must also pass, after the current one along its path'
     : 'Insert a pose after the current one, halfway to the next';
   element('btn-pose-earlier', HTMLButtonElement).disabled = store.ui.pose === 0;
   element('btn-pose-later', HTMLButtonElement).disabled = store.ui.pose >= n - 1;

@@ -8,7 +8,7 @@ import { DEFAULT_BUILD, describe, describeRecord, parseBuild, suggestedScale } f
 import { bodyColour } from './canvas.js';
 import { screenField, screenWords } from './fields.js';
 import { bounds, placed } from './geom.js';
-import { ENGINE_SETTINGS, toFile } from './scene.js';
+import { ENGINE_SETTINGS, poseCount, toFile } from './scene.js';
 import { clear, html, points, svg } from './svg.js';
 
 /**
@@ -104,9 +104,10 @@ export class ResultTab {
     host.append(html('h3', { text: r.which === null ? `Best design: ${mechanismName(d.mechanism)}` : `Alternative ${r.which + 1}: ${mechanismName(r.mechanism)}` }));
     host.append(...this.buildLines(d));
     // The check says whether the linkage is sound; the pose errors (a path's distance, for a path
-    // design, whose one pose is where it starts) say how closely it does the job.
+    // design, and its poses' errors when it has more than where it starts) say how closely it does
+    // the job.
     const path = m.path_error;
-    const errors = path ? null : poseErrors(m, r.analysis, r.scene);
+    const errors = path && poseCount(r.scene) < 2 ? null : poseErrors(m, r.analysis, r.scene);
     if (r.verified && !r.verified.ok) {
       host.append(html('div', { class: 'callout error' }, r.verified.violations.map((v) => html('p', { text: `${v.constraint}: ${v.message}` }))));
     } else if (r.verified) {

@@ -2,7 +2,7 @@
 // The scene/1 document the person edits, and the edits themselves. Every function here either reads
 // a scene or changes the scene object it is given (the store snapshots it first, for undo).
 
-import { add, bounds, centroid, dist, lerp, placed, sub, tidy, toBody, toWorld, wrapDeg } from './geom.js';
+import { add, bounds, centroid, dist, lerp, placed, segmentDistance, sub, tidy, toBody, toWorld, wrapDeg } from './geom.js';
 
 /**
  * @typedef {import('./geom.js').Point} Point
@@ -193,8 +193,35 @@ export function setExact(scene, body, point, on) {
  * @param {Point} w
  */
 export function nearestPathPoint(scene, body, w) {
-  const points = scene.moving_bodies[body]?.path?.points || [];
+  return nearestIndex(scene.moving_bodies[body]?.path?.points || [], w);
+}
+
+/**
+ * The index of the point of `points` nearest `w` (-1 for none).
+ * @param {Point[]} points
+ * @param {Point} w
+ */
+function nearestIndex(points, w) {
   return points.reduce((best, p, i) => (best < 0 || dist(p, w) < dist(points[best], w) ? i : best), -1);
+}
+
+/**
+ * The point of `path`'s curve nearest world point `w`.
+ * @param {DrawnPath} path
+ * @param {Point} w
+ * @returns {Point}
+ */
+function onPath(path, w) {
+  const pts = path.points;
+  const edges = path.closed ? pts.length : pts.length - 1;
+  /** @type {{d: number, at: Point}} */
+  let best = { d: Infinity, at: pts[0] };
+  for (let i = 0; i < edges; i++) {
+    const a = pts[i], c = pts[(i + 1) % pts.length];
+    const { d, t } = segmentDistance(w, a, c);
+    if (d < best.d) best = { d, at: lerp(a, c, t) };
+  }
+  return best.at;
 }
 
 /** How far along a path a reshaping drag reaches: this share of the path's length either side. */
@@ -202,16 +229,17 @@ const RESHAPE_REACH = 0.12;
 
 /**
  * Bends body `body`'s path: from `points` (as it was), each point moved by `delta` times a bell of
- * its distance along the path from point `grab`. The body, at `pose` (as it was), moves as much as
- * the path's first point, so its tracer stays on the path's start.
+ * its distance along the path from point `grab`. The body at each of its `poses` (as they were)
+ * moves as much as the path's point nearest its tracer (the first pose: the path's first point), so
+ * its tracer stays on the path.
  * @param {Scene} scene
  * @param {number} body
  * @param {Point[]} points
- * @param {Pose} pose
+ * @param {Pose[]} poses
  * @param {number} grab
  * @param {Point} delta
  */
-export function reshapePath(scene, body, points, pose, grab, delta) {
+export function reshapePath(scene, body, points, poses, grab, delta) {
   const b = scene.moving_bodies[body];
   if (!b?.path || points.length !== b.path.points.length) return;
   const closed = b.path.closed;
@@ -230,8 +258,12 @@ export function reshapePath(scene, body, points, pose, grab, delta) {
     const w = weight(i);
     return [tidy(p[0] + w * delta[0], 3), tidy(p[1] + w * delta[1], 3)];
   });
-  const w0 = weight(0);
-  b.poses[0] = [tidy(pose[0] + w0 * delta[0], 3), tidy(pose[1] + w0 * delta[1], 3), pose[2]];
+  const tracer = b.path.tracer;
+  b.poses = poses.map((pose, k) => {
+    const near = k === 0 ? 0 : nearestIndex(points, toWorld(pose, tracer));
+    const w = weight(near);
+    return [tidy(pose[0] + w * delta[0], 3), tidy(pose[1] + w * delta[1], 3), pose[2]];
+  });
 }
 
 /**
@@ -429,9 +461,24 @@ export function translate(scene, sel, delta, pose) {
   if (sel.kind === 'moving') {
     const b = scene.moving_bodies[sel.index];
     const p = b.poses[pose];
+    if (b.path && pose > 0) {
+      // A later pose of a body that follows a path slides along it: its tracer stays on the path.
+      const tracer = toWorld(p, b.path.tracer);
+      const shift = sub(onPath(b.path, add(tracer, delta)), tracer);
+      p[0] = tidy(p[0] + shift[0], 3);
+      p[1] = tidy(p[1] + shift[1], 3);
+      return;
+    }
     p[0] = tidy(p[0] + delta[0]);
     p[1] = tidy(p[1] + delta[1]);
-    if (b.path) b.path.points = b.path.points.map(([x, y]) => [tidy(x + delta[0], 3), tidy(y + delta[1], 3)]);
+    if (b.path) {
+      // Where the body starts carries its path, and the later poses on it.
+      b.path.points = b.path.points.map(([x, y]) => [tidy(x + delta[0], 3), tidy(y + delta[1], 3)]);
+      for (const later of b.poses.slice(1)) {
+        later[0] = tidy(later[0] + delta[0], 3);
+        later[1] = tidy(later[1] + delta[1], 3);
+      }
+    }
     return;
   }
   const poly = storedPolygon(scene, sel);
@@ -532,7 +579,8 @@ export function insertPose(scene, after) {
     const next = b.poses[after + 1];
     /** @type {Pose} */
     let pose;
-    if (next) pose = between(cur, next);
+    if (b.path) pose = alongPath(b.path, cur, next);
+    else if (next) pose = between(cur, next);
     else {
       const prev = b.poses[after - 1];
       /** @type {Point} */
@@ -549,12 +597,32 @@ export function insertPose(scene, after) {
 }
 
 /**
- * Deletes pose `i` of every body; false when that would leave fewer than two.
+ * A pose of a body that follows `path`, after `cur` and before `next` (if any) along it: its tracer on
+ * the path's point halfway between theirs (after the last: halfway to the path's end, or a quarter of
+ * a loop on), turned as `cur` is.
+ * @param {DrawnPath} path
+ * @param {Pose} cur
+ * @param {Pose | undefined} next
+ * @returns {Pose}
+ */
+function alongPath(path, cur, next) {
+  const n = path.points.length;
+  const from = nearestIndex(path.points, toWorld(cur, path.tracer));
+  let to = next ? nearestIndex(path.points, toWorld(next, path.tracer)) : path.closed ? from + n / 2 : n - 1;
+  if (path.closed && to <= from) to += n;
+  const at = path.points[Math.round((from + to) / 2) % n];
+  const shift = sub(at, toWorld(cur, path.tracer));
+  return [tidy(cur[0] + shift[0], 3), tidy(cur[1] + shift[1], 3), cur[2]];
+}
+
+/**
+ * Deletes pose `i` of every body; false when that would leave fewer than two (one, for a body that
+ * follows a path: where it starts).
  * @param {Scene} scene
  * @param {number} i
  */
 export function deletePose(scene, i) {
-  if (poseCount(scene) <= 2) return false;
+  if (poseCount(scene) <= (scene.moving_bodies.some((b) => b.path) ? 1 : 2)) return false;
   renumberMustHit(scene, (k) => (k === i ? null : k > i ? k - 1 : k));
   for (const b of scene.moving_bodies) b.poses.splice(i, 1);
   return true;

@@ -39,7 +39,7 @@ import * as S from './scene.js';
  * A drag under way: panning the view, spanning a box, moving a corner, a joint, a shape or turning a pose.
  * @typedef {{type: 'pan', last: Point} | {type: 'box', start: Point} | {type: 'vertex', v: number} | {type: 'joint'}
  *   | {type: 'move', start: Point, applied: Point} | {type: 'rotate'} | {type: 'stroke', body: number, points: Point[]}
- *   | {type: 'reshape', body: number, start: Point, points: Point[], pose: Pose, grab: number}} Drag
+ *   | {type: 'reshape', body: number, start: Point, points: Point[], poses: Pose[], grab: number}} Drag
  */
 
 /** @type {Record<ShapeKind, string>} */
@@ -255,7 +255,7 @@ export class Tools {
       const points = reshaped.path.points.map((p) => /** @type {Point} */ ([...p]));
       const grab = S.nearestPathPoint(this.store.scene, Number(path.dataset.body), w);
       this.store.begin('reshape the path');
-      this.drag = { type: 'reshape', body: Number(path.dataset.body), start: w, points, pose: [...reshaped.poses[0]], grab };
+      this.drag = { type: 'reshape', body: Number(path.dataset.body), start: w, points, poses: reshaped.poses.map((p) => /** @type {Pose} */ ([...p])), grab };
       this.store.hint('Reshaping the path: the part near where you grabbed it follows the pointer. Undo (Ctrl+Z) puts it back.');
       return;
     }
@@ -336,7 +336,7 @@ export class Tools {
         break;
       }
       case 'reshape':
-        this.store.update((sc) => S.reshapePath(sc, d.body, d.points, d.pose, d.grab, sub(w, d.start)));
+        this.store.update((sc) => S.reshapePath(sc, d.body, d.points, d.poses, d.grab, sub(w, d.start)));
         this.actions.poseEdited();
         break;
       case 'joint':
