@@ -69,9 +69,8 @@ pub(crate) fn path_designs(problem: &Problem, samples: usize, wanted: usize, acc
     // Found once: they choose the families, and every family's refinement measures from them.
     let turns_back = reversals(&drawn, path.closed);
     // The body's drawn place is where the design's tracer starts, so the whole linkage moves by how
-    // far its curve passes from there: with exact points, that place is held like them.
-    // With later poses, every pose is held (the first where the body starts, with no turn); with
-    // exact points only, that place is held like them.
+    // far its curve passes from there. With later poses, every pose is held (the first, where the
+    // body starts, with no turn); with exact points only, that place is held like them.
     let body = &problem.bodies[0];
     let poses: Vec<PathPose> = match body.poses.len() {
         1 => Vec::new(),
@@ -162,18 +161,14 @@ fn starting_at(path: &PathTarget, start: Point) -> Vec<Point> {
     out
 }
 
-/// The crank angle, within half a turn of `theta`, where `linkage`'s tracer passes nearest `point`:
-/// the nearest of a turn's whole degrees, then to a thousandth of a degree between its neighbours.
+/// The crank angle, within half a turn of `theta`, where `linkage`'s tracer passes nearest `point`
+/// ([`nearest_along`]), or `theta` itself if no nearer.
 fn nearest_angle<L: PathLinkage>(linkage: &L, point: Point, theta: f64) -> f64 {
-    let distance = |t: f64| linkage.tracer_at(t).map_or(f64::INFINITY, |c| c.point.distance(point));
-    let step = 1f64.to_radians();
-    let Some(best) = (-180..180).map(|k| theta + k as f64 * step).min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
-    else {
-        return theta;
-    };
-    let mid = golden(&distance, best - step, best + step);
-    if distance(mid) <= distance(theta) {
-        mid
+    let at = |t: f64| linkage.tracer_at(t);
+    let distance = |t: f64| at(t).map_or(f64::INFINITY, |c| c.point.distance(point));
+    let best = nearest_along(&at, point, (theta - PI, theta + PI));
+    if distance(best) <= distance(theta) {
+        best
     } else {
         theta
     }
@@ -255,9 +250,9 @@ fn judged<L: PathLinkage>(
     let (trace, pose_rows) = trace_through(&plan, (theta_start, theta_end), &thetas)
         .map_err(|e| Violation { constraint: "assembly", message: e.to_string() })?;
     let mut soft = exact_terms(ctx, &mechanism);
-    // The accuracy the check recomputes: the one pose's miss (where the body starts, met exactly)
-    // and the curves' mean distance, squared like E_acc's misses. Smoothness is the drawn curve's
-    // own, 1.
+    // The accuracy the check recomputes: the poses' misses (the first, where the body starts, met
+    // exactly), the curves' mean distance and the exact points', squared like E_acc's misses.
+    // Smoothness is the drawn curve's own, 1.
     soft[Term::Accuracy] = accuracy.total();
     soft[Term::Smoothness] = 1.0;
     soft[Term::Transmission] =

@@ -32,9 +32,9 @@ const REFINE_POINTS: usize = 64;
 const REFINE_ITERATIONS: usize = 40;
 /// A drawn point where the curve turns by more than this is a reversal ([`reversals`]).
 const REVERSAL_DEG: f64 = 120.0;
-/// How much more an exact point's distance weighs in the refinement than a point of the curve's, in
-/// turn: the linkage is first bent towards the exact points with the curve still in view, then held
-/// to them, each weight a hundred times the last's pull.
+/// How much more an exact point's distance (and a pose's miss) weighs in the refinement than a point
+/// of the curve's, in turn: the linkage is first bent towards them with the curve still in view,
+/// then held to them, each weight pulling a hundred times as hard as the last (the squares sum).
 const EXACT_EMPHASES: [f64; 3] = [10.0, 100.0, 1000.0];
 /// The most reversals the refinement measures from.
 const MAX_REVERSALS: usize = 4;
@@ -315,15 +315,15 @@ fn residuals<L: PathLinkage>(
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
     let emphasis = 3.0;
     let weighed = drawn.points.iter().map(|p| (p, 1.0));
-    let weighed = weighed.chain(drawn.reversals.iter().map(|p| (p, emphasis)));
-    let weighed = weighed.chain(drawn.exact.iter().map(|p| (p, exact_emphasis)));
+    let weighed = weighed.chain(drawn.goal.reversals.iter().map(|p| (p, emphasis)));
+    let weighed = weighed.chain(drawn.goal.exact.iter().map(|p| (p, exact_emphasis)));
     for (&p, weight) in weighed {
         let (_, q, _) = nearest(p, &curve, closed);
         out.extend([weight * (q.x - p.x) / drawn.size, weight * (q.y - p.y) / drawn.size]);
     }
     let stride = (curve.len() / REFINE_POINTS).max(1);
     for &q in curve.iter().step_by(stride) {
-        let (_, p, _) = nearest(q, drawn.curve, closed);
+        let (_, p, _) = nearest(q, drawn.goal.drawn, closed);
         out.extend([(q.x - p.x) / drawn.size, (q.y - p.y) / drawn.size]);
     }
     if !closed {
@@ -334,7 +334,7 @@ fn residuals<L: PathLinkage>(
     // The poses, where the tracer passes nearest each, the first (where the body starts) the
     // reference of the turns.
     let mut first: Option<Vec2> = None;
-    for pose in drawn.poses {
+    for pose in drawn.goal.poses {
         let (_, q, edge) = nearest(pose.tracer, &curve, closed);
         let next = (edge + 1) % curve.len();
         let span = curve[edge].distance(curve[next]);
@@ -344,24 +344,21 @@ fn residuals<L: PathLinkage>(
         let miss = (from.cross(heading).atan2(from.dot(heading)) - pose.turn + PI).rem_euclid(TAU) - PI;
         // Relative to the body, as a pose's miss is judged: a hundredth of d weighs as much as 0.6°.
         let p = pose.tracer;
-        out.extend([exact_emphasis * (q.x - p.x) / drawn.body_size, exact_emphasis * (q.y - p.y) / drawn.body_size]);
+        out.extend([
+            exact_emphasis * (q.x - p.x) / drawn.goal.body_size,
+            exact_emphasis * (q.y - p.y) / drawn.goal.body_size,
+        ]);
         out.push(exact_emphasis * miss);
     }
     Some(out)
 }
 
 /// The drawn curve as the refinement measures from it: points spaced evenly along it (whose
-/// distances from the traced curve are measured), and the curve as drawn (which the traced points'
-/// distances are measured to: a coarser polyline's chords would cut its bends).
+/// distances from the traced curve are measured), and the goal, whose curve as drawn the traced
+/// points' distances are measured to (a coarser polyline's chords would cut its bends).
 struct Drawn<'a> {
     points: Vec<Point>,
-    /// The drawn curve's reversals ([`reversals`]), whose distances count thrice.
-    reversals: &'a [Point],
-    /// The points the tracer must pass exactly, and the poses the body must pass.
-    exact: &'a [Point],
-    poses: &'a [PathPose],
-    body_size: f64,
-    curve: &'a [Point],
+    goal: &'a PathGoal<'a>,
     size: f64,
 }
 
@@ -484,15 +481,7 @@ pub(crate) fn fit<L: PathLinkage>(goal: &PathGoal, seed: u64, samples: usize, re
     matches.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     matches.truncate(refined);
 
-    let drawn = Drawn {
-        points: resample(goal.drawn, goal.closed, REFINE_POINTS),
-        reversals: goal.reversals,
-        exact: goal.exact,
-        poses: goal.poses,
-        body_size: goal.body_size,
-        curve: goal.drawn,
-        size: size(goal.drawn),
-    };
+    let drawn = Drawn { points: resample(goal.drawn, goal.closed, REFINE_POINTS), goal, size: size(goal.drawn) };
     let mut fits: Vec<(f64, usize, PathFit<L>)> = matches
         .into_par_iter()
         .map(|(_, i, fit)| {
