@@ -155,7 +155,9 @@ $('btn-pose-insert').addEventListener('click', () => {
   results.player.leave();
   store.edit('insert a pose', (s) => S.insertPose(s, at));
   store.setUi({ pose: at + 1 });
-  store.hint(`Pose ${at + 2} inserted halfway between its neighbours: drag it into place.`);
+  store.hint(store.scene.moving_bodies.some((b) => b.path)
+    ? `Pose ${at + 2} inserted on the path: drag it along the path, turn it with its round handle.`
+    : `Pose ${at + 2} inserted halfway between its neighbours: drag it into place.`);
 });
 $('btn-pose-delete').addEventListener('click', () => {
   const at = store.ui.pose;
