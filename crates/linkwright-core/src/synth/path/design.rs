@@ -242,7 +242,7 @@ fn judged<L: PathLinkage>(
     if let Some(v) = violations.into_iter().next() {
         return Err(v);
     }
-    // A sound travel is measured: its one pose's miss and its path's distance.
+    // A sound travel is measured: its poses' misses and its path's distance.
     let (Some(accuracy), Some(error)) = (accuracy, accuracy.and_then(|a| a.path)) else {
         return Err(Violation { constraint: "assembly", message: "the travel comes apart".into() });
     };
@@ -280,7 +280,9 @@ fn trace_through(
     let mut rows = Vec::with_capacity(thetas.len());
     let mut next = 0;
     for k in 0..=steps {
-        let theta = start + (end - start) * k as f64 / steps as f64;
+        // The last row is `end` itself: the design file writes the travel from the rows, and its
+        // check must measure the travel measured here (a path's distance depends on the sampling).
+        let theta = if k == steps { end } else { start + (end - start) * k as f64 / steps as f64 };
         // The poses the grid passes (or meets) here, each a row of its own.
         while next < thetas.len() && dir * (thetas[next] - theta) <= 0.0 {
             rows.push(trace.len());
@@ -302,4 +304,42 @@ fn nearest_along(at: &dyn Fn(f64) -> Option<TracerAt>, point: Point, (start, end
     let angle = |k: usize| start + (end - start) * k as f64 / steps as f64;
     let best = (0..=steps).min_by(|&a, &b| distance(angle(a)).total_cmp(&distance(angle(b)))).unwrap_or(0);
     golden(&distance, angle(best.saturating_sub(1)), angle((best + 1).min(steps)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+
+    /// A design file's travel is read off its trace's rows, and its check must measure what the
+    /// search measured: the trace ends on the travel's end itself, and has a row at each pose's
+    /// angle, in order.
+    #[test]
+    fn the_trace_ends_on_the_travel_and_has_a_row_at_each_pose() {
+        let linkage = FourBar {
+            crank_pivot: Point::new(2.0, 1.0),
+            rocker_pivot: Point::new(5.0, 2.0),
+            crank: 1.0,
+            coupler: 3.5,
+            rocker: 2.8,
+            u: 1.2,
+            v: 1.5,
+            branch: 1.0,
+        };
+        let (start, end) = (0.1f64.to_radians() + 0.3, 0.3 + 178f64.to_radians());
+        let mechanism = linkage.mechanism(start).expect("the crank-rocker assembles");
+        let plan = Plan::compile(&mechanism).expect("a four-bar compiles");
+        let poses = [start, 1.234_567, 2.0];
+        for (from, to) in [(start, end), (end, start)] {
+            let poses: Vec<f64> = if from < to { poses.to_vec() } else { vec![end, 2.0, 1.234_567] };
+            let (trace, rows) = trace_through(&plan, (from, to), &poses).expect("it turns fully");
+            assert_eq!(trace.thetas[0], from);
+            assert_eq!(trace.thetas[trace.len() - 1], to, "the last row is the end itself");
+            let at: Vec<f64> = rows.iter().map(|&r| trace.thetas[r]).collect();
+            assert_eq!(at, poses, "a row at each pose's angle");
+            let dir = (to - from).signum();
+            assert!(trace.thetas.windows(2).all(|w| dir * (w[1] - w[0]) > 0.0), "in order, no row twice");
+            assert!(trace.thetas.windows(2).all(|w| (w[1] - w[0]).abs() <= 1f64.to_radians() + 1e-12));
+        }
+    }
 }
