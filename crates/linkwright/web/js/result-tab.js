@@ -226,12 +226,15 @@ export class ResultTab {
     /** @type {(name: string) => HTMLTableRowElement} */
     const row = (name) => {
       const [x, y] = mechanism.joints[name];
+      // Where the joint is now: a move answered since this table was drawn counts (a click may
+      // come before the table is drawn again).
+      /** @type {() => Point} */
+      const now = () => [...(this.store.result?.mechanism || mechanism).joints[name]];
       /** @type {(axis: 0 | 1) => (e: On<HTMLInputElement>) => void} */
       const place = (axis) => (e) => {
         const v = Number(e.currentTarget.value);
         if (e.currentTarget.value.trim() === '' || !Number.isFinite(v)) return;
-        /** @type {Point} */
-        const p = [...mechanism.joints[name]];
+        const p = now();
         p[axis] = v;
         this.results.joints.placeJoints({ [name]: p });
       };
@@ -240,7 +243,7 @@ export class ResultTab {
         const on = e.currentTarget.checked;
         this.store.edit(`${on ? 'pin' : 'unpin'} joint ${name}`, (s) => {
           const pins = { ...(s.pinned_joints || {}) };
-          if (on) pins[name] = [...mechanism.joints[name]]; else delete pins[name];
+          if (on) pins[name] = now(); else delete pins[name];
           if (Object.keys(pins).length) s.pinned_joints = pins; else delete s.pinned_joints;
         });
         this.store.hint(on
