@@ -149,15 +149,42 @@ fn a_paths_exact_points_are_passed_and_the_check_re_measures_them() {
     assert!(claimed.violations(&problem).iter().any(|v| v.constraint == "accuracy"));
 }
 
+/// How far (degrees) the body of `design` has turned from what `poses` say, since where it starts,
+/// where its tracer passes nearest each pose's tracer: the largest, measured on the replayed travel.
+fn worst_turn_miss(problem: &Problem, design: &DesignFile, poses: &[[f64; 3]]) -> f64 {
+    let replay = Replay::new(problem, design, Which::Best, 1440).expect("a valid design replays");
+    let tracer = problem.path().expect("a path scene").tracer;
+    let frames: Vec<Rigid> = (0..replay.trace.len()).map(|r| replay.frames.pose(0, replay.trace.row(r))).collect();
+    let start = Rigid::from_pose(poses[0]);
+    poses[1..]
+        .iter()
+        .map(|&pose| {
+            let want = Rigid::from_pose(pose);
+            let at = want.apply(tracer);
+            let row =
+                frames.iter().min_by(|a, b| a.apply(tracer).distance(at).total_cmp(&b.apply(tracer).distance(at)));
+            let turned = row.unwrap().angle() - frames[0].angle();
+            let miss = (turned - (want.angle() - start.angle())).to_degrees();
+            (miss + 180.0).rem_euclid(360.0) - 180.0
+        })
+        .fold(0.0, |worst: f64, m| worst.max(m.abs()))
+}
+
 /// A known crank-rocker's loop with two more poses of its body on the way, where the known linkage
-/// puts it: the design passes both (place and angle, as the file's own pose errors say and the check
-/// re-measures), besides tracing the loop.
+/// puts it: the design passes both (place and angle, as the file's own pose errors say and the
+/// replayed travel shows), besides tracing the loop, where the design of the loop alone turns the
+/// body otherwise there.
 #[test]
 fn a_path_bodys_later_poses_are_passed_at_their_angles() {
     let mut known = known_path_scene(MechanismType::Chain, true, 60, 0.0, 5, SCALE).expect("a known crank-rocker");
-    let poses = &mut known.scene.moving_bodies[0].poses;
-    poses.extend([known.poses_along[20], known.poses_along[40]]);
+    let poses = [known.scene.moving_bodies[0].poses[0], known.poses_along[20], known.poses_along[40]];
+    let (problem, free) = designed(&known);
+    let loose = worst_turn_miss(&problem, &free, &poses);
+    assert!(loose > 1.0, "the loop alone does not fix the body's turn: {loose}°");
+    known.scene.moving_bodies[0].poses = poses.to_vec();
     let (problem, design) = designed(&known);
+    let held = worst_turn_miss(&problem, &design, &poses);
+    assert!(held <= 1.0, "turned as the poses say where it passes them: {held}°");
     assert!(design.violations(&problem).is_empty(), "{:?}", design.violations(&problem));
     let metrics = design.metrics.as_ref().unwrap();
     assert_eq!(metrics.pose_errors.len(), 3, "one row per pose");

@@ -211,7 +211,7 @@ function nearestIndex(points, w) {
  * @param {Point} w
  * @returns {Point}
  */
-function onPath(path, w) {
+export function onPath(path, w) {
   const pts = path.points;
   const edges = path.closed ? pts.length : pts.length - 1;
   /** @type {{d: number, at: Point}} */
@@ -500,7 +500,7 @@ export function setPoseAngle(scene, body, pose, deg) {
     p[2] = tidy(deg, 2);
     return;
   }
-  // A body with a path turns about its tracer, which stays on the path's start.
+  // A body with a path turns about its tracer, which stays where it is on the path.
   const before = toWorld(p, b.path.tracer);
   p[2] = tidy(deg, 2);
   const shift = sub(before, toWorld(p, b.path.tracer));

@@ -495,10 +495,9 @@ export class Tools {
       if (this.clicked) this.finishClickedPath(false);
       return;
     }
-    const onPath = ui.tool === 'select' ? this.pathUnder(this.screen(e)) : -1;
-    if (onPath >= 0) {
+    const body = ui.tool === 'select' ? this.pathUnder(this.screen(e)) : -1;
+    if (body >= 0) {
       // A double-click on the drawn path marks the point there as one to pass exactly, or unmarks it.
-      const body = onPath;
       const point = S.nearestPathPoint(this.store.scene, body, this.view.toWorld(this.screen(e)));
       const on = !this.store.scene.moving_bodies[body].path?.exact?.includes(point);
       this.store.edit(on ? 'mark a path point exact' : 'unmark an exact path point', (sc) => S.setExact(sc, body, point, on));
@@ -532,16 +531,8 @@ export class Tools {
    * @param {Point} s
    */
   pathUnder(s) {
-    return this.store.scene.moving_bodies.findIndex((b) => {
-      const points = b.path?.points || [];
-      const n = points.length;
-      const edges = b.path?.closed ? n : n - 1;
-      for (let i = 0; i < edges; i++) {
-        const a = this.view.toScreen(points[i]), c = this.view.toScreen(points[(i + 1) % n]);
-        if (segmentDistance(s, a, c).d <= GRAB_PX) return true;
-      }
-      return false;
-    });
+    const w = this.view.toWorld(s);
+    return this.store.scene.moving_bodies.findIndex((b) => !!b.path?.points.length && dist(this.view.toScreen(S.onPath(b.path, w)), s) <= GRAB_PX);
   }
 
   /** @param {WheelEvent} e */

@@ -309,23 +309,13 @@ fn nearest_along(at: &dyn Fn(f64) -> Option<TracerAt>, point: Point, (start, end
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Point;
 
     /// A design file's travel is read off its trace's rows, and its check must measure what the
     /// search measured: the trace ends on the travel's end itself, and has a row at each pose's
     /// angle, in order.
     #[test]
     fn the_trace_ends_on_the_travel_and_has_a_row_at_each_pose() {
-        let linkage = FourBar {
-            crank_pivot: Point::new(2.0, 1.0),
-            rocker_pivot: Point::new(5.0, 2.0),
-            crank: 1.0,
-            coupler: 3.5,
-            rocker: 2.8,
-            u: 1.2,
-            v: 1.5,
-            branch: 1.0,
-        };
+        let linkage = FourBar::known();
         let (start, end) = (0.1f64.to_radians() + 0.3, 0.3 + 178f64.to_radians());
         let mechanism = linkage.mechanism(start).expect("the crank-rocker assembles");
         let plan = Plan::compile(&mechanism).expect("a four-bar compiles");

@@ -167,6 +167,24 @@ impl FourBar {
 }
 
 #[cfg(test)]
+impl FourBar {
+    /// A known crank-rocker for tests, off the atlas's normal form: pivots (2, 1) and (5, 2), links
+    /// 1, 3.5, 2.8, its tracer at (1.2, 1.5) in the coupler's frame.
+    pub(crate) fn known() -> FourBar {
+        FourBar {
+            crank_pivot: Point::new(2.0, 1.0),
+            rocker_pivot: Point::new(5.0, 2.0),
+            crank: 1.0,
+            coupler: 3.5,
+            rocker: 2.8,
+            u: 1.2,
+            v: 1.5,
+            branch: 1.0,
+        }
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -85,23 +85,11 @@ pub(crate) struct PathFit<L> {
 
 /// The tracer's curve of `m` from crank angle `start` to `end`, at `steps` + 1 angles; `None` where
 /// the loop does not close, or transmits worse than `min_sine`.
-#[cfg(test)]
 fn traced<L: PathLinkage>(m: &L, start: f64, end: f64, steps: usize, min_sine: f64) -> Option<Vec<Point>> {
-    Some(traced_turning(m, start, end, steps, min_sine)?.0)
-}
-
-/// [`traced`], with the body's heading at each angle.
-fn traced_turning<L: PathLinkage>(
-    m: &L,
-    start: f64,
-    end: f64,
-    steps: usize,
-    min_sine: f64,
-) -> Option<(Vec<Point>, Vec<Vec2>)> {
     (0..=steps)
         .map(|k| {
             let c = m.tracer_at(start + (end - start) * k as f64 / steps as f64)?;
-            (c.transmission_sine >= min_sine).then_some((c.point, c.heading))
+            (c.transmission_sine >= min_sine).then_some(c.point)
         })
         .collect()
 }
@@ -311,7 +299,7 @@ fn residuals<L: PathLinkage>(
     let (start, end) = travel(&x[n..], closed);
     let steps =
         if closed { REFINE_STEPS } else { ((REFINE_STEPS as f64 * (end - start).abs() / TAU).ceil() as usize).max(8) };
-    let (curve, headings) = traced_turning(&m, start, end, steps, min_sine)?;
+    let curve = traced(&m, start, end, steps, min_sine)?;
     let mut out = Vec::with_capacity(4 * REFINE_POINTS + 4);
     let emphasis = 3.0;
     let weighed = drawn.points.iter().map(|p| (p, 1.0));
@@ -332,14 +320,15 @@ fn residuals<L: PathLinkage>(
         }
     }
     // The poses, where the tracer passes nearest each, the first (where the body starts) the
-    // reference of the turns.
+    // reference of the turns. The body's heading is asked only at the ends of those traced edges.
+    let heading_at = |k: usize| m.tracer_at(start + (end - start) * k as f64 / steps as f64).map(|c| c.heading);
     let mut first: Option<Vec2> = None;
     for pose in drawn.goal.poses {
         let (_, q, edge) = nearest(pose.tracer, &curve, closed);
         let next = (edge + 1) % curve.len();
         let span = curve[edge].distance(curve[next]);
         let t = if span > 0.0 { q.distance(curve[edge]) / span } else { 0.0 };
-        let heading = headings[edge] * (1.0 - t) + headings[next] * t;
+        let heading = heading_at(edge)? * (1.0 - t) + heading_at(next)? * t;
         let from = *first.get_or_insert(heading);
         let miss = (from.cross(heading).atan2(from.dot(heading)) - pose.turn + PI).rem_euclid(TAU) - PI;
         // Relative to the body, as a pose's miss is judged: a hundredth of d weighs as much as 0.6°.
@@ -504,22 +493,8 @@ mod tests {
     use crate::geom::{path_error, PathError};
     use crate::synth::path::four_bar::FourBar;
 
-    /// A known crank-rocker, off the atlas's normal form: pivots (2, 1) and (5, 2), links 1, 3.5, 2.8.
-    fn known() -> FourBar {
-        FourBar {
-            crank_pivot: Point::new(2.0, 1.0),
-            rocker_pivot: Point::new(5.0, 2.0),
-            crank: 1.0,
-            coupler: 3.5,
-            rocker: 2.8,
-            u: 1.2,
-            v: 1.5,
-            branch: 1.0,
-        }
-    }
-
     fn check(closed: bool, start: f64, end: f64, points: usize) -> (PathError, PathFit<FourBar>) {
-        let m = known();
+        let m = FourBar::known();
         assert!(m.crank_turns_fully());
         let drawn = traced(&m, start, end, points - usize::from(closed), 0.0).unwrap();
         let drawn = if closed { drawn[..points].to_vec() } else { drawn };
@@ -564,7 +539,7 @@ mod tests {
     fn an_arc_of_a_known_coupler_curve_is_traced_from_its_first_point_to_its_last() {
         let (e, fit) = check(false, 0.5, 2.6, 50);
         assert!(e.max_rel < 0.01, "{e:?}");
-        let m = known();
+        let m = FourBar::known();
         let (first, last) = (m.at(0.5).unwrap().tracer, m.at(2.6).unwrap().tracer);
         let size = size(&traced(&m, 0.5, 2.6, 49, 0.0).unwrap());
         assert!(fit.linkage.at(fit.theta_start).unwrap().tracer.distance(first) < 0.01 * size);
