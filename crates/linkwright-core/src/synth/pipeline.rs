@@ -11,6 +11,7 @@ use super::random::splitmix;
 use super::refine::{refine_design, Leash, RefineOptions};
 use super::sample::{x_from_mechanism, Near, SampleScratch, Sampler, WARM_JITTER};
 use super::workspace::Workspace;
+use crate::geom::Point;
 use crate::kinematics::Trace;
 use crate::mechanism::{Mechanism, MechanismType, Topology};
 use crate::scene::{MechanismChoice, Problem};
@@ -256,6 +257,12 @@ const SCREENED_CLOSE_ANGLE_DEG: f64 = 1.0;
 /// slider-crank motions a Stephenson-III asked for cost 1.15 times the cold best, and must stay; one
 /// cost 2.25 times, and is left).
 pub const SWITCH_COST_FACTOR: f64 = 0.75;
+
+/// At most this many of a screened family's cheapest designs are print-checked to find the cheapest
+/// printable one ([`printable_first`]), in parallel batches of [`SCREENED_PRINT_BATCH`].
+const SCREENED_PRINT_CHECKS: usize = 16;
+/// See [`SCREENED_PRINT_CHECKS`].
+const SCREENED_PRINT_BATCH: usize = 4;
 
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
@@ -567,6 +574,69 @@ fn by_screened_cost(screened: &[Vec<Candidate>]) -> Vec<usize> {
     order
 }
 
+/// A screened family's designs made ready to rank: its screening checks collisions only (the print
+/// checks of the filter's seeds were most of a six-bar's screening), so with a print check the
+/// cheapest are checked, in order, until one passes. Those refused leave the designs (counted), so
+/// the cheapest design left, which ranks the family and decides whether the run goes on
+/// ([`by_screened_cost`], [`cheapest_is_close`]), is printable. A design within [`DISTINCT`]·d of
+/// one refused is not checked but set aside (the filter's designs gather around a few, and one
+/// unprintable design's neighbours mostly are too), so the checks reach other designs. The designs
+/// set aside, and all of them when none of the first [`SCREENED_PRINT_CHECKS`] passes (the family
+/// then ranks last), come second: they rank nothing but still join the pool the designs are
+/// picked from.
+fn printable_first(
+    problem: &Problem,
+    run: &mut Run,
+    mut found: Vec<Candidate>,
+) -> Result<(Vec<Candidate>, Vec<Candidate>), Cancelled> {
+    let Some(check) = run.printable else { return Ok((found, Vec::new())) };
+    let min_shift = min_shift(problem);
+    // Stable: equal costs keep their production order.
+    found.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let mut rest = found.into_iter();
+    // The joints of each design refused.
+    let (mut aside, mut refused) = (Vec::new(), Vec::<Vec<Point>>::new());
+    let mut checked = 0;
+    while checked < SCREENED_PRINT_CHECKS {
+        run.go_on()?;
+        // A batch of fixed size: what is checked (and counted) never depends on the threads.
+        let mut batch: Vec<Candidate> = Vec::new();
+        while batch.len() < SCREENED_PRINT_BATCH {
+            let Some(c) = rest.next() else { break };
+            if refused
+                .iter()
+                .all(|joints| c.mechanism.joints.iter().zip(joints).any(|(p, q)| p.distance(*q) > min_shift))
+            {
+                batch.push(c);
+            } else {
+                aside.push(c);
+            }
+        }
+        if batch.is_empty() {
+            break;
+        }
+        checked += batch.len();
+        let results: Vec<Result<Candidate, Refused>> =
+            batch.into_par_iter().map(|c| mark_printable(check, c)).collect();
+        let mut ranked = Vec::new();
+        for r in results {
+            match r {
+                Ok(c) => ranked.push(c),
+                Err((reject, c)) => {
+                    refused.push(c.mechanism.joints.clone());
+                    run.refuse(reject, c);
+                }
+            }
+        }
+        if !ranked.is_empty() {
+            ranked.extend(rest);
+            return Ok((ranked, aside));
+        }
+    }
+    aside.extend(rest);
+    Ok((Vec::new(), aside))
+}
+
 /// Whether the cheapest of `designs` misses no pose by more than [`SCREENED_CLOSE_REL_D`] of d or
 /// [`SCREENED_CLOSE_ANGLE_DEG`].
 fn cheapest_is_close<'c>(problem: &Problem, designs: impl Iterator<Item = &'c Candidate>) -> bool {
@@ -629,6 +699,8 @@ fn design_round(
     let screen: Vec<usize> = (0..contexts.len()).filter(|&f| screens && seeds[f].is_empty()).collect();
     let mut drawn: Vec<Drawn> = contexts.iter().map(|_| Drawn::default()).collect();
     let mut screened: Vec<Vec<Candidate>> = contexts.iter().map(|_| Vec::new()).collect();
+    // Screened designs that rank nothing ([`printable_first`]), for the pool.
+    let mut unchecked: Vec<Candidate> = Vec::new();
     let family_stage = |f: usize| FamilyStage { ctx: &contexts[f], workspace: &workspaces[f] };
     // The progress bar: the screening's share first, then each family searched in full.
     let screen_share = if screen.is_empty() { 0.0 } else { SCREENING_PROGRESS };
@@ -641,6 +713,8 @@ fn design_round(
         };
         let found =
             run_family(run, family_stage(f), family, &[], false, Budget::screening(problem), &mut drawn[f], &report)?;
+        let (found, unranked) = printable_first(problem, run, found)?;
+        unchecked.extend(unranked);
         if !warm {
             best_cost = min_opt(best_cost, found.iter().map(|c| c.cost).reduce(f64::min));
         }
@@ -686,6 +760,7 @@ fn design_round(
         // The screened designs stay in the pool: the whole search of a family starts from the same
         // samples, and the filter's screening designs may be good ones.
         valid.extend(others);
+        valid.extend(unchecked);
     }
     // Stable sort: equal costs keep their deterministic production order.
     valid.sort_by(|a, b| a.cost.total_cmp(&b.cost));
@@ -885,6 +960,8 @@ struct Budget {
     cap: usize,
     /// Valid designs the collision check looks for before it stops.
     enough: usize,
+    /// Whether those must also pass the run's print check (when it has one) before the filter.
+    printed: bool,
 }
 
 impl Budget {
@@ -898,6 +975,7 @@ impl Budget {
             iterations: settings.iterations,
             cap: CANDIDATE_CAP,
             enough: if printable { particles } else { VALID_PER_PARTICLE * particles },
+            printed: true,
         }
     }
 
@@ -912,12 +990,14 @@ impl Budget {
             iterations: (settings.iterations / 4).max(1).min(settings.iterations),
             cap: CANDIDATE_CAP,
             enough: (settings.particles / 4).max(1),
+            printed: true,
         }
     }
 
     /// A screening's: a [`SCREENING_DIVISOR`]th of the samples and of the candidates, a quarter of
-    /// the filter's iterations from a tenth of a particle set of valid designs: enough to tell a
-    /// family that meets the poses at a low cost from one that does not. (The filter keeps its whole
+    /// the filter's iterations from a tenth of a particle set of valid designs, checked for collisions
+    /// only ([`printable_first`] finds a printable one after the filter): enough to tell a family
+    /// that meets the poses at a low cost from one that does not. (The filter keeps its whole
     /// particle set: a quarter of it left the excavator's slider-crank at 6.4 where a whole set
     /// reached 1.7, and another family was chosen.)
     fn screening(problem: &Problem) -> Budget {
@@ -927,6 +1007,7 @@ impl Budget {
             iterations: (settings.iterations / 4).max(1).min(settings.iterations),
             cap: CANDIDATE_CAP / SCREENING_DIVISOR,
             enough: (settings.particles / 10).max(1),
+            printed: false,
         }
     }
 }
@@ -959,7 +1040,7 @@ fn run_family(
     let seed = settings.seed;
     let family = family.family().stream();
     let warm = !seeds.is_empty();
-    let Budget { samples: total, iterations, cap, enough } = budget;
+    let Budget { samples: total, iterations, cap, enough, printed } = budget;
     let sampler = Sampler::new(ctx, family);
     // Weights of the stages in the progress fraction.
     let (w_sample, w_collide) = (0.6, 0.1);
@@ -1001,7 +1082,7 @@ fn run_family(
             candidates.extend(simulate_cheapest(run, stage, &mut floors, seeds.len(), start, &|_| {})?);
         }
         candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        kept = check_in_order(run, stage, candidates, seeds.len(), COLLISION_BATCH_CHUNKS)?;
+        kept = check_in_order(run, stage, candidates, seeds.len(), run.printable, COLLISION_BATCH_CHUNKS)?;
     }
     let first = drawn.count.min(total);
     let mut floors = std::mem::take(&mut drawn.floors);
@@ -1016,7 +1097,8 @@ fn run_family(
     run.stats.seconds_sampling += t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let mut valid = check_in_order(run, stage, candidates, enough, COLLISION_BATCH_CHUNKS)?;
+    let printable = if printed { run.printable } else { None };
+    let mut valid = check_in_order(run, stage, candidates, enough, printable, COLLISION_BATCH_CHUNKS)?;
     valid.splice(0..0, kept);
     run.stats.valid += valid.len();
     run.stats.seconds_collision += t.elapsed().as_secs_f64();
@@ -1191,10 +1273,10 @@ fn check_in_order(
     stage: FamilyStage,
     candidates: Vec<Candidate>,
     enough: usize,
+    printable: Option<&dyn Acceptance>,
     batch_chunks: usize,
 ) -> Result<Vec<Candidate>, Cancelled> {
     let FamilyStage { ctx, workspace } = stage;
-    let printable = run.printable;
     let chunk = collision_chunk(enough);
     let mut valid = Vec::new();
     let mut queue = candidates.into_iter().peekable();
@@ -1382,6 +1464,77 @@ mod tests {
         }
     }
 
+    /// A stand-in print check whose verdict a test knows beforehand: it passes a design whose first
+    /// joint lies at or right of `x`, and counts its calls.
+    #[derive(Debug)]
+    struct RightOf {
+        x: f64,
+        calls: std::sync::atomic::AtomicUsize,
+    }
+
+    impl Acceptance for RightOf {
+        fn min_joint_spacing(&self) -> f64 {
+            0.0
+        }
+        fn accepts(&self, mechanism: &Mechanism, _: &Trace) -> bool {
+            self.calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            mechanism.joints[0].x >= self.x
+        }
+    }
+
+    /// A screened family ranks by its cheapest printable design: every cheaper one was refused
+    /// (and counted) or lies near one refused and waits unchecked for the pick; no design is lost,
+    /// and no more than [`SCREENED_PRINT_CHECKS`] are checked, even when none passes.
+    #[test]
+    fn a_screened_family_ranks_by_its_cheapest_printable_design() {
+        let mut problem = example("k1_sofa_bed");
+        problem.settings.samples = 3_000;
+        let ctx = Context::new(&problem, MechanismType::SliderCrank);
+        let sampler = Sampler::new(&ctx, MechanismType::SliderCrank.family().stream());
+        let mut designs: Vec<Candidate> = defect_free(&ctx, &sampler, problem.settings.seed, 0..3_000).collect();
+        assert!(designs.len() > 2 * SCREENED_PRINT_CHECKS, "{} designs", designs.len());
+        designs.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        // Refuse about half of the cheapest few, the cheapest among them.
+        let mut xs: Vec<f64> = designs[..8].iter().map(|c| c.mechanism.joints[0].x).collect();
+        xs.sort_by(f64::total_cmp);
+        let check = RightOf { x: xs[4].max(designs[0].mechanism.joints[0].x + 1e-9), calls: Default::default() };
+        let passes = |c: &Candidate| c.mechanism.joints[0].x >= check.x;
+        assert!(!passes(&designs[0]));
+
+        let mut run = Run::quiet();
+        run.printable = Some(&check);
+        let (ranked, aside) = printable_first(&problem, &mut run, designs.clone()).unwrap();
+        let refused = run.rejected[Reject::Unprintable as usize];
+        assert_eq!(ranked.len() + aside.len() + refused, designs.len(), "no design is lost");
+        let first = &ranked[0];
+        assert!(passes(first) && first.printable);
+        assert!(ranked.iter().all(|c| c.cost >= first.cost), "the cheapest left ranks the family");
+        let near = |a: &Candidate, b: &Candidate| !distinct(a, b, min_shift(&problem));
+        for c in designs.iter().take_while(|c| c.cost < first.cost) {
+            // Refused, or set aside beside a cheaper design that fails.
+            let beside_refused = designs.iter().any(|r| r.cost <= c.cost && !passes(r) && near(r, c));
+            assert!(!passes(c) || beside_refused, "a cheaper printable design was skipped");
+        }
+        assert_eq!(
+            refused,
+            designs.iter().take_while(|c| c.cost < first.cost).count()
+                - aside.iter().filter(|c| c.cost < first.cost).count()
+        );
+        let calls = check.calls.load(std::sync::atomic::Ordering::Relaxed);
+        assert!(calls <= SCREENED_PRINT_CHECKS && calls >= refused + 1, "{calls} checks");
+
+        // A check nothing passes: every design waits for the pick, after a bounded number of checks.
+        let nothing = RightOf { x: f64::INFINITY, calls: Default::default() };
+        let mut run = Run::quiet();
+        run.printable = Some(&nothing);
+        let (ranked, aside) = printable_first(&problem, &mut run, designs.clone()).unwrap();
+        let refused = run.rejected[Reject::Unprintable as usize];
+        assert!(ranked.is_empty());
+        assert_eq!(aside.len() + refused, designs.len());
+        assert_eq!(nothing.calls.into_inner(), refused);
+        assert!(refused <= SCREENED_PRINT_CHECKS && refused > 0);
+    }
+
     /// Checking collisions in batches of several chunks keeps exactly the candidates, and counts
     /// exactly the rejects, of checking one chunk at a time: where a first chunk poor in valid
     /// candidates makes the batch reach far past where the stopping rule ends, and where every
@@ -1406,7 +1559,7 @@ mod tests {
                 let mut run = Run::quiet();
                 let workspace = Workspace::default();
                 let stage = FamilyStage { ctx: &ctx, workspace: &workspace };
-                let valid = check_in_order(&mut run, stage, candidates.clone(), enough, batch_chunks).unwrap();
+                let valid = check_in_order(&mut run, stage, candidates.clone(), enough, None, batch_chunks).unwrap();
                 (valid.iter().map(key).collect::<Vec<_>>(), run.rejected)
             };
             let (one, many) = (run(1), run(8));
