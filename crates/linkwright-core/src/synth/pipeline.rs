@@ -581,9 +581,10 @@ fn by_screened_cost(screened: &[Vec<Candidate>]) -> Vec<usize> {
 /// design left, which ranks the family and decides whether the run goes on ([`by_screened_cost`],
 /// [`cheapest_is_close`]), is printable. A design within [`DISTINCT`]·d of one refused leaves
 /// unchecked: the filter's designs gather around a few, one unprintable design's neighbours mostly
-/// are too, and the designs are picked from the pool in cost order, print-checking each (the full
-/// wall bed's pick spent 18 ms on a Watt-II's such designs, 1.6 ms without them). When none of the
-/// first [`SCREENED_PRINT_CHECKS`] passes, none is left and the family ranks last.
+/// are too, and the designs are picked from the pool in cost order, print-checking each (with a
+/// Watt-II's such designs in the pool, the full wall bed's pick took 18 ms, 2 ms without: its
+/// `stats.seconds.printability`, `linkwright design examples/k1_wall_bed_full_size.json --json`).
+/// When none of the first [`SCREENED_PRINT_CHECKS`] passes, none is left and the family ranks last.
 fn printable_first(problem: &Problem, run: &mut Run, mut found: Vec<Candidate>) -> Result<Vec<Candidate>, Cancelled> {
     let Some(check) = run.printable else { return Ok(found) };
     let min_shift = min_shift(problem);
