@@ -599,11 +599,7 @@ fn printable_first(problem: &Problem, run: &mut Run, mut found: Vec<Candidate>) 
         // A batch of fixed size: what is checked (and counted) never depends on the threads.
         let batch: Vec<Candidate> = rest
             .by_ref()
-            .filter(|c| {
-                refused
-                    .iter()
-                    .all(|joints| c.mechanism.joints.iter().zip(joints).any(|(p, q)| p.distance(*q) > min_shift))
-            })
+            .filter(|c| refused.iter().all(|joints| moved(&c.mechanism.joints, joints, min_shift)))
             .take(SCREENED_PRINT_BATCH)
             .collect();
         if batch.is_empty() {
@@ -1325,8 +1321,12 @@ fn min_shift(problem: &Problem) -> f64 {
 /// True when two designs differ: another family, or some joint moved by more than `min_shift`.
 fn distinct(a: &Candidate, b: &Candidate, min_shift: f64) -> bool {
     let (ma, mb) = (&a.mechanism, &b.mechanism);
-    ma.topology.mechanism_type != mb.topology.mechanism_type
-        || ma.joints.iter().zip(&mb.joints).any(|(p, q)| p.distance(*q) > min_shift)
+    ma.topology.mechanism_type != mb.topology.mechanism_type || moved(&ma.joints, &mb.joints, min_shift)
+}
+
+/// True when some joint of one family's design moved by more than `min_shift` between `a` and `b`.
+fn moved(a: &[Point], b: &[Point], min_shift: f64) -> bool {
+    a.iter().zip(b).any(|(p, q)| p.distance(*q) > min_shift)
 }
 
 /// How many missing pinned joints a reason names.
@@ -1453,27 +1453,29 @@ mod tests {
         }
     }
 
-    /// A stand-in print check whose verdict a test knows beforehand: it passes a design whose first
-    /// joint lies at or right of `x`, and counts its calls.
-    #[derive(Debug)]
-    struct RightOf {
-        x: f64,
+    /// A stand-in print check whose verdict a test knows beforehand: it refuses the designs whose
+    /// joints it lists (every design when `everything`), and counts its calls.
+    #[derive(Debug, Default)]
+    struct Refusing {
+        joints: Vec<Vec<Point>>,
+        everything: bool,
         calls: std::sync::atomic::AtomicUsize,
     }
 
-    impl Acceptance for RightOf {
+    impl Acceptance for Refusing {
         fn min_joint_spacing(&self) -> f64 {
             0.0
         }
         fn accepts(&self, mechanism: &Mechanism, _: &Trace) -> bool {
             self.calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            mechanism.joints[0].x >= self.x
+            !self.everything && !self.joints.contains(&mechanism.joints)
         }
     }
 
     /// A screened family ranks by its cheapest printable design: every cheaper one was refused (and
-    /// counted) or lies near a cheaper one that fails, every costlier one stays, and no more than
-    /// [`SCREENED_PRINT_CHECKS`] are checked, even when none passes.
+    /// counted) or lies near a cheaper one that fails, and is passed over unchecked even when it
+    /// would pass; every costlier one stays, and no more than [`SCREENED_PRINT_CHECKS`] are checked,
+    /// even when none passes.
     #[test]
     fn a_screened_family_ranks_by_its_cheapest_printable_design() {
         let mut problem = example("k1_sofa_bed");
@@ -1483,18 +1485,25 @@ mod tests {
         let mut designs: Vec<Candidate> = defect_free(&ctx, &sampler, problem.settings.seed, 0..3_000).collect();
         assert!(designs.len() > 2 * SCREENED_PRINT_CHECKS, "{} designs", designs.len());
         designs.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        // Refuse about half of the cheapest few, the cheapest among them.
-        let mut xs: Vec<f64> = designs[..8].iter().map(|c| c.mechanism.joints[0].x).collect();
-        xs.sort_by(f64::total_cmp);
-        let check = RightOf { x: xs[4].max(designs[0].mechanism.joints[0].x + 1e-9), calls: Default::default() };
-        let passes = |c: &Candidate| c.mechanism.joints[0].x >= check.x;
-        assert!(!passes(&designs[0]));
+        // The first batch's designs fail; next comes one that would pass, a hair from the cheapest.
+        let batch = SCREENED_PRINT_BATCH;
+        let check = Refusing {
+            joints: designs[..batch].iter().map(|c| c.mechanism.joints.clone()).collect(),
+            ..Default::default()
+        };
+        let mut beside = designs[0].clone();
+        beside.mechanism.joints[0].x += 0.01 * min_shift(&problem);
+        beside.cost = designs[batch - 1].cost;
+        designs.insert(batch, beside.clone());
+        let passes = |c: &Candidate| !check.joints.contains(&c.mechanism.joints);
+        assert!(passes(&beside));
 
         let mut run = Run::quiet();
         run.printable = Some(&check);
         let ranked = printable_first(&problem, &mut run, designs.clone()).unwrap();
         let first = &ranked[0];
         assert!(passes(first) && first.printable);
+        assert!(first.cost >= beside.cost && ranked.iter().all(|c| c.mechanism.joints != beside.mechanism.joints));
         let costlier = designs.iter().filter(|c| c.cost > first.cost).count();
         assert_eq!(ranked.len(), 1 + costlier, "every costlier design stays");
         let near = |a: &Candidate, b: &Candidate| !distinct(a, b, min_shift(&problem));
@@ -1502,12 +1511,12 @@ mod tests {
             let beside_refused = designs.iter().any(|r| r.cost <= c.cost && !passes(r) && near(r, c));
             assert!(!passes(c) || beside_refused, "a cheaper printable design was passed over");
         }
-        let refused = run.rejected[Reject::Unprintable as usize];
+        assert_eq!(run.rejected[Reject::Unprintable as usize], batch);
         let calls = check.calls.load(std::sync::atomic::Ordering::Relaxed);
-        assert!(refused > 0 && calls > refused && calls <= SCREENED_PRINT_CHECKS, "{calls} checks, {refused} refused");
+        assert!(calls > batch && calls <= SCREENED_PRINT_CHECKS, "{calls} checks");
 
         // A check nothing passes: no design is left, after a bounded number of checks.
-        let nothing = RightOf { x: f64::INFINITY, calls: Default::default() };
+        let nothing = Refusing { everything: true, ..Default::default() };
         let mut run = Run::quiet();
         run.printable = Some(&nothing);
         assert!(printable_first(&problem, &mut run, designs.clone()).unwrap().is_empty());
