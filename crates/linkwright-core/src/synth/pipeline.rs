@@ -143,7 +143,7 @@ pub struct RunStats {
     pub seconds_collision: f64,
     /// Seconds spent in the particle filter.
     pub seconds_pfo: f64,
-    /// Checking the kept designs for printability (when asked).
+    /// Checking the screened and the kept designs for printability (when asked).
     pub seconds_printability: f64,
     /// Refining the kept designs and verifying them again.
     pub seconds_refinement: f64,
@@ -262,8 +262,12 @@ pub const SWITCH_COST_FACTOR: f64 = 0.75;
 /// At most this many of a screened family's cheapest designs are print-checked to find the cheapest
 /// printable one ([`printable_first`]), in parallel batches of [`SCREENED_PRINT_BATCH`].
 const SCREENED_PRINT_CHECKS: usize = 16;
-/// See [`SCREENED_PRINT_CHECKS`].
-const SCREENED_PRINT_BATCH: usize = 4;
+/// See [`SCREENED_PRINT_CHECKS`]. The cheapest design checked passes for most families (27 of the 32
+/// of the bundled one-body examples), so a batch larger than the cores mostly costs a round of checks
+/// for nothing: on two cores, batches of four took a run's print checks a median 12.7–13.2 ms, two
+/// take 9.3–9.9 ms (`stats.seconds.printability` of `linkwright design examples/k1_*.json --threads 2
+/// --json`, three runs each).
+const SCREENED_PRINT_BATCH: usize = 2;
 
 /// Samples of a warm start.
 pub const WARM_SAMPLES: usize = 500;
@@ -579,48 +583,63 @@ fn by_screened_cost(screened: &[Vec<Candidate>]) -> Vec<usize> {
 /// checks of the filter's seeds were most of a six-bar's screening), so with a print check the
 /// cheapest are checked, in order, until one passes. Those refused leave (counted), so the cheapest
 /// design left, which ranks the family and decides whether the run goes on ([`by_screened_cost`],
-/// [`cheapest_is_close`]), is printable. A design within [`DISTINCT`]·d of one refused leaves
-/// unchecked: the filter's designs gather around a few, one unprintable design's neighbours mostly
-/// are too, and the designs are picked from the pool in cost order, print-checking each (with a
+/// [`cheapest_is_close`]), is printable. A cheaper design within [`DISTINCT`]·d of one refused
+/// leaves unchecked: the filter's designs gather around a few, one unprintable design's neighbours
+/// mostly are too, and the designs are picked from the pool in cost order, print-checking each (with a
 /// Watt-II's such designs in the pool, the full wall bed's pick took 18 ms, 2 ms without: its
 /// `stats.seconds.printability`, `linkwright design examples/k1_wall_bed_full_size.json --json`).
 /// When none of the first [`SCREENED_PRINT_CHECKS`] passes, none is left and the family ranks last.
+///
+/// The checks run in parallel batches of [`SCREENED_PRINT_BATCH`], each of the cheapest designs left
+/// that lie apart from one another: were the cheaper of two neighbours refused, the other would be
+/// passed over; were it printable, the other would not count. So the batches find what checking one
+/// design after the other finds, and never check two neighbours.
 fn printable_first(problem: &Problem, run: &mut Run, mut found: Vec<Candidate>) -> Result<Vec<Candidate>, Cancelled> {
     let Some(check) = run.printable else { return Ok(found) };
     let min_shift = min_shift(problem);
     // Stable: equal costs keep their production order.
     found.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-    let mut rest = found.into_iter();
+    // Each design, until refused.
+    let mut found: Vec<Option<Candidate>> = found.into_iter().map(Some).collect();
     // The joints of each design refused.
     let mut refused: Vec<Vec<Point>> = Vec::new();
-    let mut checked = 0;
-    while checked < SCREENED_PRINT_CHECKS {
+    while refused.len() < SCREENED_PRINT_CHECKS {
         run.go_on()?;
         // A batch of fixed size: what is checked (and counted) never depends on the threads.
-        let batch: Vec<Candidate> = rest
-            .by_ref()
-            .filter(|c| refused.iter().all(|joints| moved(&c.mechanism.joints, joints, min_shift)))
-            .take(SCREENED_PRINT_BATCH)
-            .collect();
-        if batch.is_empty() {
-            break;
-        }
-        checked += batch.len();
-        let results: Vec<Result<Candidate, Refused>> =
-            batch.into_par_iter().map(|c| mark_printable(check, c)).collect();
-        let mut ranked = Vec::new();
-        for r in results {
-            match r {
-                Ok(c) => ranked.push(c),
-                Err((reject, c)) => {
-                    refused.push(c.mechanism.joints.clone());
-                    run.refuse(reject, c);
+        let room = SCREENED_PRINT_BATCH.min(SCREENED_PRINT_CHECKS - refused.len());
+        let mut batch: Vec<usize> = Vec::new();
+        for (i, c) in found.iter().enumerate() {
+            let Some(c) = c else { continue };
+            let apart = |joints: &Vec<Point>| moved(&c.mechanism.joints, joints, min_shift);
+            if refused.iter().all(apart)
+                && batch.iter().all(|&b| found[b].as_ref().is_some_and(|b| apart(&b.mechanism.joints)))
+            {
+                batch.push(i);
+                if batch.len() == room {
+                    break;
                 }
             }
         }
-        if !ranked.is_empty() {
-            ranked.extend(rest);
-            return Ok(ranked);
+        if batch.is_empty() {
+            break;
+        }
+        let passed: Vec<bool> = batch
+            .par_iter()
+            .map(|&i| found[i].as_ref().is_some_and(|c| c.printable || check.accepts(&c.mechanism, &c.trace)))
+            .collect();
+        for (&i, &passed) in batch.iter().zip(&passed) {
+            let c = found[i].as_mut().expect("batched designs are left");
+            if passed {
+                c.printable = true;
+            } else {
+                refused.push(c.mechanism.joints.clone());
+                run.refuse(Reject::Unprintable, Box::new(found[i].take().expect("batched designs are left")));
+            }
+        }
+        // The first printable design and every costlier one left; those cheaper were refused or lie
+        // near one refused.
+        if let Some((&first, _)) = batch.iter().zip(&passed).find(|&(_, &passed)| passed) {
+            return Ok(found.into_iter().skip(first).flatten().collect());
         }
     }
     Ok(Vec::new())
@@ -700,7 +719,9 @@ fn design_round(
         };
         let found =
             run_family(run, family_stage(f), family, &[], false, Budget::screening(problem), &mut drawn[f], &report)?;
+        let t = Instant::now();
         let found = printable_first(problem, run, found)?;
+        run.stats.seconds_printability += t.elapsed().as_secs_f64();
         if !warm {
             best_cost = min_opt(best_cost, found.iter().map(|c| c.cost).reduce(f64::min));
         }
@@ -1454,12 +1475,18 @@ mod tests {
     }
 
     /// A stand-in print check whose verdict a test knows beforehand: it refuses the designs whose
-    /// joints it lists (every design when `everything`), and counts its calls.
+    /// joints it lists (every design when `everything`), and notes the joints of each design checked.
     #[derive(Debug, Default)]
     struct Refusing {
         joints: Vec<Vec<Point>>,
         everything: bool,
-        calls: std::sync::atomic::AtomicUsize,
+        checked: std::sync::Mutex<Vec<Vec<Point>>>,
+    }
+
+    impl Refusing {
+        fn calls(&self) -> usize {
+            self.checked.lock().unwrap().len()
+        }
     }
 
     impl Acceptance for Refusing {
@@ -1467,15 +1494,15 @@ mod tests {
             0.0
         }
         fn accepts(&self, mechanism: &Mechanism, _: &Trace) -> bool {
-            self.calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            self.checked.lock().unwrap().push(mechanism.joints.clone());
             !self.everything && !self.joints.contains(&mechanism.joints)
         }
     }
 
-    /// A screened family ranks by its cheapest printable design: every cheaper one was refused (and
-    /// counted) or lies near a cheaper one that fails, and is passed over unchecked even when it
-    /// would pass; every costlier one stays, and no more than [`SCREENED_PRINT_CHECKS`] are checked,
-    /// even when none passes.
+    /// A screened family ranks by its cheapest printable design, the one checking the designs one
+    /// after the other in cost order finds when it passes over those near a design refused: the
+    /// batches check no two neighbours, every cheaper design leaves, every costlier one stays unless
+    /// it was refused, and no more than [`SCREENED_PRINT_CHECKS`] are checked, even when none passes.
     #[test]
     fn a_screened_family_ranks_by_its_cheapest_printable_design() {
         let mut problem = example("k1_sofa_bed");
@@ -1485,35 +1512,55 @@ mod tests {
         let mut designs: Vec<Candidate> = defect_free(&ctx, &sampler, problem.settings.seed, 0..3_000).collect();
         assert!(designs.len() > 2 * SCREENED_PRINT_CHECKS, "{} designs", designs.len());
         designs.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        // The first batch's designs fail; next comes one that would pass, a hair from the cheapest.
-        let batch = SCREENED_PRINT_BATCH;
+        // The four cheapest designs fail; second comes one that would pass, a hair from the cheapest.
         let check = Refusing {
-            joints: designs[..batch].iter().map(|c| c.mechanism.joints.clone()).collect(),
+            joints: designs[..4].iter().map(|c| c.mechanism.joints.clone()).collect(),
             ..Default::default()
         };
         let mut beside = designs[0].clone();
         beside.mechanism.joints[0].x += 0.01 * min_shift(&problem);
-        beside.cost = designs[batch - 1].cost;
-        designs.insert(batch, beside.clone());
+        beside.cost = 0.5 * (designs[0].cost + designs[1].cost);
+        designs.insert(1, beside.clone());
         let passes = |c: &Candidate| !check.joints.contains(&c.mechanism.joints);
         assert!(passes(&beside));
+        let near = |a: &[Point], b: &[Point]| !moved(a, b, min_shift(&problem));
+        // One design after the other.
+        let mut refused: Vec<&Candidate> = Vec::new();
+        let mut one_by_one = None;
+        for c in &designs {
+            if refused.iter().any(|r| near(&r.mechanism.joints, &c.mechanism.joints)) {
+                continue;
+            }
+            if passes(c) {
+                one_by_one = Some(c);
+                break;
+            }
+            refused.push(c);
+        }
+        let one_by_one = one_by_one.expect("a design passes");
 
         let mut run = Run::quiet();
         run.printable = Some(&check);
         let ranked = printable_first(&problem, &mut run, designs.clone()).unwrap();
         let first = &ranked[0];
-        assert!(passes(first) && first.printable);
-        assert!(first.cost >= beside.cost && ranked.iter().all(|c| c.mechanism.joints != beside.mechanism.joints));
-        let costlier = designs.iter().filter(|c| c.cost > first.cost).count();
-        assert_eq!(ranked.len(), 1 + costlier, "every costlier design stays");
-        let near = |a: &Candidate, b: &Candidate| !distinct(a, b, min_shift(&problem));
-        for c in designs.iter().take_while(|c| c.cost < first.cost) {
-            let beside_refused = designs.iter().any(|r| r.cost <= c.cost && !passes(r) && near(r, c));
-            assert!(!passes(c) || beside_refused, "a cheaper printable design was passed over");
+        assert!(first.printable && first.mechanism.joints == one_by_one.mechanism.joints);
+        assert!(ranked.iter().all(|c| c.mechanism.joints != beside.mechanism.joints));
+        assert!(ranked[1..].iter().all(|c| c.cost >= first.cost));
+        let checked = check.checked.lock().unwrap().clone();
+        for c in designs.iter().filter(|c| c.cost > first.cost) {
+            let stays = ranked.iter().any(|r| r.mechanism.joints == c.mechanism.joints);
+            assert!(stays || (!passes(c) && checked.contains(&c.mechanism.joints)), "a costlier design left");
         }
-        assert_eq!(run.rejected[Reject::Unprintable as usize], batch);
-        let calls = check.calls.load(std::sync::atomic::Ordering::Relaxed);
-        assert!(calls > batch && calls <= SCREENED_PRINT_CHECKS, "{calls} checks");
+        for (i, a) in checked.iter().enumerate() {
+            assert!(checked[..i].iter().all(|b| !near(a, b)), "a neighbour of a design checked was checked");
+        }
+        assert!(
+            checked.len() > SCREENED_PRINT_BATCH && checked.len() <= SCREENED_PRINT_CHECKS,
+            "{} checks",
+            checked.len()
+        );
+        let refusals = checked.iter().filter(|j| check.joints.contains(j)).count();
+        assert_eq!(run.rejected[Reject::Unprintable as usize], refusals);
 
         // A check nothing passes: no design is left, after a bounded number of checks.
         let nothing = Refusing { everything: true, ..Default::default() };
@@ -1521,7 +1568,7 @@ mod tests {
         run.printable = Some(&nothing);
         assert!(printable_first(&problem, &mut run, designs.clone()).unwrap().is_empty());
         let refused = run.rejected[Reject::Unprintable as usize];
-        assert_eq!(nothing.calls.into_inner(), refused);
+        assert_eq!(nothing.calls(), refused);
         assert!(refused > 0 && refused <= SCREENED_PRINT_CHECKS);
     }
 
