@@ -635,12 +635,14 @@ fn printable_first(problem: &Problem, run: &mut Run, mut found: Vec<Candidate>) 
             .map(|&i| found[i].as_ref().is_some_and(|c| c.printable || check.accepts(&c.mechanism, &c.trace)))
             .collect();
         for (&i, &passed) in batch.iter().zip(&passed) {
-            let c = found[i].as_mut().expect("batched designs are left");
-            if passed {
-                c.printable = true;
-            } else {
-                refused.push(c.mechanism.joints.clone());
-                run.refuse(Reject::Unprintable, Box::new(found[i].take().expect("batched designs are left")));
+            let slot = &mut found[i];
+            match slot {
+                Some(c) if passed => c.printable = true,
+                _ => {
+                    let c = slot.take().expect("batched designs are left");
+                    refused.push(c.mechanism.joints.clone());
+                    run.refuse(Reject::Unprintable, Box::new(c));
+                }
             }
         }
         // The first printable design and every costlier one left; those cheaper were refused or lie
