@@ -1185,7 +1185,9 @@ async fn real_size(page: &Page, shots: Option<&Path>) -> Result<()> {
     // The drawing is 2.55 m wide: so is its model at 1:1.
     let help =
         "document.querySelector('select[data-key=build-scale]').parentElement.querySelector('small').textContent";
-    assert_eq!(eval(page, help).await?, "everything drawn is 2550 × 2400 mm in the model");
+    // The panel draws its help once the store has the scale, a frame later.
+    let at_one_to_one = format!("{help} === 'everything drawn is 2550 × 2400 mm in the model'");
+    until(page, &at_one_to_one, Duration::from_secs(2)).await?;
     // The same drawing in inches, written as a person may write them, is sized as the engine reads the
     // word (its table, GET /api/units): 25.4 mm to the unit.
     eval(page, "window.linkwright.store.edit('units', (s) => { s.units = ' Inches'; }) && true").await?;
