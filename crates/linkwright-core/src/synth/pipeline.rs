@@ -610,6 +610,7 @@ fn printable_first(problem: &Problem, run: &mut Run, mut found: Vec<Candidate>) 
     let mut found: Vec<Option<Candidate>> = found.into_iter().map(Some).collect();
     // The joints of each design refused.
     let mut refused: Vec<Vec<Point>> = Vec::new();
+    // Every design checked so far was refused: the loop ends at the first that passes.
     while refused.len() < SCREENED_PRINT_CHECKS {
         run.go_on()?;
         // A batch of fixed size: what is checked (and counted) never depends on the threads.
@@ -630,24 +631,26 @@ fn printable_first(problem: &Problem, run: &mut Run, mut found: Vec<Candidate>) 
         if batch.is_empty() {
             break;
         }
-        let passed: Vec<bool> = batch
-            .par_iter()
-            .map(|&i| found[i].as_ref().is_some_and(|c| c.printable || check.accepts(&c.mechanism, &c.trace)))
-            .collect();
-        for (&i, &passed) in batch.iter().zip(&passed) {
-            let slot = &mut found[i];
-            match slot {
-                Some(c) if passed => c.printable = true,
-                _ => {
-                    let c = slot.take().expect("batched designs are left");
+        let taken: Vec<(usize, Candidate)> =
+            batch.iter().map(|&i| (i, found[i].take().expect("batched designs are left"))).collect();
+        let checked: Vec<(usize, Result<Candidate, Refused>)> =
+            taken.into_par_iter().map(|(i, c)| (i, mark_printable(check, c))).collect();
+        let mut first = None;
+        for (i, r) in checked {
+            match r {
+                Ok(c) => {
+                    first = first.or(Some(i));
+                    found[i] = Some(c);
+                }
+                Err((reject, c)) => {
                     refused.push(c.mechanism.joints.clone());
-                    run.refuse(Reject::Unprintable, Box::new(c));
+                    run.refuse(reject, c);
                 }
             }
         }
         // The first printable design and every costlier one left; those cheaper were refused or lie
         // near one refused.
-        if let Some((&first, _)) = batch.iter().zip(&passed).find(|&(_, &passed)| passed) {
+        if let Some(first) = first {
             return Ok(found.into_iter().skip(first).flatten().collect());
         }
     }
