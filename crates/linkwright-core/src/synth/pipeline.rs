@@ -17,7 +17,7 @@ use crate::mechanism::{Mechanism, MechanismType, Topology};
 use crate::scene::{MechanismChoice, Problem};
 use crate::verify::{far_from_pose, pose_misses, verify_travel, Travel};
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Instant;
 
 /// The factor on the pose noise of a second search, when the first found no design: poses
@@ -124,7 +124,8 @@ impl Observer for Silent {}
 #[error("the synthesis was cancelled")]
 pub struct Cancelled;
 
-/// Counts and seconds of a run.
+/// Counts and seconds of a run. Families screened side by side each count their own seconds, so the
+/// stages' seconds may add up to more than the whole run's.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunStats {
     /// Samples drawn.
@@ -723,20 +724,52 @@ fn design_round(
     // The progress bar: the screening's share first, then each family searched in full.
     let screen_share = if screen.is_empty() { 0.0 } else { SCREENING_PROGRESS };
     let mut best_cost: Option<f64> = None;
-    for (k, &f) in screen.iter().enumerate() {
-        let family = contexts[f].topology.mechanism_type;
-        let report = |stage, x, b| {
-            let fraction = screen_share * (k as f64 + x) / screen.len() as f64;
-            observer.progress(&Progress { stage, mechanism: family, fraction, best_cost: min_opt(best_cost, b) })
-        };
-        let found =
-            run_family(run, family_stage(f), family, &[], false, Budget::screening(problem), &mut drawn[f], &report)?;
-        let t = Instant::now();
-        let found = printable_first(problem, run, found)?;
-        run.stats.seconds_printability += t.elapsed().as_secs_f64();
+    // The families are screened side by side, each on a run of its own: a screening's stages are
+    // short, and while one waits on its slowest task or checks designs one batch at a time, the other
+    // cores work on another family. Each family's screening is what it would be alone, and the runs
+    // are added up in family order, so nothing depends on the threads.
+    let screening = Mutex::new(ScreeningProgress { done: vec![0.0; screen.len()], best: None });
+    let screenings: Vec<(Vec<Candidate>, Drawn, Run)> = screen
+        .par_iter()
+        .enumerate()
+        .map(|(k, &f)| {
+            let mut own = run.beside();
+            let family = contexts[f].topology.mechanism_type;
+            let report = |stage, x, b| {
+                let mut progress = screening.lock().unwrap_or_else(PoisonError::into_inner);
+                progress.done[k] = x;
+                // A warm start's best is its own family's: a screened family shows its best only
+                // while it reports, as when screened one after the other.
+                let best_cost = min_opt(progress.best, b);
+                if !warm {
+                    progress.best = best_cost;
+                }
+                let fraction = screen_share * progress.done.iter().sum::<f64>() / screen.len() as f64;
+                observer.progress(&Progress { stage, mechanism: family, fraction, best_cost })
+            };
+            let mut drawn = Drawn::default();
+            let found = run_family(
+                &mut own,
+                family_stage(f),
+                family,
+                &[],
+                false,
+                Budget::screening(problem),
+                &mut drawn,
+                &report,
+            )?;
+            let t = Instant::now();
+            let found = printable_first(problem, &mut own, found)?;
+            own.stats.seconds_printability += t.elapsed().as_secs_f64();
+            Ok((found, drawn, own))
+        })
+        .collect::<Result<_, Cancelled>>()?;
+    for (&f, (found, family_drawn, own)) in screen.iter().zip(screenings) {
+        run.absorb(own);
         if !warm {
             best_cost = min_opt(best_cost, found.iter().map(|c| c.cost).reduce(f64::min));
         }
+        drawn[f] = family_drawn;
         screened[f] = found;
     }
     let searched: Vec<usize> = match (warm, screen.is_empty()) {
@@ -937,7 +970,43 @@ struct Run<'a> {
     refused: Option<Candidate>,
 }
 
-impl Run<'_> {
+impl<'a> Run<'a> {
+    /// A run beside this one, for one family screened alongside others: the same check and
+    /// observer, counts of its own ([`Run::absorb`]).
+    fn beside(&self) -> Run<'a> {
+        Run {
+            printable: self.printable,
+            observer: self.observer,
+            stats: RunStats::default(),
+            rejected: [0; Reject::ALL.len()],
+            refused: None,
+        }
+    }
+
+    /// Adds the counts of `other`, a run [`Run::beside`] this one: as if its work had been done on
+    /// this run after everything so far.
+    fn absorb(&mut self, other: Run) {
+        let (s, o) = (&mut self.stats, other.stats);
+        s.samples += o.samples;
+        s.fitted += o.fitted;
+        s.candidates += o.candidates;
+        s.valid += o.valid;
+        s.seconds_sampling += o.seconds_sampling;
+        s.seconds_collision += o.seconds_collision;
+        s.seconds_pfo += o.seconds_pfo;
+        s.seconds_printability += o.seconds_printability;
+        s.seconds_refinement += o.seconds_refinement;
+        s.failed_verification += o.failed_verification;
+        for (count, more) in self.rejected.iter_mut().zip(other.rejected) {
+            *count += more;
+        }
+        if let Some(c) = other.refused {
+            if self.refused.as_ref().is_none_or(|r| c.cost < r.cost) {
+                self.refused = Some(c);
+            }
+        }
+    }
+
     fn reject(&mut self, reject: Reject) {
         self.rejected[reject as usize] += 1;
     }
@@ -958,6 +1027,13 @@ impl Run<'_> {
             Ok(())
         }
     }
+}
+
+/// How far each family screened side by side has come (a fraction of its screening), and the
+/// cheapest design a cold run's screenings have found.
+struct ScreeningProgress {
+    done: Vec<f64>,
+    best: Option<f64>,
 }
 
 /// One family's context and the buffers its stages share.
