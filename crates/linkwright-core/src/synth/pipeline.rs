@@ -247,9 +247,9 @@ pub const SCREENING_DIVISOR: usize = 8;
 /// simulated nearly every sample (the full wall bed's Stephenson-III 1,545 of 1,567), where its
 /// filter starts from the ten cheapest valid ones. On the one-body reference scenes and examples
 /// (seeds 0 and 1), twice as many gave 62 of 64 designs the same as simulating all, one 0.3% cheaper
-/// and one 0.01% costlier, and took the full wall bed from 1.69–1.73 to 1.54–1.59 times its family
-/// alone (three times as many: `linkwright bench --auto --repeat 5 --threads 2
-/// examples/k1_*.json`); as many did not (the tractable monitor's cost 61% more).
+/// and one 0.01% costlier; the full wall bed's run fell from 1.69–1.73 times its family alone (with
+/// three times as many) to 1.54–1.59 (`linkwright bench --auto --repeat 5 --threads 2
+/// examples/k1_*.json`). As many did not do (the tractable monitor's design cost 61% more).
 const SCREENING_SIMULATED: usize = 2;
 /// The share of a cold run's progress bar its screening of every family takes.
 const SCREENING_PROGRESS: f64 = 0.25;
