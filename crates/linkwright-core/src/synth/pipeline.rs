@@ -1777,4 +1777,46 @@ mod tests {
         let under_bar = floors.iter().filter(|&&(floor, _)| floor <= kept[cap - 1].cost).count();
         assert!(floors.len() - outclassed >= under_bar, "{under_bar} under the bar, {outclassed} outclassed");
     }
+
+    /// A family screened beside a run adds its counts to the run's, and of the designs the print
+    /// check refused, the run keeps the cheapest, its own on a tie (the first found, as when the
+    /// families are screened one after the other).
+    #[test]
+    fn a_run_beside_another_adds_its_counts_and_keeps_the_cheapest_refused() {
+        let problem = example("k1_sofa_bed");
+        let ctx = Context::new(&problem, MechanismType::SliderCrank);
+        let sampler = Sampler::new(&ctx, MechanismType::SliderCrank.family().stream());
+        let designs: Vec<Candidate> = defect_free(&ctx, &sampler, problem.settings.seed, 0..3_000).take(3).collect();
+        assert_eq!(designs.len(), 3);
+        let mut run = Run::quiet();
+        run.stats.samples = 100;
+        run.stats.valid = 7;
+        run.stats.seconds_pfo = 0.5;
+        run.rejected[Reject::Collision as usize] = 3;
+        let mut tied = designs[1].clone();
+        tied.cost = designs[0].cost;
+        run.refuse(Reject::Unprintable, Box::new(designs[0].clone()));
+        let mut beside = run.beside();
+        assert_eq!(
+            (beside.stats.clone(), beside.rejected, beside.refused.is_none()),
+            (RunStats::default(), [0; Reject::ALL.len()], true)
+        );
+        beside.stats.samples = 12;
+        beside.stats.valid = 2;
+        beside.stats.seconds_pfo = 0.25;
+        beside.rejected[Reject::Collision as usize] = 4;
+        beside.refuse(Reject::Unprintable, Box::new(tied.clone()));
+        run.absorb(beside);
+        assert_eq!((run.stats.samples, run.stats.valid, run.stats.seconds_pfo), (112, 9, 0.75));
+        assert_eq!(run.rejected[Reject::Collision as usize], 7);
+        assert_eq!(run.rejected[Reject::Unprintable as usize], 2);
+        assert_eq!(run.refused.as_ref().map(|c| &c.mechanism.joints), Some(&designs[0].mechanism.joints));
+        // A cheaper refused design beside the run replaces the run's.
+        let mut cheaper = designs[2].clone();
+        cheaper.cost = 0.5 * designs[0].cost;
+        let mut beside = run.beside();
+        beside.refuse(Reject::Unprintable, Box::new(cheaper.clone()));
+        run.absorb(beside);
+        assert_eq!(run.refused.map(|c| c.mechanism.joints), Some(cheaper.mechanism.joints));
+    }
 }
