@@ -237,7 +237,7 @@ pub const FOLLOW_COST_SLACK: f64 = 0.25;
 const FOLLOW_REACH: f64 = 0.03;
 
 /// A family is screened ([`Start`]) on this share of the samples, and a quarter of the filter's
-/// iterations: the bundled one-body examples' cold runs with `mechanism: auto` cost a median 1.46–1.51
+/// iterations: the bundled one-body examples' cold runs with `mechanism: auto` cost a median 1.37–1.40
 /// times the family they return (`linkwright bench --auto --repeat 5 --threads 2
 /// examples/k1_*.json`), where searching each family in full costs about 5 times. A twelfth or a
 /// sixteenth ranks the families worse (the monitor's design then costs 41% more).
