@@ -163,6 +163,11 @@ fn progress_rises_to_completion_and_cancellation_stops_the_run() {
     for stage in [Stage::Sampling, Stage::Collision, Stage::Refining] {
         assert!(reports.iter().any(|r| r.stage == stage), "{stage:?} reported");
     }
+    // The four families are screened side by side, but the progress names one at a time, each in one
+    // stretch: the screening names each once, the whole search the family it searches.
+    let names: Vec<_> = reports.iter().map(|r| r.mechanism).collect();
+    let changes = names.windows(2).filter(|w| w[0] != w[1]).count();
+    assert!(changes <= 2 * 4, "the family named changed {changes} times in {} reports", reports.len());
     let best = outcome.best.unwrap().cost;
     assert_eq!(reports.last().unwrap().best_cost.map(|c| c <= best + 1e-12), Some(true));
 

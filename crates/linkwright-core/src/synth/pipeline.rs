@@ -730,7 +730,13 @@ fn design_round(
     // short, and while one waits on its slowest task or checks designs one batch at a time, the other
     // cores work on another family. Each family's screening is what it would be alone, and the runs
     // are added up in family order, so nothing depends on the threads.
-    let screening = Mutex::new(ScreeningProgress { done: vec![0.0; screen.len()], best: None });
+    let screening = Mutex::new(ScreeningProgress {
+        done: vec![0.0; screen.len()],
+        stages: vec![Stage::Sampling; screen.len()],
+        finished: vec![false; screen.len()],
+        best: None,
+    });
+    let lock_screening = || screening.lock().unwrap_or_else(PoisonError::into_inner);
     let screenings: Vec<(Vec<Candidate>, Drawn, Run)> = screen
         .par_iter()
         .enumerate()
@@ -738,8 +744,13 @@ fn design_round(
             let mut own = run.beside();
             let family = contexts[f].topology.mechanism_type;
             let report = |stage, x, b| {
-                let mut progress = screening.lock().unwrap_or_else(PoisonError::into_inner);
-                progress.done[k] = x;
+                let mut progress = lock_screening();
+                // Once cancelled, the run stops at each family's next check: a family side by side
+                // with the one that saw it reports nothing more meanwhile.
+                if observer.cancelled() {
+                    return;
+                }
+                (progress.done[k], progress.stages[k]) = (x, stage);
                 // A warm start's best is its own family's: a screened family shows its best only
                 // while it reports, as when screened one after the other.
                 let best_cost = min_opt(progress.best, b);
@@ -747,7 +758,11 @@ fn design_round(
                     progress.best = best_cost;
                 }
                 let fraction = screen_share * progress.done.iter().sum::<f64>() / screen.len() as f64;
-                observer.progress(&Progress { stage, mechanism: family, fraction, best_cost })
+                // The first family still screening is named, so that the label changes only when one
+                // finishes, not with every report of the families side by side.
+                let named = progress.finished.iter().position(|&finished| !finished).unwrap_or(k);
+                let (stage, mechanism) = (progress.stages[named], contexts[screen[named]].topology.mechanism_type);
+                observer.progress(&Progress { stage, mechanism, fraction, best_cost })
             };
             let mut drawn = Drawn::default();
             let found = run_family(
@@ -763,6 +778,7 @@ fn design_round(
             let t = Instant::now();
             let found = printable_first(problem, &mut own, found)?;
             own.stats.seconds_printability += t.elapsed().as_secs_f64();
+            lock_screening().finished[k] = true;
             Ok((found, drawn, own))
         })
         .collect::<Result<_, Cancelled>>()?;
@@ -1031,10 +1047,15 @@ impl<'a> Run<'a> {
     }
 }
 
-/// How far each family screened side by side has come (a fraction of its screening), and the
-/// cheapest design a cold run's screenings have found.
+/// How far the families screened side by side have come, and the cheapest design a cold run's
+/// screenings have found.
 struct ScreeningProgress {
+    /// Each family's fraction of its screening done.
     done: Vec<f64>,
+    /// Each family's stage (sampling until it reports another).
+    stages: Vec<Stage>,
+    /// Whether each family's screening has finished.
+    finished: Vec<bool>,
     best: Option<f64>,
 }
 
