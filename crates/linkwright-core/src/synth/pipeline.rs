@@ -1004,17 +1004,33 @@ impl<'a> Run<'a> {
     /// Adds the counts of `other`, a run [`Run::beside`] this one: as if its work had been done on
     /// this run after everything so far.
     fn absorb(&mut self, other: Run) {
-        let (s, o) = (&mut self.stats, other.stats);
-        s.samples += o.samples;
-        s.fitted += o.fitted;
-        s.candidates += o.candidates;
-        s.valid += o.valid;
-        s.seconds_sampling += o.seconds_sampling;
-        s.seconds_collision += o.seconds_collision;
-        s.seconds_pfo += o.seconds_pfo;
-        s.seconds_printability += o.seconds_printability;
-        s.seconds_refinement += o.seconds_refinement;
-        s.failed_verification += o.failed_verification;
+        // Every field named, so that a new count cannot be left out. The rejects and the whole run's
+        // seconds are filled in when the run ends.
+        let RunStats {
+            samples,
+            fitted,
+            candidates,
+            valid,
+            rejected: _,
+            seconds_sampling,
+            seconds_collision,
+            seconds_pfo,
+            seconds_printability,
+            seconds_refinement,
+            failed_verification,
+            seconds_total: _,
+        } = other.stats;
+        let s = &mut self.stats;
+        s.samples += samples;
+        s.fitted += fitted;
+        s.candidates += candidates;
+        s.valid += valid;
+        s.seconds_sampling += seconds_sampling;
+        s.seconds_collision += seconds_collision;
+        s.seconds_pfo += seconds_pfo;
+        s.seconds_printability += seconds_printability;
+        s.seconds_refinement += seconds_refinement;
+        s.failed_verification += failed_verification;
         for (count, more) in self.rejected.iter_mut().zip(other.rejected) {
             *count += more;
         }
@@ -1056,6 +1072,7 @@ struct ScreeningProgress {
     stages: Vec<Stage>,
     /// Whether each family's screening has finished.
     finished: Vec<bool>,
+    /// The cheapest design a cold run's screenings have found so far.
     best: Option<f64>,
 }
 
