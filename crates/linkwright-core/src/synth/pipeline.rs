@@ -1035,9 +1035,7 @@ impl<'a> Run<'a> {
             *count += more;
         }
         if let Some(c) = other.refused {
-            if self.refused.as_ref().is_none_or(|r| c.cost < r.cost) {
-                self.refused = Some(c);
-            }
+            self.keep_if_cheapest_refused(c);
         }
     }
 
@@ -1048,8 +1046,16 @@ impl<'a> Run<'a> {
     /// Counts `reject`; when the print check refused `c`, keeps it if it is the cheapest so far.
     fn refuse(&mut self, reject: Reject, c: Box<Candidate>) {
         self.reject(reject);
-        if reject == Reject::Unprintable && self.refused.as_ref().is_none_or(|r| c.cost < r.cost) {
-            self.refused = Some(*c);
+        if reject == Reject::Unprintable {
+            self.keep_if_cheapest_refused(*c);
+        }
+    }
+
+    /// Keeps `c`, a design the print check refused, if it is cheaper than the one kept (the first
+    /// found of equal cost stays).
+    fn keep_if_cheapest_refused(&mut self, c: Candidate) {
+        if self.refused.as_ref().is_none_or(|r| c.cost < r.cost) {
+            self.refused = Some(c);
         }
     }
 
